@@ -1,0 +1,102 @@
+//! The CPU evaluator: the f64 RK4 reference, parallel over candidates (rayon).
+
+use rayon::prelude::*;
+
+use super::{
+    Batch, EvalError, Evaluator, EvaluatorInfo, History, Precision, Problem, Scores, score_one,
+    simulate_history,
+};
+
+/// Scores candidates with the f64 reference on a rayon pool.
+#[derive(Debug)]
+pub struct CpuEvaluator {
+    problem: Problem,
+    pool: rayon::ThreadPool,
+}
+
+impl CpuEvaluator {
+    /// An evaluator on `threads` threads (0: all cores).
+    pub fn new(problem: Problem, threads: usize) -> Self {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("building a rayon pool with a fixed thread count cannot fail");
+        Self { problem, pool }
+    }
+
+    /// The problem being scored.
+    pub fn problem(&self) -> &Problem {
+        &self.problem
+    }
+
+    fn check(&self, batch: &Batch) -> Result<(), EvalError> {
+        let ne = self.problem.experiments.len();
+        let p = self.problem.model.params().len();
+        if batch.params.len() != ne || batch.offsets.len() != ne {
+            return Err(EvalError::Shape {
+                expected: format!("{ne} experiments"),
+                found: format!("{} parameter sets", batch.params.len()),
+            });
+        }
+        for (e, (ps, os)) in batch.params.iter().zip(&batch.offsets).enumerate() {
+            if ps.len() != batch.candidates * p || os.len() != batch.candidates {
+                return Err(EvalError::Shape {
+                    expected: format!("{} × {p} parameters in experiment {e}", batch.candidates),
+                    found: format!("{}", ps.len()),
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+impl Evaluator for CpuEvaluator {
+    fn info(&self) -> EvaluatorInfo {
+        EvaluatorInfo {
+            backend: "cpu".into(),
+            device: format!("{} threads (rayon)", self.pool.current_num_threads()),
+            precision: Precision::F64,
+        }
+    }
+
+    fn fitness(&mut self, batch: &Batch) -> Result<Scores, EvalError> {
+        self.check(batch)?;
+        let ne = self.problem.experiments.len();
+        let problem = &self.problem;
+        let runs: Vec<(f64, bool)> = self.pool.install(|| {
+            (0..batch.candidates * ne)
+                .into_par_iter()
+                .map(|j| {
+                    let (i, e) = (j / ne, j % ne);
+                    score_one(problem, e, batch.params_of(e, i), batch.offsets[e][i])
+                })
+                .collect()
+        });
+        Ok(Scores {
+            experiments: ne,
+            diverged: runs.iter().filter(|r| r.1).count(),
+            values: runs.into_iter().map(|r| r.0).collect(),
+        })
+    }
+
+    fn histories(
+        &mut self,
+        batch: &Batch,
+        which: &[usize],
+    ) -> Result<Vec<Vec<History>>, EvalError> {
+        self.check(batch)?;
+        let problem = &self.problem;
+        Ok(self.pool.install(|| {
+            which
+                .par_iter()
+                .map(|&i| {
+                    (0..problem.experiments.len())
+                        .map(|e| {
+                            simulate_history(problem, e, batch.params_of(e, i), batch.offsets[e][i])
+                        })
+                        .collect()
+                })
+                .collect()
+        }))
+    }
+}

@@ -1,0 +1,90 @@
+//! `1 − R²` of one run, accumulated sample by sample as the GPU kernel does.
+
+use std::ops::ControlFlow;
+
+use super::{DIVERGED, ExperimentData, History, Problem};
+
+/// Running residual sum over the fit window, with the blow-up guard.
+#[derive(Debug, Clone, Copy)]
+pub struct FitnessAccumulator {
+    ss_res: f64,
+    ss_tot: f64,
+    limit: f64,
+    diverged: bool,
+}
+
+impl FitnessAccumulator {
+    /// For one experiment.
+    pub fn new(exp: &ExperimentData) -> Self {
+        Self {
+            ss_res: 0.0,
+            ss_tot: exp.ss_tot(),
+            limit: exp.blowup_limit(),
+            diverged: false,
+        }
+    }
+
+    /// Adds sample `k` with model output `model`; breaks once the run diverged.
+    pub fn add(&mut self, exp: &ExperimentData, k: usize, model: f64) -> ControlFlow<()> {
+        if !(model.abs() <= self.limit) {
+            self.diverged = true;
+            return ControlFlow::Break(());
+        }
+        if exp.window.contains(&k) {
+            let r = model - exp.force[k];
+            self.ss_res += r * r;
+        }
+        ControlFlow::Continue(())
+    }
+
+    /// Whether the run blew up.
+    pub fn diverged(&self) -> bool {
+        self.diverged
+    }
+
+    /// `1 − R²`, or [`DIVERGED`].
+    pub fn value(&self) -> f64 {
+        let v = self.ss_res / self.ss_tot;
+        if self.diverged || !v.is_finite() {
+            DIVERGED
+        } else {
+            v
+        }
+    }
+}
+
+/// `1 − R²` of one candidate in one experiment with the f64 reference, and
+/// whether it diverged.
+pub fn score_one(problem: &Problem, e: usize, params: &[f64], offset: f64) -> (f64, bool) {
+    let exp = &problem.experiments[e];
+    let grid = exp.grid(offset, problem.substeps);
+    let mut acc = FitnessAccumulator::new(exp);
+    problem.model.simulate(params, &exp.drive, &grid, &mut |s| {
+        acc.add(exp, s.index, s.outputs[0])
+    });
+    let v = acc.value();
+    (v, acc.diverged() || v >= DIVERGED)
+}
+
+/// Full f64 reference history of one candidate in one experiment.
+pub fn simulate_history(problem: &Problem, e: usize, params: &[f64], offset: f64) -> History {
+    let exp = &problem.experiments[e];
+    let grid = exp.grid(offset, problem.substeps);
+    let model = problem.model;
+    let mut h = History {
+        t: Vec::with_capacity(grid.samples),
+        outputs: vec![Vec::with_capacity(grid.samples); model.output_names().len()],
+        states: vec![Vec::with_capacity(grid.samples); model.state_names().len()],
+    };
+    model.simulate(params, &exp.drive, &grid, &mut |s| {
+        h.t.push(s.t);
+        for (o, v) in h.outputs.iter_mut().zip(s.outputs) {
+            o.push(*v);
+        }
+        for (o, v) in h.states.iter_mut().zip(s.state) {
+            o.push(*v);
+        }
+        ControlFlow::Continue(())
+    });
+    h
+}

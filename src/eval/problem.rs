@@ -1,0 +1,61 @@
+//! The validated, evaluable part of a campaign.
+
+use std::ops::Range;
+
+use crate::integrate::SampleGrid;
+use crate::model::{Drive, RigModel};
+
+/// One measured experiment, ready to score against.
+#[derive(Debug, Clone)]
+pub struct ExperimentData {
+    /// Name from the campaign.
+    pub name: String,
+    /// How the actuator is driven.
+    pub drive: Drive,
+    /// Record time of sample 0 (s).
+    pub t_first: f64,
+    /// Uniform sample interval (s).
+    pub dt: f64,
+    /// Measured force at each sample (N).
+    pub force: Vec<f64>,
+    /// Samples scored by the fitness.
+    pub window: Range<usize>,
+    /// Weight in the joint fitness.
+    pub weight: f64,
+}
+
+impl ExperimentData {
+    /// Sum of squares of the measured force about its mean over the window.
+    pub fn ss_tot(&self) -> f64 {
+        let w = &self.force[self.window.clone()];
+        let mean = w.iter().sum::<f64>() / w.len() as f64;
+        w.iter().map(|f| (f - mean) * (f - mean)).sum()
+    }
+
+    /// Magnitude beyond which a model output counts as having blown up: 1000 ×
+    /// the largest measured magnitude (at least 1).
+    pub fn blowup_limit(&self) -> f64 {
+        1.0e3 * self.force.iter().fold(1.0_f64, |m, f| m.max(f.abs()))
+    }
+
+    /// Integration grid for a candidate with clock offset `offset` (s).
+    pub fn grid(&self, offset: f64, substeps: usize) -> SampleGrid {
+        SampleGrid {
+            t0: self.t_first + offset,
+            dt: self.dt,
+            samples: self.window.end,
+            substeps,
+        }
+    }
+}
+
+/// A model with the experiments it is scored against.
+#[derive(Debug, Clone)]
+pub struct Problem {
+    /// The rig model.
+    pub model: &'static dyn RigModel,
+    /// The experiments.
+    pub experiments: Vec<ExperimentData>,
+    /// RK4 steps per sample interval.
+    pub substeps: usize,
+}

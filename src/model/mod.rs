@@ -1,0 +1,92 @@
+//! Rig models. Each model is one module here and one WGSL file under `shaders/`,
+//! registered in [`registry`]; the integrator, the fitness and the search only
+//! ever see the [`RigModel`] trait.
+
+mod drive;
+mod params;
+pub mod tensile;
+
+use std::ops::ControlFlow;
+
+pub use drive::{Drive, PiecewiseLinear};
+pub use params::{ParamInfo, ParamScope, Scale};
+
+use crate::integrate::SampleGrid;
+
+/// What a model reports at each measurement sample.
+#[derive(Debug, Clone, Copy)]
+pub struct Sample<'a> {
+    /// Sample index on the grid.
+    pub index: usize,
+    /// Model time (s).
+    pub t: f64,
+    /// Full state vector (see [`RigModel::state_names`]).
+    pub state: &'a [f64],
+    /// Observed outputs (see [`RigModel::output_names`]); output 0 is the quantity
+    /// fitted against the measured history.
+    pub outputs: &'a [f64],
+}
+
+/// Linearised rig for modal analysis: `M·ẍ + K·x = 0` with a diagonal mass matrix.
+#[derive(Debug, Clone)]
+pub struct Linearised {
+    /// Name of each degree of freedom.
+    pub dofs: Vec<&'static str>,
+    /// Diagonal of the mass matrix (kg).
+    pub mass: Vec<f64>,
+    /// Stiffness matrix, row-major, `dofs.len()²` (N/m).
+    pub stiffness: Vec<f64>,
+}
+
+/// A lumped rig model: its parameters, its equations and how to pack them for the
+/// GPU.
+pub trait RigModel: Send + Sync + std::fmt::Debug {
+    /// Identifier used in campaign files (`"model": "tensile4"`).
+    fn id(&self) -> &'static str;
+
+    /// The model's parameters, in the order of every parameter vector.
+    fn params(&self) -> &'static [ParamInfo];
+
+    /// Names of the state variables.
+    fn state_names(&self) -> &'static [&'static str];
+
+    /// Names and units of the outputs; output 0 is fitted to the measurement.
+    fn output_names(&self) -> &'static [(&'static str, &'static str)];
+
+    /// Checks a full parameter vector for physical sense (positive masses, …).
+    /// Returns the offending parameter's name and what was expected.
+    fn check(&self, params: &[f64]) -> Result<(), (&'static str, String)>;
+
+    /// Integrates one run from rest with the f64 RK4 reference, calling `observe`
+    /// at every sample of `grid`.
+    fn simulate(
+        &self,
+        params: &[f64],
+        drive: &Drive,
+        grid: &SampleGrid,
+        observe: &mut dyn FnMut(&Sample<'_>) -> ControlFlow<()>,
+    );
+
+    /// The rig linearised about its engaged, unbroken configuration.
+    fn linearise(&self, params: &[f64], drive: &Drive) -> Linearised;
+
+    /// Upper bound on the highest natural frequency (rad/s) of any parameter
+    /// vector inside `[lower, upper]`, with the name of the parameter that limits
+    /// it most. Used to choose or refuse the RK4 step.
+    fn omega_bound(&self, lower: &[f64], upper: &[f64], drive: &Drive) -> (f64, &'static str);
+}
+
+/// Every model rigfit knows, by id.
+pub fn registry() -> Vec<&'static dyn RigModel> {
+    vec![&tensile::TENSILE4]
+}
+
+/// Looks a model up by its campaign id.
+pub fn by_id(id: &str) -> Option<&'static dyn RigModel> {
+    registry().into_iter().find(|m| m.id() == id)
+}
+
+/// Index of a parameter by name in a model's parameter list.
+pub fn param_index(model: &dyn RigModel, name: &str) -> Option<usize> {
+    model.params().iter().position(|p| p.name == name)
+}

@@ -1,0 +1,620 @@
+//! The 4-DOF high-speed tensile rig: load cell, specimen, sliding bar and
+//! actuator, with an exponential slack adapter and specimen fracture.
+//!
+//! Keep in sync with `shaders/model_tensile4.wgsl`, which states the same
+//! equations for the ensemble kernels.
+//!
+//! Displacements `y1..y4` (m) are positive in the pulling direction, ground is the
+//! fixed crosshead:
+//! - load cell: `F1 = k1·y1 + c1·v1` (`c1 → c1_post` after fracture), measured;
+//! - specimen, `e = y2 − y1`: `F2 = S(e) + c2·(v2 − v1)`, `S(e) = k_lin·e` for
+//!   `e ≤ e_yield`, `Σ a_i·e^i` above; `F2 = 0` once `e` has reached `e_fracture`;
+//! - sliding bar: `F3 = k3·(y3 − y2) + c3·(v3 − v2)`;
+//! - slack adapter, `d = y4 − y3 − gap`: `F4 = 0` for `d ≤ 0`, else
+//!   `G(d) + c4·(v4 − v3)` with `G(d) = (a/b)(e^{bd} − 1) + c·d` up to `d*` and
+//!   `G(d*) + k4_lin·(d − d*)` beyond, `d* = ln((k4_lin − c)/a)/b`;
+//! - `m1·ÿ1 = F2 − F1`, `m2·ÿ2 = F3 − F2`, `m3·ÿ3 = F4 − F3`; the actuator either
+//!   follows `y4 = v·t − r·(1 − e^{−vt/r})` or obeys `m4·ÿ4 = F_drive(t) − F4`.
+
+use std::ops::ControlFlow;
+
+use super::{Drive, Linearised, ParamInfo, ParamScope, RigModel, Sample, Scale};
+use crate::integrate::{Integrator, SampleGrid, System};
+
+/// The tensile rig model (`"model": "tensile4"`).
+#[derive(Debug, Clone, Copy)]
+pub struct Tensile4;
+
+/// The registered instance.
+pub static TENSILE4: Tensile4 = Tensile4;
+
+/// Highest degree of the specimen's plastic polynomial.
+pub const MAX_POLY_DEGREE: usize = 5;
+
+const fn p(
+    name: &'static str,
+    unit: &'static str,
+    doc: &'static str,
+    scope: ParamScope,
+    default: Option<f64>,
+    scale: Scale,
+) -> ParamInfo {
+    ParamInfo {
+        name,
+        unit,
+        doc,
+        scope,
+        default,
+        scale,
+    }
+}
+
+use ParamScope::{Experiment as E, Rig as R};
+use Scale::{Linear as Lin, Log};
+
+/// Parameter order of every tensile parameter vector (and of the GPU block).
+pub static PARAMS: [ParamInfo; 27] = [
+    p("m1", "kg", "load-cell mass", R, None, Log),
+    p("m2", "kg", "specimen-side (grip) mass", R, None, Log),
+    p("m3", "kg", "sliding-bar mass", R, None, Log),
+    p(
+        "m4",
+        "kg",
+        "actuator mass (force drive only)",
+        R,
+        Some(37.4),
+        Log,
+    ),
+    p("k1", "N/m", "load-cell stiffness", R, None, Log),
+    p(
+        "c1",
+        "N·s/m",
+        "load-cell damping before fracture",
+        R,
+        None,
+        Log,
+    ),
+    p(
+        "c1_post",
+        "N·s/m",
+        "load-cell damping after fracture",
+        R,
+        None,
+        Log,
+    ),
+    p("k_lin", "N/m", "specimen elastic stiffness", E, None, Log),
+    p(
+        "e_yield",
+        "m",
+        "elongation where the polynomial branch starts",
+        E,
+        None,
+        Lin,
+    ),
+    p(
+        "a0",
+        "N",
+        "specimen polynomial coefficient of e^0",
+        E,
+        Some(0.0),
+        Lin,
+    ),
+    p(
+        "a1",
+        "N/m",
+        "specimen polynomial coefficient of e^1",
+        E,
+        Some(0.0),
+        Lin,
+    ),
+    p(
+        "a2",
+        "N/m^2",
+        "specimen polynomial coefficient of e^2",
+        E,
+        Some(0.0),
+        Lin,
+    ),
+    p(
+        "a3",
+        "N/m^3",
+        "specimen polynomial coefficient of e^3",
+        E,
+        Some(0.0),
+        Lin,
+    ),
+    p(
+        "a4",
+        "N/m^4",
+        "specimen polynomial coefficient of e^4",
+        E,
+        Some(0.0),
+        Lin,
+    ),
+    p(
+        "a5",
+        "N/m^5",
+        "specimen polynomial coefficient of e^5",
+        E,
+        Some(0.0),
+        Lin,
+    ),
+    p(
+        "e_fracture",
+        "m",
+        "elongation at which the specimen breaks",
+        E,
+        None,
+        Lin,
+    ),
+    p("c2", "N·s/m", "specimen damping", E, Some(0.0), Lin),
+    p("k3", "N/m", "sliding-bar (fixture) stiffness", R, None, Log),
+    p("c3", "N·s/m", "sliding-bar damping", R, Some(0.0), Lin),
+    p(
+        "slack_a",
+        "N/m",
+        "slack-adapter exponential law: a",
+        R,
+        None,
+        Log,
+    ),
+    p(
+        "slack_b",
+        "1/m",
+        "slack-adapter exponential law: b",
+        R,
+        None,
+        Log,
+    ),
+    p(
+        "slack_c",
+        "N/m",
+        "slack-adapter exponential law: c (linear part)",
+        R,
+        None,
+        Lin,
+    ),
+    p(
+        "k4_lin",
+        "N/m",
+        "slack-adapter stiffness once fully engaged",
+        R,
+        None,
+        Log,
+    ),
+    p(
+        "c4",
+        "N·s/m",
+        "slack-adapter damping while engaged",
+        R,
+        None,
+        Lin,
+    ),
+    p(
+        "gap",
+        "m",
+        "slack-adapter free play before engagement",
+        R,
+        None,
+        Lin,
+    ),
+    p(
+        "velocity",
+        "m/s",
+        "actuator target velocity (velocity drive)",
+        E,
+        None,
+        Lin,
+    ),
+    p(
+        "ramp",
+        "m",
+        "actuator ramp length r (0: step to full velocity)",
+        E,
+        Some(0.0),
+        Lin,
+    ),
+];
+
+/// Index of each parameter in [`PARAMS`].
+pub mod ix {
+    #![allow(missing_docs)]
+    pub const M1: usize = 0;
+    pub const M2: usize = 1;
+    pub const M3: usize = 2;
+    pub const M4: usize = 3;
+    pub const K1: usize = 4;
+    pub const C1: usize = 5;
+    pub const C1_POST: usize = 6;
+    pub const K_LIN: usize = 7;
+    pub const E_YIELD: usize = 8;
+    pub const A0: usize = 9;
+    pub const E_FRACTURE: usize = 15;
+    pub const C2: usize = 16;
+    pub const K3: usize = 17;
+    pub const C3: usize = 18;
+    pub const SLACK_A: usize = 19;
+    pub const SLACK_B: usize = 20;
+    pub const SLACK_C: usize = 21;
+    pub const K4_LIN: usize = 22;
+    pub const C4: usize = 23;
+    pub const GAP: usize = 24;
+    pub const VELOCITY: usize = 25;
+    pub const RAMP: usize = 26;
+}
+
+/// The reference values of the published AA2024-T3 calibration (velocity 2 m/s).
+pub const REFERENCE: [f64; 27] = [
+    7.9, 0.14, 0.48, 37.4, 8.4e9, 5.51e5, 9.22e3, 8.63e7, 5.4e-5, 4.56e3, 1.97e6, -9.26e8, 1.36e11,
+    0.0, 0.0, 1e-3, 0.0, 4.4e8, 0.0, 4.43e3, 4.87e5, 1.94e7, 1.19e8, 1.57e4, 1.87e-5, 2.0, 1.76e-6,
+];
+
+/// Slack-adapter opening where the exponential law hands over to `k4_lin`:
+/// `d* = ln((k4_lin − c)/a)/b`, or 0 when `k4_lin ≤ a + c`.
+pub fn slack_knee(a: f64, b: f64, c: f64, k4_lin: f64) -> f64 {
+    if k4_lin <= a + c {
+        0.0
+    } else {
+        ((k4_lin - c) / a).ln() / b
+    }
+}
+
+/// Exponential part of the slack-adapter law, `(a/b)(e^{bd} − 1) + c·d`.
+pub fn slack_exp_law(a: f64, b: f64, c: f64, d: f64) -> f64 {
+    a / b * (b * d).exp_m1() + c * d
+}
+
+/// Prescribed actuator displacement, velocity and acceleration at `t` for target
+/// velocity `v` and ramp length `r`; at rest for `t ≤ 0`.
+pub fn velocity_drive(v: f64, r: f64, t: f64) -> (f64, f64, f64) {
+    if t <= 0.0 {
+        return (0.0, 0.0, 0.0);
+    }
+    if r <= 0.0 {
+        return (v * t, v, 0.0);
+    }
+    let m = (-v * t / r).exp_m1(); // e^{-vt/r} − 1
+    (v * t + r * m, -v * m, v * v / r * (m + 1.0))
+}
+
+/// Parameters with the derived slack-adapter constants, ready to integrate.
+#[derive(Debug, Clone)]
+pub struct Prepared {
+    p: [f64; 27],
+    /// `d*` (m).
+    pub d_star: f64,
+    /// `G(d*)` (N).
+    pub g_star: f64,
+}
+
+impl Prepared {
+    /// Derives the constants from a full parameter vector.
+    pub fn new(params: &[f64]) -> Self {
+        let mut p = [0.0; 27];
+        p.copy_from_slice(&params[..27]);
+        let (a, b, c, k4) = (
+            p[ix::SLACK_A],
+            p[ix::SLACK_B],
+            p[ix::SLACK_C],
+            p[ix::K4_LIN],
+        );
+        let d_star = slack_knee(a, b, c, k4);
+        let g_star = slack_exp_law(a, b, c, d_star);
+        Self { p, d_star, g_star }
+    }
+
+    /// Specimen law `S(e)` (N).
+    pub fn specimen_law(&self, e: f64) -> f64 {
+        let p = &self.p;
+        if e <= p[ix::E_YIELD] {
+            return p[ix::K_LIN] * e;
+        }
+        let mut s = p[ix::A0 + MAX_POLY_DEGREE];
+        for i in (0..MAX_POLY_DEGREE).rev() {
+            s = s * e + p[ix::A0 + i];
+        }
+        s
+    }
+
+    /// Slack-adapter spring law `G(d)` for `d > 0` (N).
+    pub fn slack_law(&self, d: f64) -> f64 {
+        let p = &self.p;
+        if d <= self.d_star {
+            slack_exp_law(p[ix::SLACK_A], p[ix::SLACK_B], p[ix::SLACK_C], d)
+        } else {
+            self.g_star + p[ix::K4_LIN] * (d - self.d_star)
+        }
+    }
+}
+
+/// One run of the tensile rig: prepared parameters, drive and fracture state.
+/// State `y = [y1, y2, y3, y4, v1, v2, v3, v4]`.
+#[derive(Debug, Clone)]
+pub struct TensileSystem<'a> {
+    prep: Prepared,
+    drive: &'a Drive,
+    /// Whether the specimen has fractured.
+    pub broken: bool,
+    /// Model time of fracture (s), once broken.
+    pub fracture_time: Option<f64>,
+}
+
+impl<'a> TensileSystem<'a> {
+    /// A fresh, unbroken run.
+    pub fn new(params: &[f64], drive: &'a Drive) -> Self {
+        Self {
+            prep: Prepared::new(params),
+            drive,
+            broken: false,
+            fracture_time: None,
+        }
+    }
+
+    /// Actuator displacement and velocity at `t` given the state.
+    fn actuator(&self, t: f64, y: &[f64]) -> (f64, f64, f64) {
+        match self.drive {
+            Drive::Velocity => velocity_drive(self.prep.p[ix::VELOCITY], self.prep.p[ix::RAMP], t),
+            Drive::Force(_) => (y[3], y[7], 0.0),
+        }
+    }
+
+    /// Element forces `[F1, F2, F3, F4]` (N) at `(t, y)`.
+    pub fn forces(&self, t: f64, y: &[f64]) -> [f64; 4] {
+        let p = &self.prep.p;
+        let (y4, v4, _) = self.actuator(t, y);
+        let c1 = if self.broken {
+            p[ix::C1_POST]
+        } else {
+            p[ix::C1]
+        };
+        let f1 = p[ix::K1] * y[0] + c1 * y[4];
+        let f2 = if self.broken {
+            0.0
+        } else {
+            self.prep.specimen_law(y[1] - y[0]) + p[ix::C2] * (y[5] - y[4])
+        };
+        let f3 = p[ix::K3] * (y[2] - y[1]) + p[ix::C3] * (y[6] - y[5]);
+        let d = y4 - y[2] - p[ix::GAP];
+        let f4 = if d <= 0.0 {
+            0.0
+        } else {
+            self.prep.slack_law(d) + p[ix::C4] * (v4 - y[6])
+        };
+        [f1, f2, f3, f4]
+    }
+
+    /// The state with the actuator slots filled from the prescribed motion.
+    pub fn full_state(&self, t: f64, y: &[f64], out: &mut [f64; 8]) {
+        out.copy_from_slice(&y[..8]);
+        let (y4, v4, _) = self.actuator(t, y);
+        out[3] = y4;
+        out[7] = v4;
+    }
+}
+
+impl System for TensileSystem<'_> {
+    fn dim(&self) -> usize {
+        8
+    }
+
+    fn deriv(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        let p = &self.prep.p;
+        let [f1, f2, f3, f4] = self.forces(t, y);
+        dy[0] = y[4];
+        dy[1] = y[5];
+        dy[2] = y[6];
+        dy[4] = (f2 - f1) / p[ix::M1];
+        dy[5] = (f3 - f2) / p[ix::M2];
+        dy[6] = (f4 - f3) / p[ix::M3];
+        match self.drive {
+            Drive::Velocity => {
+                let (_, v4, a4) = self.actuator(t, y);
+                dy[3] = v4;
+                dy[7] = a4;
+            }
+            Drive::Force(table) => {
+                let fd = if t < 0.0 { 0.0 } else { table.at(t) };
+                dy[3] = y[7];
+                dy[7] = (fd - f4) / p[ix::M4];
+            }
+        }
+    }
+
+    fn pending_switch(&self, _t: f64, y: &[f64]) -> Option<(f64, f64)> {
+        (!self.broken).then(|| (y[1] - y[0] - self.prep.p[ix::E_FRACTURE], y[5] - y[4]))
+    }
+
+    fn fire_switch(&mut self, t: f64) {
+        self.broken = true;
+        self.fracture_time = Some(t);
+    }
+}
+
+const STATES: [&str; 8] = ["y1", "y2", "y3", "y4", "v1", "v2", "v3", "v4"];
+const OUTPUTS: [(&str, &str); 2] = [("load_cell_force", "N"), ("specimen_force", "N")];
+
+impl RigModel for Tensile4 {
+    fn id(&self) -> &'static str {
+        "tensile4"
+    }
+
+    fn params(&self) -> &'static [ParamInfo] {
+        &PARAMS
+    }
+
+    fn state_names(&self) -> &'static [&'static str] {
+        &STATES
+    }
+
+    fn output_names(&self) -> &'static [(&'static str, &'static str)] {
+        &OUTPUTS
+    }
+
+    fn check(&self, params: &[f64]) -> Result<(), (&'static str, String)> {
+        for (i, info) in PARAMS.iter().enumerate() {
+            if !params[i].is_finite() {
+                return Err((info.name, "a finite number".into()));
+            }
+        }
+        let positive = [
+            ix::M1,
+            ix::M2,
+            ix::M3,
+            ix::M4,
+            ix::K1,
+            ix::K3,
+            ix::SLACK_A,
+            ix::SLACK_B,
+            ix::K4_LIN,
+        ];
+        for i in positive {
+            if params[i] <= 0.0 {
+                return Err((PARAMS[i].name, "a value > 0".into()));
+            }
+        }
+        let non_negative = [
+            ix::C1,
+            ix::C1_POST,
+            ix::K_LIN,
+            ix::C2,
+            ix::C3,
+            ix::C4,
+            ix::GAP,
+            ix::RAMP,
+            ix::E_FRACTURE,
+        ];
+        for i in non_negative {
+            if params[i] < 0.0 {
+                return Err((PARAMS[i].name, "a value ≥ 0".into()));
+            }
+        }
+        Ok(())
+    }
+
+    fn simulate(
+        &self,
+        params: &[f64],
+        drive: &Drive,
+        grid: &SampleGrid,
+        observe: &mut dyn FnMut(&Sample<'_>) -> ControlFlow<()>,
+    ) {
+        let mut sys = TensileSystem::new(params, drive);
+        let mut y = [0.0; 8];
+        let mut full = [0.0; 8];
+        let mut integ = Integrator::new(8);
+        integ.run(&mut sys, grid, &mut y, |k, t, sys, y| {
+            let [f1, f2, _, _] = sys.forces(t, y);
+            sys.full_state(t, y, &mut full);
+            observe(&Sample {
+                index: k,
+                t,
+                state: &full,
+                outputs: &[f1, f2],
+            })
+        });
+    }
+
+    fn linearise(&self, params: &[f64], drive: &Drive) -> Linearised {
+        let p = params;
+        let (k1, ks, k3, k4) = (p[ix::K1], p[ix::K_LIN], p[ix::K3], p[ix::K4_LIN]);
+        let springs = [k1, ks, k3, k4];
+        let (dofs, mass): (Vec<&'static str>, Vec<f64>) = match drive {
+            Drive::Velocity => (
+                vec!["load cell", "specimen", "sliding bar"],
+                vec![p[ix::M1], p[ix::M2], p[ix::M3]],
+            ),
+            Drive::Force(_) => (
+                vec!["load cell", "specimen", "sliding bar", "actuator"],
+                vec![p[ix::M1], p[ix::M2], p[ix::M3], p[ix::M4]],
+            ),
+        };
+        let n = dofs.len();
+        let mut k = vec![0.0; n * n];
+        // Spring j joins dof j−1 (ground for j = 0) and dof j (ground when j = n,
+        // i.e. the prescribed actuator in velocity drive).
+        for (j, &s) in springs.iter().enumerate().take(n + 1) {
+            if j < n {
+                k[j * n + j] += s;
+            }
+            if j >= 1 {
+                k[(j - 1) * n + (j - 1)] += s;
+                if j < n {
+                    k[(j - 1) * n + j] -= s;
+                    k[j * n + (j - 1)] -= s;
+                }
+            }
+        }
+        Linearised {
+            dofs,
+            mass,
+            stiffness: k,
+        }
+    }
+
+    fn omega_bound(&self, lower: &[f64], upper: &[f64], drive: &Drive) -> (f64, &'static str) {
+        // Largest tangent stiffness of each element inside the bounds.
+        let e_max = upper[ix::E_FRACTURE].abs().max(lower[ix::E_FRACTURE].abs());
+        let mut poly_slope = 0.0;
+        for i in 1..=MAX_POLY_DEGREE {
+            let ai = upper[ix::A0 + i].abs().max(lower[ix::A0 + i].abs());
+            poly_slope += i as f64 * ai * e_max.powi(i as i32 - 1);
+        }
+        let ks = upper[ix::K_LIN].max(poly_slope);
+        let spring = [
+            (upper[ix::K1], "k1"),
+            (
+                ks,
+                if ks > upper[ix::K_LIN] {
+                    "a1..a5"
+                } else {
+                    "k_lin"
+                },
+            ),
+            (upper[ix::K3], "k3"),
+            (
+                upper[ix::K4_LIN].max(upper[ix::SLACK_A] + upper[ix::SLACK_C]),
+                "k4_lin",
+            ),
+        ];
+        let damper = [
+            (upper[ix::C1].max(upper[ix::C1_POST]), "c1"),
+            (upper[ix::C2], "c2"),
+            (upper[ix::C3], "c3"),
+            (upper[ix::C4], "c4"),
+        ];
+        let masses = [
+            (lower[ix::M1], "m1"),
+            (lower[ix::M2], "m2"),
+            (lower[ix::M3], "m3"),
+            (lower[ix::M4], "m4"),
+        ];
+        let n = if matches!(drive, Drive::Velocity) {
+            3
+        } else {
+            4
+        };
+        // Gershgorin on each row of M⁻¹K and M⁻¹C: a dof touches elements i and
+        // i+1; |λ| ≤ C_row/m + sqrt(K_row/m).
+        let mut best = (0.0, "m1");
+        for i in 0..n {
+            let (m, mname) = masses[i];
+            let kr = 2.0 * (spring[i].0 + if i + 1 < 4 { spring[i + 1].0 } else { 0.0 });
+            let cr = 2.0 * (damper[i].0 + if i + 1 < 4 { damper[i + 1].0 } else { 0.0 });
+            let lam = cr / m + (kr / m).sqrt();
+            if lam > best.0 {
+                let stiffest = if i + 1 < 4 && spring[i + 1].0 > spring[i].0 {
+                    spring[i + 1].1
+                } else {
+                    spring[i].1
+                };
+                let name = if (kr / m).sqrt() >= cr / m {
+                    stiffest
+                } else {
+                    damper[i].1
+                };
+                best = (lam, if m < 1e-300 { mname } else { name });
+            }
+        }
+        best
+    }
+}

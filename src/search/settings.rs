@@ -1,0 +1,115 @@
+//! Search settings as written in a campaign's `"search"` object.
+
+use serde::{Deserialize, Serialize};
+
+/// How the first generation is drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum InitKind {
+    /// Latin hypercube over the bounds (in each gene's scale).
+    #[default]
+    Lhs,
+    /// Uniform random over the bounds (in each gene's scale).
+    Uniform,
+}
+
+/// Simulated-binary crossover settings.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CrossoverSettings {
+    /// Probability that a pair of parents is crossed (0..1).
+    #[serde(default = "default_crossover_probability")]
+    pub probability: f64,
+    /// SBX distribution index η_c (larger: children closer to parents).
+    #[serde(default = "default_crossover_eta")]
+    pub eta: f64,
+}
+
+/// Polynomial mutation settings.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MutationSettings {
+    /// Per-gene mutation probability; `null` means 1 / number of genes.
+    #[serde(default)]
+    pub probability: Option<f64>,
+    /// Polynomial-mutation distribution index η_m.
+    #[serde(default = "default_mutation_eta")]
+    pub eta: f64,
+}
+
+/// The campaign's `"search"` object.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GaSettings {
+    /// Candidates per generation (≥ 4).
+    pub population: usize,
+    /// Maximum number of generations (≥ 1).
+    pub generations: usize,
+    /// RNG seed; the same seed, campaign and backend give bit-identical results.
+    #[serde(default)]
+    pub seed: u64,
+    /// Tournament size for parent selection (≥ 2).
+    #[serde(default = "default_tournament")]
+    pub tournament: usize,
+    /// Crossover.
+    #[serde(default)]
+    pub crossover: CrossoverSettings,
+    /// Mutation.
+    #[serde(default)]
+    pub mutation: MutationSettings,
+    /// Best candidates copied unchanged into the next generation.
+    #[serde(default = "default_elitism")]
+    pub elitism: usize,
+    /// Initial population.
+    #[serde(default)]
+    pub init: InitKind,
+    /// Stop once the best joint fitness (weighted mean of 1 − R²) is at or below this.
+    #[serde(default)]
+    pub target_fitness: Option<f64>,
+    /// Stop after this many generations without improvement of the best.
+    #[serde(default)]
+    pub stall_generations: Option<usize>,
+    /// Stop after this much wall time (s).
+    #[serde(default)]
+    pub max_time_s: Option<f64>,
+    /// Write a checkpoint every this many generations (0: only on interrupt).
+    #[serde(default = "default_checkpoint_every")]
+    pub checkpoint_every: usize,
+}
+
+fn default_crossover_probability() -> f64 {
+    0.9
+}
+fn default_crossover_eta() -> f64 {
+    15.0
+}
+fn default_mutation_eta() -> f64 {
+    20.0
+}
+fn default_tournament() -> usize {
+    2
+}
+fn default_elitism() -> usize {
+    2
+}
+fn default_checkpoint_every() -> usize {
+    10
+}
+
+impl Default for CrossoverSettings {
+    fn default() -> Self {
+        Self {
+            probability: default_crossover_probability(),
+            eta: default_crossover_eta(),
+        }
+    }
+}
+
+impl Default for MutationSettings {
+    fn default() -> Self {
+        Self {
+            probability: None,
+            eta: default_mutation_eta(),
+        }
+    }
+}
