@@ -5,6 +5,7 @@
 //! search → results; see `ARCHITECTURE.md`.
 
 pub mod eval;
+pub mod fixtures;
 pub mod integrate;
 pub mod model;
 pub mod search;
