@@ -1,6 +1,35 @@
 #!/usr/bin/env bash
-# Runs rigfit's checks and tests, installing what they need on a fresh machine.
+# The README's test command, and exactly what CI runs (.ci/run calls it).
+#
+# On a fresh Debian machine it installs Mesa's lavapipe (software Vulkan) so the
+# GPU tests have an adapter, then runs rustfmt, clippy and every test. The GPU
+# tests run with RIGFIT_REQUIRE_GPU=1: no adapter is a failure, never a skip.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cargo fmt --check
-cargo test --all-targets
+
+have_lavapipe() {
+    ls /usr/share/vulkan/icd.d/lvp_icd*.json >/dev/null 2>&1 \
+        && ldconfig -p 2>/dev/null | grep -q 'libvulkan\.so\.1'
+}
+
+if ! have_lavapipe; then
+    echo "test.sh: installing Mesa lavapipe (mesa-vulkan-drivers) for the GPU tests"
+    sudo=""
+    if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+    $sudo env DEBIAN_FRONTEND=noninteractive apt-get update -q
+    $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends \
+        mesa-vulkan-drivers libvulkan1
+fi
+
+export RIGFIT_REQUIRE_GPU=1
+# Lavapipe is the adapter the tests pin their tolerances on; use all cores.
+export LP_NUM_THREADS="${LP_NUM_THREADS:-$(nproc)}"
+
+echo "test.sh: cargo fmt --check"
+cargo fmt --all --check
+echo "test.sh: cargo clippy"
+cargo clippy --all-targets --locked -- -D warnings
+echo "test.sh: cargo test"
+cargo test --locked --lib --bins --tests
+echo "test.sh: benchmarks compile"
+cargo bench --locked --no-run
