@@ -31,5 +31,6 @@ echo "test.sh: cargo clippy"
 cargo clippy --all-targets --locked -- -D warnings
 echo "test.sh: cargo test"
 cargo test --locked --lib --bins --tests
+cargo test --locked --doc
 echo "test.sh: benchmarks compile"
 cargo bench --locked --no-run

@@ -125,6 +125,7 @@ pub fn fitness_svg(title: &str, best: &[f64], median: &[f64]) -> Result<String, 
         chart
             .configure_mesh()
             .x_desc("generation")
+            .x_label_formatter(&|v| format!("{v:.0}"))
             .y_desc("1 − R²")
             .y_label_formatter(&|v| format!("{v:.0e}"))
             .draw()

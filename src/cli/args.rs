@@ -1,0 +1,209 @@
+//! Command-line arguments, converted into validated settings before any work.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+/// Calibrates lumped mass-spring-damper models of mechanical test rigs to
+/// measured force histories.
+///
+/// A campaign JSON file names the model, its fixed and free parameters, the
+/// measured experiments and the search settings. `rigfit run` searches the free
+/// parameters with a genetic algorithm whose populations are integrated on the
+/// GPU (wgpu) or on all CPU cores (f64 reference), and writes the fitted
+/// parameters, the cleaned specimen force and plots.
+#[derive(Debug, Parser)]
+#[command(name = "rigfit", version, propagate_version = true, max_term_width = 100)]
+#[command(after_help = "Examples:\n  \
+    rigfit run campaigns/aa2024_t3_synthetic.json\n  \
+    rigfit simulate campaigns/aa2024_t3_synthetic.json --out sim.csv\n  \
+    rigfit modes campaigns/aa2024_t3_synthetic.json\n  \
+    rigfit devices\n\n\
+    Exit codes: 0 success, 1 failed job, 2 bad input or usage.\n\
+    Diagnostics: RUST_LOG=debug rigfit …")]
+pub struct Cli {
+    /// Print nothing but errors (no progress bar, no summary).
+    #[arg(long, short, global = true)]
+    pub quiet: bool,
+    /// Print a machine-readable JSON summary on stdout.
+    #[arg(long, global = true)]
+    pub json: bool,
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Calibrate a campaign's free parameters (genetic algorithm).
+    #[command(after_help = "Examples:\n  \
+        rigfit run campaigns/aa2024_t3_synthetic.json\n  \
+        rigfit run campaigns/aa2024_t3_synthetic.json --backend cpu --out results/cpu\n  \
+        rigfit run campaigns/aa2024_t3_synthetic.json --resume\n\n\
+        The output folder receives result.json, one CSV per experiment (measured,\n\
+        model and cleaned specimen force), history.csv, fit_<experiment>.svg and\n\
+        fitness.svg. A checkpoint is kept there while the job runs; Ctrl-C writes\n\
+        one and stops cleanly, and --resume continues bit-identically.")]
+    Run(RunArgs),
+    /// Simulate a campaign with fixed values (or a result file) and write a CSV.
+    #[command(after_help = "Examples:\n  \
+        rigfit simulate campaigns/aa2024_t3_synthetic.json --out sim.csv\n  \
+        rigfit simulate campaigns/aa2024_t3_synthetic.json --params results/aa2024/result.json --out fit.csv\n  \
+        rigfit simulate campaigns/aa2024_t3_synthetic.json --noise 20 --seed 7 --out synthetic.csv\n\n\
+        Columns: t_s (model time), load_cell_force_N, specimen_force_N, then every\n\
+        state (y1..y4 in m, v1..v4 in m/s). With --noise the file is a synthetic\n\
+        measurement instead: t_s (record time) and force_N with Gaussian noise.")]
+    Simulate(SimulateArgs),
+    /// Natural frequencies and mode shapes of the linearised rig.
+    #[command(after_help = "Example:\n  rigfit modes campaigns/aa2024_t3_synthetic.json")]
+    Modes(ModesArgs),
+    /// List GPU adapters and whether they support f64 shaders.
+    #[command(after_help = "Example:\n  rigfit devices\n\n\
+        Set RIGFIT_REQUIRE_GPU=1 to make a missing adapter an error everywhere.")]
+    Devices,
+    /// Fit the specimen law (linear, then polynomial) to quasi-static data.
+    #[command(name = "fit-specimen")]
+    #[command(after_help = "Example:\n  \
+        rigfit fit-specimen campaigns/specimen_quasistatic_synthetic.csv --degree 3 --out specimen.json\n\n\
+        Input: CSV of elongation (m) and force (N); '#' lines are comments.")]
+    FitSpecimen(FitSpecimenArgs),
+    /// Load-cell frequency and damping from a post-fracture ringdown.
+    #[command(after_help = "Example:\n  \
+        rigfit ringdown campaigns/ringdown_synthetic.csv --m1 7.9 --k1 8.4e9 --out loadcell.json\n\n\
+        Input: CSV of time (s) and force (N); '#' lines are comments.")]
+    Ringdown(RingdownArgs),
+    /// Validate a campaign and its data without running anything.
+    #[command(after_help = "Example:\n  rigfit check campaigns/aa2024_t3_synthetic.json")]
+    Check(CheckArgs),
+}
+
+/// Evaluator backend on the command line.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum BackendArg {
+    /// GPU when an adapter exists, else CPU.
+    Auto,
+    /// GPU only.
+    Gpu,
+    /// f64 CPU reference.
+    Cpu,
+}
+
+/// GPU precision on the command line.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum PrecisionArg {
+    /// f64 when the adapter supports it, else f32.
+    Auto,
+    /// Single precision.
+    F32,
+    /// Double precision.
+    F64,
+}
+
+/// `rigfit run`.
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    /// Campaign JSON file.
+    pub campaign: PathBuf,
+    /// Output folder (default: the campaign's "output").
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Evaluator backend (default: the campaign's solver.backend).
+    #[arg(long, value_enum)]
+    pub backend: Option<BackendArg>,
+    /// GPU precision (default: the campaign's solver.precision).
+    #[arg(long, value_enum)]
+    pub precision: Option<PrecisionArg>,
+    /// Continue from the checkpoint in the output folder.
+    #[arg(long)]
+    pub resume: bool,
+    /// Replace an output folder that holds an earlier job's files.
+    #[arg(long)]
+    pub overwrite: bool,
+    /// Override the campaign's search.population.
+    #[arg(long)]
+    pub population: Option<usize>,
+    /// Override the campaign's search.generations.
+    #[arg(long)]
+    pub generations: Option<usize>,
+    /// Override the campaign's search.seed.
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// CPU threads for the CPU evaluator (0: all cores).
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
+}
+
+/// `rigfit simulate`.
+#[derive(Debug, Args)]
+pub struct SimulateArgs {
+    /// Campaign JSON file.
+    pub campaign: PathBuf,
+    /// Parameter file (e.g. a result.json) whose "params" replace the campaign's values.
+    #[arg(long)]
+    pub params: Option<PathBuf>,
+    /// CSV file to write.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Experiment to simulate, by name (default: the first).
+    #[arg(long)]
+    pub experiment: Option<String>,
+    /// Write a synthetic measurement with Gaussian noise of this standard deviation (N).
+    #[arg(long)]
+    pub noise: Option<f64>,
+    /// Seed of the noise.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Samples to simulate at the experiment's sample interval (default: the
+    /// experiment's run length).
+    #[arg(long)]
+    pub samples: Option<usize>,
+}
+
+/// `rigfit modes`.
+#[derive(Debug, Args)]
+pub struct ModesArgs {
+    /// Campaign JSON file.
+    pub campaign: PathBuf,
+    /// Parameter file (e.g. a result.json) whose "params" replace the campaign's values.
+    #[arg(long)]
+    pub params: Option<PathBuf>,
+}
+
+/// `rigfit check`.
+#[derive(Debug, Args)]
+pub struct CheckArgs {
+    /// Campaign JSON file.
+    pub campaign: PathBuf,
+}
+
+/// `rigfit fit-specimen`.
+#[derive(Debug, Args)]
+pub struct FitSpecimenArgs {
+    /// CSV of elongation (m) and force (N).
+    pub data: PathBuf,
+    /// Degree of the plastic polynomial (3 for aluminium, 5 for carbon/epoxy; at most 5).
+    #[arg(long, default_value_t = 3)]
+    pub degree: usize,
+    /// Write the campaign fragment (JSON) here.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+/// `rigfit ringdown`.
+#[derive(Debug, Args)]
+pub struct RingdownArgs {
+    /// CSV of time (s) and force (N).
+    pub data: PathBuf,
+    /// Load-cell mass m1 (kg): with it, k1 follows from the frequency.
+    #[arg(long)]
+    pub m1: Option<f64>,
+    /// Load-cell stiffness k1 (N/m), held fixed in the damping fit.
+    #[arg(long)]
+    pub k1: Option<f64>,
+    /// Start of the free ringing (s; default: detected at the fracture drop).
+    #[arg(long)]
+    pub start: Option<f64>,
+    /// Write the campaign fragment (JSON) here.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
