@@ -8,5 +8,6 @@ pub mod eval;
 pub mod fixtures;
 pub mod integrate;
 pub mod model;
+pub mod modes;
 pub mod report;
 pub mod search;

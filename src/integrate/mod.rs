@@ -8,6 +8,7 @@
 
 mod grid;
 mod rk4;
+pub mod test_systems;
 
 pub use grid::SampleGrid;
 pub use rk4::{Integrator, hermite_crossing, rk4_step};

@@ -571,8 +571,13 @@ impl RigModel for Tensile4 {
                 },
             ),
             (upper[ix::K3], "k3"),
+            // The exponential branch's tangent `a·e^{bd} + c` runs from `a + c` to
+            // `k4_lin`; `check` allows `c < −a`, where it is negative, so bound its
+            // magnitude.
             (
-                upper[ix::K4_LIN].max(upper[ix::SLACK_A] + upper[ix::SLACK_C]),
+                upper[ix::K4_LIN]
+                    .max((upper[ix::SLACK_A] + upper[ix::SLACK_C]).abs())
+                    .max((lower[ix::SLACK_A] + lower[ix::SLACK_C]).abs()),
                 "k4_lin",
             ),
         ];
