@@ -26,7 +26,7 @@ impl FitnessAccumulator {
 
     /// Adds sample `k` with model output `model`; breaks once the run diverged.
     pub fn add(&mut self, exp: &ExperimentData, k: usize, model: f64) -> ControlFlow<()> {
-        if !(model.abs() <= self.limit) {
+        if model.is_nan() || model.abs() > self.limit {
             self.diverged = true;
             return ControlFlow::Break(());
         }
