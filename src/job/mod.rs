@@ -1,0 +1,191 @@
+//! A calibration job: campaign + evaluator + search + outputs.
+//!
+//! The job never writes into the output folder before the campaign, the data and
+//! the evaluator are ready, writes every file atomically, keeps a checkpoint
+//! while it runs and removes it only once the results are complete.
+
+mod cost;
+mod outputs;
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+
+pub use cost::CampaignCost;
+pub use outputs::{ExperimentFit, JobSummary, ParamSummary, write_outputs};
+
+use crate::campaign::Campaign;
+use crate::eval::Evaluator;
+use crate::search::{
+    Executor, Fingerprint, GeneSpec, GeneticAlgorithm, HistoryCsvObserver, ObserverMode,
+    ProgressObserver, SearchError,
+};
+
+/// Name of the checkpoint file inside the output folder.
+pub const CHECKPOINT_FILE: &str = "checkpoint.json";
+
+/// How to run a job.
+#[derive(Debug, Clone)]
+pub struct JobOptions {
+    /// Output folder.
+    pub out: PathBuf,
+    /// Continue from the checkpoint in `out`.
+    pub resume: bool,
+    /// Hide the progress bar.
+    pub quiet: bool,
+    /// Set by the binary on Ctrl-C / SIGTERM.
+    pub interrupt: Arc<AtomicBool>,
+    /// Stop (with the last checkpoint) instead of falling back to the CPU when
+    /// the GPU fails mid-run.
+    pub require_gpu: bool,
+    /// CPU threads for a fallback CPU evaluator (0: all cores).
+    pub threads: usize,
+}
+
+/// Errors of a job.
+#[derive(Debug, thiserror::Error)]
+pub enum JobError {
+    /// The output folder holds an earlier job's files.
+    #[error(
+        "output folder `{}` already holds {found}; pass --overwrite to replace it or --resume to continue a checkpoint",
+        path.display()
+    )]
+    OutputInUse {
+        /// The folder.
+        path: PathBuf,
+        /// What is there.
+        found: String,
+    },
+    /// `--resume` without a checkpoint.
+    #[error("nothing to resume: `{}` does not exist", path.display())]
+    NoCheckpoint {
+        /// The expected checkpoint.
+        path: PathBuf,
+    },
+    /// The search failed.
+    #[error("search failed")]
+    Search(#[from] SearchError),
+    /// Writing results failed.
+    #[error("writing `{}`", path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// Cause.
+        #[source]
+        source: std::io::Error,
+    },
+    /// An evaluator failed outside the search.
+    #[error("evaluating the best candidate")]
+    Eval(#[from] crate::eval::EvalError),
+    /// Drawing a plot failed.
+    #[error(transparent)]
+    Plot(#[from] crate::report::plots::PlotError),
+}
+
+/// Refuses an output folder that holds an earlier job unless `overwrite` or
+/// `resume` says what to do with it. Creates nothing.
+pub fn check_output_folder(out: &std::path::Path, resume: bool, overwrite: bool) -> Result<(), JobError> {
+    let checkpoint = out.join(CHECKPOINT_FILE);
+    if resume {
+        return if checkpoint.is_file() {
+            Ok(())
+        } else {
+            Err(JobError::NoCheckpoint { path: checkpoint })
+        };
+    }
+    if overwrite {
+        return Ok(());
+    }
+    for found in [CHECKPOINT_FILE, "result.json"] {
+        if out.join(found).exists() {
+            return Err(JobError::OutputInUse {
+                path: out.to_path_buf(),
+                found: found.to_string(),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// What a campaign's checkpoint must agree on to be resumed.
+pub fn fingerprint(campaign: &Campaign, backend: &str, precision: &str) -> Fingerprint {
+    let mut f = Fingerprint::new()
+        .with("campaign digest (file and data)", format!("{:016x}", campaign.digest))
+        .with("backend", backend)
+        .with("precision", precision)
+        .with("substeps", campaign.solver.substeps.to_string());
+    for g in &campaign.genes {
+        f = f.with(
+            format!("gene {}", g.name),
+            format!("[{:e}, {:e}] {:?}", g.lower, g.upper, g.scale),
+        );
+    }
+    f
+}
+
+/// The genes as the search sees them.
+pub fn gene_specs(campaign: &Campaign) -> Vec<GeneSpec> {
+    campaign
+        .genes
+        .iter()
+        .map(|g| {
+            let s = GeneSpec::new(g.name.clone(), g.lower, g.upper, g.scale);
+            match g.init {
+                Some(v) => s.with_init(v),
+                None => s,
+            }
+        })
+        .collect()
+}
+
+/// RK4 steps one candidate takes over all experiments (for throughput figures).
+pub fn steps_per_candidate(campaign: &Campaign) -> f64 {
+    let p = &campaign.problem;
+    p.experiments
+        .iter()
+        .map(|e| (e.window.end.saturating_sub(1) * p.substeps) as f64)
+        .sum()
+}
+
+/// Runs the search and writes every output. The output folder must have been
+/// checked with [`check_output_folder`].
+pub fn run(
+    campaign: &Campaign,
+    evaluator: Box<dyn Evaluator>,
+    opts: &JobOptions,
+) -> Result<JobSummary, JobError> {
+    let info = evaluator.info();
+    let precision = format!("{:?}", info.precision).to_lowercase();
+    let fp = fingerprint(campaign, &info.backend, &precision);
+    std::fs::create_dir_all(&opts.out).map_err(|source| JobError::Write {
+        path: opts.out.clone(),
+        source,
+    })?;
+    let genes = gene_specs(campaign);
+    let ga = GeneticAlgorithm::new(campaign.search.clone(), genes.clone())?;
+    let mut cost = CampaignCost::new(campaign, evaluator, opts.require_gpu, opts.threads);
+    let checkpoint = opts.out.join(CHECKPOINT_FILE);
+    let progress = ProgressObserver::new(campaign.search.generations, opts.quiet)
+        .with_steps_per_candidate(steps_per_candidate(campaign));
+    let mut exec = Executor::new(ga, &mut cost)
+        .fingerprint(fp)
+        .checkpoint_to(&checkpoint)
+        .interrupt(opts.interrupt.clone())
+        .observe(progress, ObserverMode::Always)
+        .observe(
+            HistoryCsvObserver::new(opts.out.join("history.csv"), &genes),
+            ObserverMode::Every(10),
+        );
+    if opts.resume {
+        exec = exec.resume_from(&checkpoint)?;
+    }
+    let outcome = exec.run()?;
+    let fallback = cost.fallback_note();
+    let mut evaluator = cost.into_evaluator();
+    let summary = write_outputs(campaign, evaluator.as_mut(), &outcome, &genes, &opts.out, fallback)?;
+    if !outcome.termination.is_interrupt() {
+        // The results are complete: the checkpoint has served its purpose.
+        let _ = std::fs::remove_file(&checkpoint);
+    }
+    Ok(summary)
+}

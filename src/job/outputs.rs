@@ -1,0 +1,278 @@
+//! What a finished (or interrupted) job writes into its output folder.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use serde::Serialize;
+
+use super::JobError;
+use crate::campaign::{Campaign, GeneTarget};
+use crate::eval::{Batch, Evaluator, History, score_one};
+use crate::fsutil::atomic_write;
+use crate::report::plots;
+use crate::search::{GeneSpec, SearchOutcome, write_history_csv};
+
+/// Fit quality of one experiment.
+#[derive(Debug, Clone, Serialize)]
+pub struct ExperimentFit {
+    /// Experiment name.
+    pub name: String,
+    /// R² of the model load-cell force over the fit window (the job's evaluator).
+    pub r2: f64,
+    /// `1 − R²` (the fitness).
+    pub one_minus_r2: f64,
+    /// R² of the same parameters with the f64 CPU reference.
+    pub r2_cpu_reference: f64,
+    /// Weight in the joint fitness.
+    pub weight: f64,
+    /// CSV with measured, model and cleaned force.
+    pub csv: String,
+    /// SVG plot of the fit.
+    pub plot: String,
+}
+
+/// One model parameter (or clock offset) in the result.
+#[derive(Debug, Clone, Serialize)]
+pub struct ParamSummary {
+    /// Name as in the campaign (`"k1"`, `"v2.k_lin"`, `"v2.offset"`).
+    pub name: String,
+    /// SI unit.
+    pub unit: String,
+    /// Value.
+    pub value: f64,
+    /// Whether the search fitted it.
+    pub free: bool,
+    /// Search bounds (free parameters).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub bounds: Option<[f64; 2]>,
+    /// Smallest and largest value in the final elite (best 10 %): a narrow
+    /// range means the data pins the parameter down.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub elite_range: Option<[f64; 2]>,
+    /// Width of the elite range relative to the value.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub elite_relative_width: Option<f64>,
+}
+
+/// The content of `result.json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct JobSummary {
+    /// rigfit version that wrote the file.
+    pub rigfit_version: String,
+    /// Campaign name.
+    pub campaign: String,
+    /// Campaign file.
+    pub campaign_file: String,
+    /// Model id.
+    pub model: String,
+    /// Search seed.
+    pub seed: u64,
+    /// `"gpu"` or `"cpu"`.
+    pub backend: String,
+    /// Device description.
+    pub device: String,
+    /// `"f32"` or `"f64"`.
+    pub precision: String,
+    /// RK4 steps per sample.
+    pub substeps: usize,
+    /// Generations run.
+    pub generations: usize,
+    /// Candidate evaluations.
+    pub evaluations: u64,
+    /// Search wall time (s).
+    pub wall_time_s: f64,
+    /// Why the search stopped.
+    pub stop_reason: String,
+    /// Best joint fitness (weighted mean of `1 − R²`).
+    pub fitness: f64,
+    /// Per experiment.
+    pub experiments: Vec<ExperimentFit>,
+    /// Every parameter value, by name: feed this file to
+    /// `rigfit simulate --params`.
+    pub params: BTreeMap<String, f64>,
+    /// Every parameter with unit, bounds and elite spread.
+    pub parameters: Vec<ParamSummary>,
+    /// Runs that blew up over the whole search.
+    pub diverged_runs: usize,
+    /// Notes: search warnings, CPU fallback.
+    pub warnings: Vec<String>,
+}
+
+/// Writes result.json, one CSV and one plot per experiment, history.csv and
+/// fitness.svg for the best candidate of `outcome`. Returns the summary.
+pub fn write_outputs(
+    campaign: &Campaign,
+    evaluator: &mut dyn Evaluator,
+    outcome: &SearchOutcome,
+    genes: &[GeneSpec],
+    out: &Path,
+    fallback: Option<String>,
+) -> Result<JobSummary, JobError> {
+    let write = |name: &str, bytes: &[u8]| -> Result<(), JobError> {
+        let path = out.join(name);
+        atomic_write(&path, bytes).map_err(|source| JobError::Write { path, source })
+    };
+    let info = evaluator.info();
+    let best = &outcome.best_genome;
+    let batch: Batch = campaign.batch(std::slice::from_ref(best));
+    let histories = evaluator.histories(&batch, &[0])?.remove(0);
+    let full = campaign.full_params(best);
+
+    let mut experiments = Vec::new();
+    for (e, (exp, hist)) in campaign.problem.experiments.iter().zip(&histories).enumerate() {
+        let (params, offset) = &full[e];
+        let r2 = r_squared(exp, hist);
+        let (reference, _) = score_one(&campaign.problem, e, params, *offset);
+        let stem = file_stem(&exp.name);
+        let csv = format!("{stem}.csv");
+        let plot = format!("fit_{stem}.svg");
+        write(&csv, experiment_csv(exp, hist, *offset).as_bytes())?;
+        let n = hist.t.len().min(exp.force.len());
+        let t_rec: Vec<f64> = (0..n).map(|k| exp.t_first + k as f64 * exp.dt).collect();
+        let title = format!("{}: {} — R² = {:.5}", campaign.name, exp.name, r2);
+        let svg = plots::fit_svg(
+            &title,
+            &t_rec,
+            &exp.force[..n],
+            &hist.outputs[0][..n],
+            &hist.outputs[1][..n],
+        )?;
+        write(&plot, svg.as_bytes())?;
+        experiments.push(ExperimentFit {
+            name: exp.name.clone(),
+            r2,
+            one_minus_r2: 1.0 - r2,
+            r2_cpu_reference: 1.0 - reference,
+            weight: exp.weight,
+            csv,
+            plot,
+        });
+    }
+
+    let history_path = out.join("history.csv");
+    write_history_csv(&history_path, &outcome.history, genes)?;
+    let best_curve: Vec<f64> = outcome.history.iter().map(|r| r.best_cost).collect();
+    let median_curve: Vec<f64> = outcome.history.iter().map(|r| r.median_cost).collect();
+    let svg = plots::fitness_svg(
+        &format!("{}: fitness by generation", campaign.name),
+        &best_curve,
+        &median_curve,
+    )?;
+    write("fitness.svg", svg.as_bytes())?;
+
+    let (params, parameters) = parameter_tables(campaign, outcome);
+    let mut warnings = campaign.warnings.clone();
+    warnings.extend(outcome.warnings.iter().cloned());
+    warnings.extend(fallback);
+    let summary = JobSummary {
+        rigfit_version: env!("CARGO_PKG_VERSION").into(),
+        campaign: campaign.name.clone(),
+        campaign_file: campaign.path.display().to_string(),
+        model: campaign.model.id().into(),
+        seed: campaign.search.seed,
+        backend: info.backend,
+        device: info.device,
+        precision: format!("{:?}", info.precision).to_lowercase(),
+        substeps: campaign.solver.substeps,
+        generations: outcome.generations,
+        evaluations: outcome.evaluations,
+        wall_time_s: outcome.wall_time_s,
+        stop_reason: outcome.termination.to_string(),
+        fitness: outcome.best_cost,
+        experiments,
+        params,
+        parameters,
+        diverged_runs: outcome.history.iter().map(|r| r.diverged_runs).sum(),
+        warnings,
+    };
+    let json = serde_json::to_string_pretty(&summary).expect("summary serialises");
+    write("result.json", json.as_bytes())?;
+    Ok(summary)
+}
+
+/// R² of output 0 against the measurement over the fit window.
+pub fn r_squared(exp: &crate::eval::ExperimentData, hist: &History) -> f64 {
+    let w = exp.window.clone();
+    let n = w.len() as f64;
+    let mean = exp.force[w.clone()].iter().sum::<f64>() / n;
+    let mut ss_res = 0.0;
+    let mut ss_tot = 0.0;
+    for k in w {
+        let m = hist.outputs[0].get(k).copied().unwrap_or(f64::NAN);
+        ss_res += (m - exp.force[k]).powi(2);
+        ss_tot += (exp.force[k] - mean).powi(2);
+    }
+    1.0 - ss_res / ss_tot
+}
+
+fn file_stem(name: &str) -> String {
+    name.chars()
+        .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' })
+        .collect()
+}
+
+fn experiment_csv(exp: &crate::eval::ExperimentData, hist: &History, offset: f64) -> String {
+    let mut s = String::from(
+        "t_record_s,t_model_s,measured_force_N,model_load_cell_force_N,model_specimen_force_N,residual_N,in_fit_window\n",
+    );
+    let n = hist.t.len().min(exp.force.len());
+    for k in 0..n {
+        let t_rec = exp.t_first + k as f64 * exp.dt;
+        let model = hist.outputs[0][k];
+        let _ = writeln!(
+            s,
+            "{t_rec:.9e},{:.9e},{:.6e},{model:.6e},{:.6e},{:.6e},{}",
+            t_rec + offset,
+            exp.force[k],
+            hist.outputs[1][k],
+            model - exp.force[k],
+            u8::from(exp.window.contains(&k)),
+        );
+    }
+    s
+}
+
+fn parameter_tables(
+    campaign: &Campaign,
+    outcome: &SearchOutcome,
+) -> (BTreeMap<String, f64>, Vec<ParamSummary>) {
+    let full = campaign.full_params(&outcome.best_genome);
+    let model = campaign.model;
+    let exps = &campaign.problem.experiments;
+    let mut params = BTreeMap::new();
+    let mut rows = Vec::new();
+    let gene_of = |name: &str| campaign.genes.iter().position(|g| g.name == name);
+    let mut row = |name: String, unit: &str, value: f64| {
+        let g = gene_of(&name);
+        let spread = g.and_then(|i| outcome.elite_spread.get(i));
+        params.insert(name.clone(), value);
+        rows.push(ParamSummary {
+            unit: unit.to_string(),
+            value,
+            free: g.is_some(),
+            bounds: g.map(|i| [campaign.genes[i].lower, campaign.genes[i].upper]),
+            elite_range: spread.map(|s| [s.min, s.max]),
+            elite_relative_width: spread.map(|s| s.relative_width),
+            name,
+        });
+    };
+    for (i, info) in model.params().iter().enumerate() {
+        let first = full[0].0[i];
+        let per_experiment = campaign
+            .genes
+            .iter()
+            .any(|g| g.target == GeneTarget::Param(i) && g.experiment.is_some());
+        if !per_experiment && full.iter().all(|(p, _)| p[i] == first) {
+            row(info.name.to_string(), info.unit, first);
+        } else {
+            for (e, (p, _)) in full.iter().enumerate() {
+                row(format!("{}.{}", exps[e].name, info.name), info.unit, p[i]);
+            }
+        }
+    }
+    for (e, (_, offset)) in full.iter().enumerate() {
+        row(format!("{}.offset", exps[e].name), "s", *offset);
+    }
+    (params, rows)
+}
