@@ -8,4 +8,5 @@ pub mod eval;
 pub mod fixtures;
 pub mod integrate;
 pub mod model;
+pub mod precal;
 pub mod search;
