@@ -15,6 +15,7 @@
 
 pub mod csv_input;
 mod decay_fit;
+mod decrement;
 pub mod psd;
 pub mod ringdown;
 pub mod specimen;

@@ -15,7 +15,7 @@
 //!    Hann, 50 % overlap, segment length from the data, `Δf = fs/segment_len`,
 //!    log-parabolic peak interpolation).
 //! 3. **Logarithmic decrement**: positive peaks (local maxima over ±0.4 period,
-//!    refined by a parabola through samples ±period/16 apart, taken while above
+//!    refined by a least-squares parabola over ±period/8, taken while above
 //!    5 % of the first peak), each numbered by its cycle. For `K` separations
 //!    `j = s, 2s, …, K·s` peaks (`s = max(1, ⌊(N−1)/(2K)⌋)`, `K` ≤ 5 by
 //!    default) `δ_j` is the mean of `ln(x_i/x_{i+j}) / (cycles between them)`,
@@ -36,6 +36,8 @@ use serde::Serialize;
 use serde_json::{Value, json};
 
 use super::decay_fit::fit_decay;
+pub use super::decrement::Decrement;
+use super::decrement::{find_peaks, log_decrement, slope};
 use super::psd::welch;
 use super::{DecayFit, PrecalError, check_inputs};
 
@@ -104,25 +106,6 @@ pub struct PsdSummary {
     pub peak_bin_hz: f64,
     /// Interpolated peak frequency (Hz).
     pub peak_hz: f64,
-}
-
-/// Logarithmic-decrement results.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Decrement {
-    /// Positive peaks used.
-    pub n_peaks: usize,
-    /// Peak separations `j`.
-    pub separations: Vec<usize>,
-    /// `ζ_j` for each separation.
-    pub zeta_by_separation: Vec<f64>,
-    /// Mean of `ζ_j`.
-    pub zeta_mean: f64,
-    /// Sample standard deviation of `ζ_j` (0 for one separation).
-    pub zeta_std: f64,
-    /// Smallest `ζ_j`.
-    pub zeta_min: f64,
-    /// Largest `ζ_j`.
-    pub zeta_max: f64,
 }
 
 /// Result of [`analyse`].
@@ -344,89 +327,4 @@ fn detect_fracture(t: &[f64], f: &[f64]) -> Result<Fracture, PrecalError> {
         force: f[best],
         drop: Some(best_drop),
     })
-}
-
-/// Positive peaks of `x − offset` as `(sample position, amplitude)`.
-fn find_peaks(x: &[f64], offset: f64, period: f64) -> Vec<(f64, f64)> {
-    let h = ((0.4 * period).round() as usize).max(1);
-    let m = ((period / 16.0).round() as usize).clamp(1, h);
-    let mut peaks = Vec::new();
-    let mut i = h;
-    while i + h < x.len() {
-        let window = &x[i - h..=i + h];
-        let top = window.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        if x[i] == top && x[i] > offset {
-            let (a, b, c) = (x[i - m] - offset, x[i] - offset, x[i + m] - offset);
-            let denom = a - 2.0 * b + c;
-            let d = if denom < 0.0 {
-                (0.5 * (a - c) / denom).clamp(-1.0, 1.0)
-            } else {
-                0.0
-            };
-            let amp = b - 0.25 * (a - c) * d;
-            if let Some(first) = peaks.first().map(|p: &(f64, f64)| p.1) {
-                if amp < 0.05 * first {
-                    break;
-                }
-            }
-            peaks.push((i as f64 + d * m as f64, amp));
-            i += h;
-        } else {
-            i += 1;
-        }
-    }
-    peaks
-}
-
-fn log_decrement(peaks: &[(f64, f64)], cycles: &[f64], max_separations: usize) -> Decrement {
-    let n = peaks.len();
-    let k = max_separations.min(n - 1);
-    let s = ((n - 1) / (2 * k)).max(1);
-    let separations: Vec<usize> = (1..=k).map(|i| i * s).filter(|&j| j < n).collect();
-    let zeta_by_separation: Vec<f64> = separations
-        .iter()
-        .map(|&j| {
-            let deltas: Vec<f64> = (0..n - j)
-                .filter(|&i| cycles[i + j] > cycles[i])
-                .map(|i| (peaks[i].1 / peaks[i + j].1).ln() / (cycles[i + j] - cycles[i]))
-                .collect();
-            let delta = deltas.iter().sum::<f64>() / deltas.len().max(1) as f64;
-            delta / (4.0 * PI * PI + delta * delta).sqrt()
-        })
-        .collect();
-    let count = zeta_by_separation.len() as f64;
-    let mean = zeta_by_separation.iter().sum::<f64>() / count;
-    let var = if count > 1.0 {
-        zeta_by_separation
-            .iter()
-            .map(|z| (z - mean).powi(2))
-            .sum::<f64>()
-            / (count - 1.0)
-    } else {
-        0.0
-    };
-    Decrement {
-        n_peaks: n,
-        zeta_min: zeta_by_separation
-            .iter()
-            .copied()
-            .fold(f64::INFINITY, f64::min),
-        zeta_max: zeta_by_separation
-            .iter()
-            .copied()
-            .fold(f64::NEG_INFINITY, f64::max),
-        separations,
-        zeta_by_separation,
-        zeta_mean: mean,
-        zeta_std: var.sqrt(),
-    }
-}
-
-/// Least-squares slope of `y` against `x`.
-fn slope(x: &[f64], y: &[f64]) -> f64 {
-    let n = x.len() as f64;
-    let (mx, my) = (x.iter().sum::<f64>() / n, y.iter().sum::<f64>() / n);
-    let sxy: f64 = x.iter().zip(y).map(|(a, b)| (a - mx) * (b - my)).sum();
-    let sxx: f64 = x.iter().map(|a| (a - mx).powi(2)).sum();
-    sxy / sxx
 }

@@ -17,10 +17,14 @@
 //!   the smallest total sum of squared errors of both branches (a coarse scan over
 //!   at most 200 candidates, then every data point around the best one). Each
 //!   candidate must leave ≥ 2 points in the elastic branch and ≥ degree + 2 in the
-//!   plastic one. The branches need not meet exactly at `e_yield`; the report
-//!   gives the force jump `S_poly(e_yield) − k_lin·e_yield` and the elongation
-//!   where they do meet (`e_meet`), which a user can pass as a fixed `e_yield`
-//!   when a continuous law matters more than the last bit of fit.
+//!   plastic one. The scan fixes which points belong to which branch; any
+//!   `e_yield` in the gap between the last elastic and the first plastic point
+//!   gives the same SSE, and within that gap `e_yield` is put where the branches
+//!   meet (the crossing of `k_lin·e` and the polynomial, clamped to the gap), so
+//!   the law is as continuous as the data allow. The report gives the remaining
+//!   force jump `S_poly(e_yield) − k_lin·e_yield` and the crossing itself
+//!   (`e_meet`), which a user can pass as a fixed `e_yield` when continuity
+//!   matters more than the last bit of fit.
 //! - The data must show a plastic range: the two-branch fit is compared with the
 //!   elastic line through all points by the F statistic
 //!   `F = ((SSE_line − SSE_fit)/(p − 1)) / (SSE_fit/(N − p))`, `p = degree + 3`
@@ -78,7 +82,8 @@ pub struct SpecimenFit {
     pub degree: usize,
     /// Elastic stiffness `k_lin` (N/m).
     pub k_lin: f64,
-    /// End of the elastic branch `e_yield` (m).
+    /// End of the elastic branch `e_yield` (m); see the module docs for how it
+    /// is placed between data points.
     pub e_yield: f64,
     /// How `e_yield` was chosen.
     pub yield_choice: YieldChoice,
@@ -235,10 +240,16 @@ pub fn fit(e: &[f64], f: &[f64], options: &SpecimenFitOptions) -> Result<Specime
         rmse: (sse / n as f64).sqrt(),
         f_statistic,
     };
-    out.jump_at_yield = out.polynomial(e_yield) - out.k_lin * e_yield;
     let lo = data.pts[split.saturating_sub(1 + n / 10)].0;
     let hi = data.pts[(split + n / 10).min(n - 1)].0;
     out.e_meet = meeting_point(&out, lo, hi);
+    if let (YieldChoice::BestTotalFit, Some(meet)) = (choice, out.e_meet) {
+        // Any e_yield in the gap [last elastic, first plastic) leaves the SSE
+        // unchanged: take the one closest to where the branches meet.
+        let (a, b) = (data.pts[split - 1].0, data.pts[split].0);
+        out.e_yield = meet.clamp(a, b - 1e-3 * (b - a));
+    }
+    out.jump_at_yield = out.polynomial(out.e_yield) - out.k_lin * out.e_yield;
     Ok(out)
 }
 
