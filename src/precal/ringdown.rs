@@ -315,7 +315,7 @@ fn detect_fracture(t: &[f64], f: &[f64]) -> Result<Fracture, PrecalError> {
             (a.min(v), b.max(v))
         });
     let range = hi - lo;
-    if !(best_drop > 0.5 * range) {
+    if best_drop <= 0.5 * range {
         return Err(PrecalError::NoFracture {
             drop: best_drop,
             range,

@@ -211,7 +211,7 @@ pub fn fit(e: &[f64], f: &[f64], options: &SpecimenFitOptions) -> Result<Specime
     let sse_floor = n as f64 * (1e-10 * f_max).powi(2);
     let f_statistic = ((sse_line - sse).max(0.0) / (p - 1) as f64)
         / (sse.max(sse_floor).max(f64::MIN_POSITIVE) / n.saturating_sub(p).max(1) as f64);
-    if !(f_statistic >= MIN_F_STATISTIC) {
+    if f_statistic.is_nan() || f_statistic < MIN_F_STATISTIC {
         return Err(PrecalError::NoPlasticRange {
             f_statistic,
             threshold: MIN_F_STATISTIC,
