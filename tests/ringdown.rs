@@ -243,3 +243,31 @@ fn non_numeric_and_nan_csv_lines_are_reported_with_line_numbers() {
         "{err}"
     );
 }
+
+#[test]
+fn coarse_psd_resolution_still_gives_the_decay() {
+    // Δf ≈ 2 kHz: the PSD only locates the mode; peak timing and the fit refine it.
+    let c1 = C1 / 10.0;
+    let (t, f) = history(c1, 1e-3, 30e-3, 10.0, 9);
+    let opts = RingdownOptions {
+        segment_len: Some(512),
+        m1: Some(M1),
+        k1: Some(K1),
+        ..RingdownOptions::default()
+    };
+    let r = analyse(&t, &f, &opts).unwrap();
+    let (fn_true, zeta_true) = truth(c1);
+    assert_eq!(r.psd.segment_len, 512);
+    assert!(
+        (r.psd.peak_hz - fn_true).abs() <= r.psd.resolution_hz,
+        "{:?}",
+        r.psd
+    );
+    assert!((r.natural_frequency_hz / fn_true - 1.0).abs() < 1e-3);
+    assert!((r.fit.zeta / zeta_true - 1.0).abs() < 0.02, "{:?}", r.fit);
+    assert!(
+        (r.decrement.zeta_mean / zeta_true - 1.0).abs() < 0.03,
+        "{:?}",
+        r.decrement
+    );
+}

@@ -217,10 +217,13 @@ pub fn analyse(
             found: peaks.len(),
         });
     }
-    let cycles: Vec<f64> = peaks
-        .iter()
-        .map(|p| ((p.0 - peaks[0].0) / period).round())
-        .collect();
+    // Cycle numbers counted peak to peak, so a PSD period off by a few percent
+    // cannot misnumber late peaks; a missed peak shows as a step of two.
+    let mut cycles = vec![0.0];
+    for w in peaks.windows(2) {
+        let last = cycles[cycles.len() - 1];
+        cycles.push(last + ((w[1].0 - w[0].0) / period).round().max(1.0));
+    }
     let decrement = log_decrement(&peaks, &cycles, options.max_separations);
     let omega_d0 = 2.0 * PI * fs / slope(&cycles, &peaks.iter().map(|p| p.0).collect::<Vec<_>>());
     let z0 = decrement.zeta_mean.clamp(1e-6, 0.5);
