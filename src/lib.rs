@@ -9,5 +9,6 @@ pub mod fixtures;
 pub mod integrate;
 pub mod model;
 pub mod modes;
+pub mod precal;
 pub mod report;
 pub mod search;

@@ -1,0 +1,273 @@
+//! The ring-down analysis recovers the load cell's frequency, damping ratio and
+//! `c1_post` from noisy generated fractures, and refuses unusable histories.
+
+use std::f64::consts::PI;
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rigfit::precal::PrecalError;
+use rigfit::precal::csv_input::{parse_two_columns, read_two_columns};
+use rigfit::precal::ringdown::{RingdownOptions, analyse};
+
+const M1: f64 = 7.9;
+const K1: f64 = 8.4e9;
+const C1: f64 = 9.22e3;
+
+fn gauss(rng: &mut ChaCha8Rng) -> f64 {
+    let u: f64 = rng.random_range(f64::EPSILON..1.0);
+    let v: f64 = rng.random();
+    (-2.0 * u.ln()).sqrt() * (2.0 * PI * v).cos()
+}
+
+fn truth(c1: f64) -> (f64, f64) {
+    let wn = (K1 / M1).sqrt();
+    (wn / (2.0 * PI), c1 / (2.0 * (K1 * M1).sqrt()))
+}
+
+/// Ramp to `f0` until `t_frac`, then the free load cell `m1ÿ + c1ẏ + k1y = 0`
+/// measured as `F1 = k1·y + c1·ẏ`, sampled at 1 MHz with Gaussian noise.
+fn history(c1: f64, t_frac: f64, duration: f64, sigma: f64, seed: u64) -> (Vec<f64>, Vec<f64>) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let (f0, fs) = (5000.0, 1e6);
+    let wn = (K1 / M1).sqrt();
+    let zeta = c1 / (2.0 * (K1 * M1).sqrt());
+    let (s, wd) = (zeta * wn, wn * (1.0 - zeta * zeta).sqrt());
+    let y0 = f0 / K1;
+    let n = (duration * fs) as usize + 1;
+    let t: Vec<f64> = (0..n).map(|i| i as f64 / fs).collect();
+    let f = t
+        .iter()
+        .map(|&t| {
+            let clean = if t <= t_frac {
+                f0 * t / t_frac
+            } else {
+                let tau = t - t_frac;
+                let (sin, cos) = (wd * tau).sin_cos();
+                let e = (-s * tau).exp();
+                let y = e * y0 * (cos + s / wd * sin);
+                let v = -e * y0 * (s * s + wd * wd) / wd * sin;
+                K1 * y + c1 * v
+            };
+            clean + sigma * gauss(&mut rng)
+        })
+        .collect();
+    (t, f)
+}
+
+fn with_masses(m1: Option<f64>, k1: Option<f64>) -> RingdownOptions {
+    RingdownOptions {
+        m1,
+        k1,
+        ..RingdownOptions::default()
+    }
+}
+
+#[test]
+fn reference_load_cell_is_recovered_with_m1_and_k1_given() {
+    let (t, f) = history(C1, 2e-3, 20e-3, 10.0, 42);
+    let r = analyse(&t, &f, &with_masses(Some(M1), Some(K1))).unwrap();
+    let (fn_true, zeta_true) = truth(C1);
+    assert!((r.fracture.time - 2e-3).abs() <= 2e-6, "{:?}", r.fracture);
+    assert!(
+        (r.psd.peak_hz - fn_true).abs() <= r.psd.resolution_hz,
+        "{:?}",
+        r.psd
+    );
+    assert!((r.natural_frequency_hz - fn_true).abs() < 1e-3 * fn_true);
+    let zd = r.decrement.zeta_mean;
+    assert!(
+        (zd / zeta_true - 1.0).abs() < 0.05,
+        "decrement ζ {zd} vs {zeta_true}: {:?}",
+        r.decrement
+    );
+    assert!(
+        (r.fit.zeta / zeta_true - 1.0).abs() < 0.02,
+        "fit ζ {}",
+        r.fit.zeta
+    );
+    assert!(
+        (r.c1_post.unwrap() / C1 - 1.0).abs() < 0.03,
+        "c1 {:?}",
+        r.c1_post
+    );
+    assert!((r.c1_post_decrement.unwrap() / C1 - 1.0).abs() < 0.03);
+    assert!(r.fit.r2 > 0.99 && r.fit.converged, "{:?}", r.fit);
+    assert!(!r.k1_from_frequency && r.model_frequency_hz.is_some());
+    let fragment = r.to_campaign_fragment();
+    assert_eq!(fragment["params"]["c1_post"].as_f64(), r.c1_post);
+    assert!(fragment["params"].get("k1").is_none());
+}
+
+#[test]
+fn lightly_damped_load_cell_and_k1_from_frequency() {
+    // ζ ≈ 1.8e-3: about a hundred cycles before the ringing fades.
+    let c1 = C1 / 10.0;
+    let (t, f) = history(c1, 1e-3, 30e-3, 10.0, 7);
+    let r = analyse(&t, &f, &with_masses(Some(M1), None)).unwrap();
+    let (fn_true, zeta_true) = truth(c1);
+    assert!(
+        (r.psd.peak_hz - fn_true).abs() <= r.psd.resolution_hz,
+        "{:?}",
+        r.psd
+    );
+    assert!(r.decrement.n_peaks > 50, "{:?}", r.decrement);
+    assert!(
+        (r.decrement.zeta_mean / zeta_true - 1.0).abs() < 0.05,
+        "{:?}",
+        r.decrement
+    );
+    assert!((r.fit.zeta / zeta_true - 1.0).abs() < 0.02, "{:?}", r.fit);
+    assert!(r.k1_from_frequency);
+    assert!((r.k1.unwrap() / K1 - 1.0).abs() < 0.002, "k1 {:?}", r.k1);
+    assert!(
+        (r.c1_post.unwrap() / c1 - 1.0).abs() < 0.03,
+        "c1 {:?}",
+        r.c1_post
+    );
+    let fragment = r.to_campaign_fragment();
+    assert_eq!(fragment["params"]["k1"].as_f64(), r.k1);
+}
+
+#[test]
+fn explicit_start_skips_detection() {
+    let (t, f) = history(C1, 2e-3, 12e-3, 10.0, 3);
+    let opts = RingdownOptions {
+        start: Some(2e-3),
+        k1: Some(K1),
+        ..RingdownOptions::default()
+    };
+    let r = analyse(&t, &f, &opts).unwrap();
+    assert!(r.fracture.drop.is_none());
+    assert_eq!(r.fracture.index, 2000);
+    assert!(
+        (r.c1_post.unwrap() / C1 - 1.0).abs() < 0.03,
+        "{:?}",
+        r.c1_post
+    );
+}
+
+#[test]
+fn shipped_example_file_gives_the_reference_load_cell() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/campaigns/ringdown_synthetic.csv"
+    );
+    let data = read_two_columns(path.as_ref()).unwrap();
+    let r = analyse(&data.x, &data.y, &with_masses(Some(M1), None)).unwrap();
+    let (fn_true, _) = truth(C1);
+    assert!(
+        (r.psd.peak_hz - fn_true).abs() <= r.psd.resolution_hz,
+        "{:?}",
+        r.psd
+    );
+    assert!((r.c1_post.unwrap() / C1 - 1.0).abs() < 0.03, "{r:?}");
+    assert!((r.k1.unwrap() / K1 - 1.0).abs() < 0.002, "{r:?}");
+}
+
+#[test]
+fn ramp_without_fracture_is_refused() {
+    let (t, f) = history(C1, 50e-3, 10e-3, 10.0, 1);
+    let err = analyse(&t, &f, &RingdownOptions::default()).unwrap_err();
+    assert!(matches!(err, PrecalError::NoFracture { .. }), "{err}");
+}
+
+#[test]
+fn fracture_at_the_end_is_too_short() {
+    let (t, f) = history(C1, 9.9e-3, 10e-3, 10.0, 1);
+    let err = analyse(&t, &f, &RingdownOptions::default()).unwrap_err();
+    assert!(
+        matches!(err, PrecalError::TooShortRingdown { needed: 256, .. }),
+        "{err}"
+    );
+    // Enough samples but fewer than six cycles above the noise.
+    let (t, f) = history(C1, 9.3e-3, 10e-3, 10.0, 1);
+    let err = analyse(&t, &f, &RingdownOptions::default()).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            PrecalError::TooShortRingdown {
+                what: "positive peaks",
+                ..
+            }
+        ),
+        "{err}"
+    );
+    let err = analyse(&t[..100], &f[..100], &RingdownOptions::default()).unwrap_err();
+    assert!(
+        matches!(err, PrecalError::TooShortRingdown { found: 100, .. }),
+        "{err}"
+    );
+}
+
+#[test]
+fn uneven_time_steps_and_bad_options_are_refused() {
+    let (mut t, f) = history(C1, 2e-3, 5e-3, 10.0, 1);
+    t[1000] += 0.5e-6;
+    let err = analyse(&t, &f, &RingdownOptions::default()).unwrap_err();
+    assert!(
+        matches!(err, PrecalError::NonUniformTime { index: 1000, .. }),
+        "{err}"
+    );
+    let (t, f) = history(C1, 2e-3, 5e-3, 10.0, 1);
+    let err = analyse(&t, &f, &with_masses(Some(-7.9), None)).unwrap_err();
+    assert!(
+        matches!(err, PrecalError::InvalidOption { name: "m1", .. }),
+        "{err}"
+    );
+}
+
+#[test]
+fn non_numeric_and_nan_csv_lines_are_reported_with_line_numbers() {
+    let err = parse_two_columns("time_s,force_N\n0,1\n1e-6,1..2\n").unwrap_err();
+    assert!(
+        matches!(
+            err,
+            PrecalError::NotNumeric {
+                line: 3,
+                column: 2,
+                ..
+            }
+        ),
+        "{err}"
+    );
+    let err = parse_two_columns("# x\n0,1\nnan,2\n").unwrap_err();
+    assert!(
+        matches!(
+            err,
+            PrecalError::NotFinite {
+                line: 3,
+                column: 1,
+                ..
+            }
+        ),
+        "{err}"
+    );
+}
+
+#[test]
+fn coarse_psd_resolution_still_gives_the_decay() {
+    // Δf ≈ 2 kHz: the PSD only locates the mode; peak timing and the fit refine it.
+    let c1 = C1 / 10.0;
+    let (t, f) = history(c1, 1e-3, 30e-3, 10.0, 9);
+    let opts = RingdownOptions {
+        segment_len: Some(512),
+        m1: Some(M1),
+        k1: Some(K1),
+        ..RingdownOptions::default()
+    };
+    let r = analyse(&t, &f, &opts).unwrap();
+    let (fn_true, zeta_true) = truth(c1);
+    assert_eq!(r.psd.segment_len, 512);
+    assert!(
+        (r.psd.peak_hz - fn_true).abs() <= r.psd.resolution_hz,
+        "{:?}",
+        r.psd
+    );
+    assert!((r.natural_frequency_hz / fn_true - 1.0).abs() < 1e-3);
+    assert!((r.fit.zeta / zeta_true - 1.0).abs() < 0.02, "{:?}", r.fit);
+    assert!(
+        (r.decrement.zeta_mean / zeta_true - 1.0).abs() < 0.03,
+        "{:?}",
+        r.decrement
+    );
+}
