@@ -1,6 +1,35 @@
-//! The `rigfit` command line.
+//! The `rigfit` command line: `main` parses, `cli::dispatch` works, and every
+//! error is printed with its full cause chain and a distinct exit code.
 
-fn main() -> std::process::ExitCode {
-    eprintln!("rigfit: command line under construction");
-    std::process::ExitCode::from(2)
+mod cli;
+
+use std::process::ExitCode;
+
+use clap::Parser;
+
+fn main() -> ExitCode {
+    let cli = match cli::args::Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            let _ = e.print();
+            return if e.use_stderr() {
+                ExitCode::from(cli::EXIT_BAD_INPUT)
+            } else {
+                ExitCode::SUCCESS
+            };
+        }
+    };
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn"))
+        .format_timestamp_millis()
+        .init();
+    match cli::dispatch(cli) {
+        Ok(code) => code,
+        Err(err) => {
+            eprintln!("rigfit: error: {err}");
+            for cause in err.chain().skip(1) {
+                eprintln!("  caused by: {cause}");
+            }
+            ExitCode::from(cli::exit_code(&err))
+        }
+    }
 }
