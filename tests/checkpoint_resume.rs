@@ -35,7 +35,10 @@ fn fingerprint(data: &str) -> Fingerprint {
         .with("data", data)
 }
 
-fn executor(s: GaSettings) -> Executor<FnCost<fn(&[f64]) -> f64>> {
+/// The analytic cost every run here uses.
+type Rosenbrock = FnCost<fn(&[f64]) -> f64>;
+
+fn executor(s: GaSettings) -> Executor<Rosenbrock> {
     let ga = GeneticAlgorithm::new(s, genes()).unwrap();
     Executor::new(ga, FnCost(rosenbrock as fn(&[f64]) -> f64)).fingerprint(fingerprint("abc"))
 }
