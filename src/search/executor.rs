@@ -30,6 +30,34 @@ pub const DIVERGED_WARN_SHARE: f64 = 0.25;
 /// `stall_generations`, `max_time_s`) or when the interrupt flag is raised; the
 /// flag and the limits are checked after every generation, so an interrupt takes
 /// effect once the running evaluation returns.
+///
+/// Checkpoints are written by the executor itself rather than by an observer:
+/// they need the full state (RNG included), taken at the one point of the loop
+/// where a resumed search continues exactly as an uninterrupted one would.
+///
+/// ```
+/// use std::sync::{Arc, atomic::AtomicBool};
+/// use rigfit::model::Scale;
+/// use rigfit::search::*;
+///
+/// # let dir = tempfile::tempdir().unwrap();
+/// let checkpoint = dir.path().join("checkpoint.json");
+/// let settings: GaSettings =
+///     serde_json::from_str(r#"{"population": 16, "generations": 20}"#).unwrap();
+/// let genes = vec![GeneSpec::new("k", 1e-3, 1e3, Scale::Log)];
+/// let build = || {
+///     let ga = GeneticAlgorithm::new(settings.clone(), genes.clone()).unwrap();
+///     Executor::new(ga, FnCost(|g: &[f64]| g[0].ln().powi(2)))
+///         .fingerprint(Fingerprint::new().with("model", "demo"))
+///         .checkpoint_to(&checkpoint)
+///         .interrupt(Arc::new(AtomicBool::new(false)))
+///         .observe(ProgressObserver::new(20, true), ObserverMode::Always)
+/// };
+/// let first = build().run().unwrap();
+/// // Resuming a finished search just reports it again.
+/// let again = build().resume_from(&checkpoint).unwrap().run().unwrap();
+/// assert_eq!(first.best_cost.to_bits(), again.best_cost.to_bits());
+/// ```
 pub struct Executor<C: BatchCost> {
     ga: GeneticAlgorithm,
     cost: C,

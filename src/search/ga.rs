@@ -181,3 +181,63 @@ impl GeneticAlgorithm {
         Offspring { elites, children }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::Scale;
+    use rand::SeedableRng;
+    use rand_chacha::ChaCha8Rng;
+
+    fn settings() -> GaSettings {
+        serde_json::from_str(r#"{"population": 10, "generations": 5}"#).unwrap()
+    }
+
+    fn genes() -> Vec<GeneSpec> {
+        vec![GeneSpec::new("a", 0.0, 1.0, Scale::Linear)]
+    }
+
+    #[test]
+    fn bad_settings_name_the_field() {
+        let mut s = settings();
+        s.elitism = 10;
+        let e = GeneticAlgorithm::new(s, genes()).unwrap_err();
+        assert!(matches!(
+            e,
+            SearchError::InvalidSettings {
+                field: "elitism",
+                ..
+            }
+        ));
+        let mut s = settings();
+        s.crossover.probability = 1.5;
+        let e = GeneticAlgorithm::new(s, genes()).unwrap_err();
+        assert!(e.to_string().contains("crossover.probability"));
+        assert!(GeneticAlgorithm::new(settings(), vec![]).is_err());
+    }
+
+    #[test]
+    fn elites_are_the_best_and_population_size_is_kept() {
+        let ga = GeneticAlgorithm::new(settings(), genes()).unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(0);
+        let pop = ga.init(&mut rng);
+        let costs: Vec<f64> = (0..10)
+            .map(|i| [5.0, f64::NAN, 1.0, 3.0, 0.5][i % 5])
+            .collect();
+        let off = ga.next_generation(&mut rng, &pop, &costs);
+        assert_eq!(off.elites, [4, 9]);
+        assert_eq!(off.elites.len() + off.children.len(), 10);
+    }
+
+    #[test]
+    fn seed_candidate_uses_inits_and_mid_range() {
+        let genes = vec![
+            GeneSpec::new("a", 1.0, 100.0, Scale::Log),
+            GeneSpec::new("b", 0.0, 1.0, Scale::Linear).with_init(0.25),
+        ];
+        let ga = GeneticAlgorithm::new(settings(), genes).unwrap();
+        let pop = ga.init(&mut ChaCha8Rng::seed_from_u64(0));
+        assert!((pop[0][0].exp() - 10.0).abs() < 1e-12);
+        assert_eq!(pop[0][1], 0.25);
+    }
+}
