@@ -140,6 +140,7 @@ impl<C: BatchCost> Executor<C> {
         let (mut state, base_elapsed) = match self.resume.take() {
             Some((path, cp)) => {
                 cp.verify(&fingerprint, &path)?;
+                self.check_shape(&cp.state, &path)?;
                 for (obs, _) in &mut self.observers {
                     obs.resumed(&cp.state.history)?;
                 }
@@ -188,6 +189,23 @@ impl<C: BatchCost> Executor<C> {
                 diverged_runs,
             };
             self.record(&mut state, generation, gen_start, elapsed)?;
+        }
+    }
+
+    /// Guards against hand-edited checkpoints that the fingerprint cannot catch.
+    fn check_shape(&self, state: &SearchState, path: &Path) -> Result<(), SearchError> {
+        let (n, g) = (self.ga.settings().population, self.ga.genes().len());
+        let ok = state.population.len() == n
+            && state.costs.len() == n
+            && state.best_genome.len() == g
+            && state.population.iter().all(|x| x.len() == g);
+        if ok {
+            Ok(())
+        } else {
+            Err(SearchError::CheckpointFormat {
+                path: path.into(),
+                reason: format!("state does not hold {n} genomes of {g} genes with costs"),
+            })
         }
     }
 
