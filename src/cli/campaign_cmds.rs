@@ -1,0 +1,177 @@
+//! Commands that read a campaign without searching: `simulate`, `modes`, `check`.
+
+use std::fmt::Write as _;
+
+use anyhow::{Context, Result};
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+use super::args::{CheckArgs, ModesArgs, SimulateArgs};
+use super::{BadInput, Output};
+use rigfit::campaign::Campaign;
+use rigfit::eval::{Problem, simulate_history};
+use rigfit::fixtures::gaussian;
+use rigfit::fsutil::atomic_write;
+use rigfit::modes::ModeReport;
+
+fn load(path: &std::path::Path, params: Option<&std::path::Path>) -> Result<Campaign> {
+    let mut c = Campaign::load(path)?;
+    if let Some(p) = params {
+        c.apply_param_file(p)?;
+    }
+    for w in &c.warnings {
+        eprintln!("rigfit: warning: {w}");
+    }
+    Ok(c)
+}
+
+/// Simulates one experiment with the campaign's values and writes a CSV.
+pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
+    let c = load(&args.campaign, args.params.as_deref())?;
+    let e = match &args.experiment {
+        None => 0,
+        Some(name) => c
+            .problem
+            .experiments
+            .iter()
+            .position(|x| &x.name == name)
+            .ok_or_else(|| {
+                let names: Vec<&str> = c.problem.experiments.iter().map(|x| x.name.as_str()).collect();
+                BadInput(format!(
+                    "--experiment `{name}`: the campaign has experiments {}",
+                    names.join(", ")
+                ))
+            })?,
+    };
+    if let Some(sigma) = args.noise {
+        if !(sigma >= 0.0 && sigma.is_finite()) {
+            return Err(BadInput(format!("--noise {sigma}: expected a standard deviation ≥ 0 (N)")).into());
+        }
+    }
+    let mut problem: Problem = c.problem.clone();
+    let exp = &mut problem.experiments[e];
+    if let Some(n) = args.samples {
+        if n < 2 {
+            return Err(BadInput(format!("--samples {n}: expected at least 2")).into());
+        }
+        exp.force.resize(n, 0.0);
+        exp.window = 0..n;
+    }
+    let (params, offset) = (c.base[e].clone(), c.base_offsets[e]);
+    let h = simulate_history(&problem, e, &params, offset);
+    let exp = &problem.experiments[e];
+    let mut s = String::new();
+    match args.noise {
+        Some(sigma) => {
+            let mut rng = ChaCha8Rng::seed_from_u64(args.seed);
+            let _ = writeln!(
+                s,
+                "# SYNTHETIC measurement: made by `rigfit simulate` from campaign {} (experiment {}),\n\
+                 # model {}, Gaussian noise sigma = {sigma} N, seed {}. Not a measured record.",
+                c.name,
+                exp.name,
+                c.model.id(),
+                args.seed
+            );
+            s += "t_s,force_N\n";
+            for (k, f) in h.outputs[0].iter().enumerate() {
+                let t = exp.t_first + k as f64 * exp.dt;
+                let _ = writeln!(s, "{t:.9e},{:.6e}", f + sigma * gaussian(&mut rng));
+            }
+        }
+        None => {
+            s += "t_s";
+            for (name, unit) in c.model.output_names() {
+                let _ = write!(s, ",{name}_{unit}");
+            }
+            for name in c.model.state_names() {
+                let _ = write!(s, ",{name}");
+            }
+            s.push('\n');
+            for k in 0..h.t.len() {
+                let _ = write!(s, "{:.9e}", h.t[k]);
+                for o in h.outputs.iter().chain(&h.states) {
+                    let _ = write!(s, ",{:.9e}", o[k]);
+                }
+                s.push('\n');
+            }
+        }
+    }
+    atomic_write(&args.out, s.as_bytes()).with_context(|| format!("writing `{}`", args.out.display()))?;
+    let peak = h.outputs[0].iter().fold(0.0_f64, |m, f| m.max(f.abs()));
+    out.json(&serde_json::json!({
+        "out": args.out, "experiment": exp.name, "samples": h.t.len(),
+        "peak_load_cell_force_N": peak,
+    }))?;
+    out.say(|| {
+        format!(
+            "simulated {} ({} samples, {} RK4 steps per sample): peak load-cell force {:.1} N → {}",
+            exp.name,
+            h.t.len(),
+            problem.substeps,
+            peak,
+            args.out.display()
+        )
+    });
+    Ok(())
+}
+
+/// Prints the natural frequencies and mode shapes of the linearised rig.
+pub fn modes(args: &ModesArgs, out: &Output) -> Result<()> {
+    let c = load(&args.campaign, args.params.as_deref())?;
+    let mut reports = Vec::new();
+    for (e, exp) in c.problem.experiments.iter().enumerate() {
+        let lin = c.model.linearise(&c.base[e], &exp.drive);
+        let report = ModeReport::new(&lin).context("modal analysis")?;
+        reports.push((exp.name.clone(), report));
+    }
+    out.json(&serde_json::json!(
+        reports.iter().map(|(n, r)| serde_json::json!({"experiment": n, "modes": r})).collect::<Vec<_>>()
+    ))?;
+    out.say(|| {
+        let mut s = String::new();
+        for (name, r) in &reports {
+            let _ = writeln!(s, "experiment {name}: linearised rig (slack adapter engaged, specimen elastic)");
+            let _ = writeln!(s, "{r}");
+        }
+        s.trim_end().to_string()
+    });
+    Ok(())
+}
+
+/// Validates a campaign and its data.
+pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
+    let c = load(&args.campaign, None)?;
+    out.json(&serde_json::json!({
+        "campaign": c.name, "model": c.model.id(), "experiments": c.problem.experiments.len(),
+        "genes": c.genes.iter().map(|g| &g.name).collect::<Vec<_>>(),
+        "substeps": c.solver.substeps, "warnings": c.warnings,
+    }))?;
+    out.say(|| {
+        let mut s = format!(
+            "{}: valid — model {}, {} experiment(s), {} free parameter(s), {} RK4 steps per sample ({})",
+            args.campaign.display(),
+            c.model.id(),
+            c.problem.experiments.len(),
+            c.genes.len(),
+            c.solver.substeps,
+            c.solver.note
+        );
+        for e in &c.problem.experiments {
+            let _ = write!(
+                s,
+                "\n  {}: {} samples at {:.3e} s, fit window samples {}..{}",
+                e.name,
+                e.force.len(),
+                e.dt,
+                e.window.start,
+                e.window.end
+            );
+        }
+        for g in &c.genes {
+            let _ = write!(s, "\n  free {} in [{:e}, {:e}] {} ({:?})", g.name, g.lower, g.upper, g.unit, g.scale);
+        }
+        s
+    });
+    Ok(())
+}

@@ -1,0 +1,42 @@
+//! `rigfit devices`.
+
+use anyhow::Result;
+
+use super::Output;
+use rigfit::gpu::list_adapters;
+
+/// Lists every adapter wgpu can see, with its f64 support.
+pub fn devices(out: &Output) -> Result<()> {
+    let adapters = list_adapters();
+    let rows: Vec<serde_json::Value> = adapters
+        .iter()
+        .map(|a| {
+            serde_json::json!({
+                "name": a.name, "backend": a.backend, "type": a.device_type,
+                "driver": a.driver, "shader_f64": a.shader_f64,
+            })
+        })
+        .collect();
+    out.json(&serde_json::json!({ "adapters": rows }))?;
+    out.say(|| {
+        if adapters.is_empty() {
+            return "no GPU adapter found. Install a Vulkan driver: on Debian \
+                    `apt-get install mesa-vulkan-drivers` gives the software adapter lavapipe; \
+                    on NVIDIA/AMD machines install the vendor's Vulkan driver."
+                .into();
+        }
+        let mut s = String::from("GPU adapters (precision auto picks f64 where shader_f64 is yes):\n");
+        for (i, a) in adapters.iter().enumerate() {
+            s += &format!(
+                "  [{i}] {} — {} {}, driver {}, shader_f64: {}\n",
+                a.name,
+                a.backend,
+                a.device_type,
+                a.driver,
+                if a.shader_f64 { "yes" } else { "no" }
+            );
+        }
+        s.trim_end().to_string()
+    });
+    Ok(())
+}

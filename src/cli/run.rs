@@ -1,0 +1,142 @@
+//! `rigfit run`: the calibration job.
+
+use std::fmt::Write as _;
+use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use anyhow::{Context, Result};
+
+use super::args::{BackendArg, PrecisionArg, RunArgs};
+use super::{EXIT_INTERRUPTED, Output};
+use rigfit::campaign::Campaign;
+use rigfit::eval::{Backend, CpuEvaluator, PrecisionChoice};
+use rigfit::job::{self, JobOptions, JobSummary};
+
+/// How to get the GPU path when `auto` fell back to the CPU.
+const GPU_HINT: &str = "for the GPU path install a Vulkan driver (Debian: \
+    `apt-get install mesa-vulkan-drivers` for the software adapter lavapipe, or your GPU vendor's driver)";
+
+/// Loads, validates, runs and reports one calibration job.
+pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
+    let mut c = Campaign::load(&a.campaign)?;
+    if let Some(n) = a.population {
+        c.search.population = n;
+    }
+    if let Some(n) = a.generations {
+        c.search.generations = n;
+    }
+    if let Some(s) = a.seed {
+        c.search.seed = s;
+    }
+    c.search
+        .validate()
+        .map_err(|e| super::BadInput(format!("{}: {e}", a.campaign.display())))?;
+    c.require_genes()?;
+    for w in &c.warnings {
+        out.note(&format!("warning: {w}"));
+    }
+    let dir = a.out.clone().unwrap_or_else(|| c.output.clone());
+    job::check_output_folder(&dir, a.resume, a.overwrite)?;
+
+    let backend = match a.backend {
+        Some(BackendArg::Auto) => Backend::Auto,
+        Some(BackendArg::Gpu) => Backend::Gpu,
+        Some(BackendArg::Cpu) => Backend::Cpu,
+        None => c.solver.backend,
+    };
+    let precision = match a.precision {
+        Some(PrecisionArg::Auto) => PrecisionChoice::Auto,
+        Some(PrecisionArg::F32) => PrecisionChoice::F32,
+        Some(PrecisionArg::F64) => PrecisionChoice::F64,
+        None => c.solver.precision,
+    };
+    let evaluator: Box<dyn rigfit::eval::Evaluator> = if backend == Backend::Cpu {
+        Box::new(CpuEvaluator::new(c.problem.clone(), a.threads))
+    } else {
+        let opened = rigfit::gpu::open_evaluator(c.problem.clone(), backend, precision)
+            .context("opening the GPU evaluator")?;
+        if let Some(note) = &opened.note {
+            out.note(&format!("note: {note}; {GPU_HINT}"));
+        }
+        opened.evaluator
+    };
+    let info = evaluator.info();
+    out.note(&format!(
+        "{} on {} ({}, {:?}), {} RK4 steps per sample ({})",
+        c.name, info.backend, info.device, info.precision, c.solver.substeps, c.solver.note
+    ));
+
+    let interrupt = Arc::new(AtomicBool::new(false));
+    {
+        let flag = interrupt.clone();
+        // A second signal while the job is winding down ends the process.
+        let _ = ctrlc::set_handler(move || {
+            if flag.swap(true, Ordering::SeqCst) {
+                std::process::exit(i32::from(EXIT_INTERRUPTED));
+            }
+            eprintln!("\nrigfit: interrupted; finishing this generation and writing a checkpoint");
+        });
+    }
+    let opts = JobOptions {
+        out: dir.clone(),
+        resume: a.resume,
+        quiet: out.quiet || out.json,
+        interrupt: interrupt.clone(),
+        require_gpu: backend == Backend::Gpu || rigfit::gpu::gpu_required(),
+        threads: a.threads,
+    };
+    let summary = job::run(&c, evaluator, &opts)?;
+    out.json(&summary)?;
+    out.say(|| summary_text(&summary, &dir, job::steps_per_candidate(&c)));
+    if interrupt.load(Ordering::SeqCst) {
+        out.note(&format!(
+            "checkpoint kept in {}; continue with: rigfit run {} --resume",
+            dir.display(),
+            a.campaign.display()
+        ));
+        return Ok(ExitCode::from(EXIT_INTERRUPTED));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The one-screen summary at the end of a job.
+pub fn summary_text(s: &JobSummary, dir: &std::path::Path, steps: f64) -> String {
+    let mut t = String::new();
+    let rate = s.evaluations as f64 * steps / s.wall_time_s.max(1e-9);
+    let _ = writeln!(t, "\n{} — {}", s.campaign, s.stop_reason);
+    let _ = writeln!(
+        t,
+        "  {} generations, {} evaluations in {:.1} s on {} ({}, {}): {:.3e} candidate-steps/s",
+        s.generations, s.evaluations, s.wall_time_s, s.backend, s.device, s.precision, rate
+    );
+    for e in &s.experiments {
+        let _ = writeln!(
+            t,
+            "  {}: R² = {:.6} (1 − R² = {:.3e}; f64 CPU reference R² = {:.6})",
+            e.name, e.r2, e.one_minus_r2, e.r2_cpu_reference
+        );
+    }
+    let _ = writeln!(t, "  fitted parameters (elite width: spread of the best 10 % relative to the value):");
+    let _ = writeln!(t, "    {:<18} {:>14} {:<7} {:>25} {:>12}", "name", "value", "unit", "bounds", "elite width");
+    for p in s.parameters.iter().filter(|p| p.free) {
+        let bounds = p.bounds.map(|[lo, hi]| format!("[{lo:.3e}, {hi:.3e}]")).unwrap_or_default();
+        let width = p
+            .elite_relative_width
+            .map(|w| format!("{:.2} %", 100.0 * w))
+            .unwrap_or_default();
+        let _ = writeln!(t, "    {:<18} {:>14.6e} {:<7} {:>25} {:>12}", p.name, p.value, p.unit, bounds, width);
+    }
+    for w in &s.warnings {
+        let _ = writeln!(t, "  warning: {w}");
+    }
+    let mut files = vec!["result.json".to_string()];
+    for e in &s.experiments {
+        files.push(e.csv.clone());
+        files.push(e.plot.clone());
+    }
+    files.push("history.csv".into());
+    files.push("fitness.svg".into());
+    let _ = write!(t, "  results in {}: {}", dir.display(), files.join(", "));
+    t
+}
