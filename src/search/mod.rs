@@ -3,4 +3,4 @@
 
 mod settings;
 
-pub use settings::{CrossoverSettings, GaSettings, InitKind, MutationSettings};
+pub use settings::{CrossoverSettings, GaSettings, InitKind, MutationSettings, SettingsError};
