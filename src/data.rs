@@ -21,6 +21,10 @@ use std::path::{Path, PathBuf};
 /// which a record is resampled.
 pub const JITTER_TOLERANCE: f64 = 1.0e-3;
 
+/// Most that resampling may multiply a record's sample count by; beyond that
+/// the record has gaps and is refused.
+pub const MAX_RESAMPLE_GROWTH: usize = 10;
+
 /// Selects a CSV column.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Column {
@@ -113,6 +117,17 @@ pub enum DataError {
         column: String,
         /// The columns present.
         available: String,
+    },
+    /// The sampling cannot be made uniform (a gap far longer than the median
+    /// interval, or times beyond the range of `f64` arithmetic).
+    #[error("{}: expected {expected}, found {found}", file.display())]
+    Sampling {
+        /// The data file.
+        file: PathBuf,
+        /// What was expected.
+        expected: String,
+        /// What was found.
+        found: String,
     },
     /// The file holds fewer than two samples.
     #[error("{}: expected at least 2 samples, found {found}", file.display())]
@@ -242,7 +257,7 @@ pub fn parse_csv(text: &str, file: &Path, spec: &CsvSpec) -> Result<Series, Data
             found: t.len(),
         });
     }
-    Ok(uniform(t, force, file))
+    uniform(t, force, file)
 }
 
 /// A number, accepting a decimal comma when the separator is `;`.
@@ -255,11 +270,16 @@ fn parse_number(s: &str, sep: char) -> Option<f64> {
 }
 
 /// Checks the sampling and resamples to the median interval when it jitters.
-fn uniform(t: Vec<f64>, force: Vec<f64>, file: &Path) -> Series {
+fn uniform(t: Vec<f64>, force: Vec<f64>, file: &Path) -> Result<Series, DataError> {
     let n = t.len();
     let mut d: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
     d.sort_by(f64::total_cmp);
-    let median = d[d.len() / 2];
+    let h = d.len() / 2;
+    let median = if d.len() % 2 == 0 {
+        0.5 * (d[h - 1] + d[h])
+    } else {
+        d[h]
+    };
     let jitter = d
         .iter()
         .map(|x| (x - median).abs() / median)
@@ -267,15 +287,28 @@ fn uniform(t: Vec<f64>, force: Vec<f64>, file: &Path) -> Series {
     if jitter <= JITTER_TOLERANCE {
         let dt = (t[n - 1] - t[0]) / (n - 1) as f64;
         let t = (0..n).map(|k| t[0] + k as f64 * dt).collect();
-        return Series {
-            t,
-            force,
-            dt,
-            warning: None,
-        };
+        if dt.is_finite() && dt > 0.0 {
+            return Ok(Series {
+                t,
+                force,
+                dt,
+                warning: None,
+            });
+        }
     }
     let span = t[n - 1] - t[0];
-    let m = (span / median * (1.0 + 1e-9)).floor() as usize + 1;
+    let m = (span / median * (1.0 + 1e-9)).floor();
+    if !(m.is_finite() && m <= (MAX_RESAMPLE_GROWTH * n) as f64) {
+        return Err(DataError::Sampling {
+            file: file.into(),
+            expected: format!(
+                "a record without long gaps (resampling may at most multiply the sample \
+                 count by {MAX_RESAMPLE_GROWTH})"
+            ),
+            found: format!("{n} samples spanning {span:e} s at a median interval of {median:e} s"),
+        });
+    }
+    let m = m as usize + 1;
     let new_t: Vec<f64> = (0..m).map(|k| t[0] + k as f64 * median).collect();
     let mut j = 0;
     let new_f = new_t
@@ -290,7 +323,7 @@ fn uniform(t: Vec<f64>, force: Vec<f64>, file: &Path) -> Series {
         .collect();
     let warning = format!(
         "{}: sampling is not uniform (interval jitter up to {:.3}% of the median \
-         interval {:e} s); resampled {} samples to {} at the median interval by \
+         interval {:.4e} s); resampled {} samples to {} at the median interval by \
          linear interpolation",
         file.display(),
         jitter * 100.0,
@@ -298,10 +331,10 @@ fn uniform(t: Vec<f64>, force: Vec<f64>, file: &Path) -> Series {
         n,
         m
     );
-    Series {
+    Ok(Series {
         t: new_t,
         force: new_f,
         dt: median,
         warning: Some(warning),
-    }
+    })
 }

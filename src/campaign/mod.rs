@@ -42,7 +42,7 @@ mod stability;
 use std::path::{Path, PathBuf};
 
 pub use error::CampaignError;
-pub use stability::{STABILITY_LIMIT, SolverSettings};
+pub use stability::{MAX_AUTO_SUBSTEPS, STABILITY_LIMIT, SolverSettings};
 
 use crate::eval::{Batch, DIVERGED, Problem, Scores};
 use crate::model::{RigModel, Scale};
@@ -229,7 +229,8 @@ impl Campaign {
     /// every experiment that takes it from the top level or the model default;
     /// `<experiment>.<param>` sets one experiment's experiment-scope parameter;
     /// `<experiment>.offset` its offset (s). Genes of those names become fixed;
-    /// the model's checks and the step size are applied again.
+    /// the model's checks and the step size are applied again. A refused file
+    /// leaves the campaign unchanged.
     pub fn apply_param_file(&mut self, path: &Path) -> Result<(), CampaignError> {
         param_file::apply(self, path)
     }

@@ -30,7 +30,10 @@ enum Key {
 }
 
 /// Applies the file at `path` to `c` (see [`Campaign::apply_param_file`]).
-pub(crate) fn apply(c: &mut Campaign, path: &Path) -> Result<(), CampaignError> {
+pub(crate) fn apply(campaign: &mut Campaign, path: &Path) -> Result<(), CampaignError> {
+    // Work on a copy so that a refused file leaves the campaign as it was.
+    let mut next = campaign.clone();
+    let c = &mut next;
     let text = std::fs::read_to_string(path).map_err(|e| CampaignError::Io {
         file: path.to_path_buf(),
         message: e.to_string(),
@@ -117,5 +120,6 @@ pub(crate) fn apply(c: &mut Campaign, path: &Path) -> Result<(), CampaignError> 
     c.solver.auto = auto;
     c.solver.note = note;
     c.problem.substeps = substeps;
+    *campaign = next;
     Ok(())
 }

@@ -13,7 +13,8 @@ use crate::model::RigModel;
 /// Largest `h·ω_bound` accepted (RK4's own limit is about 2.8).
 pub const STABILITY_LIMIT: f64 = 2.0;
 
-/// Most substeps `"auto"` will choose before refusing the campaign.
+/// Most substeps `"auto"` will choose (or a campaign may ask for) before the
+/// campaign is refused.
 pub const MAX_AUTO_SUBSTEPS: usize = 10_000;
 
 /// The campaign's `"solver"` object after validation.
@@ -90,6 +91,9 @@ pub(crate) fn choose(
             );
             Ok((w.need, true, note))
         }
+        RawSubsteps::Count(n) if n > MAX_AUTO_SUBSTEPS as u64 => Err(format!(
+            "expected at most {MAX_AUTO_SUBSTEPS} substeps, found {n}"
+        )),
         RawSubsteps::Count(n) => {
             let n = n as usize;
             let hw = w.omega * x.dt / n as f64;
