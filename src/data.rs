@@ -234,6 +234,16 @@ pub fn parse_csv(text: &str, file: &Path, spec: &CsvSpec) -> Result<Series, Data
                 ));
             }
             vals[j] = v * scales[j];
+            if !vals[j].is_finite() {
+                let found = format!("'{raw}' × {}", scales[j]);
+                return Err(cell_err(
+                    file,
+                    line,
+                    what,
+                    "a finite number after scaling",
+                    found,
+                ));
+            }
         }
         if let Some(&prev) = t.last() {
             if vals[0] <= prev {

@@ -7,7 +7,6 @@ mod common;
 use common::{csv, example, set, write};
 use rigfit::campaign::{Campaign, STABILITY_LIMIT};
 use rigfit::eval::score_one;
-use rigfit::model::RigModel;
 use serde_json::{Value, json};
 
 /// The example with 100 kHz data (dt = 10 µs) and the load-cell damping free up
