@@ -348,3 +348,29 @@ fn uniform(t: Vec<f64>, force: Vec<f64>, file: &Path) -> Result<Series, DataErro
         warning: Some(warning),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn decimal_comma_only_with_semicolons() {
+        assert_eq!(parse_number("1,5", ';'), Some(1.5));
+        assert_eq!(parse_number("1,5", ','), None);
+        assert_eq!(parse_number("-2.5e3", ','), Some(-2500.0));
+    }
+
+    #[test]
+    fn median_of_an_even_count_is_the_mean_of_the_middle_two() {
+        let s = uniform(vec![0.0, 1.0, 3.0], vec![0.0; 3], Path::new("x")).unwrap();
+        assert_eq!(s.dt, 1.5);
+        assert_eq!(s.t, [0.0, 1.5, 3.0]);
+    }
+
+    #[test]
+    fn a_long_gap_is_refused_rather_than_resampled() {
+        let t = vec![0.0, 1.0, 2.0, 1000.0];
+        let e = uniform(t, vec![0.0; 4], Path::new("x")).unwrap_err();
+        assert!(matches!(e, DataError::Sampling { .. }), "{e}");
+    }
+}

@@ -193,3 +193,24 @@ fn from_str_resolves_data_against_the_given_folder() {
         "{err}"
     );
 }
+
+#[test]
+fn warnings_report_resampling_and_unused_shared_genes() {
+    let mut v = example();
+    set(&mut v, "/params/k_lin", json!({"min": 1e7, "max": 1e9}));
+    let mut text = csv(300, 1e-6, 0.0);
+    text = text.replace("\n1e-6,", "\n1.2e-6,");
+    let (_dir, c) = load(&v, &[("v2.csv", &text)]);
+    assert_eq!(c.warnings.len(), 2, "{:?}", c.warnings);
+    assert!(
+        c.warnings
+            .iter()
+            .any(|w| w.contains("v2.csv: sampling is not uniform"))
+    );
+    assert!(
+        c.warnings
+            .iter()
+            .any(|w| w.contains("params.k_lin: free parameter is overridden in every experiment"))
+    );
+    assert!(!c.genes.iter().any(|g| g.name == "k_lin"));
+}

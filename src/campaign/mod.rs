@@ -49,7 +49,8 @@ use crate::model::{RigModel, Scale};
 use crate::search::GaSettings;
 
 /// What a gene sets.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
 pub enum GeneTarget {
     /// The model parameter at this index.
     Param(usize),
@@ -58,7 +59,7 @@ pub enum GeneTarget {
 }
 
 /// One searched quantity.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct Gene {
     /// `"k1"` (shared), `"v2.k_lin"` (experiment `v2`'s own) or `"v2.offset"`.
     pub name: String,

@@ -1,6 +1,6 @@
 //! The campaign file exactly as written: serde structs with
-//! `deny_unknown_fields`, no checks beyond types. [`super::build`] turns them
-//! into a validated [`super::Campaign`].
+//! `deny_unknown_fields`, no checks beyond types. [`super::Campaign::load`] turns
+//! them into a validated [`super::Campaign`].
 
 use std::collections::BTreeMap;
 use std::fmt;

@@ -32,7 +32,7 @@ impl Spec {
                 upper,
                 scale: Scale::Log,
                 ..
-            } => (lower * upper).sqrt(),
+            } => lower.sqrt() * upper.sqrt(),
             Spec::Free { lower, upper, .. } => 0.5 * (lower + upper),
         }
     }

@@ -18,7 +18,7 @@ pub const STABILITY_LIMIT: f64 = 2.0;
 pub const MAX_AUTO_SUBSTEPS: usize = 10_000;
 
 /// The campaign's `"solver"` object after validation.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct SolverSettings {
     /// RK4 steps per sample interval.
     pub substeps: usize,
