@@ -214,3 +214,22 @@ fn warnings_report_resampling_and_unused_shared_genes() {
     );
     assert!(!c.genes.iter().any(|g| g.name == "k_lin"));
 }
+
+#[test]
+fn a_fixed_experiment_value_beats_the_shared_gene() {
+    let mut v = two_experiments();
+    set(&mut v, "/experiments/0/params/k_lin", json!(4e7));
+    let data = [
+        ("v2.csv", csv(300, 1e-6, 0.0)),
+        ("v5.csv", csv(200, 2e-6, 0.0)),
+    ];
+    let data: Vec<(&str, &str)> = data.iter().map(|(a, b)| (*a, b.as_str())).collect();
+    let (_dir, c) = load(&v, &data);
+    let names: Vec<&str> = c.genes.iter().map(|g| g.name.as_str()).collect();
+    assert_eq!(names, ["k1", "c1", "k_lin", "v5.offset"]);
+    assert!(!c.gene_acts_in(2, 0) && c.gene_acts_in(2, 1));
+    let full = c.full_params(&[9e9, 2e5, 5e8, 0.0]);
+    assert_eq!((full[0].0[ix::K_LIN], full[1].0[ix::K_LIN]), (4e7, 5e8));
+    let (lo, hi) = c.bounds(0);
+    assert_eq!((lo[ix::K_LIN], hi[ix::K_LIN]), (4e7, 4e7));
+}

@@ -7,7 +7,7 @@ use super::error::{invalid, parse_json};
 use super::raw::{RawCampaign, RawDrive, RawExperiment, RawParam};
 use super::resolve::{Spec, check_map, check_physics, check_value, resolve};
 use super::stability::{SolverSettings, choose};
-use super::{Campaign, CampaignError, FNV_BASIS, Gene, GeneTarget, fnv1a};
+use super::{Campaign, CampaignError, FNV_BASIS, Gene, GeneTarget, Source, acts_in, fnv1a};
 use crate::data::{Column, CsvSpec, Series, parse_csv};
 use crate::eval::{ExperimentData, Problem};
 use crate::model::{Drive, PiecewiseLinear, by_id, registry};
@@ -112,9 +112,9 @@ pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, Cam
         let free = |i: usize| {
             genes
                 .iter()
-                .any(|g| g.applies_to(e) && g.target == GeneTarget::Param(i))
+                .any(|g| acts_in(g, e, &r.sources) && g.target == GeneTarget::Param(i))
         };
-        let (lo, hi) = corners(&r.base[e], &genes, e);
+        let (lo, hi) = corners(&r.base[e], &genes, e, &r.sources);
         check_physics(file, model, &r.base[e], &lo, &hi, &r.paths[e], &free)?;
         let (exp, bytes_hash) = experiment(file, dir, e, x, digest, &mut r.warnings)?;
         digest = bytes_hash;
@@ -125,7 +125,7 @@ pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, Cam
     let (substeps, auto, note) = choose(
         model,
         &experiments,
-        |e| corners(&r.base[e], &genes, e),
+        |e| corners(&r.base[e], &genes, e, &r.sources),
         requested,
     )
     .map_err(|message| CampaignError::Unstable {
@@ -167,9 +167,14 @@ pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, Cam
 }
 
 /// Lower and upper parameter vectors of experiment `e`.
-pub(crate) fn corners(base: &[f64], genes: &[Gene], e: usize) -> (Vec<f64>, Vec<f64>) {
+pub(crate) fn corners(
+    base: &[f64],
+    genes: &[Gene],
+    e: usize,
+    sources: &[Vec<Source>],
+) -> (Vec<f64>, Vec<f64>) {
     let (mut lo, mut hi) = (base.to_vec(), base.to_vec());
-    for g in genes.iter().filter(|g| g.applies_to(e)) {
+    for g in genes.iter().filter(|g| acts_in(g, e, sources)) {
         if let GeneTarget::Param(i) = g.target {
             lo[i] = g.lower;
             hi[i] = g.upper;

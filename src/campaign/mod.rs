@@ -79,10 +79,13 @@ pub struct Gene {
     pub unit: &'static str,
 }
 
-impl Gene {
-    /// Whether this gene acts in experiment `e`.
-    pub fn applies_to(&self, e: usize) -> bool {
-        self.experiment.is_none_or(|x| x == e)
+/// Whether gene `g` acts in experiment `e`: its own genes, and shared genes of
+/// parameters the experiment does not override.
+pub(crate) fn acts_in(g: &Gene, e: usize, sources: &[Vec<Source>]) -> bool {
+    match (g.experiment, g.target) {
+        (Some(x), _) => x == e,
+        (None, GeneTarget::Param(i)) => sources[e][i] == Source::Shared,
+        (None, GeneTarget::Offset) => true,
     }
 }
 
@@ -174,7 +177,7 @@ impl Campaign {
                 let mut p = self.base[e].clone();
                 let mut offset = self.base_offsets[e];
                 for (g, &v) in self.genes.iter().zip(genome) {
-                    if g.applies_to(e) {
+                    if acts_in(g, e, &self.sources) {
                         match g.target {
                             GeneTarget::Param(i) => p[i] = v,
                             GeneTarget::Offset => offset = v,
@@ -236,10 +239,17 @@ impl Campaign {
         param_file::apply(self, path)
     }
 
+    /// Whether gene `g` (an index into [`Campaign::genes`]) acts in experiment
+    /// `e`: a shared gene does not act where the experiment sets the parameter
+    /// itself.
+    pub fn gene_acts_in(&self, g: usize, e: usize) -> bool {
+        acts_in(&self.genes[g], e, &self.sources)
+    }
+
     /// Bounds of experiment `e`'s parameter vector: fixed values, free ones at
     /// their bounds.
     pub fn bounds(&self, e: usize) -> (Vec<f64>, Vec<f64>) {
-        build::corners(&self.base[e], &self.genes, e)
+        build::corners(&self.base[e], &self.genes, e, &self.sources)
     }
 }
 
