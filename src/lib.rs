@@ -4,6 +4,8 @@
 //! Data flows campaign → validated model and data → evaluator (CPU or GPU) →
 //! search → results; see `ARCHITECTURE.md`.
 
+pub mod campaign;
+pub mod data;
 pub mod eval;
 pub mod fixtures;
 pub mod fsutil;

@@ -48,5 +48,5 @@ pub use observers::{
 };
 pub use progress::ProgressObserver;
 pub use report::{EliteSpread, GenerationReport, SearchOutcome, TerminationReason};
-pub use settings::{CrossoverSettings, GaSettings, InitKind, MutationSettings};
+pub use settings::{CrossoverSettings, GaSettings, InitKind, MutationSettings, SettingsError};
 pub use state::SearchState;

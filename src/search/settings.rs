@@ -113,3 +113,75 @@ impl Default for MutationSettings {
         }
     }
 }
+
+/// A `"search"` setting outside its allowed range.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{field}: expected {expected}, found {found}")]
+pub struct SettingsError {
+    /// Field path inside the `"search"` object (e.g. `crossover.eta`).
+    pub field: &'static str,
+    /// What was expected.
+    pub expected: String,
+    /// What was found.
+    pub found: String,
+}
+
+impl GaSettings {
+    /// Checks every setting's range: population ≥ 4, generations ≥ 1,
+    /// tournament ≥ 2 and ≤ population, elitism < population, probabilities in
+    /// [0, 1], distribution indices > 0, time limit > 0.
+    pub fn validate(&self) -> Result<(), SettingsError> {
+        let err = |field, expected: &str, found: String| {
+            Err(SettingsError {
+                field,
+                expected: expected.into(),
+                found,
+            })
+        };
+        let prob = |p: f64| (0.0..=1.0).contains(&p);
+        if self.population < 4 {
+            return err("population", "at least 4", self.population.to_string());
+        }
+        if self.generations < 1 {
+            return err("generations", "at least 1", "0".into());
+        }
+        if self.tournament < 2 || self.tournament > self.population {
+            let exp = format!("between 2 and the population ({})", self.population);
+            return err("tournament", &exp, self.tournament.to_string());
+        }
+        if self.elitism >= self.population {
+            let exp = format!("less than the population ({})", self.population);
+            return err("elitism", &exp, self.elitism.to_string());
+        }
+        if !prob(self.crossover.probability) {
+            let found = self.crossover.probability.to_string();
+            return err("crossover.probability", "a value in [0, 1]", found);
+        }
+        if !(self.crossover.eta > 0.0 && self.crossover.eta.is_finite()) {
+            return err(
+                "crossover.eta",
+                "a value > 0",
+                self.crossover.eta.to_string(),
+            );
+        }
+        if let Some(p) = self.mutation.probability {
+            if !prob(p) {
+                return err("mutation.probability", "a value in [0, 1]", p.to_string());
+            }
+        }
+        if !(self.mutation.eta > 0.0 && self.mutation.eta.is_finite()) {
+            return err("mutation.eta", "a value > 0", self.mutation.eta.to_string());
+        }
+        if let Some(t) = self.max_time_s {
+            if t.is_nan() || t <= 0.0 {
+                return err("max_time_s", "a time > 0 s", t.to_string());
+            }
+        }
+        if let Some(f) = self.target_fitness {
+            if !f.is_finite() {
+                return err("target_fitness", "a finite number", f.to_string());
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,344 @@
+//! Raw campaign → validated [`Campaign`]: names, experiments, data, genes, step.
+
+use std::collections::HashSet;
+use std::path::Path;
+
+use super::error::{invalid, parse_json};
+use super::raw::{RawCampaign, RawDrive, RawExperiment, RawParam};
+use super::resolve::{Spec, check_map, check_physics, check_value, resolve};
+use super::stability::{SolverSettings, choose};
+use super::{Campaign, CampaignError, FNV_BASIS, Gene, GeneTarget, Source, acts_in, fnv1a};
+use crate::data::{Column, CsvSpec, Series, parse_csv};
+use crate::eval::{ExperimentData, Problem};
+use crate::model::{Drive, PiecewiseLinear, by_id, registry};
+
+/// Validates campaign text from `file`, resolving paths against `dir`.
+pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, CampaignError> {
+    let raw: RawCampaign = parse_json(text, file)?;
+    if raw.name.trim().is_empty() || raw.name.contains(['/', '\\']) {
+        let found = format!("{:?}", raw.name);
+        return Err(invalid(
+            file,
+            "name",
+            "a non-empty name without '/' or '\\'",
+            found,
+        ));
+    }
+    let model = by_id(&raw.model).ok_or_else(|| {
+        let known: Vec<&str> = registry().iter().map(|m| m.id()).collect();
+        let expected = format!("a known model ({})", known.join(", "));
+        invalid(file, "model", expected, format!("{:?}", raw.model))
+    })?;
+    raw.search
+        .validate()
+        .map_err(|e| invalid(file, format!("search.{}", e.field), e.expected, e.found))?;
+    if raw.experiments.is_empty() {
+        return Err(invalid(
+            file,
+            "experiments",
+            "at least one experiment",
+            "an empty list",
+        ));
+    }
+    let mut seen = HashSet::new();
+    for (e, x) in raw.experiments.iter().enumerate() {
+        let path = format!("experiments[{e}].name");
+        if x.name.trim().is_empty() || x.name.contains('.') {
+            let found = format!("{:?}", x.name);
+            return Err(invalid(file, path, "a non-empty name without '.'", found));
+        }
+        if !seen.insert(x.name.as_str()) {
+            let found = format!("{:?} a second time", x.name);
+            return Err(invalid(file, path, "a unique experiment name", found));
+        }
+    }
+
+    let shared = check_map(file, "params", model, &raw.params, false)?;
+    let own = raw
+        .experiments
+        .iter()
+        .enumerate()
+        .map(|(e, x)| {
+            check_map(
+                file,
+                &format!("experiments[{e}].params"),
+                model,
+                &x.params,
+                true,
+            )
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let names: Vec<String> = raw.experiments.iter().map(|x| x.name.clone()).collect();
+    let mut r = resolve(file, model, &shared, &own, &names)?;
+
+    // Offsets: genes after each experiment's own parameter genes.
+    let mut base_offsets = Vec::new();
+    let mut genes: Vec<Gene> = r
+        .genes
+        .iter()
+        .filter(|g| g.experiment.is_none())
+        .cloned()
+        .collect();
+    for (e, x) in raw.experiments.iter().enumerate() {
+        genes.extend(r.genes.iter().filter(|g| g.experiment == Some(e)).cloned());
+        let raw_off = x.offset.clone().unwrap_or(RawParam::Fixed(0.0));
+        let spec = check_value(file, &format!("experiments[{e}].offset"), &raw_off, None)?;
+        if let Spec::Free {
+            lower,
+            upper,
+            scale,
+            init,
+        } = spec
+        {
+            let name = format!("{}.offset", x.name);
+            let target = GeneTarget::Offset;
+            genes.push(Gene {
+                name,
+                experiment: Some(e),
+                target,
+                lower,
+                upper,
+                scale,
+                init,
+                unit: "s",
+            });
+        }
+        base_offsets.push(spec.base());
+    }
+
+    let mut digest = fnv1a(FNV_BASIS, text.as_bytes());
+    let mut experiments = Vec::new();
+    for (e, x) in raw.experiments.iter().enumerate() {
+        let free = |i: usize| {
+            genes
+                .iter()
+                .any(|g| acts_in(g, e, &r.sources) && g.target == GeneTarget::Param(i))
+        };
+        let (lo, hi) = corners(&r.base[e], &genes, e, &r.sources);
+        check_physics(file, model, &r.base[e], &lo, &hi, &r.paths[e], &free)?;
+        let (exp, bytes_hash) = experiment(file, dir, e, x, digest, &mut r.warnings)?;
+        digest = bytes_hash;
+        experiments.push(exp);
+    }
+
+    let requested = raw.solver.substeps;
+    let (substeps, auto, note) = choose(
+        model,
+        &experiments,
+        |e| corners(&r.base[e], &genes, e, &r.sources),
+        requested,
+    )
+    .map_err(|message| CampaignError::Unstable {
+        file: file.to_path_buf(),
+        path: "solver.substeps".into(),
+        message,
+    })?;
+    let output = match &raw.output {
+        Some(o) => dir.join(o),
+        None => dir.join("results").join(&raw.name),
+    };
+    Ok(Campaign {
+        path: file.to_path_buf(),
+        name: raw.name,
+        description: raw.description,
+        model,
+        problem: Problem {
+            model,
+            experiments,
+            substeps,
+        },
+        genes,
+        base: r.base,
+        base_offsets,
+        solver: SolverSettings {
+            substeps,
+            backend: raw.solver.backend,
+            precision: raw.solver.precision,
+            auto,
+            note,
+        },
+        search: raw.search,
+        output,
+        raw_json: text.to_string(),
+        digest,
+        warnings: r.warnings,
+        sources: r.sources,
+    })
+}
+
+/// Lower and upper parameter vectors of experiment `e`.
+pub(crate) fn corners(
+    base: &[f64],
+    genes: &[Gene],
+    e: usize,
+    sources: &[Vec<Source>],
+) -> (Vec<f64>, Vec<f64>) {
+    let (mut lo, mut hi) = (base.to_vec(), base.to_vec());
+    for g in genes.iter().filter(|g| acts_in(g, e, sources)) {
+        if let GeneTarget::Param(i) = g.target {
+            lo[i] = g.lower;
+            hi[i] = g.upper;
+        }
+    }
+    (lo, hi)
+}
+
+/// Loads and checks one experiment's data, drive, window and weight. Returns the
+/// experiment and the digest extended with the data file's bytes.
+fn experiment(
+    file: &Path,
+    dir: &Path,
+    e: usize,
+    x: &RawExperiment,
+    digest: u64,
+    warnings: &mut Vec<String>,
+) -> Result<(ExperimentData, u64), CampaignError> {
+    let at = format!("experiments[{e}]");
+    if !(x.weight > 0.0 && x.weight.is_finite()) {
+        return Err(invalid(
+            file,
+            format!("{at}.weight"),
+            "a weight > 0",
+            x.weight.to_string(),
+        ));
+    }
+    let drive = match &x.drive {
+        RawDrive::Velocity => Drive::Velocity,
+        RawDrive::Force(table) => {
+            let path = format!("{at}.drive.force");
+            if table.t.len() < 2 || table.t.len() != table.value.len() {
+                let found = format!("{} times and {} values", table.t.len(), table.value.len());
+                return Err(invalid(
+                    file,
+                    path,
+                    "at least 2 points, as many times as values",
+                    found,
+                ));
+            }
+            if let Some(k) = table.t.windows(2).position(|w| w[1] <= w[0]) {
+                let found = format!("{} s after {} s", table.t[k + 1], table.t[k]);
+                return Err(invalid(
+                    file,
+                    format!("{path}.t[{}]", k + 1),
+                    "strictly increasing times",
+                    found,
+                ));
+            }
+            Drive::Force(PiecewiseLinear {
+                t: table.t.clone(),
+                value: table.value.clone(),
+            })
+        }
+    };
+    let d = &x.data;
+    let data_at = format!("{at}.data");
+    if !(d.time_scale > 0.0 && d.time_scale.is_finite()) {
+        let found = d.time_scale.to_string();
+        return Err(invalid(
+            file,
+            format!("{data_at}.time_scale"),
+            "a multiplier > 0",
+            found,
+        ));
+    }
+    if !(d.force_scale != 0.0 && d.force_scale.is_finite()) {
+        let found = d.force_scale.to_string();
+        return Err(invalid(
+            file,
+            format!("{data_at}.force_scale"),
+            "a non-zero multiplier",
+            found,
+        ));
+    }
+    let spec = CsvSpec {
+        time: d.time_column.clone().unwrap_or(Column::Index(0)),
+        force: d.force_column.clone().unwrap_or(Column::Index(1)),
+        time_scale: d.time_scale,
+        force_scale: d.force_scale,
+    };
+    let data_file = dir.join(&d.file);
+    let data_err = |path: String, source| CampaignError::Data {
+        file: file.to_path_buf(),
+        path,
+        source: Box::new(source),
+    };
+    let bytes = std::fs::read(&data_file).map_err(|err| {
+        let source = crate::data::DataError::Io {
+            file: data_file.clone(),
+            message: err.to_string(),
+        };
+        data_err(format!("{data_at}.file"), source)
+    })?;
+    let digest = fnv1a(digest, &bytes);
+    let text = String::from_utf8_lossy(&bytes);
+    let series = parse_csv(&text, &data_file, &spec).map_err(|s| data_err(data_at.clone(), s))?;
+    warnings.extend(series.warning.clone());
+    let window = window(file, &at, x, &series, warnings)?;
+    let mut force = series.force;
+    force.truncate(window.end);
+    let exp = ExperimentData {
+        name: x.name.clone(),
+        drive,
+        t_first: series.t[0],
+        dt: series.dt,
+        force,
+        window,
+        weight: x.weight,
+    };
+    Ok((exp, digest))
+}
+
+/// The sample range of the fit window; at least 2 samples inside the record.
+fn window(
+    file: &Path,
+    at: &str,
+    x: &RawExperiment,
+    s: &Series,
+    warnings: &mut Vec<String>,
+) -> Result<std::ops::Range<usize>, CampaignError> {
+    let n = s.t.len();
+    let (t0, tl) = (s.t[0], s.t[n - 1]);
+    let w = x.fit_window.clone().unwrap_or(super::raw::RawWindow {
+        start: None,
+        end: None,
+    });
+    let (start, end) = (w.start.unwrap_or(t0), w.end.unwrap_or(tl));
+    let path = format!("{at}.fit_window");
+    if start >= end {
+        return Err(invalid(
+            file,
+            format!("{path}.end"),
+            format!("end > start ({start} s)"),
+            format!("{end} s"),
+        ));
+    }
+    let tol = 1e-6;
+    let k0 = ((start - t0) / s.dt - tol).ceil().max(0.0) as usize;
+    let k1f = ((end - t0) / s.dt + tol).floor();
+    let k1 = if k1f < 0.0 {
+        None
+    } else {
+        Some((k1f as usize).min(n - 1))
+    };
+    match k1 {
+        Some(k1) if k1 > k0 => {
+            if start < t0 - tol * s.dt || end > tl + tol * s.dt {
+                warnings.push(format!(
+                    "{}: {path}: [{start}, {end}] s reaches beyond the record ({t0} s to {tl} s); \
+                     only the overlap is scored",
+                    file.display()
+                ));
+            }
+            Ok(k0..k1 + 1)
+        }
+        _ => {
+            let count = k1.map_or(0, |k1| (k1 + 1).saturating_sub(k0));
+            Err(invalid(
+                file,
+                path,
+                format!("a window holding at least 2 samples of the record ({t0} s to {tl} s)"),
+                format!("[{start}, {end}] s holding {count} sample(s)"),
+            ))
+        }
+    }
+}

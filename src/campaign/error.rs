@@ -1,0 +1,178 @@
+//! Why a campaign was refused. Every message is one line that starts with the
+//! campaign file, then the JSON path (or the data file and line), then what was
+//! expected and what was found.
+
+use std::path::{Path, PathBuf};
+
+use crate::data::DataError;
+
+/// A campaign (or parameter file) that cannot be used.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CampaignError {
+    /// The file could not be read.
+    #[error("{}: cannot read: {message}", file.display())]
+    Io {
+        /// The file.
+        file: PathBuf,
+        /// The system's reason.
+        message: String,
+    },
+    /// The text is not JSON.
+    #[error("{}:{line}:{column}: malformed JSON: {message}", file.display())]
+    Syntax {
+        /// The file.
+        file: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// serde_json's description.
+        message: String,
+    },
+    /// Valid JSON of the wrong shape: a wrong type, an unknown or missing key.
+    #[error("{}:{line}:{column}: {path}: {message}", file.display())]
+    Schema {
+        /// The file.
+        file: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// JSON path of the offending value (`experiments[0].fit_window`).
+        path: String,
+        /// serde's description (names the expected type or keys).
+        message: String,
+    },
+    /// A well-formed value that is out of range or inconsistent.
+    #[error("{}: {path}: expected {expected}, found {found}", file.display())]
+    Invalid {
+        /// The file.
+        file: PathBuf,
+        /// JSON path of the offending value.
+        path: String,
+        /// What was expected.
+        expected: String,
+        /// What was found.
+        found: String,
+    },
+    /// A parameter name the model does not have.
+    #[error("{}: {path}: unknown parameter '{name}' for model {model}{hint}", file.display())]
+    UnknownParam {
+        /// The file.
+        file: PathBuf,
+        /// JSON path of the key.
+        path: String,
+        /// The unknown name.
+        name: String,
+        /// The model id.
+        model: String,
+        /// A suggestion (starts with `; `) or empty.
+        hint: String,
+    },
+    /// Parameters without a model default that nobody set.
+    #[error(
+        "{}: {path}: missing parameter(s) without a model default: {}",
+        file.display(),
+        names.join(", ")
+    )]
+    MissingParams {
+        /// The file.
+        file: PathBuf,
+        /// Where they should be set.
+        path: String,
+        /// Their names.
+        names: Vec<String>,
+    },
+    /// A rig-scope parameter set inside an experiment.
+    #[error(
+        "{}: {path}: rig parameter '{name}' must be set in the campaign's top-level params",
+        file.display()
+    )]
+    RigParamInExperiment {
+        /// The file.
+        file: PathBuf,
+        /// JSON path of the key.
+        path: String,
+        /// The parameter.
+        name: String,
+    },
+    /// A measured-data file was refused.
+    #[error("{}: {path}: {source}", file.display())]
+    Data {
+        /// The campaign file.
+        file: PathBuf,
+        /// JSON path of the experiment's `data` object.
+        path: String,
+        /// What is wrong with the data file.
+        source: Box<DataError>,
+    },
+    /// The RK4 step cannot be stable for the parameter bounds.
+    #[error("{}: {path}: {message}", file.display())]
+    Unstable {
+        /// The file.
+        file: PathBuf,
+        /// `solver.substeps`.
+        path: String,
+        /// The limiting experiment and parameter and a substeps count that works.
+        message: String,
+    },
+    /// `run` needs at least one free parameter.
+    #[error(
+        "{}: params: expected at least one free parameter ({{\"min\", \"max\"}}) to search, \
+         found none",
+        file.display()
+    )]
+    NoFreeParameters {
+        /// The file.
+        file: PathBuf,
+    },
+}
+
+/// Builds [`CampaignError::Invalid`].
+pub(crate) fn invalid(
+    file: &Path,
+    path: impl Into<String>,
+    expected: impl Into<String>,
+    found: impl Into<String>,
+) -> CampaignError {
+    CampaignError::Invalid {
+        file: file.to_path_buf(),
+        path: path.into(),
+        expected: expected.into(),
+        found: found.into(),
+    }
+}
+
+/// Parses JSON into `T`, mapping serde errors to [`CampaignError::Syntax`] or
+/// [`CampaignError::Schema`] with the JSON path.
+pub(crate) fn parse_json<T: serde::de::DeserializeOwned>(
+    text: &str,
+    file: &Path,
+) -> Result<T, CampaignError> {
+    let de = &mut serde_json::Deserializer::from_str(text);
+    let result = serde_path_to_error::deserialize(de);
+    result.map_err(|e| {
+        let path = e.path().to_string();
+        let inner = e.into_inner();
+        let (line, column) = (inner.line(), inner.column());
+        let full = inner.to_string();
+        let suffix = format!(" at line {line} column {column}");
+        let message = full.strip_suffix(&suffix).unwrap_or(&full).to_string();
+        if inner.is_syntax() || inner.is_eof() {
+            CampaignError::Syntax {
+                file: file.to_path_buf(),
+                line,
+                column,
+                message,
+            }
+        } else {
+            CampaignError::Schema {
+                file: file.to_path_buf(),
+                line,
+                column,
+                path,
+                message,
+            }
+        }
+    })
+}

@@ -1,0 +1,264 @@
+//! Campaign files: the JSON a job is driven by, validated into a [`Campaign`]
+//! before any work starts.
+//!
+//! The format, key by key (units in brackets):
+//!
+//! ```json
+//! {
+//!   "name": "aa2024-t3-synthetic",
+//!   "description": "optional free text",
+//!   "model": "tensile4",
+//!   "params": {
+//!     "m1": 7.9,
+//!     "k1": {"min": 2e9, "max": 3e10, "scale": "log", "init": 8e9},
+//!     "c1": {"min": 1e4, "max": 3e6}
+//!   },
+//!   "experiments": [{
+//!     "name": "v2",
+//!     "data": {"file": "v2.csv", "time_column": "t_s", "force_column": "force_N"},
+//!     "drive": "velocity",
+//!     "fit_window": {"start": 0.0, "end": 2.5e-3},
+//!     "offset": 0.0,
+//!     "weight": 1.0,
+//!     "params": {"velocity": 2.0, "k_lin": {"min": 3e7, "max": 3e8}}
+//!   }],
+//!   "solver": {"substeps": "auto", "backend": "auto", "precision": "auto"},
+//!   "search": {"population": 1024, "generations": 150, "seed": 1},
+//!   "output": "results/aa2024"
+//! }
+//! ```
+//!
+//! See [`raw`] for every key. Genes come in this order: the shared (top-level)
+//! free parameters in model order, then for each experiment its own free
+//! parameters in model order followed by its free offset.
+
+mod build;
+mod error;
+mod param_file;
+pub mod raw;
+mod resolve;
+mod stability;
+
+use std::path::{Path, PathBuf};
+
+pub use error::CampaignError;
+pub use stability::{MAX_AUTO_SUBSTEPS, STABILITY_LIMIT, SolverSettings};
+
+use crate::eval::{Batch, DIVERGED, Problem, Scores};
+use crate::model::{RigModel, Scale};
+use crate::search::GaSettings;
+
+/// What a gene sets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GeneTarget {
+    /// The model parameter at this index.
+    Param(usize),
+    /// The experiment's clock offset.
+    Offset,
+}
+
+/// One searched quantity.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Gene {
+    /// `"k1"` (shared), `"v2.k_lin"` (experiment `v2`'s own) or `"v2.offset"`.
+    pub name: String,
+    /// `None` for a shared gene, else the experiment it belongs to.
+    pub experiment: Option<usize>,
+    /// What it sets.
+    pub target: GeneTarget,
+    /// Lower bound (unit below).
+    pub lower: f64,
+    /// Upper bound (unit below).
+    pub upper: f64,
+    /// Scale the search moves in.
+    pub scale: Scale,
+    /// Seed value for the initial population.
+    pub init: Option<f64>,
+    /// SI unit.
+    pub unit: &'static str,
+}
+
+/// Whether gene `g` acts in experiment `e`: its own genes, and shared genes of
+/// parameters the experiment does not override.
+pub(crate) fn acts_in(g: &Gene, e: usize, sources: &[Vec<Source>]) -> bool {
+    match (g.experiment, g.target) {
+        (Some(x), _) => x == e,
+        (None, GeneTarget::Param(i)) => sources[e][i] == Source::Shared,
+        (None, GeneTarget::Offset) => true,
+    }
+}
+
+/// Where an experiment's value of a parameter comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Source {
+    /// The model default.
+    Default,
+    /// The top-level `params`.
+    Shared,
+    /// The experiment's own `params`.
+    Own,
+}
+
+/// A validated campaign: model, measured data, genes and settings.
+#[derive(Debug, Clone)]
+pub struct Campaign {
+    /// The campaign file (as given).
+    pub path: PathBuf,
+    /// Campaign name.
+    pub name: String,
+    /// Free text from the file.
+    pub description: Option<String>,
+    /// The rig model.
+    pub model: &'static dyn RigModel,
+    /// Model plus measured experiments; `problem.substeps` is `solver.substeps`.
+    pub problem: Problem,
+    /// The searched quantities, in genome order.
+    pub genes: Vec<Gene>,
+    /// Per experiment, the full parameter vector: fixed values, free ones at
+    /// their init or mid-range (geometric mid for log scale).
+    pub base: Vec<Vec<f64>>,
+    /// Per experiment, the clock offset (s), free ones at init or mid-range.
+    pub base_offsets: Vec<f64>,
+    /// Integration settings as chosen.
+    pub solver: SolverSettings,
+    /// Search settings (validated).
+    pub search: GaSettings,
+    /// Results folder (resolved against the campaign's folder).
+    pub output: PathBuf,
+    /// The campaign text as read.
+    pub raw_json: String,
+    /// FNV-1a hash of the campaign text and every data file's bytes; a resumed
+    /// run refuses a different digest.
+    pub digest: u64,
+    /// Things the user should hear about (resampled data, unused genes).
+    pub warnings: Vec<String>,
+    pub(crate) sources: Vec<Vec<Source>>,
+}
+
+impl Campaign {
+    /// Reads and validates a campaign file; data files are relative to its
+    /// folder.
+    pub fn load(path: &Path) -> Result<Campaign, CampaignError> {
+        let text = std::fs::read_to_string(path).map_err(|e| CampaignError::Io {
+            file: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
+        let dir = path.parent().unwrap_or(Path::new("."));
+        build::build(&text, dir, path)
+    }
+
+    /// Validates campaign text; relative paths resolve against `base_dir` and
+    /// messages name `origin` as the file.
+    pub fn from_str(json: &str, base_dir: &Path, origin: &str) -> Result<Campaign, CampaignError> {
+        build::build(json, base_dir, Path::new(origin))
+    }
+
+    /// Refuses a campaign with nothing to search (for `rigfit run`).
+    pub fn require_genes(&self) -> Result<(), CampaignError> {
+        if self.genes.is_empty() {
+            return Err(CampaignError::NoFreeParameters {
+                file: self.path.clone(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Full parameter vector and offset of each experiment for one genome (one
+    /// value per gene, in gene order, physical units).
+    pub fn full_params(&self, genome: &[f64]) -> Vec<(Vec<f64>, f64)> {
+        assert_eq!(
+            genome.len(),
+            self.genes.len(),
+            "genome length != gene count"
+        );
+        (0..self.base.len())
+            .map(|e| {
+                let mut p = self.base[e].clone();
+                let mut offset = self.base_offsets[e];
+                for (g, &v) in self.genes.iter().zip(genome) {
+                    if acts_in(g, e, &self.sources) {
+                        match g.target {
+                            GeneTarget::Param(i) => p[i] = v,
+                            GeneTarget::Offset => offset = v,
+                        }
+                    }
+                }
+                (p, offset)
+            })
+            .collect()
+    }
+
+    /// The evaluator batch for a population of genomes.
+    pub fn batch(&self, genomes: &[Vec<f64>]) -> Batch {
+        let n_exp = self.base.len();
+        let mut batch = Batch {
+            candidates: genomes.len(),
+            params: vec![Vec::with_capacity(genomes.len() * self.model.params().len()); n_exp],
+            offsets: vec![Vec::with_capacity(genomes.len()); n_exp],
+        };
+        for genome in genomes {
+            for (e, (p, off)) in self.full_params(genome).into_iter().enumerate() {
+                batch.params[e].extend_from_slice(&p);
+                batch.offsets[e].push(off);
+            }
+        }
+        batch
+    }
+
+    /// Joint fitness per candidate: the weighted mean of `1 − R²` over the
+    /// experiments; [`DIVERGED`] if any experiment diverged.
+    pub fn combine(&self, scores: &Scores) -> Vec<f64> {
+        let exps = &self.problem.experiments;
+        let total: f64 = exps.iter().map(|x| x.weight).sum();
+        let n = scores.values.len() / scores.experiments.max(1);
+        (0..n)
+            .map(|i| {
+                let mut sum = 0.0;
+                for (e, x) in exps.iter().enumerate() {
+                    let s = scores.get(i, e);
+                    if s.is_nan() || s >= DIVERGED {
+                        return DIVERGED;
+                    }
+                    sum += x.weight * s;
+                }
+                sum / total
+            })
+            .collect()
+    }
+
+    /// Sets values from a parameter file, `{"params": {"k1": 8.4e9,
+    /// "v2.k_lin": 8.6e7, "v2.offset": 1.0e-5}}` (other top-level keys, as in a
+    /// run's `result.json`, are ignored). A plain name sets the parameter in
+    /// every experiment that takes it from the top level or the model default;
+    /// `<experiment>.<param>` sets one experiment's experiment-scope parameter;
+    /// `<experiment>.offset` its offset (s). Genes of those names become fixed;
+    /// the model's checks and the step size are applied again. A refused file
+    /// leaves the campaign unchanged.
+    pub fn apply_param_file(&mut self, path: &Path) -> Result<(), CampaignError> {
+        param_file::apply(self, path)
+    }
+
+    /// Whether gene `g` (an index into [`Campaign::genes`]) acts in experiment
+    /// `e`: a shared gene does not act where the experiment sets the parameter
+    /// itself.
+    pub fn gene_acts_in(&self, g: usize, e: usize) -> bool {
+        acts_in(&self.genes[g], e, &self.sources)
+    }
+
+    /// Bounds of experiment `e`'s parameter vector: fixed values, free ones at
+    /// their bounds.
+    pub fn bounds(&self, e: usize) -> (Vec<f64>, Vec<f64>) {
+        build::corners(&self.base[e], &self.genes, e, &self.sources)
+    }
+}
+
+/// FNV-1a, 64 bit: stable across Rust versions, unlike `DefaultHasher`.
+pub(crate) fn fnv1a(hash: u64, bytes: &[u8]) -> u64 {
+    bytes.iter().fold(hash, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+/// FNV-1a offset basis.
+pub(crate) const FNV_BASIS: u64 = 0xcbf2_9ce4_8422_2325;

@@ -1,0 +1,254 @@
+//! The campaign file exactly as written: serde structs with
+//! `deny_unknown_fields`, no checks beyond types. [`super::Campaign::load`] turns
+//! them into a validated [`super::Campaign`].
+
+use std::collections::BTreeMap;
+use std::fmt;
+use std::path::PathBuf;
+
+use serde::de::{self, MapAccess, Visitor, value::MapAccessDeserializer};
+use serde::{Deserialize, Deserializer};
+
+use crate::data::Column;
+use crate::eval::{Backend, PrecisionChoice};
+use crate::model::Scale;
+use crate::search::GaSettings;
+
+/// The whole campaign file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawCampaign {
+    /// `"name"`: campaign name, non-empty, no `/` or `\`; names the default
+    /// output folder.
+    pub name: String,
+    /// `"description"`: optional free text.
+    #[serde(default)]
+    pub description: Option<String>,
+    /// `"model"`: model id, e.g. `"tensile4"`.
+    pub model: String,
+    /// `"params"`: parameters shared by every experiment, by model parameter
+    /// name (value in the parameter's SI unit). Parameters with a model default
+    /// may be left out.
+    #[serde(default)]
+    pub params: BTreeMap<String, RawParam>,
+    /// `"experiments"`: at least one.
+    pub experiments: Vec<RawExperiment>,
+    /// `"solver"`: integration settings (all optional).
+    #[serde(default)]
+    pub solver: RawSolver,
+    /// `"search"`: genetic-algorithm settings ([`GaSettings`]).
+    pub search: GaSettings,
+    /// `"output"`: results folder, relative to the campaign file's folder
+    /// (default `results/<name>`).
+    #[serde(default)]
+    pub output: Option<PathBuf>,
+}
+
+/// One experiment.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawExperiment {
+    /// `"name"`: unique within the campaign, non-empty, no `.`; prefixes the
+    /// experiment's own genes (`"v2.k_lin"`).
+    pub name: String,
+    /// `"data"`: the measured force history.
+    pub data: RawData,
+    /// `"drive"`: `"velocity"` (default) or `{"force": {"t": [s…], "value": [N…]}}`.
+    #[serde(default)]
+    pub drive: RawDrive,
+    /// `"fit_window"`: record-time span scored by the fitness (default: the
+    /// whole record).
+    #[serde(default)]
+    pub fit_window: Option<RawWindow>,
+    /// `"offset"` (s): `t_model = t_record + offset`; a number (fixed) or
+    /// `{"min", "max", "init"?}` (free, linear). Default 0.
+    #[serde(default)]
+    pub offset: Option<RawParam>,
+    /// `"weight"`: weight of this experiment in the joint fitness (> 0,
+    /// default 1).
+    #[serde(default = "one")]
+    pub weight: f64,
+    /// `"params"`: overrides of experiment-scope parameters for this experiment
+    /// alone.
+    #[serde(default)]
+    pub params: BTreeMap<String, RawParam>,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+/// Where an experiment's measured history is.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawData {
+    /// `"file"`: CSV path, relative to the campaign file's folder.
+    pub file: PathBuf,
+    /// `"time_column"`: header name or 0-based index (default: 0, the first).
+    #[serde(default)]
+    pub time_column: Option<Column>,
+    /// `"force_column"`: header name or 0-based index (default: 1, the second).
+    #[serde(default)]
+    pub force_column: Option<Column>,
+    /// `"time_scale"`: multiplier to seconds (default 1; 1e-3 for ms).
+    #[serde(default = "one")]
+    pub time_scale: f64,
+    /// `"force_scale"`: multiplier to newtons (default 1; 1e3 for kN).
+    #[serde(default = "one")]
+    pub force_scale: f64,
+}
+
+/// How the actuator is driven.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RawDrive {
+    /// Prescribed motion from the `velocity` and `ramp` parameters.
+    #[default]
+    Velocity,
+    /// Force table on the actuator mass.
+    Force(RawTable),
+}
+
+/// A piecewise-linear table.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawTable {
+    /// `"t"`: breakpoint times (s), strictly increasing, at least 2.
+    pub t: Vec<f64>,
+    /// `"value"`: force at each breakpoint (N).
+    pub value: Vec<f64>,
+}
+
+/// The scored span, in record time.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawWindow {
+    /// `"start"` (s): default the first sample.
+    #[serde(default)]
+    pub start: Option<f64>,
+    /// `"end"` (s): default the last sample.
+    #[serde(default)]
+    pub end: Option<f64>,
+}
+
+/// Integration settings.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawSolver {
+    /// `"substeps"`: RK4 steps per sample interval, an integer ≥ 1 or `"auto"`
+    /// (default).
+    #[serde(default)]
+    pub substeps: RawSubsteps,
+    /// `"backend"`: `"auto"` (default), `"gpu"` or `"cpu"`.
+    #[serde(default)]
+    pub backend: Backend,
+    /// `"precision"`: `"auto"` (default), `"f32"` or `"f64"` (GPU only).
+    #[serde(default)]
+    pub precision: PrecisionChoice,
+}
+
+/// `"substeps"`: a count or `"auto"`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum RawSubsteps {
+    /// Choose from the stability bound.
+    #[default]
+    Auto,
+    /// This many (checked against the stability bound).
+    Count(u64),
+}
+
+/// A parameter value: a number (fixed) or a range (free).
+#[derive(Debug, Clone, PartialEq)]
+pub enum RawParam {
+    /// Fixed at this value.
+    Fixed(f64),
+    /// Searched over a range.
+    Free(RawRange),
+}
+
+/// A free parameter's range.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawRange {
+    /// `"min"`: lower bound (parameter unit).
+    pub min: f64,
+    /// `"max"`: upper bound (parameter unit), > min.
+    pub max: f64,
+    /// `"scale"`: `"linear"` or `"log"` (default: the model's choice for the
+    /// parameter; offsets are always linear).
+    #[serde(default)]
+    pub scale: Option<Scale>,
+    /// `"init"`: a value seeded into the initial population, inside the range.
+    #[serde(default)]
+    pub init: Option<f64>,
+}
+
+impl<'de> Deserialize<'de> for RawParam {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = RawParam;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("a number (fixed) or {\"min\", \"max\", \"scale\"?, \"init\"?} (free)")
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> Result<RawParam, E> {
+                Ok(RawParam::Fixed(v))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> Result<RawParam, E> {
+                Ok(RawParam::Fixed(v as f64))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<RawParam, E> {
+                Ok(RawParam::Fixed(v as f64))
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<RawParam, A::Error> {
+                RawRange::deserialize(MapAccessDeserializer::new(map)).map(RawParam::Free)
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+impl<'de> Deserialize<'de> for RawSubsteps {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl Visitor<'_> for V {
+            type Value = RawSubsteps;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("an integer ≥ 1 or \"auto\"")
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<RawSubsteps, E> {
+                if v == 0 {
+                    return Err(E::invalid_value(de::Unexpected::Unsigned(0), &self));
+                }
+                Ok(RawSubsteps::Count(v))
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<RawSubsteps, E> {
+                if v == "auto" {
+                    Ok(RawSubsteps::Auto)
+                } else {
+                    Err(E::invalid_value(de::Unexpected::Str(v), &self))
+                }
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+impl<'de> Deserialize<'de> for Column {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl Visitor<'_> for V {
+            type Value = Column;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("a column name or a 0-based column index")
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Column, E> {
+                Ok(Column::Index(v as usize))
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Column, E> {
+                Ok(Column::Name(v.to_string()))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
