@@ -10,6 +10,7 @@ pub mod eval;
 pub mod fixtures;
 pub mod fsutil;
 pub mod integrate;
+pub mod job;
 pub mod model;
 pub mod modes;
 pub mod precal;
