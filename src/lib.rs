@@ -6,6 +6,7 @@
 
 pub mod eval;
 pub mod fixtures;
+pub mod gpu;
 pub mod integrate;
 pub mod model;
 pub mod search;

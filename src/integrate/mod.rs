@@ -10,7 +10,7 @@ mod grid;
 mod rk4;
 
 pub use grid::SampleGrid;
-pub use rk4::{Integrator, hermite_crossing, rk4_step};
+pub use rk4::{CROSSING_ITERATIONS, Integrator, hermite_crossing, rk4_step};
 
 /// A system of first-order ODEs, `dy/dt = f(t, y)`, in the current regime.
 pub trait System {

@@ -617,4 +617,8 @@ impl RigModel for Tensile4 {
         }
         best
     }
+
+    fn gpu(&self) -> Option<super::GpuModel> {
+        Some(super::tensile_gpu::TENSILE4_GPU)
+    }
 }
