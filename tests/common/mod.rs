@@ -56,7 +56,7 @@ pub fn spread_params(n: usize, seed: u64) -> Vec<f64> {
             p[j] *= factor(&mut rng, 3.0);
         }
         p[ix::SLACK_B] *= factor(&mut rng, 1.5);
-        p[ix::E_FRACTURE] = 2e-4 * factor(&mut rng, 8.0);
+        p[ix::E_FRACTURE] = 5e-4 * factor(&mut rng, 10.0);
         p[ix::GAP] *= factor(&mut rng, 2.0);
         if i % 16 == 3 {
             p[ix::GAP] = 1.0;
