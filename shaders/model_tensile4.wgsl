@@ -127,7 +127,7 @@ fn drive_table(rig: Rig, t: real) -> real {
 
 // Velocity drive: prescribed (y4, v4, a4) at t. Force drive: (F_drive, 0, 0).
 fn rig_actuator(rig: Rig, t: real) -> vec3<real> {
-    if rig.drive_kind == DRIVE_FORCE {
+    if FORCE_DRIVE && rig.drive_kind == DRIVE_FORCE {
         return vec3<real>(drive_table(rig, t), real(0.0), real(0.0));
     }
     let v = rig.velocity;
@@ -166,7 +166,7 @@ fn slack_law(rig: Rig, d: real) -> real {
 
 // Actuator displacement and velocity seen by the slack adapter.
 fn actuator_motion(rig: Rig, act: vec3<real>, y: State) -> vec2<real> {
-    if rig.drive_kind == DRIVE_FORCE {
+    if FORCE_DRIVE && rig.drive_kind == DRIVE_FORCE {
         return vec2<real>(y.q.w, y.v.w);
     }
     return act.xy;
@@ -193,7 +193,7 @@ fn rig_deriv(rig: Rig, act: vec3<real>, y: State) -> State {
     let f = rig_forces(rig, act, y);
     var q4 = act.y;
     var a4 = act.z;
-    if rig.drive_kind == DRIVE_FORCE {
+    if FORCE_DRIVE && rig.drive_kind == DRIVE_FORCE {
         q4 = y.v.w;
         a4 = (act.x - f.w) * rig.inv_m4;
     }

@@ -21,11 +21,13 @@ fn sources() -> Vec<(String, Precision, Kernel, String)> {
     for (id, model) in gpu_models() {
         for precision in [Precision::F32, Precision::F64] {
             for kernel in Kernel::ALL {
-                let src = match kernel {
-                    Kernel::ExpProbe => shaders::probe_source(precision),
-                    _ => shaders::source(&model, precision, kernel),
-                };
-                out.push((id.to_string(), precision, kernel, src));
+                for force_drive in [false, true] {
+                    let src = match kernel {
+                        Kernel::ExpProbe => shaders::probe_source(precision),
+                        _ => shaders::source(&model, precision, kernel, force_drive),
+                    };
+                    out.push((format!("{id} force={force_drive}"), precision, kernel, src));
+                }
             }
         }
     }
@@ -89,7 +91,7 @@ fn host_structs_match_wgsl_sizes() {
 #[test]
 fn shared_constants_reach_the_shader_unchanged() {
     for (id, model) in gpu_models() {
-        let src = shaders::source(&model, Precision::F32, Kernel::Fitness);
+        let src = shaders::source(&model, Precision::F32, Kernel::Fitness, true);
         let m = shaders::reflect(&src, Precision::F32, Kernel::Fitness)
             .unwrap()
             .module;

@@ -11,14 +11,18 @@ struct Settings {
     chunk_steps: u32,
     // History kernel: samples per selected candidate over all experiments.
     hist_stride: u32,
+    // RK4 steps per sample interval (the problem's, shared by all experiments;
+    // a uniform, so the step loop's trip count is uniform too).
+    substeps: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 }
 
 // One experiment. Keep in sync with `ExpInfo` in src/gpu/layout.rs.
 struct ExpInfo {
     // Samples reported, 0..window.end.
     samples: u32,
-    // RK4 steps per sample interval.
-    substeps: u32,
     // Fit window [win_start, win_end).
     win_start: u32,
     win_end: u32,
@@ -34,6 +38,7 @@ struct ExpInfo {
     _pad0: u32,
     _pad1: u32,
     _pad2: u32,
+    _pad3: u32,
 }
 
 @group(0) @binding(0) var<uniform> settings: Settings;

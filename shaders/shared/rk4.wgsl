@@ -52,6 +52,12 @@ fn hermite_crossing(g0: real, d0: real, g1: real, d1: real) -> real {
 }
 
 // One step of length h from (t, y), split at the switch if it fires inside.
+//
+// Written as a loop around a single `rk4` so the kernel holds one copy of the
+// stage code: CPU drivers such as lavapipe execute both sides of a divergent
+// branch, so three inlined copies would triple the cost of every step. Phases:
+// 0 the whole step; 1 (only when the switch crossed) from t to the crossing;
+// 2 from the crossing to t + h in the post-switch regime.
 fn rk4_switch_step(rig: ptr<function, Rig>, t: real, h: real, y: State) -> State {
     var pending = !rig_is_broken(*rig);
     var g0 = vec2<real>(real(0.0), real(0.0));
@@ -62,16 +68,33 @@ fn rk4_switch_step(rig: ptr<function, Rig>, t: real, h: real, y: State) -> State
             pending = false;
         }
     }
-    let y1 = rk4(*rig, t, h, y);
-    if !pending {
-        return y1;
+    var phase = 0u;
+    var ys = y;
+    var ts = t;
+    var hs = h;
+    var s = real(0.0);
+    var out = y;
+    loop {
+        let next = rk4(*rig, ts, hs, ys);
+        if phase == 0u && pending {
+            let g1 = rig_switch(*rig, next);
+            if g1.x >= real(0.0) {
+                s = hermite_crossing(g0.x, g0.y * h, g1.x, g1.y * h) * h;
+                hs = s;
+                phase = 1u;
+                continue;
+            }
+        }
+        if phase == 1u {
+            rig_fire(rig);
+            ys = next;
+            ts = t + s;
+            hs = h - s;
+            phase = 2u;
+            continue;
+        }
+        out = next;
+        break;
     }
-    let g1 = rig_switch(*rig, y1);
-    if g1.x < real(0.0) {
-        return y1;
-    }
-    let s = hermite_crossing(g0.x, g0.y * h, g1.x, g1.y * h) * h;
-    let ys = rk4(*rig, t, s, y);
-    rig_fire(rig);
-    return rk4(*rig, t + s, h - s, ys);
+    return out;
 }

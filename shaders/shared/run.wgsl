@@ -42,11 +42,11 @@ fn advance(slot: u32, base: u32, e: u32) {
             prog.y = 1u;
         }
         while !done && prog.y < ex.samples && budget > 0u {
-            let first = (prog.y - 1u) * ex.substeps;
-            for (var j = 0u; j < ex.substeps; j += 1u) {
+            let first = (prog.y - 1u) * settings.substeps;
+            for (var j = 0u; j < settings.substeps; j += 1u) {
                 y = rk4_switch_step(&rig, t0 + real(first + j) * h, h, y);
             }
-            budget -= min(budget, ex.substeps);
+            budget -= min(budget, settings.substeps);
             done = observe(slot, e, prog.y, t0 + real(prog.y) * dt, rig, y, &acc);
             prog.y += 1u;
         }

@@ -3,7 +3,7 @@
 use crate::eval::{
     Batch, DIVERGED, EvalError, Evaluator, EvaluatorInfo, History, Precision, Problem, Scores,
 };
-use crate::model::GpuModel;
+use crate::model::{Drive, GpuModel};
 
 use super::layout::{HIST_VALUES, STATE_STRIDE, Settings};
 use super::pack::{
@@ -73,8 +73,14 @@ impl GpuEvaluator {
         if precision == Precision::F64 && !ctx.has_f64() {
             return Err(GpuError::NoF64(ctx.describe()));
         }
-        let fitness_kernel = pipeline::build(&ctx, Some(&model), precision, Kernel::Fitness)?;
-        let history_kernel = pipeline::build(&ctx, Some(&model), precision, Kernel::History)?;
+        let force = problem
+            .experiments
+            .iter()
+            .any(|e| matches!(e.drive, Drive::Force(_)));
+        let fitness_kernel =
+            pipeline::build(&ctx, Some((&model, force)), precision, Kernel::Fitness)?;
+        let history_kernel =
+            pipeline::build(&ctx, Some((&model, force)), precision, Kernel::History)?;
         let packed = pack_problem(&problem);
         let (settings, experiments, data) = pipeline::scoped(&ctx, "problem buffers", || {
             (
@@ -234,6 +240,8 @@ impl GpuEvaluator {
             experiments: self.problem.experiments.len() as u32,
             chunk_steps: self.options.chunk_steps,
             hist_stride: 0,
+            substeps: self.problem.substeps as u32,
+            _pad: [0; 3],
         };
         let dispatches = self.dispatches(max_steps);
         let rb = self.runs.as_ref().expect("uploaded");
@@ -268,6 +276,8 @@ impl GpuEvaluator {
             experiments: ne as u32,
             chunk_steps: self.options.chunk_steps,
             hist_stride: self.packed.hist_stride,
+            substeps: self.problem.substeps as u32,
+            _pad: [0; 3],
         };
         let real = real_size(self.precision);
         let size =
@@ -278,7 +288,12 @@ impl GpuEvaluator {
         let rb = self.runs.as_ref().expect("uploaded");
         use wgpu::BufferUsages as U;
         let readback = pipeline::scoped(ctx, "history pass", || {
-            let uniform = pipeline::buffer(ctx, "history settings", 16, U::UNIFORM | U::COPY_DST);
+            let uniform = pipeline::buffer(
+                ctx,
+                "history settings",
+                size_of::<Settings>() as u64,
+                U::UNIFORM | U::COPY_DST,
+            );
             ctx.queue
                 .write_buffer(&uniform, 0, bytemuck::bytes_of(&settings));
             let state = pipeline::buffer(

@@ -20,8 +20,12 @@ pub struct Settings {
     pub chunk_steps: u32,
     /// History pass: samples per selected candidate over all experiments.
     pub hist_stride: u32,
+    /// RK4 steps per sample interval (`Problem::substeps`).
+    pub substeps: u32,
+    /// Padding to a 16-byte multiple.
+    pub _pad: [u32; 3],
 }
-const _: () = assert!(std::mem::size_of::<Settings>() == 16);
+const _: () = assert!(std::mem::size_of::<Settings>() == 32);
 
 /// One experiment (storage, binding 1).
 /// Keep in sync with `struct ExpInfo` in `shaders/shared/bindings.wgsl`.
@@ -30,8 +34,6 @@ const _: () = assert!(std::mem::size_of::<Settings>() == 16);
 pub struct ExpInfo {
     /// Samples reported, `0..window.end`.
     pub samples: u32,
-    /// RK4 steps per sample interval.
-    pub substeps: u32,
     /// First sample of the fit window.
     pub win_start: u32,
     /// One past the last sample of the fit window.
@@ -47,7 +49,7 @@ pub struct ExpInfo {
     /// History pass: offset of this experiment's samples in a candidate's block.
     pub hist_offset: u32,
     /// Padding to a 16-byte multiple.
-    pub _pad: [u32; 3],
+    pub _pad: [u32; 4],
 }
 const _: () = assert!(std::mem::size_of::<ExpInfo>() == 48);
 

@@ -32,7 +32,6 @@ pub fn pack_problem(problem: &Problem) -> PackedProblem {
         let samples = exp.window.end as u32;
         experiments.push(ExpInfo {
             samples,
-            substeps: problem.substeps as u32,
             win_start: exp.window.start as u32,
             win_end: exp.window.end as u32,
             data_offset: data.len() as u32,

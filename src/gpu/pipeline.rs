@@ -35,16 +35,16 @@ pub fn scoped<T>(ctx: &GpuContext, what: &str, f: impl FnOnce() -> T) -> Result<
     }
 }
 
-/// Builds `kernel` for `model` at `precision`: validates with naga, reads the
+/// Builds `kernel` for `model` (with its force-drive flag) at `precision`: validates with naga, reads the
 /// workgroup size back, creates the pipeline.
 pub fn build(
     ctx: &GpuContext,
-    model: Option<&GpuModel>,
+    model: Option<(&GpuModel, bool)>,
     precision: Precision,
     kernel: Kernel,
 ) -> Result<Kernelled, GpuError> {
     let src = match model {
-        Some(m) => shaders::source(m, precision, kernel),
+        Some((m, force_drive)) => shaders::source(m, precision, kernel, force_drive),
         None => shaders::probe_source(precision),
     };
     let reflected = shaders::reflect(&src, precision, kernel)?;

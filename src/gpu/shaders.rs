@@ -81,18 +81,26 @@ pub fn precision_prelude(precision: Precision) -> String {
     )
 }
 
-/// The prelude: [`precision_prelude`] and the integer constants of `layout.rs`.
-pub fn prelude(model: &GpuModel, precision: Precision) -> String {
+/// The prelude: [`precision_prelude`], `FORCE_DRIVE` and the integer constants
+/// of `layout.rs`.
+pub fn prelude(model: &GpuModel, precision: Precision, force_drive: bool) -> String {
     let mut s = precision_prelude(precision);
+    // A compile-time constant, so kernels for velocity-only problems carry no
+    // force-drive code (lavapipe would execute it under a mask at every stage).
+    s.push_str(&format!("const FORCE_DRIVE: bool = {force_drive};\n"));
     for (name, value) in shared_constants(model.slots) {
         s.push_str(&format!("const {name}: u32 = {value}u;\n"));
     }
     s
 }
 
-/// Full WGSL source of `kernel` for `model` at `precision`.
-pub fn source(model: &GpuModel, precision: Precision, kernel: Kernel) -> String {
-    let mut parts = vec![prelude(model, precision), SHARED_EXP.to_string()];
+/// Full WGSL source of `kernel` for `model` at `precision`; `force_drive` when
+/// any experiment of the problem is force-driven.
+pub fn source(model: &GpuModel, precision: Precision, kernel: Kernel, force_drive: bool) -> String {
+    let mut parts = vec![
+        prelude(model, precision, force_drive),
+        SHARED_EXP.to_string(),
+    ];
     match kernel {
         Kernel::Fitness | Kernel::History => {
             parts.extend(
