@@ -9,6 +9,7 @@ pub mod data;
 pub mod eval;
 pub mod fixtures;
 pub mod fsutil;
+pub mod gpu;
 pub mod integrate;
 pub mod job;
 pub mod model;

@@ -5,6 +5,7 @@
 mod drive;
 mod params;
 pub mod tensile;
+mod tensile_gpu;
 
 use std::ops::ControlFlow;
 
@@ -74,6 +75,26 @@ pub trait RigModel: Send + Sync + std::fmt::Debug {
     /// vector inside `[lower, upper]`, with the name of the parameter that limits
     /// it most. Used to choose or refuse the RK4 step.
     fn omega_bound(&self, lower: &[f64], upper: &[f64], drive: &Drive) -> (f64, &'static str);
+
+    /// How the model runs in the GPU ensemble kernels; `None` keeps it CPU-only.
+    fn gpu(&self) -> Option<GpuModel> {
+        None
+    }
+}
+
+/// A model's plug-in for the GPU ensemble kernels (see `crate::gpu`).
+#[derive(Debug, Clone, Copy)]
+pub struct GpuModel {
+    /// WGSL source defining `Rig`, `rig_load`, `rig_actuator`, `rig_deriv`,
+    /// `rig_switch`, `rig_fire`, `rig_is_broken`, `rig_outputs` and
+    /// `rig_full_state` (one of the constants in `crate::gpu::shaders`).
+    pub wgsl: &'static str,
+    /// Names of the packed per-run values, in order; the shader stitcher emits a
+    /// `const P_<NAME>: u32` index for each.
+    pub slots: &'static [&'static str],
+    /// Packs one full parameter vector into `slots.len()` values (f64, converted
+    /// to the kernel's precision afterwards), appending to `out`.
+    pub pack: fn(params: &[f64], out: &mut Vec<f64>),
 }
 
 /// Every model rigfit knows, by id.

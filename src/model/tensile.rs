@@ -622,4 +622,8 @@ impl RigModel for Tensile4 {
         }
         best
     }
+
+    fn gpu(&self) -> Option<super::GpuModel> {
+        Some(super::tensile_gpu::TENSILE4_GPU)
+    }
 }

@@ -1,0 +1,216 @@
+// The tensile4 rig for the ensemble kernels. Keep in sync with
+// src/model/tensile.rs (equations, written there in f64) and
+// src/model/tensile_gpu.rs (the packed P_* slots, derived constants).
+//
+// Differences from the CPU text, all within the parity tolerance: divisions by
+// masses are multiplications by 1/m packed on the host, and a/b of the slack law
+// is packed as one value (the same f64 the CPU computes).
+
+struct Rig {
+    k1: real,
+    // c1 before fracture, c1_post after.
+    c1_now: real,
+    c1_post: real,
+    inv_m1: real,
+    inv_m2: real,
+    inv_m3: real,
+    inv_m4: real,
+    k_lin: real,
+    e_yield: real,
+    a0: real,
+    a1: real,
+    a2: real,
+    a3: real,
+    a4: real,
+    a5: real,
+    e_fracture: real,
+    c2: real,
+    k3: real,
+    c3: real,
+    slack_a_over_b: real,
+    slack_b: real,
+    slack_c: real,
+    k4_lin: real,
+    c4: real,
+    gap: real,
+    d_star: real,
+    g_star: real,
+    velocity: real,
+    ramp: real,
+    broken: bool,
+    drive_kind: u32,
+    table_offset: u32,
+    table_len: u32,
+}
+
+fn rig_load(base: u32, ex: ExpInfo) -> Rig {
+    return Rig(
+        run_params[base + P_K1],
+        run_params[base + P_C1],
+        run_params[base + P_C1_POST],
+        run_params[base + P_INV_M1],
+        run_params[base + P_INV_M2],
+        run_params[base + P_INV_M3],
+        run_params[base + P_INV_M4],
+        run_params[base + P_K_LIN],
+        run_params[base + P_E_YIELD],
+        run_params[base + P_A0],
+        run_params[base + P_A1],
+        run_params[base + P_A2],
+        run_params[base + P_A3],
+        run_params[base + P_A4],
+        run_params[base + P_A5],
+        run_params[base + P_E_FRACTURE],
+        run_params[base + P_C2],
+        run_params[base + P_K3],
+        run_params[base + P_C3],
+        run_params[base + P_SLACK_A_OVER_B],
+        run_params[base + P_SLACK_B],
+        run_params[base + P_SLACK_C],
+        run_params[base + P_K4_LIN],
+        run_params[base + P_C4],
+        run_params[base + P_GAP],
+        run_params[base + P_D_STAR],
+        run_params[base + P_G_STAR],
+        run_params[base + P_VELOCITY],
+        run_params[base + P_RAMP],
+        false,
+        ex.drive_kind,
+        ex.table_offset,
+        ex.table_len,
+    );
+}
+
+fn rig_is_broken(rig: Rig) -> bool {
+    return rig.broken;
+}
+
+// The specimen breaks: it carries no force and the load cell damping changes.
+fn rig_fire(rig: ptr<function, Rig>) {
+    (*rig).broken = true;
+    (*rig).c1_now = (*rig).c1_post;
+}
+
+// Switching function g = e − e_fracture and dg/dt.
+fn rig_switch(rig: Rig, y: State) -> vec2<real> {
+    return vec2<real>(y.q.y - y.q.x - rig.e_fracture, y.v.y - y.v.x);
+}
+
+// Force-drive table value at t (PiecewiseLinear::at; 0 for t < 0).
+fn drive_table(rig: Rig, t: real) -> real {
+    let n = rig.table_len;
+    let tt = rig.table_offset;
+    let vv = rig.table_offset + n;
+    if t < real(0.0) || n == 0u {
+        return real(0.0);
+    }
+    if t <= data[tt] {
+        return data[vv];
+    }
+    if t >= data[tt + n - 1u] {
+        return data[vv + n - 1u];
+    }
+    // Largest i with T[i] <= t, as partition_point(x <= t) − 1.
+    var lo = 0u;
+    var hi = n - 1u;
+    while hi - lo > 1u {
+        let mid = (lo + hi) / 2u;
+        if data[tt + mid] <= t {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let w = (t - data[tt + lo]) / (data[tt + lo + 1u] - data[tt + lo]);
+    return data[vv + lo] + w * (data[vv + lo + 1u] - data[vv + lo]);
+}
+
+// Velocity drive: prescribed (y4, v4, a4) at t. Force drive: (F_drive, 0, 0).
+fn rig_actuator(rig: Rig, t: real) -> vec3<real> {
+    if FORCE_DRIVE && rig.drive_kind == DRIVE_FORCE {
+        return vec3<real>(drive_table(rig, t), real(0.0), real(0.0));
+    }
+    let v = rig.velocity;
+    let r = rig.ramp;
+    if t <= real(0.0) {
+        return vec3<real>(real(0.0), real(0.0), real(0.0));
+    }
+    if r <= real(0.0) {
+        return vec3<real>(v * t, v, real(0.0));
+    }
+    let m = expm1_r(-v * t / r);
+    return vec3<real>(v * t + r * m, -v * m, v * v / r * (m + real(1.0)));
+}
+
+// Specimen law S(e).
+fn specimen_law(rig: Rig, e: real) -> real {
+    if e <= rig.e_yield {
+        return rig.k_lin * e;
+    }
+    var s = rig.a5;
+    s = s * e + rig.a4;
+    s = s * e + rig.a3;
+    s = s * e + rig.a2;
+    s = s * e + rig.a1;
+    s = s * e + rig.a0;
+    return s;
+}
+
+// Slack-adapter spring law G(d) for d > 0.
+fn slack_law(rig: Rig, d: real) -> real {
+    if d <= rig.d_star {
+        return rig.slack_a_over_b * expm1_r(rig.slack_b * d) + rig.slack_c * d;
+    }
+    return rig.g_star + rig.k4_lin * (d - rig.d_star);
+}
+
+// Actuator displacement and velocity seen by the slack adapter.
+fn actuator_motion(rig: Rig, act: vec3<real>, y: State) -> vec2<real> {
+    if FORCE_DRIVE && rig.drive_kind == DRIVE_FORCE {
+        return vec2<real>(y.q.w, y.v.w);
+    }
+    return act.xy;
+}
+
+// Element forces (F1, F2, F3, F4).
+fn rig_forces(rig: Rig, act: vec3<real>, y: State) -> vec4<real> {
+    let f1 = rig.k1 * y.q.x + rig.c1_now * y.v.x;
+    var f2 = real(0.0);
+    if !rig.broken {
+        f2 = specimen_law(rig, y.q.y - y.q.x) + rig.c2 * (y.v.y - y.v.x);
+    }
+    let f3 = rig.k3 * (y.q.z - y.q.y) + rig.c3 * (y.v.z - y.v.y);
+    let a = actuator_motion(rig, act, y);
+    let d = a.x - y.q.z - rig.gap;
+    var f4 = real(0.0);
+    if !(d <= real(0.0)) {
+        f4 = slack_law(rig, d) + rig.c4 * (a.y - y.v.z);
+    }
+    return vec4<real>(f1, f2, f3, f4);
+}
+
+fn rig_deriv(rig: Rig, act: vec3<real>, y: State) -> State {
+    let f = rig_forces(rig, act, y);
+    var q4 = act.y;
+    var a4 = act.z;
+    if FORCE_DRIVE && rig.drive_kind == DRIVE_FORCE {
+        q4 = y.v.w;
+        a4 = (act.x - f.w) * rig.inv_m4;
+    }
+    return State(
+        vec4<real>(y.v.x, y.v.y, y.v.z, q4),
+        vec4<real>((f.y - f.x) * rig.inv_m1, (f.z - f.y) * rig.inv_m2, (f.w - f.z) * rig.inv_m3, a4),
+    );
+}
+
+// Outputs (load-cell force F1, specimen force F2) at (t, y).
+fn rig_outputs(rig: Rig, t: real, y: State) -> vec2<real> {
+    let f = rig_forces(rig, rig_actuator(rig, t), y);
+    return f.xy;
+}
+
+// The state with the actuator slots filled from the prescribed motion.
+fn rig_full_state(rig: Rig, t: real, y: State) -> State {
+    let a = actuator_motion(rig, rig_actuator(rig, t), y);
+    return State(vec4<real>(y.q.xyz, a.x), vec4<real>(y.v.xyz, a.y));
+}

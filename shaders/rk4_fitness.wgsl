@@ -1,0 +1,41 @@
+// Fitness kernel: one invocation per (candidate, experiment) run integrates the
+// rig and accumulates the residual sum against the measured force on the fly;
+// a finished run writes SS_res / SS_tot (or -1 when it blew up) to `fitness`.
+// Mirrors FitnessAccumulator in src/eval/fitness.rs.
+
+// 1 − R² per run, written once the run is done; -1 marks a diverged run.
+@group(0) @binding(6) var<storage, read_write> fitness: array<real>;
+
+// Adds sample k to the residual sum; stops (acc = -1) once |F1| exceeds the
+// experiment's blow-up limit or is not a number.
+fn observe(slot: u32, e: u32, k: u32, t: real, rig: Rig, y: State, acc: ptr<function, real>) -> bool {
+    let base = slot * RUN_STRIDE;
+    let f1 = rig_outputs(rig, t, y).x;
+    if !(abs(f1) <= run_params[base + R_LIMIT]) {
+        *acc = real(-1.0);
+        return true;
+    }
+    let ex = experiments[e];
+    if k >= ex.win_start && k < ex.win_end {
+        let r = f1 - data[ex.data_offset + k];
+        *acc += r * r;
+    }
+    return false;
+}
+
+fn finish(slot: u32, base: u32, acc: real) {
+    if acc < real(0.0) {
+        fitness[slot] = real(-1.0);
+    } else {
+        fitness[slot] = acc / run_params[base + R_SS_TOT];
+    }
+}
+
+@compute @workgroup_size(64)
+fn fitness_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let slot = gid.x;
+    if slot >= settings.runs {
+        return;
+    }
+    advance(slot, slot * RUN_STRIDE, slot % settings.experiments);
+}

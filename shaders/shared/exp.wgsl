@@ -1,0 +1,64 @@
+// Precision-generic exponential and expm1 built from +, *, floor and ldexp only.
+//
+// lavapipe compiles the f64 forms of exp/log/pow but returns wrong values (the
+// SPIR-V extended instructions are only defined for 16/32-bit floats), so both
+// precisions use this code. Cody-Waite reduction x = k·ln2 + r, |r| ≤ ln2/2,
+// then a degree-13 Taylor polynomial (truncation < 1e-17 relative), then 2^k by
+// ldexp. Tested against f64::exp / f64::exp_m1 in tests/gpu_exp_matches_std.rs.
+// Range: exp_r returns 0 below -745 and saturates at x = 709 (e^709 ≈ 8.2e307);
+// expm1_r returns exactly -1 below -40 (as f64::exp_m1 rounds there).
+
+// EXP_LN2_HI (ln 2 with enough trailing zero bits that k·EXP_LN2_HI is exact)
+// and EXP_LN2_LO = ln 2 − EXP_LN2_HI differ per precision; the prelude
+// (src/gpu/shaders.rs) defines them.
+const EXP_INV_LN2: real = 1.44269504088896338700e+00;
+
+// e^r − 1 for |r| ≤ ln2/2.
+fn expm1_poly(r: real) -> real {
+    var p = real(1.0 / 6227020800.0);
+    p = p * r + real(1.0 / 479001600.0);
+    p = p * r + real(1.0 / 39916800.0);
+    p = p * r + real(1.0 / 3628800.0);
+    p = p * r + real(1.0 / 362880.0);
+    p = p * r + real(1.0 / 40320.0);
+    p = p * r + real(1.0 / 5040.0);
+    p = p * r + real(1.0 / 720.0);
+    p = p * r + real(1.0 / 120.0);
+    p = p * r + real(1.0 / 24.0);
+    p = p * r + real(1.0 / 6.0);
+    p = p * r + real(0.5);
+    p = p * r + real(1.0);
+    return p * r;
+}
+
+// Splits x (already clamped) into k and r with x = k·ln2 + r.
+fn exp_reduce(x: real) -> vec2<real> {
+    let k = floor(x * EXP_INV_LN2 + real(0.5));
+    let r = (x - k * EXP_LN2_HI) - k * EXP_LN2_LO;
+    return vec2<real>(k, r);
+}
+
+// e^x.
+fn exp_r(x: real) -> real {
+    if x < real(-745.0) {
+        return real(0.0);
+    }
+    let kr = exp_reduce(min(x, real(709.0)));
+    return ldexp(expm1_poly(kr.y) + real(1.0), i32(kr.x));
+}
+
+// e^x − 1, accurate near 0.
+fn expm1_r(x: real) -> real {
+    if x < real(-40.0) {
+        return real(-1.0);
+    }
+    let kr = exp_reduce(min(x, real(709.0)));
+    let p = expm1_poly(kr.y);
+    let k = i32(kr.x);
+    if k == 0 {
+        return p;
+    }
+    // 2^k·p + (2^k − 1): the second term is exact, so no cancellation near k = ±1.
+    let two_k = ldexp(real(1.0), k);
+    return two_k * p + (two_k - real(1.0));
+}

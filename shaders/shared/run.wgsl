@@ -1,0 +1,76 @@
+// The chunked run loop shared by the ensemble kernels: advances one run by up to
+// `settings.chunk_steps` RK4 steps, keeping its state in `state`/`progress`
+// between dispatches. Mirrors `Integrator::run` in src/integrate/rk4.rs: the
+// prologue from t = 0 to t0 when t0 > 0, then `substeps` steps per sample with
+// every step time computed from its index.
+//
+// The kernel file provides `observe(slot, e, k, t, rig, y, acc) -> bool` (true
+// stops the run) and `finish(slot, base, acc)`.
+
+fn advance(slot: u32, base: u32, e: u32) {
+    var prog = progress[slot];
+    if (prog.z & FLAG_DONE) != 0u {
+        return;
+    }
+    let ex = experiments[e];
+    var rig = rig_load(base, ex);
+    if (prog.z & FLAG_BROKEN) != 0u {
+        rig_fire(&rig);
+    }
+    let sb = slot * STATE_STRIDE;
+    var y = State(
+        vec4<real>(state[sb], state[sb + 1u], state[sb + 2u], state[sb + 3u]),
+        vec4<real>(state[sb + 4u], state[sb + 5u], state[sb + 6u], state[sb + 7u]),
+    );
+    var acc = state[sb + 8u];
+    let t0 = run_params[base + R_T0];
+    let h = run_params[base + R_H];
+    let hp = run_params[base + R_HP];
+    let dt = run_params[base + R_DT];
+    let pro = u32(run_params[base + R_PRO]);
+    var budget = settings.chunk_steps;
+    var done = false;
+
+    while prog.x < pro && budget > 0u {
+        y = rk4_switch_step(&rig, real(prog.x) * hp, hp, y);
+        prog.x += 1u;
+        budget -= 1u;
+    }
+    if prog.x >= pro {
+        if prog.y == 0u && ex.samples > 0u {
+            done = observe(slot, e, 0u, t0, rig, y, &acc);
+            prog.y = 1u;
+        }
+        while !done && prog.y < ex.samples && budget > 0u {
+            let first = (prog.y - 1u) * settings.substeps;
+            for (var j = 0u; j < settings.substeps; j += 1u) {
+                y = rk4_switch_step(&rig, t0 + real(first + j) * h, h, y);
+            }
+            budget -= min(budget, settings.substeps);
+            done = observe(slot, e, prog.y, t0 + real(prog.y) * dt, rig, y, &acc);
+            prog.y += 1u;
+        }
+        if prog.y >= ex.samples {
+            done = true;
+        }
+    }
+
+    state[sb] = y.q.x;
+    state[sb + 1u] = y.q.y;
+    state[sb + 2u] = y.q.z;
+    state[sb + 3u] = y.q.w;
+    state[sb + 4u] = y.v.x;
+    state[sb + 5u] = y.v.y;
+    state[sb + 6u] = y.v.z;
+    state[sb + 7u] = y.v.w;
+    state[sb + 8u] = acc;
+    var flags = prog.z;
+    if rig_is_broken(rig) {
+        flags |= FLAG_BROKEN;
+    }
+    if done {
+        flags |= FLAG_DONE;
+        finish(slot, base, acc);
+    }
+    progress[slot] = vec4<u32>(prog.x, prog.y, flags, 0u);
+}

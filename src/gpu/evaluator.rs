@@ -1,0 +1,427 @@
+//! The GPU evaluator: pipelines and buffers built once, reused every generation.
+
+use crate::eval::{
+    Batch, DIVERGED, EvalError, Evaluator, EvaluatorInfo, History, Precision, Problem, Scores,
+};
+use crate::model::{Drive, GpuModel};
+
+use super::layout::{HIST_VALUES, STATE_STRIDE, Settings};
+use super::pack::{
+    PackedProblem, check_batch, from_real_bytes, pack_problem, pack_runs, real_size, to_real_bytes,
+};
+use super::pipeline::{self, Kernelled};
+use super::shaders::Kernel;
+use super::{GpuContext, GpuError};
+
+/// Tuning of the GPU evaluator.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct GpuOptions {
+    /// RK4 steps each invocation advances per dispatch. Long runs are split into
+    /// several dispatches (all in one submit) so that no single dispatch runs long
+    /// enough to trip a display driver's watchdog.
+    pub chunk_steps: u32,
+}
+
+impl Default for GpuOptions {
+    fn default() -> Self {
+        Self { chunk_steps: 2048 }
+    }
+}
+
+/// Buffers sized for a number of runs; grown when a batch needs more.
+#[derive(Debug)]
+struct RunBuffers {
+    capacity: usize,
+    params: wgpu::Buffer,
+    state: wgpu::Buffer,
+    progress: wgpu::Buffer,
+    fitness: wgpu::Buffer,
+    readback: wgpu::Buffer,
+    bind: wgpu::BindGroup,
+}
+
+/// Scores candidates with the ensemble kernels of `shaders/`.
+#[derive(Debug)]
+pub struct GpuEvaluator {
+    ctx: GpuContext,
+    problem: Problem,
+    packed: PackedProblem,
+    model: GpuModel,
+    precision: Precision,
+    options: GpuOptions,
+    fitness_kernel: Kernelled,
+    history_kernel: Kernelled,
+    settings: wgpu::Buffer,
+    experiments: wgpu::Buffer,
+    data: wgpu::Buffer,
+    runs: Option<RunBuffers>,
+    host: Vec<f64>,
+}
+
+impl GpuEvaluator {
+    /// Builds the pipelines and the problem's buffers on `ctx`.
+    pub fn new(
+        ctx: GpuContext,
+        problem: Problem,
+        precision: Precision,
+        options: GpuOptions,
+    ) -> Result<Self, GpuError> {
+        let model = problem
+            .model
+            .gpu()
+            .ok_or(GpuError::UnsupportedModel(problem.model.id()))?;
+        if precision == Precision::F64 && !ctx.has_f64() {
+            return Err(GpuError::NoF64(ctx.describe()));
+        }
+        let force = problem
+            .experiments
+            .iter()
+            .any(|e| matches!(e.drive, Drive::Force(_)));
+        let fitness_kernel =
+            pipeline::build(&ctx, Some((&model, force)), precision, Kernel::Fitness)?;
+        let history_kernel =
+            pipeline::build(&ctx, Some((&model, force)), precision, Kernel::History)?;
+        let packed = pack_problem(&problem);
+        let (settings, experiments, data) = pipeline::scoped(&ctx, "problem buffers", || {
+            (
+                pipeline::buffer(
+                    &ctx,
+                    "settings",
+                    size_of::<Settings>() as u64,
+                    wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                ),
+                pipeline::storage_init(
+                    &ctx,
+                    "experiments",
+                    bytemuck::cast_slice(&packed.experiments),
+                    false,
+                ),
+                pipeline::storage_init(
+                    &ctx,
+                    "measured data",
+                    &to_real_bytes(&packed.data, precision),
+                    false,
+                ),
+            )
+        })?;
+        Ok(Self {
+            ctx,
+            problem,
+            packed,
+            model,
+            precision,
+            options,
+            fitness_kernel,
+            history_kernel,
+            settings,
+            experiments,
+            data,
+            runs: None,
+            host: Vec::new(),
+        })
+    }
+
+    /// The problem being scored.
+    pub fn problem(&self) -> &Problem {
+        &self.problem
+    }
+
+    /// The device context.
+    pub fn context(&self) -> &GpuContext {
+        &self.ctx
+    }
+
+    fn stride(&self) -> u64 {
+        super::layout::run_stride(self.model.slots.len()) as u64
+    }
+
+    /// Makes room for `runs` runs and uploads the batch's parameters; returns
+    /// the largest step count of any run.
+    fn upload(&mut self, batch: &Batch) -> Result<usize, GpuError> {
+        let runs = batch.candidates * self.problem.experiments.len();
+        if self.runs.as_ref().is_none_or(|r| r.capacity < runs) {
+            self.runs = Some(self.allocate(runs.next_power_of_two())?);
+        }
+        let max_steps = pack_runs(
+            &self.problem,
+            &self.packed,
+            &self.model,
+            batch,
+            &mut self.host,
+        );
+        let bytes = to_real_bytes(&self.host, self.precision);
+        let rb = self.runs.as_ref().expect("allocated above");
+        self.ctx.queue.write_buffer(&rb.params, 0, &bytes);
+        Ok(max_steps)
+    }
+
+    fn allocate(&self, capacity: usize) -> Result<RunBuffers, GpuError> {
+        let ctx = &self.ctx;
+        let real = real_size(self.precision);
+        let n = capacity as u64;
+        use wgpu::BufferUsages as U;
+        pipeline::scoped(ctx, "run buffers", || {
+            let params = pipeline::buffer(
+                ctx,
+                "run params",
+                n * self.stride() * real,
+                U::STORAGE | U::COPY_DST,
+            );
+            let state = pipeline::buffer(
+                ctx,
+                "run state",
+                n * STATE_STRIDE as u64 * real,
+                U::STORAGE | U::COPY_DST,
+            );
+            let progress = pipeline::buffer(ctx, "run progress", n * 16, U::STORAGE | U::COPY_DST);
+            let fitness = pipeline::buffer(ctx, "fitness", n * real, U::STORAGE | U::COPY_SRC);
+            let readback = pipeline::buffer(
+                ctx,
+                "fitness read-back",
+                n * real,
+                U::MAP_READ | U::COPY_DST,
+            );
+            let bind = pipeline::bind(
+                ctx,
+                "fitness bind group",
+                &self.fitness_kernel,
+                &[
+                    &self.settings,
+                    &self.experiments,
+                    &params,
+                    &self.data,
+                    &state,
+                    &progress,
+                    &fitness,
+                ],
+            );
+            RunBuffers {
+                capacity,
+                params,
+                state,
+                progress,
+                fitness,
+                readback,
+                bind,
+            }
+        })
+    }
+
+    /// Number of dispatches that finish runs of up to `max_steps` steps.
+    fn dispatches(&self, max_steps: usize) -> u32 {
+        (max_steps.div_ceil(self.options.chunk_steps.max(1) as usize) + 1) as u32
+    }
+
+    /// Encodes the chunked dispatches of one pass into `encoder`.
+    fn encode_pass(
+        encoder: &mut wgpu::CommandEncoder,
+        kernel: &Kernelled,
+        bind: &wgpu::BindGroup,
+        groups: u32,
+        dispatches: u32,
+    ) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("rk4 chunks"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&kernel.pipeline);
+        pass.set_bind_group(0, bind, &[]);
+        for _ in 0..dispatches {
+            pass.dispatch_workgroups(groups, 1, 1);
+        }
+    }
+
+    fn run_fitness(&mut self, batch: &Batch) -> Result<Vec<f64>, GpuError> {
+        let max_steps = self.upload(batch)?;
+        let runs = batch.candidates * self.problem.experiments.len();
+        let groups = pipeline::workgroups(&self.ctx, runs, self.fitness_kernel.workgroup_x)?;
+        let settings = Settings {
+            runs: runs as u32,
+            experiments: self.problem.experiments.len() as u32,
+            chunk_steps: self.options.chunk_steps,
+            hist_stride: 0,
+            substeps: self.problem.substeps as u32,
+            _pad: [0; 3],
+        };
+        let dispatches = self.dispatches(max_steps);
+        let rb = self.runs.as_ref().expect("uploaded");
+        let size = runs as u64 * real_size(self.precision);
+        pipeline::scoped(&self.ctx, "fitness pass", || {
+            self.ctx
+                .queue
+                .write_buffer(&self.settings, 0, bytemuck::bytes_of(&settings));
+            let mut enc = self
+                .ctx
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("fitness"),
+                });
+            enc.clear_buffer(&rb.state, 0, None);
+            enc.clear_buffer(&rb.progress, 0, None);
+            Self::encode_pass(&mut enc, &self.fitness_kernel, &rb.bind, groups, dispatches);
+            enc.copy_buffer_to_buffer(&rb.fitness, 0, &rb.readback, 0, size);
+            self.ctx.queue.submit([enc.finish()]);
+        })?;
+        let bytes = pipeline::read_back(&self.ctx, &rb.readback, size)?;
+        Ok(from_real_bytes(&bytes, self.precision))
+    }
+
+    fn run_histories(&mut self, batch: &Batch, which: &[usize]) -> Result<Vec<f64>, GpuError> {
+        let max_steps = self.upload(batch)?;
+        let ne = self.problem.experiments.len();
+        let runs = which.len() * ne;
+        let groups = pipeline::workgroups(&self.ctx, runs, self.history_kernel.workgroup_x)?;
+        let settings = Settings {
+            runs: runs as u32,
+            experiments: ne as u32,
+            chunk_steps: self.options.chunk_steps,
+            hist_stride: self.packed.hist_stride,
+            substeps: self.problem.substeps as u32,
+            _pad: [0; 3],
+        };
+        let real = real_size(self.precision);
+        let size =
+            (which.len() * self.packed.hist_stride as usize) as u64 * HIST_VALUES as u64 * real;
+        let selection: Vec<u32> = which.iter().map(|&i| i as u32).collect();
+        let dispatches = self.dispatches(max_steps);
+        let ctx = &self.ctx;
+        let rb = self.runs.as_ref().expect("uploaded");
+        use wgpu::BufferUsages as U;
+        let readback = pipeline::scoped(ctx, "history pass", || {
+            let uniform = pipeline::buffer(
+                ctx,
+                "history settings",
+                size_of::<Settings>() as u64,
+                U::UNIFORM | U::COPY_DST,
+            );
+            ctx.queue
+                .write_buffer(&uniform, 0, bytemuck::bytes_of(&settings));
+            let state = pipeline::buffer(
+                ctx,
+                "history state",
+                runs as u64 * STATE_STRIDE as u64 * real,
+                U::STORAGE | U::COPY_DST,
+            );
+            let progress = pipeline::buffer(
+                ctx,
+                "history progress",
+                runs as u64 * 16,
+                U::STORAGE | U::COPY_DST,
+            );
+            let history = pipeline::buffer(ctx, "history", size, U::STORAGE | U::COPY_SRC);
+            let readback =
+                pipeline::buffer(ctx, "history read-back", size, U::MAP_READ | U::COPY_DST);
+            let sel =
+                pipeline::storage_init(ctx, "selection", bytemuck::cast_slice(&selection), false);
+            let bind = pipeline::bind(
+                ctx,
+                "history bind group",
+                &self.history_kernel,
+                &[
+                    &uniform,
+                    &self.experiments,
+                    &rb.params,
+                    &self.data,
+                    &state,
+                    &progress,
+                    &history,
+                    &sel,
+                ],
+            );
+            let mut enc = ctx
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("history"),
+                });
+            enc.clear_buffer(&state, 0, None);
+            enc.clear_buffer(&progress, 0, None);
+            Self::encode_pass(&mut enc, &self.history_kernel, &bind, groups, dispatches);
+            enc.copy_buffer_to_buffer(&history, 0, &readback, 0, size);
+            ctx.queue.submit([enc.finish()]);
+            readback
+        })?;
+        let bytes = pipeline::read_back(ctx, &readback, size)?;
+        Ok(from_real_bytes(&bytes, self.precision))
+    }
+}
+
+fn device_error(e: GpuError) -> EvalError {
+    EvalError::Device(e.to_string())
+}
+
+impl Evaluator for GpuEvaluator {
+    fn info(&self) -> EvaluatorInfo {
+        EvaluatorInfo {
+            backend: "gpu".into(),
+            device: self.ctx.describe(),
+            precision: self.precision,
+        }
+    }
+
+    fn fitness(&mut self, batch: &Batch) -> Result<Scores, EvalError> {
+        check_batch(&self.problem, batch)?;
+        let raw = self.run_fitness(batch).map_err(device_error)?;
+        let mut diverged = 0;
+        let values = raw
+            .into_iter()
+            .map(|v| {
+                // -1 marks a blown-up run; NaN/Inf can only come from one.
+                if v >= 0.0 && v < DIVERGED {
+                    v
+                } else {
+                    diverged += 1;
+                    DIVERGED
+                }
+            })
+            .collect();
+        Ok(Scores {
+            experiments: self.problem.experiments.len(),
+            values,
+            diverged,
+        })
+    }
+
+    fn histories(
+        &mut self,
+        batch: &Batch,
+        which: &[usize],
+    ) -> Result<Vec<Vec<History>>, EvalError> {
+        check_batch(&self.problem, batch)?;
+        if let Some(&bad) = which.iter().find(|&&i| i >= batch.candidates) {
+            return Err(EvalError::Shape {
+                expected: format!("candidate indices < {}", batch.candidates),
+                found: bad.to_string(),
+            });
+        }
+        if which.is_empty() {
+            return Ok(Vec::new());
+        }
+        let raw = self.run_histories(batch, which).map_err(device_error)?;
+        let n_out = self.problem.model.output_names().len().min(2);
+        let n_state = self.problem.model.state_names().len().min(8);
+        let hv = HIST_VALUES as usize;
+        Ok((0..which.len())
+            .map(|j| {
+                self.packed
+                    .experiments
+                    .iter()
+                    .map(|ex| {
+                        let base =
+                            (j * self.packed.hist_stride as usize + ex.hist_offset as usize) * hv;
+                        let rec = |k: usize, v: usize| raw[base + k * hv + v];
+                        let n = ex.samples as usize;
+                        History {
+                            t: (0..n).map(|k| rec(k, 0)).collect(),
+                            outputs: (0..n_out)
+                                .map(|o| (0..n).map(|k| rec(k, 1 + o)).collect())
+                                .collect(),
+                            states: (0..n_state)
+                                .map(|s| (0..n).map(|k| rec(k, 3 + s)).collect())
+                                .collect(),
+                        }
+                    })
+                    .collect()
+            })
+            .collect())
+    }
+}

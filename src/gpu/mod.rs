@@ -1,0 +1,168 @@
+//! The GPU ensemble evaluator: a whole population of candidate rigs integrated
+//! in one WGSL compute pipeline (wgpu), one invocation per (candidate,
+//! experiment) run, returning one `1 − R²` per run.
+//!
+//! The kernels under `shaders/` reproduce the f64 CPU reference
+//! ([`crate::integrate`]) operation for operation: the same RK4 stages, the same
+//! fracture location inside the step (Hermite cubic, 52 bisection halvings), step
+//! times from the step index, the prologue when `t0 > 0`, the blow-up guard
+//! `|F1| > blowup_limit` and `SS_res / SS_tot` over the fit window, accumulated on
+//! the device against the measured history. A second kernel writes full histories
+//! of chosen candidates. Long runs are split into chunks of
+//! [`GpuOptions::chunk_steps`] steps, all dispatched in one submit.
+//!
+//! # Precision
+//! `f32` everywhere; `f64` where the adapter has `SHADER_F64`. Exponentials use
+//! our own `exp`/`expm1` (`shaders/shared/exp.wgsl`) because lavapipe's f64
+//! transcendental functions are wrong; logarithms (the slack knee `d*`) are
+//! computed on the host. Measured against the CPU reference on a seeded batch of
+//! 256 candidates (`tests/gpu_cpu_parity.rs`): f64 force histories agree within
+//! 1e-9 of the history's largest |F| (observed ≈ 1e-13); f32 within
+//! [`F32_HISTORY_TOLERANCE`] of the largest |F| (observed ≈ 3e-5). Where the
+//! histories differ, divisions by masses are multiplications by packed `1/m`
+//! and the driver may fuse multiply-adds.
+//!
+//! # Backend selection
+//! [`open_evaluator`] implements `auto | gpu | cpu`. `auto` uses the GPU when an
+//! adapter exists, otherwise the CPU evaluator with a one-line note. Setting the
+//! environment variable **`RIGFIT_REQUIRE_GPU=1`** turns "no adapter" into an
+//! error even for `auto`; the GPU tests then fail instead of skipping (CI sets it).
+//! `WGPU_BACKEND` picks the wgpu backends (default: Vulkan, Metal, DX12).
+
+mod context;
+mod evaluator;
+pub mod layout;
+mod pack;
+pub mod pipeline;
+mod probe;
+pub mod shaders;
+
+pub use context::{AdapterSummary, GpuContext, instance, list_adapters};
+pub use evaluator::{GpuEvaluator, GpuOptions};
+pub use pack::{from_real_bytes, to_real_bytes};
+pub use probe::probe_exp;
+
+use crate::eval::{Backend, CpuEvaluator, Evaluator, Precision, PrecisionChoice, Problem};
+
+/// f32 force histories agree with the f64 CPU reference within this fraction of
+/// the history's largest |F| (measured in `tests/gpu_cpu_parity.rs`).
+pub const F32_HISTORY_TOLERANCE: f64 = 2e-4;
+/// f64 force histories agree with the f64 CPU reference within this fraction of
+/// the history's largest |F|.
+pub const F64_HISTORY_TOLERANCE: f64 = 1e-9;
+
+/// Name of the environment variable that makes a missing adapter an error.
+pub const REQUIRE_GPU_ENV: &str = "RIGFIT_REQUIRE_GPU";
+
+/// Errors of the GPU path.
+#[derive(Debug, thiserror::Error)]
+pub enum GpuError {
+    /// No adapter was found.
+    #[error("no GPU adapter found ({0})")]
+    NoAdapter(String),
+    /// The adapter refused a device.
+    #[error("could not open a device: {0}")]
+    RequestDevice(String),
+    /// f64 was asked for on an adapter without `SHADER_F64`.
+    #[error("adapter {0} has no SHADER_F64; use precision f32")]
+    NoF64(String),
+    /// The model has no GPU kernels.
+    #[error("model `{0}` has no GPU implementation")]
+    UnsupportedModel(&'static str),
+    /// A shader failed to parse or validate.
+    #[error("shader {kernel} is invalid:\n{message}")]
+    Shader {
+        /// Kernel file.
+        kernel: &'static str,
+        /// naga's diagnostic.
+        message: String,
+    },
+    /// The device reported an error.
+    #[error("GPU error during {during}: {message}")]
+    Device {
+        /// What was being done.
+        during: String,
+        /// wgpu's message.
+        message: String,
+    },
+    /// The batch needs more workgroups than the device dispatches at once.
+    #[error("{runs} runs exceed the device's dispatch limit of {max}")]
+    TooLarge {
+        /// Runs asked for.
+        runs: usize,
+        /// Most runs one dispatch covers.
+        max: usize,
+    },
+}
+
+/// Whether `RIGFIT_REQUIRE_GPU` is set to something other than `0`/empty.
+pub fn gpu_required() -> bool {
+    std::env::var(REQUIRE_GPU_ENV).is_ok_and(|v| !v.is_empty() && v != "0")
+}
+
+/// An opened evaluator with a note for the user (e.g. why `auto` fell back to
+/// the CPU), to print once.
+pub struct Opened {
+    /// The evaluator.
+    pub evaluator: Box<dyn Evaluator>,
+    /// One line to tell the user, if any.
+    pub note: Option<String>,
+}
+
+impl std::fmt::Debug for Opened {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Opened")
+            .field("evaluator", &self.evaluator.info())
+            .field("note", &self.note)
+            .finish()
+    }
+}
+
+/// Resolves a precision choice against a context.
+pub fn resolve_precision(ctx: &GpuContext, choice: PrecisionChoice) -> Result<Precision, GpuError> {
+    match choice {
+        PrecisionChoice::F32 => Ok(Precision::F32),
+        PrecisionChoice::F64 if !ctx.has_f64() => Err(GpuError::NoF64(ctx.describe())),
+        PrecisionChoice::F64 => Ok(Precision::F64),
+        PrecisionChoice::Auto if ctx.has_f64() => Ok(Precision::F64),
+        PrecisionChoice::Auto => Ok(Precision::F32),
+    }
+}
+
+/// Opens the evaluator for `backend`: `cpu` → the f64 reference on all cores;
+/// `gpu` → the GPU or an error; `auto` → the GPU when an adapter exists (and the
+/// model has GPU kernels), otherwise the CPU with a note — unless
+/// `RIGFIT_REQUIRE_GPU=1`, which makes a missing adapter an error.
+pub fn open_evaluator(
+    problem: Problem,
+    backend: Backend,
+    precision: PrecisionChoice,
+) -> Result<Opened, GpuError> {
+    let cpu = |problem: Problem, note: Option<String>| Opened {
+        evaluator: Box::new(CpuEvaluator::new(problem, 0)),
+        note,
+    };
+    if backend == Backend::Cpu {
+        return Ok(cpu(problem, None));
+    }
+    if backend == Backend::Auto && problem.model.gpu().is_none() {
+        let note = format!(
+            "model `{}` has no GPU kernels; using the CPU",
+            problem.model.id()
+        );
+        return Ok(cpu(problem, Some(note)));
+    }
+    let ctx = match GpuContext::new() {
+        Ok(ctx) => ctx,
+        Err(e) if backend == Backend::Auto && !gpu_required() => {
+            return Ok(cpu(problem, Some(format!("{e}; using the CPU"))));
+        }
+        Err(e) => return Err(e),
+    };
+    let precision = resolve_precision(&ctx, precision)?;
+    let gpu = GpuEvaluator::new(ctx, problem, precision, GpuOptions::default())?;
+    Ok(Opened {
+        evaluator: Box::new(gpu),
+        note: None,
+    })
+}

@@ -1,0 +1,171 @@
+//! Running on a device: pipelines built from the stitched WGSL, labelled
+//! buffers, error scopes and read-back. Nothing here picks a device.
+
+use wgpu::util::DeviceExt;
+
+use crate::eval::Precision;
+use crate::model::GpuModel;
+
+use super::shaders::{self, Kernel};
+use super::{GpuContext, GpuError};
+
+/// A compute pipeline with the workgroup size read back from its WGSL.
+#[derive(Debug)]
+pub struct Kernelled {
+    /// The pipeline (auto layout, bind group 0).
+    pub pipeline: wgpu::ComputePipeline,
+    /// `@workgroup_size(x, …)` of the entry point.
+    pub workgroup_x: u32,
+}
+
+/// Runs `f` inside validation and out-of-memory error scopes, returning the
+/// first error raised as a [`GpuError`].
+pub fn scoped<T>(ctx: &GpuContext, what: &str, f: impl FnOnce() -> T) -> Result<T, GpuError> {
+    let oom = ctx.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+    let validation = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let out = f();
+    let v = pollster::block_on(validation.pop());
+    let o = pollster::block_on(oom.pop());
+    match v.or(o) {
+        Some(e) => Err(GpuError::Device {
+            during: what.to_string(),
+            message: e.to_string(),
+        }),
+        None => Ok(out),
+    }
+}
+
+/// Builds `kernel` for `model` (with its force-drive flag) at `precision`: validates with naga, reads the
+/// workgroup size back, creates the pipeline.
+pub fn build(
+    ctx: &GpuContext,
+    model: Option<(&GpuModel, bool)>,
+    precision: Precision,
+    kernel: Kernel,
+) -> Result<Kernelled, GpuError> {
+    let src = match model {
+        Some((m, force_drive)) => shaders::source(m, precision, kernel, force_drive),
+        None => shaders::probe_source(precision),
+    };
+    let reflected = shaders::reflect(&src, precision, kernel)?;
+    let pipeline = scoped(ctx, kernel.file(), || {
+        let module = ctx
+            .device
+            .create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(kernel.file()),
+                source: wgpu::ShaderSource::Wgsl(src.as_str().into()),
+            });
+        ctx.device
+            .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(kernel.entry_point()),
+                layout: None,
+                module: &module,
+                entry_point: Some(kernel.entry_point()),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+    })?;
+    Ok(Kernelled {
+        pipeline,
+        workgroup_x: reflected.workgroup_size[0],
+    })
+}
+
+/// A storage buffer initialised with `bytes` (at least 16 bytes).
+pub fn storage_init(ctx: &GpuContext, label: &str, bytes: &[u8], writable: bool) -> wgpu::Buffer {
+    let mut contents = bytes.to_vec();
+    contents.resize(contents.len().max(16), 0);
+    let mut usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
+    if writable {
+        usage |= wgpu::BufferUsages::COPY_SRC;
+    }
+    ctx.device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: &contents,
+            usage,
+        })
+}
+
+/// An uninitialised buffer of `size` bytes (at least 16).
+pub fn buffer(ctx: &GpuContext, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
+    ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: size.max(16).next_multiple_of(8),
+        usage,
+        mapped_at_creation: false,
+    })
+}
+
+/// A bind group over `buffers`, binding i ← buffers\[i\].
+pub fn bind(
+    ctx: &GpuContext,
+    label: &str,
+    kernel: &Kernelled,
+    buffers: &[&wgpu::Buffer],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
+        .iter()
+        .enumerate()
+        .map(|(i, b)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: b.as_entire_binding(),
+        })
+        .collect();
+    ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout: &kernel.pipeline.get_bind_group_layout(0),
+        entries: &entries,
+    })
+}
+
+/// Maps `readback` (already filled by a submitted copy), waits, and returns the
+/// first `size` bytes.
+pub fn read_back(
+    ctx: &GpuContext,
+    readback: &wgpu::Buffer,
+    size: u64,
+) -> Result<Vec<u8>, GpuError> {
+    let slice = readback.slice(..size);
+    let (tx, rx) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = tx.send(r);
+    });
+    ctx.device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| GpuError::Device {
+            during: "waiting for the GPU".into(),
+            message: e.to_string(),
+        })?;
+    rx.recv()
+        .map_err(|e| GpuError::Device {
+            during: "mapping the read-back buffer".into(),
+            message: e.to_string(),
+        })?
+        .map_err(|e| GpuError::Device {
+            during: "mapping the read-back buffer".into(),
+            message: e.to_string(),
+        })?;
+    let bytes = slice
+        .get_mapped_range()
+        .map_err(|e| GpuError::Device {
+            during: "reading the read-back buffer".into(),
+            message: e.to_string(),
+        })?
+        .to_vec();
+    readback.unmap();
+    Ok(bytes)
+}
+
+/// Workgroups to cover `n` invocations, refusing more than the device allows.
+pub fn workgroups(ctx: &GpuContext, n: usize, workgroup_x: u32) -> Result<u32, GpuError> {
+    let groups = n.div_ceil(workgroup_x as usize);
+    let max = ctx.device.limits().max_compute_workgroups_per_dimension as usize;
+    if groups > max {
+        return Err(GpuError::TooLarge {
+            runs: n,
+            max: max * workgroup_x as usize,
+        });
+    }
+    Ok(groups as u32)
+}

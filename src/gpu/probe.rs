@@ -1,0 +1,53 @@
+//! Runs `shaders/exp_probe.wgsl`: the kernel precision's exp and expm1 at given
+//! points, for tests against `f64::exp` and `f64::exp_m1`.
+
+use crate::eval::Precision;
+
+use super::pack::{from_real_bytes, real_size, to_real_bytes};
+use super::pipeline;
+use super::shaders::Kernel;
+use super::{GpuContext, GpuError};
+
+/// `(exp(x), expm1(x))` for each `x`, computed on the device at `precision`.
+pub fn probe_exp(
+    ctx: &GpuContext,
+    precision: Precision,
+    xs: &[f64],
+) -> Result<Vec<(f64, f64)>, GpuError> {
+    let kernel = pipeline::build(ctx, None, precision, Kernel::ExpProbe)?;
+    let size = 2 * xs.len() as u64 * real_size(precision);
+    let groups = pipeline::workgroups(ctx, xs.len(), kernel.workgroup_x)?;
+    use wgpu::BufferUsages as U;
+    let readback = pipeline::scoped(ctx, "exp probe", || {
+        let input = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("probe x"),
+            size: (xs.len() as u64 * real_size(precision)).max(8),
+            usage: U::STORAGE | U::COPY_DST,
+            mapped_at_creation: false,
+        });
+        ctx.queue
+            .write_buffer(&input, 0, &to_real_bytes(xs, precision));
+        let out = pipeline::buffer(ctx, "probe out", size, U::STORAGE | U::COPY_SRC);
+        let readback = pipeline::buffer(ctx, "probe read-back", size, U::MAP_READ | U::COPY_DST);
+        let bind = pipeline::bind(ctx, "probe bind group", &kernel, &[&input, &out]);
+        let mut enc = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("exp probe"),
+            });
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("exp probe"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&kernel.pipeline);
+            pass.set_bind_group(0, &bind, &[]);
+            pass.dispatch_workgroups(groups, 1, 1);
+        }
+        enc.copy_buffer_to_buffer(&out, 0, &readback, 0, size);
+        ctx.queue.submit([enc.finish()]);
+        readback
+    })?;
+    let v = from_real_bytes(&pipeline::read_back(ctx, &readback, size)?, precision);
+    Ok(v.chunks(2).map(|c| (c[0], c[1])).collect())
+}

@@ -1,0 +1,88 @@
+//! The same batch evaluated twice gives bit-identical fitness on every path:
+//! GPU f32, GPU f64 (reusing the evaluator's buffers between the two calls) and
+//! the CPU reference.
+
+mod gpu_common;
+use gpu_common as common;
+
+use rigfit::eval::{Batch, CpuEvaluator, Evaluator, Precision, Problem};
+use rigfit::fixtures::{REFERENCE_DT, REFERENCE_SUBSTEPS, reference_experiment};
+use rigfit::gpu::{GpuEvaluator, GpuOptions};
+use rigfit::model::tensile::TENSILE4;
+
+fn setup() -> (Problem, Batch) {
+    let problem = Problem {
+        model: &TENSILE4,
+        experiments: vec![reference_experiment(
+            500,
+            REFERENCE_DT,
+            REFERENCE_SUBSTEPS,
+            20.0,
+            7,
+        )],
+        substeps: REFERENCE_SUBSTEPS,
+    };
+    let batch = common::batch_of(&problem, common::spread_params(256, 9));
+    (problem, batch)
+}
+
+fn bits(values: &[f64]) -> Vec<u64> {
+    values.iter().map(|v| v.to_bits()).collect()
+}
+
+fn twice(eval: &mut dyn Evaluator, batch: &Batch) {
+    let a = eval.fitness(batch).unwrap();
+    let b = eval.fitness(batch).unwrap();
+    assert_eq!(bits(&a.values), bits(&b.values), "{:?}", eval.info());
+    assert_eq!(a.diverged, b.diverged);
+}
+
+#[test]
+fn cpu_fitness_is_bit_identical_across_runs() {
+    let (problem, batch) = setup();
+    twice(&mut CpuEvaluator::new(problem, 0), &batch);
+}
+
+#[test]
+fn gpu_f32_fitness_is_bit_identical_across_runs() {
+    let Some(ctx) = common::gpu() else { return };
+    let (problem, batch) = setup();
+    let mut gpu = GpuEvaluator::new(ctx, problem, Precision::F32, GpuOptions::default()).unwrap();
+    twice(&mut gpu, &batch);
+}
+
+#[test]
+fn gpu_f64_fitness_is_bit_identical_across_runs() {
+    let Some(ctx) = common::gpu() else { return };
+    if !ctx.has_f64() {
+        return;
+    }
+    let (problem, batch) = setup();
+    let mut gpu = GpuEvaluator::new(ctx, problem, Precision::F64, GpuOptions::default()).unwrap();
+    twice(&mut gpu, &batch);
+}
+
+#[test]
+fn chunk_size_does_not_change_gpu_fitness() {
+    let Some(ctx) = common::gpu() else { return };
+    let (problem, batch) = setup();
+    let precision = if ctx.has_f64() {
+        Precision::F64
+    } else {
+        Precision::F32
+    };
+    let mut whole = GpuEvaluator::new(
+        ctx.clone(),
+        problem.clone(),
+        precision,
+        GpuOptions {
+            chunk_steps: 1 << 20,
+        },
+    )
+    .unwrap();
+    let mut chunked =
+        GpuEvaluator::new(ctx, problem, precision, GpuOptions { chunk_steps: 37 }).unwrap();
+    let a = whole.fitness(&batch).unwrap();
+    let b = chunked.fitness(&batch).unwrap();
+    assert_eq!(bits(&a.values), bits(&b.values));
+}

@@ -1,0 +1,112 @@
+//! Every kernel, for every GPU model and both precisions, parses and validates
+//! with naga, and what the Rust side assumes about it (struct sizes, entry
+//! points, 1-D workgroups, shared constants) agrees with the WGSL.
+
+use rigfit::eval::Precision;
+use rigfit::gpu::layout::{ExpInfo, Settings, shared_constants};
+use rigfit::gpu::shaders::{self, Kernel};
+use rigfit::model::{GpuModel, registry};
+
+fn gpu_models() -> Vec<(&'static str, GpuModel)> {
+    let models: Vec<_> = registry()
+        .into_iter()
+        .filter_map(|m| m.gpu().map(|g| (m.id(), g)))
+        .collect();
+    assert!(!models.is_empty(), "no model has GPU kernels");
+    models
+}
+
+fn sources() -> Vec<(String, Precision, Kernel, String)> {
+    let mut out = Vec::new();
+    for (id, model) in gpu_models() {
+        for precision in [Precision::F32, Precision::F64] {
+            for kernel in Kernel::ALL {
+                for force_drive in [false, true] {
+                    let src = match kernel {
+                        Kernel::ExpProbe => shaders::probe_source(precision),
+                        _ => shaders::source(&model, precision, kernel, force_drive),
+                    };
+                    out.push((format!("{id} force={force_drive}"), precision, kernel, src));
+                }
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn every_kernel_parses_and_validates_in_both_precisions() {
+    for (id, precision, kernel, src) in sources() {
+        if let Err(e) = shaders::reflect(&src, precision, kernel) {
+            panic!("{id} {precision:?} {}: {e}", kernel.file());
+        }
+    }
+}
+
+#[test]
+fn workgroups_are_one_dimensional_and_read_back_from_wgsl() {
+    for (id, precision, kernel, src) in sources() {
+        let r = shaders::reflect(&src, precision, kernel).unwrap();
+        let [x, y, z] = r.workgroup_size;
+        assert!(
+            x >= 1 && y == 1 && z == 1,
+            "{id} {}: {:?}",
+            kernel.file(),
+            r.workgroup_size
+        );
+    }
+}
+
+fn struct_size(module: &naga::Module, name: &str) -> u32 {
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(module.to_ctx()).unwrap();
+    let (handle, _) = module
+        .types
+        .iter()
+        .find(|(_, t)| t.name.as_deref() == Some(name))
+        .unwrap_or_else(|| panic!("no struct {name}"));
+    layouter[handle].size
+}
+
+#[test]
+fn host_structs_match_wgsl_sizes() {
+    for (id, precision, kernel, src) in sources() {
+        if kernel == Kernel::ExpProbe {
+            continue;
+        }
+        let m = shaders::reflect(&src, precision, kernel).unwrap().module;
+        assert_eq!(
+            struct_size(&m, "Settings") as usize,
+            size_of::<Settings>(),
+            "{id}"
+        );
+        assert_eq!(
+            struct_size(&m, "ExpInfo") as usize,
+            size_of::<ExpInfo>(),
+            "{id}"
+        );
+    }
+}
+
+#[test]
+fn shared_constants_reach_the_shader_unchanged() {
+    for (id, model) in gpu_models() {
+        let src = shaders::source(&model, Precision::F32, Kernel::Fitness, true);
+        let m = shaders::reflect(&src, Precision::F32, Kernel::Fitness)
+            .unwrap()
+            .module;
+        for (name, value) in shared_constants(model.slots) {
+            let (_, c) = m
+                .constants
+                .iter()
+                .find(|(_, c)| c.name.as_deref() == Some(name.as_str()))
+                .unwrap_or_else(|| panic!("{id}: constant {name} missing"));
+            match m.global_expressions[c.init] {
+                naga::Expression::Literal(naga::Literal::U32(v)) => {
+                    assert_eq!(v, value, "{name}")
+                }
+                ref other => panic!("{name}: unexpected {other:?}"),
+            }
+        }
+    }
+}
