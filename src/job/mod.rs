@@ -183,7 +183,7 @@ pub fn run(
     let fallback = cost.fallback_note();
     let mut evaluator = cost.into_evaluator();
     let summary = write_outputs(campaign, evaluator.as_mut(), &outcome, &genes, &opts.out, fallback)?;
-    if !outcome.termination.is_interrupt() {
+    if outcome.termination != crate::search::TerminationReason::Interrupted {
         // The results are complete: the checkpoint has served its purpose.
         let _ = std::fs::remove_file(&checkpoint);
     }
