@@ -366,7 +366,7 @@ impl Evaluator for GpuEvaluator {
             .into_iter()
             .map(|v| {
                 // -1 marks a blown-up run; NaN/Inf can only come from one.
-                if v >= 0.0 && v < DIVERGED {
+                if (0.0..DIVERGED).contains(&v) {
                     v
                 } else {
                     diverged += 1;
