@@ -85,8 +85,8 @@ pub enum GpuError {
         /// wgpu's message.
         message: String,
     },
-    /// The batch needs more workgroups than the device dispatches at once.
-    #[error("{runs} runs exceed the device's dispatch limit of {max}")]
+    /// The batch needs more workgroups or buffer space than the device allows.
+    #[error("{runs} runs exceed the device's limit of {max} runs per pass")]
     TooLarge {
         /// Runs asked for.
         runs: usize,
