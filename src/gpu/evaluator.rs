@@ -164,7 +164,7 @@ impl GpuEvaluator {
         let real = real_size(self.precision);
         let n = capacity as u64;
         let largest = n * self.stride() * real;
-        let limit = ctx.device.limits().max_storage_buffer_binding_size as u64;
+        let limit = ctx.device.limits().max_storage_buffer_binding_size;
         if largest > limit {
             return Err(GpuError::TooLarge {
                 runs: capacity,
