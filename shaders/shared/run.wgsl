@@ -5,8 +5,10 @@
 // every step time computed from its index.
 //
 // The kernel file provides `observe(slot, ex, k, t, limit, rig, y, acc) -> bool`
-// (true stops the run) and `finish(slot, base, acc)`. Everything observe needs
-// is passed in: storage loads in the per-sample path are gathers on CPU drivers.
+// (true stops the run) and `finish(slot, base, acc)`. The experiment and the
+// blow-up limit are passed in, loaded once per dispatch: on CPU drivers every
+// storage load in the per-sample path is a per-lane gather, and the measured
+// force is the only one left there.
 
 fn advance(slot: u32, base: u32, e: u32) {
     var prog = progress[slot];
