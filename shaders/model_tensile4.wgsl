@@ -37,6 +37,8 @@ struct Rig {
     g_star: real,
     velocity: real,
     ramp: real,
+    // v²/r, the same f64 the CPU computes.
+    v2_over_r: real,
     broken: bool,
     drive_kind: u32,
     table_offset: u32,
@@ -74,6 +76,7 @@ fn rig_load(base: u32, ex: ExpInfo) -> Rig {
         run_params[base + P_G_STAR],
         run_params[base + P_VELOCITY],
         run_params[base + P_RAMP],
+        run_params[base + P_V2_OVER_R],
         false,
         ex.drive_kind,
         ex.table_offset,
@@ -139,7 +142,7 @@ fn rig_actuator(rig: Rig, t: real) -> vec3<real> {
         return vec3<real>(v * t, v, real(0.0));
     }
     let m = expm1_r(-v * t / r);
-    return vec3<real>(v * t + r * m, -v * m, v * v / r * (m + real(1.0)));
+    return vec3<real>(v * t + r * m, -v * m, rig.v2_over_r * (m + real(1.0)));
 }
 
 // Specimen law S(e).

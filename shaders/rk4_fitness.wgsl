@@ -8,14 +8,21 @@
 
 // Adds sample k to the residual sum; stops (acc = -1) once |F1| exceeds the
 // experiment's blow-up limit or is not a number.
-fn observe(slot: u32, e: u32, k: u32, t: real, rig: Rig, y: State, acc: ptr<function, real>) -> bool {
-    let base = slot * RUN_STRIDE;
+fn observe(
+    slot: u32,
+    ex: ExpInfo,
+    k: u32,
+    t: real,
+    limit: real,
+    rig: Rig,
+    y: State,
+    acc: ptr<function, real>,
+) -> bool {
     let f1 = rig_outputs(rig, t, y).x;
-    if !(abs(f1) <= run_params[base + R_LIMIT]) {
+    if !(abs(f1) <= limit) {
         *acc = real(-1.0);
         return true;
     }
-    let ex = experiments[e];
     if k >= ex.win_start && k < ex.win_end {
         let r = f1 - data[ex.data_offset + k];
         *acc += r * r;

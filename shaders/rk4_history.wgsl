@@ -7,8 +7,16 @@
 // Candidate index of each selected slot.
 @group(0) @binding(7) var<storage, read> selection: array<u32>;
 
-fn observe(slot: u32, e: u32, k: u32, t: real, rig: Rig, y: State, acc: ptr<function, real>) -> bool {
-    let ex = experiments[e];
+fn observe(
+    slot: u32,
+    ex: ExpInfo,
+    k: u32,
+    t: real,
+    limit: real,
+    rig: Rig,
+    y: State,
+    acc: ptr<function, real>,
+) -> bool {
     let j = slot / settings.experiments;
     let o = ((j * settings.hist_stride) + ex.hist_offset + k) * HIST_VALUES;
     let out = rig_outputs(rig, t, y);

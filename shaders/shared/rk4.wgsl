@@ -18,15 +18,17 @@ fn rk4(rig: Rig, t: real, h: real, y: State) -> State {
     let a0 = rig_actuator(rig, t);
     let am = rig_actuator(rig, t + hh);
     let a1 = rig_actuator(rig, t + h);
-    let k1 = rig_deriv(rig, a0, y);
-    let k2 = rig_deriv(rig, am, State(y.q + hh * k1.q, y.v + hh * k1.v));
-    let k3 = rig_deriv(rig, am, State(y.q + hh * k2.q, y.v + hh * k2.v));
-    let k4 = rig_deriv(rig, a1, State(y.q + h * k3.q, y.v + h * k3.v));
+    // acc = ((k1 + 2·k2) + 2·k3) + k4, summed in the CPU's order while each k
+    // is live, so only y, acc and one k stay in registers.
+    var k = rig_deriv(rig, a0, y);
+    var acc = k;
+    k = rig_deriv(rig, am, State(y.q + hh * k.q, y.v + hh * k.v));
+    acc = State(acc.q + real(2.0) * k.q, acc.v + real(2.0) * k.v);
+    k = rig_deriv(rig, am, State(y.q + hh * k.q, y.v + hh * k.v));
+    acc = State(acc.q + real(2.0) * k.q, acc.v + real(2.0) * k.v);
+    k = rig_deriv(rig, a1, State(y.q + h * k.q, y.v + h * k.v));
     let h6 = h / real(6.0);
-    return State(
-        y.q + h6 * (k1.q + real(2.0) * k2.q + real(2.0) * k3.q + k4.q),
-        y.v + h6 * (k1.v + real(2.0) * k2.v + real(2.0) * k3.v + k4.v),
-    );
+    return State(y.q + h6 * (acc.q + k.q), y.v + h6 * (acc.v + k.v));
 }
 
 // Fraction θ ∈ [0, 1] of the step where the cubic Hermite interpolant of the

@@ -4,8 +4,11 @@
 // prologue from t = 0 to t0 when t0 > 0, then `substeps` steps per sample with
 // every step time computed from its index.
 //
-// The kernel file provides `observe(slot, e, k, t, rig, y, acc) -> bool` (true
-// stops the run) and `finish(slot, base, acc)`.
+// The kernel file provides `observe(slot, ex, k, t, limit, rig, y, acc) -> bool`
+// (true stops the run) and `finish(slot, base, acc)`. The experiment and the
+// blow-up limit are passed in, loaded once per dispatch: on CPU drivers every
+// storage load in the per-sample path is a per-lane gather, and the measured
+// force is the only one left there.
 
 fn advance(slot: u32, base: u32, e: u32) {
     var prog = progress[slot];
@@ -28,6 +31,7 @@ fn advance(slot: u32, base: u32, e: u32) {
     let hp = run_params[base + R_HP];
     let dt = run_params[base + R_DT];
     let pro = u32(run_params[base + R_PRO]);
+    let limit = run_params[base + R_LIMIT];
     var budget = settings.chunk_steps;
     var done = false;
 
@@ -38,7 +42,7 @@ fn advance(slot: u32, base: u32, e: u32) {
     }
     if prog.x >= pro {
         if prog.y == 0u && ex.samples > 0u {
-            done = observe(slot, e, 0u, t0, rig, y, &acc);
+            done = observe(slot, ex, 0u, t0, limit, rig, y, &acc);
             prog.y = 1u;
         }
         while !done && prog.y < ex.samples && budget > 0u {
@@ -47,7 +51,7 @@ fn advance(slot: u32, base: u32, e: u32) {
                 y = rk4_switch_step(&rig, t0 + real(first + j) * h, h, y);
             }
             budget -= min(budget, settings.substeps);
-            done = observe(slot, e, prog.y, t0 + real(prog.y) * dt, rig, y, &acc);
+            done = observe(slot, ex, prog.y, t0 + real(prog.y) * dt, limit, rig, y, &acc);
             prog.y += 1u;
         }
         if prog.y >= ex.samples {

@@ -13,6 +13,10 @@ use super::pipeline::{self, Kernelled};
 use super::shaders::Kernel;
 use super::{GpuContext, GpuError};
 
+/// Fitness-buffer value of a run that has not finished (the kernel writes ≥ 0,
+/// or -1 for a diverged run).
+const UNFINISHED: f64 = -2.0;
+
 /// Tuning of the GPU evaluator.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct GpuOptions {
@@ -159,6 +163,14 @@ impl GpuEvaluator {
         let ctx = &self.ctx;
         let real = real_size(self.precision);
         let n = capacity as u64;
+        let largest = n * self.stride() * real;
+        let limit = ctx.device.limits().max_storage_buffer_binding_size;
+        if largest > limit {
+            return Err(GpuError::TooLarge {
+                runs: capacity,
+                max: (limit / (self.stride() * real)) as usize,
+            });
+        }
         use wgpu::BufferUsages as U;
         pipeline::scoped(ctx, "run buffers", || {
             let params = pipeline::buffer(
@@ -174,7 +186,12 @@ impl GpuEvaluator {
                 U::STORAGE | U::COPY_DST,
             );
             let progress = pipeline::buffer(ctx, "run progress", n * 16, U::STORAGE | U::COPY_DST);
-            let fitness = pipeline::buffer(ctx, "fitness", n * real, U::STORAGE | U::COPY_SRC);
+            let fitness = pipeline::buffer(
+                ctx,
+                "fitness",
+                n * real,
+                U::STORAGE | U::COPY_SRC | U::COPY_DST,
+            );
             let readback = pipeline::buffer(
                 ctx,
                 "fitness read-back",
@@ -246,10 +263,13 @@ impl GpuEvaluator {
         let dispatches = self.dispatches(max_steps);
         let rb = self.runs.as_ref().expect("uploaded");
         let size = runs as u64 * real_size(self.precision);
+        // A run that never reached its last sample would leave this sentinel.
+        let unfinished = to_real_bytes(&vec![UNFINISHED; runs], self.precision);
         pipeline::scoped(&self.ctx, "fitness pass", || {
             self.ctx
                 .queue
                 .write_buffer(&self.settings, 0, bytemuck::bytes_of(&settings));
+            self.ctx.queue.write_buffer(&rb.fitness, 0, &unfinished);
             let mut enc = self
                 .ctx
                 .device
@@ -361,12 +381,17 @@ impl Evaluator for GpuEvaluator {
     fn fitness(&mut self, batch: &Batch) -> Result<Scores, EvalError> {
         check_batch(&self.problem, batch)?;
         let raw = self.run_fitness(batch).map_err(device_error)?;
+        if let Some(j) = raw.iter().position(|&v| v == UNFINISHED) {
+            return Err(EvalError::Device(format!(
+                "run {j} did not finish (chunking bug or lost device)"
+            )));
+        }
         let mut diverged = 0;
         let values = raw
             .into_iter()
             .map(|v| {
                 // -1 marks a blown-up run; NaN/Inf can only come from one.
-                if v >= 0.0 && v < DIVERGED {
+                if (0.0..DIVERGED).contains(&v) {
                     v
                 } else {
                     diverged += 1;

@@ -8,8 +8,23 @@
 //! times from the step index, the prologue when `t0 > 0`, the blow-up guard
 //! `|F1| > blowup_limit` and `SS_res / SS_tot` over the fit window, accumulated on
 //! the device against the measured history. A second kernel writes full histories
-//! of chosen candidates. Long runs are split into chunks of
-//! [`GpuOptions::chunk_steps`] steps, all dispatched in one submit.
+//! of chosen candidates ([`with_best`] adds the best one). Long runs are split
+//! into chunks of [`GpuOptions::chunk_steps`] steps, all dispatched in one
+//! submit; the [`GpuContext`] (device) and the evaluator's pipelines and buffers
+//! are built once per job and reused every generation.
+//!
+//! Candidates whose load-cell force leaves the experiment's blow-up limit (or
+//! becomes NaN/Inf) stop integrating and score [`crate::eval::DIVERGED`]; they
+//! are counted in `Scores::diverged`.
+//!
+//! # Limits
+//! - Models with at most four degrees of freedom (`State` is two `vec4`) and two
+//!   outputs (history records hold t, 2 outputs, 8 states).
+//! - Force drives are supported (table in the data buffer); kernels for
+//!   velocity-only problems are compiled without the force-drive code.
+//! - In f32, step indices and prologue step counts are exact up to 2^24.
+//! - On CPU drivers (lavapipe) both sides of every divergent branch run, so the
+//!   kernels avoid duplicated stage code; see `shaders/shared/rk4.wgsl`.
 //!
 //! # Precision
 //! `f32` everywhere; `f64` where the adapter has `SHADER_F64`. Exponentials use
@@ -42,7 +57,7 @@ pub use evaluator::{GpuEvaluator, GpuOptions};
 pub use pack::{from_real_bytes, to_real_bytes};
 pub use probe::probe_exp;
 
-use crate::eval::{Backend, CpuEvaluator, Evaluator, Precision, PrecisionChoice, Problem};
+use crate::eval::{Backend, CpuEvaluator, Evaluator, Precision, PrecisionChoice, Problem, Scores};
 
 /// f32 force histories agree with the f64 CPU reference within this fraction of
 /// the history's largest |F| (measured in `tests/gpu_cpu_parity.rs`).
@@ -85,8 +100,8 @@ pub enum GpuError {
         /// wgpu's message.
         message: String,
     },
-    /// The batch needs more workgroups than the device dispatches at once.
-    #[error("{runs} runs exceed the device's dispatch limit of {max}")]
+    /// The batch needs more workgroups or buffer space than the device allows.
+    #[error("{runs} runs exceed the device's limit of {max} runs per pass")]
     TooLarge {
         /// Runs asked for.
         runs: usize,
@@ -116,6 +131,25 @@ impl std::fmt::Debug for Opened {
             .field("note", &self.note)
             .finish()
     }
+}
+
+/// The candidates whose histories to write out: `which`, with the best
+/// candidate of `scores` (lowest weighted sum over experiments, weights from
+/// `problem`) put first when it is not already there.
+pub fn with_best(problem: &Problem, scores: &Scores, which: &[usize]) -> Vec<usize> {
+    let ne = scores.experiments.max(1);
+    let joint = |i: usize| -> f64 {
+        (0..ne)
+            .map(|e| problem.experiments[e].weight * scores.get(i, e))
+            .sum()
+    };
+    let best = (0..scores.values.len() / ne).min_by(|&a, &b| joint(a).total_cmp(&joint(b)));
+    let mut out = Vec::with_capacity(which.len() + 1);
+    if let Some(b) = best.filter(|b| !which.contains(b)) {
+        out.push(b);
+    }
+    out.extend_from_slice(which);
+    out
 }
 
 /// Resolves a precision choice against a context.
@@ -165,4 +199,21 @@ pub fn open_evaluator(
         evaluator: Box::new(gpu),
         note: None,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn with_best_puts_the_best_candidate_first_once() {
+        let problem = crate::fixtures::reference_problem();
+        let scores = Scores {
+            experiments: 1,
+            values: vec![0.3, 0.1, crate::eval::DIVERGED, 0.2],
+            diverged: 1,
+        };
+        assert_eq!(with_best(&problem, &scores, &[3]), vec![1, 3]);
+        assert_eq!(with_best(&problem, &scores, &[1, 0]), vec![1, 0]);
+    }
 }

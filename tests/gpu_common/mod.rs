@@ -3,6 +3,8 @@
 
 #![allow(dead_code, reason = "each test file uses a different subset")]
 
+use std::io::Write;
+
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rigfit::eval::{Batch, Problem};
@@ -16,7 +18,9 @@ pub fn gpu() -> Option<GpuContext> {
         Ok(ctx) => Some(ctx),
         Err(e) if gpu_required() => panic!("RIGFIT_REQUIRE_GPU is set but no GPU is usable: {e}"),
         Err(e) => {
-            eprintln!(
+            // Straight to stderr: the test harness captures eprintln!.
+            let _ = writeln!(
+                std::io::stderr(),
                 "\n==================== GPU TEST SKIPPED ====================\n\
                  {e}\nSet RIGFIT_REQUIRE_GPU=1 to make this a failure.\n\
                  ==========================================================\n"

@@ -1,0 +1,118 @@
+//! Several experiments per problem, each with its own sample count, interval,
+//! fit window, start time and drive (one velocity-driven, one force-driven from
+//! a piecewise-linear table), give the same fitness and histories on the GPU as
+//! on the CPU reference.
+
+mod gpu_common;
+use gpu_common as common;
+
+use rigfit::eval::{
+    Batch, CpuEvaluator, Evaluator, ExperimentData, Precision, Problem, simulate_history,
+};
+use rigfit::gpu::{F32_HISTORY_TOLERANCE, F64_HISTORY_TOLERANCE, GpuEvaluator, GpuOptions};
+use rigfit::model::tensile::{REFERENCE, TENSILE4};
+use rigfit::model::{Drive, PiecewiseLinear};
+
+fn experiment(name: &str, drive: Drive, samples: usize, dt: f64, t_first: f64) -> ExperimentData {
+    let mut exp = ExperimentData {
+        name: name.into(),
+        drive,
+        t_first,
+        dt,
+        force: vec![0.0; samples],
+        window: 0..samples,
+        weight: 1.0,
+    };
+    let one = Problem {
+        model: &TENSILE4,
+        experiments: vec![exp.clone()],
+        substeps: 2,
+    };
+    exp.force = simulate_history(&one, 0, &REFERENCE, 0.0).outputs[0].clone();
+    exp
+}
+
+fn problem() -> Problem {
+    let table = PiecewiseLinear {
+        t: vec![0.0, 5.0e-5, 2.0e-4, 6.0e-4],
+        value: vec![0.0, 5.0e4, 2.0e5, 2.0e5],
+    };
+    let mut velocity = experiment("velocity", Drive::Velocity, 300, 1.0e-6, 2.5e-6);
+    velocity.window = 20..300;
+    let mut force = experiment("force", Drive::Force(table), 200, 2.0e-6, 0.0);
+    force.window = 10..150;
+    Problem {
+        model: &TENSILE4,
+        experiments: vec![velocity, force],
+        substeps: 2,
+    }
+}
+
+fn batch(candidates: usize) -> Batch {
+    let params = common::spread_params(candidates, 5);
+    let offsets: Vec<f64> = (0..candidates).map(|i| (i % 3) as f64 * 0.7e-6).collect();
+    Batch {
+        candidates,
+        params: vec![params.clone(), params],
+        offsets: vec![offsets.clone(), offsets],
+    }
+}
+
+#[test]
+fn multi_experiment_force_drive_fitness_and_histories_match_cpu() {
+    let Some(ctx) = common::gpu() else { return };
+    let problem = problem();
+    let batch = batch(64);
+    let cpu = CpuEvaluator::new(problem.clone(), 0)
+        .fitness(&batch)
+        .unwrap();
+    for e in 0..2 {
+        let ok = (0..batch.candidates)
+            .filter(|&i| cpu.get(i, e) < rigfit::eval::DIVERGED)
+            .count();
+        eprintln!("experiment {e}: {ok} of {} runs finite", batch.candidates);
+        assert!(
+            ok > batch.candidates / 2,
+            "experiment {e}: {ok} finite runs"
+        );
+    }
+    let mut precisions = vec![(Precision::F32, 1e-3, F32_HISTORY_TOLERANCE)];
+    if ctx.has_f64() {
+        precisions.push((Precision::F64, 1e-9, F64_HISTORY_TOLERANCE));
+    }
+    for (precision, fit_tol, hist_tol) in precisions {
+        let mut gpu = GpuEvaluator::new(
+            ctx.clone(),
+            problem.clone(),
+            precision,
+            GpuOptions::default(),
+        )
+        .unwrap();
+        let g = gpu.fitness(&batch).unwrap();
+        assert_eq!(g.diverged, cpu.diverged, "{precision:?}");
+        for (j, (a, b)) in g.values.iter().zip(&cpu.values).enumerate() {
+            let err = (a - b).abs() / b.abs().max(1e-3);
+            assert!(err <= fit_tol, "{precision:?} run {j}: {a} vs {b}");
+        }
+        let which = [0, 1, 2, 5];
+        let hist = gpu.histories(&batch, &which).unwrap();
+        for (h, &i) in hist.iter().zip(&which) {
+            for (e, he) in h.iter().enumerate() {
+                let c = simulate_history(&problem, e, batch.params_of(e, i), batch.offsets[e][i]);
+                assert_eq!(he.t.len(), c.t.len());
+                let scale = c.outputs[0]
+                    .iter()
+                    .fold(f64::MIN_POSITIVE, |m, f| m.max(f.abs()));
+                for (k, (x, y)) in he.outputs[0].iter().zip(&c.outputs[0]).enumerate() {
+                    assert!(
+                        (x - y).abs() <= hist_tol * scale,
+                        "{precision:?} candidate {i} experiment {e} sample {k}: {x} vs {y}"
+                    );
+                }
+                // The actuator state is reported as the drive prescribes it.
+                let (x, y) = (he.states[3].last().unwrap(), c.states[3].last().unwrap());
+                assert!((x - y).abs() <= 1e-5 * y.abs().max(1e-9), "y4: {x} vs {y}");
+            }
+        }
+    }
+}
