@@ -165,7 +165,7 @@ fn json_flag_prints_machine_readable_output() {
     assert!(o.status.success(), "{}", stderr(&o));
     let v: Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["model"], "tensile4");
-    assert_eq!(v["genes"].as_array().unwrap().len(), 9);
+    assert_eq!(v["genes"].as_array().unwrap().len(), 7);
 }
 
 #[test]
