@@ -43,10 +43,19 @@ fn readme_run_command_leaves_a_complete_result_folder() {
     let summary = String::from_utf8_lossy(&o.stdout);
     assert!(summary.contains("R² ="), "no summary on stdout: {summary}");
 
-    for f in ["result.json", "v2.csv", "fit_v2.svg", "history.csv", "fitness.svg"] {
+    for f in [
+        "result.json",
+        "v2.csv",
+        "fit_v2.svg",
+        "history.csv",
+        "fitness.svg",
+    ] {
         assert!(out.join(f).is_file(), "missing {f}");
     }
-    assert!(!out.join("checkpoint.json").exists(), "checkpoint left behind");
+    assert!(
+        !out.join("checkpoint.json").exists(),
+        "checkpoint left behind"
+    );
 
     let r = read_json(&out.join("result.json"));
     assert_eq!(r["seed"], 5);
@@ -56,9 +65,15 @@ fn readme_run_command_leaves_a_complete_result_folder() {
     let exp = &r["experiments"][0];
     let r2 = exp["r2"].as_f64().unwrap();
     let fitness = r["fitness"].as_f64().unwrap();
-    assert!((1.0 - r2 - fitness).abs() < 1e-9 + 1e-6 * fitness, "R² {r2} vs fitness {fitness}");
+    assert!(
+        (1.0 - r2 - fitness).abs() < 1e-9 + 1e-6 * fitness,
+        "R² {r2} vs fitness {fitness}"
+    );
     let reference = exp["r2_cpu_reference"].as_f64().unwrap();
-    assert!((reference - r2).abs() < 1e-3, "evaluator R² {r2} vs CPU reference {reference}");
+    assert!(
+        (reference - r2).abs() < 1e-3,
+        "evaluator R² {r2} vs CPU reference {reference}"
+    );
     for name in ["k1", "c1_post", "v2.k_lin", "v2.offset", "m1"] {
         assert!(r["params"][name].is_number(), "params.{name} missing");
     }
@@ -70,7 +85,10 @@ fn readme_run_command_leaves_a_complete_result_folder() {
         .unwrap();
     assert_eq!(k1["free"], true);
     assert_eq!(k1["unit"], "N/m");
-    let [lo, hi] = [k1["bounds"][0].as_f64().unwrap(), k1["bounds"][1].as_f64().unwrap()];
+    let [lo, hi] = [
+        k1["bounds"][0].as_f64().unwrap(),
+        k1["bounds"][1].as_f64().unwrap(),
+    ];
     let v = k1["value"].as_f64().unwrap();
     assert!(lo <= v && v <= hi);
     assert!(k1["elite_range"].is_array());
@@ -89,10 +107,17 @@ fn readme_run_command_leaves_a_complete_result_folder() {
         assert!((row[5] - (row[3] - row[2])).abs() <= 1e-6 * row[2].abs().max(1.0) + 1e-3);
     }
     let history = std::fs::read_to_string(out.join("history.csv")).unwrap();
-    assert_eq!(history.lines().count(), 1 + 3, "header + one row per generation");
+    assert_eq!(
+        history.lines().count(),
+        1 + 3,
+        "header + one row per generation"
+    );
     for svg in ["fit_v2.svg", "fitness.svg"] {
         let text = std::fs::read_to_string(out.join(svg)).unwrap();
-        assert!(text.starts_with("<svg") && text.contains("</svg>"), "{svg} is not an SVG");
+        assert!(
+            text.starts_with("<svg") && text.contains("</svg>"),
+            "{svg} is not an SVG"
+        );
     }
 
     // The result file feeds back into simulate and reproduces the model force.
@@ -138,7 +163,10 @@ fn existing_results_are_not_overwritten_without_asking() {
         .unwrap();
     assert_eq!(o.status.code(), Some(2));
     assert!(stderr(&o).contains("--overwrite"), "{}", stderr(&o));
-    assert_eq!(std::fs::read_to_string(dir.path().join("result.json")).unwrap(), "{}");
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("result.json")).unwrap(),
+        "{}"
+    );
 }
 
 #[test]
@@ -146,8 +174,12 @@ fn bad_campaign_exits_2_with_one_line_and_no_output_folder() {
     let dir = tempfile::tempdir().unwrap();
     let mut c = read_json(&shipped());
     c["params"]["m1"] = Value::from(-1.0);
-    c["experiments"][0]["data"]["file"] =
-        Value::from(repo().join("campaigns/aa2024_t3_v2_synthetic.csv").to_str().unwrap());
+    c["experiments"][0]["data"]["file"] = Value::from(
+        repo()
+            .join("campaigns/aa2024_t3_v2_synthetic.csv")
+            .to_str()
+            .unwrap(),
+    );
     c["output"] = Value::from("out");
     let path = dir.path().join("bad.json");
     std::fs::write(&path, serde_json::to_string_pretty(&c).unwrap()).unwrap();
@@ -156,12 +188,19 @@ fn bad_campaign_exits_2_with_one_line_and_no_output_folder() {
     let err = stderr(&o);
     let first = err.lines().next().unwrap();
     assert!(first.contains("bad.json") && first.contains("m1"), "{err}");
-    assert!(!dir.path().join("out").exists(), "output folder created for bad input");
+    assert!(
+        !dir.path().join("out").exists(),
+        "output folder created for bad input"
+    );
 }
 
 #[test]
 fn json_flag_prints_machine_readable_output() {
-    let o = rigfit().args(["--json", "check"]).arg(shipped()).output().unwrap();
+    let o = rigfit()
+        .args(["--json", "check"])
+        .arg(shipped())
+        .output()
+        .unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
     let v: Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["model"], "tensile4");

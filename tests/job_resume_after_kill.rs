@@ -110,7 +110,12 @@ fn sigterm_writes_a_checkpoint_and_resume_ends_bit_identical() {
         .unwrap();
     assert!(status.success());
     let o = child.wait_with_output().unwrap();
-    assert_eq!(o.status.code(), Some(130), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        o.status.code(),
+        Some(130),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
     assert!(stopped.join("checkpoint.json").is_file());
     finish(start(&c, &stopped, true));
 

@@ -13,7 +13,12 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 /// GPU (wgpu) or on all CPU cores (f64 reference), and writes the fitted
 /// parameters, the cleaned specimen force and plots.
 #[derive(Debug, Parser)]
-#[command(name = "rigfit", version, propagate_version = true, max_term_width = 100)]
+#[command(
+    name = "rigfit",
+    version,
+    propagate_version = true,
+    max_term_width = 100
+)]
 #[command(after_help = "Examples:\n  \
     rigfit run campaigns/aa2024_t3_synthetic.json\n  \
     rigfit simulate campaigns/aa2024_t3_synthetic.json --out sim.csv\n  \

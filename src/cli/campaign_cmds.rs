@@ -36,7 +36,12 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
             .iter()
             .position(|x| &x.name == name)
             .ok_or_else(|| {
-                let names: Vec<&str> = c.problem.experiments.iter().map(|x| x.name.as_str()).collect();
+                let names: Vec<&str> = c
+                    .problem
+                    .experiments
+                    .iter()
+                    .map(|x| x.name.as_str())
+                    .collect();
                 BadInput(format!(
                     "--experiment `{name}`: the campaign has experiments {}",
                     names.join(", ")
@@ -45,7 +50,10 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
     };
     if let Some(sigma) = args.noise {
         if !(sigma >= 0.0 && sigma.is_finite()) {
-            return Err(BadInput(format!("--noise {sigma}: expected a standard deviation ≥ 0 (N)")).into());
+            return Err(BadInput(format!(
+                "--noise {sigma}: expected a standard deviation ≥ 0 (N)"
+            ))
+            .into());
         }
     }
     let mut problem: Problem = c.problem.clone();
@@ -97,7 +105,8 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
             }
         }
     }
-    atomic_write(&args.out, s.as_bytes()).with_context(|| format!("writing `{}`", args.out.display()))?;
+    atomic_write(&args.out, s.as_bytes())
+        .with_context(|| format!("writing `{}`", args.out.display()))?;
     let peak = h.outputs[0].iter().fold(0.0_f64, |m, f| m.max(f.abs()));
     out.json(&serde_json::json!({
         "out": args.out, "experiment": exp.name, "samples": h.t.len(),
@@ -126,12 +135,18 @@ pub fn modes(args: &ModesArgs, out: &Output) -> Result<()> {
         reports.push((exp.name.clone(), report));
     }
     out.json(&serde_json::json!(
-        reports.iter().map(|(n, r)| serde_json::json!({"experiment": n, "modes": r})).collect::<Vec<_>>()
+        reports
+            .iter()
+            .map(|(n, r)| serde_json::json!({"experiment": n, "modes": r}))
+            .collect::<Vec<_>>()
     ))?;
     out.say(|| {
         let mut s = String::new();
         for (name, r) in &reports {
-            let _ = writeln!(s, "experiment {name}: linearised rig (slack adapter engaged, specimen elastic)");
+            let _ = writeln!(
+                s,
+                "experiment {name}: linearised rig (slack adapter engaged, specimen elastic)"
+            );
             let _ = writeln!(s, "{r}");
         }
         s.trim_end().to_string()

@@ -25,7 +25,8 @@ pub fn devices(out: &Output) -> Result<()> {
                     on NVIDIA/AMD machines install the vendor's Vulkan driver."
                 .into();
         }
-        let mut s = String::from("GPU adapters (precision auto picks f64 where shader_f64 is yes):\n");
+        let mut s =
+            String::from("GPU adapters (precision auto picks f64 where shader_f64 is yes):\n");
         for (i, a) in adapters.iter().enumerate() {
             s += &format!(
                 "  [{i}] {} — {} {}, driver {}, shader_f64: {}\n",

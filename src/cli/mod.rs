@@ -103,7 +103,11 @@ pub fn exit_code(err: &anyhow::Error) -> u8 {
                 )
             )
     });
-    if bad_input { EXIT_BAD_INPUT } else { EXIT_FAILED }
+    if bad_input {
+        EXIT_BAD_INPUT
+    } else {
+        EXIT_FAILED
+    }
 }
 
 /// An input error found by the binary itself.

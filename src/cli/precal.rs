@@ -31,7 +31,10 @@ pub fn fit_specimen(args: &FitSpecimenArgs, out: &Output) -> Result<()> {
             fit.degree
         );
         s += &format!("  k_lin    = {:.6e} N/m\n", fit.k_lin);
-        s += &format!("  e_yield  = {:.6e} m  (chosen by best total fit)\n", fit.e_yield);
+        s += &format!(
+            "  e_yield  = {:.6e} m  (chosen by best total fit)\n",
+            fit.e_yield
+        );
         for (i, a) in fit.coefficients.iter().enumerate() {
             s += &format!("  a{i}       = {a:.6e}\n");
         }

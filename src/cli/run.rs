@@ -117,15 +117,29 @@ pub fn summary_text(s: &JobSummary, dir: &std::path::Path, steps: f64) -> String
             e.name, e.r2, e.one_minus_r2, e.r2_cpu_reference
         );
     }
-    let _ = writeln!(t, "  fitted parameters (elite width: spread of the best 10 % relative to the value):");
-    let _ = writeln!(t, "    {:<18} {:>14} {:<7} {:>25} {:>12}", "name", "value", "unit", "bounds", "elite width");
+    let _ = writeln!(
+        t,
+        "  fitted parameters (elite width: spread of the best 10 % relative to the value):"
+    );
+    let _ = writeln!(
+        t,
+        "    {:<18} {:>14} {:<7} {:>25} {:>12}",
+        "name", "value", "unit", "bounds", "elite width"
+    );
     for p in s.parameters.iter().filter(|p| p.free) {
-        let bounds = p.bounds.map(|[lo, hi]| format!("[{lo:.3e}, {hi:.3e}]")).unwrap_or_default();
+        let bounds = p
+            .bounds
+            .map(|[lo, hi]| format!("[{lo:.3e}, {hi:.3e}]"))
+            .unwrap_or_default();
         let width = p
             .elite_relative_width
             .map(|w| format!("{:.2} %", 100.0 * w))
             .unwrap_or_default();
-        let _ = writeln!(t, "    {:<18} {:>14.6e} {:<7} {:>25} {:>12}", p.name, p.value, p.unit, bounds, width);
+        let _ = writeln!(
+            t,
+            "    {:<18} {:>14.6e} {:<7} {:>25} {:>12}",
+            p.name, p.value, p.unit, bounds, width
+        );
     }
     for w in &s.warnings {
         let _ = writeln!(t, "  warning: {w}");

@@ -48,9 +48,8 @@ impl BatchCost for CampaignCost<'_> {
         let scores = match self.evaluator.fitness(&batch) {
             Ok(s) => s,
             Err(EvalError::Device(msg)) if !self.require_gpu => {
-                let note = format!(
-                    "the GPU failed ({msg}); continuing on the CPU from this generation"
-                );
+                let note =
+                    format!("the GPU failed ({msg}); continuing on the CPU from this generation");
                 log::warn!("{note}");
                 eprintln!("rigfit: warning: {note}");
                 self.fallback = Some(note);

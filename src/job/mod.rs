@@ -84,7 +84,11 @@ pub enum JobError {
 
 /// Refuses an output folder that holds an earlier job unless `overwrite` or
 /// `resume` says what to do with it. Creates nothing.
-pub fn check_output_folder(out: &std::path::Path, resume: bool, overwrite: bool) -> Result<(), JobError> {
+pub fn check_output_folder(
+    out: &std::path::Path,
+    resume: bool,
+    overwrite: bool,
+) -> Result<(), JobError> {
     let checkpoint = out.join(CHECKPOINT_FILE);
     if resume {
         return if checkpoint.is_file() {
@@ -110,7 +114,10 @@ pub fn check_output_folder(out: &std::path::Path, resume: bool, overwrite: bool)
 /// What a campaign's checkpoint must agree on to be resumed.
 pub fn fingerprint(campaign: &Campaign, backend: &str, precision: &str) -> Fingerprint {
     let mut f = Fingerprint::new()
-        .with("campaign digest (file and data)", format!("{:016x}", campaign.digest))
+        .with(
+            "campaign digest (file and data)",
+            format!("{:016x}", campaign.digest),
+        )
         .with("backend", backend)
         .with("precision", precision)
         .with("substeps", campaign.solver.substeps.to_string());
@@ -182,7 +189,14 @@ pub fn run(
     let outcome = exec.run()?;
     let fallback = cost.fallback_note();
     let mut evaluator = cost.into_evaluator();
-    let summary = write_outputs(campaign, evaluator.as_mut(), &outcome, &genes, &opts.out, fallback)?;
+    let summary = write_outputs(
+        campaign,
+        evaluator.as_mut(),
+        &outcome,
+        &genes,
+        &opts.out,
+        fallback,
+    )?;
     if outcome.termination != crate::search::TerminationReason::Interrupted {
         // The results are complete: the checkpoint has served its purpose.
         let _ = std::fs::remove_file(&checkpoint);

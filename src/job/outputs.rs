@@ -120,7 +120,13 @@ pub fn write_outputs(
     let full = campaign.full_params(best);
 
     let mut experiments = Vec::new();
-    for (e, (exp, hist)) in campaign.problem.experiments.iter().zip(&histories).enumerate() {
+    for (e, (exp, hist)) in campaign
+        .problem
+        .experiments
+        .iter()
+        .zip(&histories)
+        .enumerate()
+    {
         let (params, offset) = &full[e];
         let r2 = r_squared(exp, hist);
         let (reference, _) = score_one(&campaign.problem, e, params, *offset);
@@ -208,7 +214,13 @@ pub fn r_squared(exp: &crate::eval::ExperimentData, hist: &History) -> f64 {
 
 fn file_stem(name: &str) -> String {
     name.chars()
-        .map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '_' })
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
+                c
+            } else {
+                '_'
+            }
+        })
         .collect()
 }
 

@@ -70,9 +70,19 @@ pub fn fit_svg(
             .draw()
             .map_err(|e| err(here, e))?;
         let series: [(&str, &[f64], RGBColor, u32); 3] = [
-            ("measured load-cell force", measured, RGBColor(150, 150, 150), 1),
+            (
+                "measured load-cell force",
+                measured,
+                RGBColor(150, 150, 150),
+                1,
+            ),
             ("model load-cell force", model, RGBColor(31, 119, 180), 2),
-            ("model specimen force (cleaned)", cleaned, RGBColor(214, 39, 40), 2),
+            (
+                "model specimen force (cleaned)",
+                cleaned,
+                RGBColor(214, 39, 40),
+                2,
+            ),
         ];
         for (label, ys, color, width) in series {
             chart
