@@ -133,6 +133,9 @@ pub struct RunArgs {
     /// Override the campaign's search.seed.
     #[arg(long)]
     pub seed: Option<u64>,
+    /// Override the campaign's search.target_fitness (stop once 1 − R² ≤ this).
+    #[arg(long)]
+    pub target_fitness: Option<f64>,
     /// CPU threads for the CPU evaluator (0: all cores).
     #[arg(long, default_value_t = 0)]
     pub threads: usize,

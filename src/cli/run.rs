@@ -29,6 +29,9 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     if let Some(s) = a.seed {
         c.search.seed = s;
     }
+    if let Some(t) = a.target_fitness {
+        c.search.target_fitness = Some(t);
+    }
     c.search
         .validate()
         .map_err(|e| super::BadInput(format!("{}: {e}", a.campaign.display())))?;
