@@ -1,7 +1,7 @@
 //! Raw campaign → validated [`Campaign`]: names, experiments, data, genes, step.
 
 use std::collections::HashSet;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use super::error::{invalid, parse_json};
 use super::raw::{RawCampaign, RawDrive, RawExperiment, RawParam};
@@ -133,10 +133,10 @@ pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, Cam
         path: "solver.substeps".into(),
         message,
     })?;
-    let output = match &raw.output {
+    let output = lexical_clean(&match &raw.output {
         Some(o) => dir.join(o),
         None => dir.join("results").join(&raw.name),
-    };
+    });
     Ok(Campaign {
         path: file.to_path_buf(),
         name: raw.name,
@@ -341,4 +341,26 @@ fn window(
             ))
         }
     }
+}
+
+/// `a/b/../c` → `a/c` without touching the file system, so messages show the
+/// folder a user would type.
+fn lexical_clean(path: &Path) -> PathBuf {
+    use std::path::Component;
+    let mut out = PathBuf::new();
+    for c in path.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir
+                if matches!(out.components().next_back(), Some(Component::Normal(_))) =>
+            {
+                out.pop();
+            }
+            other => out.push(other),
+        }
+    }
+    if out.as_os_str().is_empty() {
+        out.push(".");
+    }
+    out
 }
