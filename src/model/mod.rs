@@ -6,6 +6,7 @@ mod drive;
 mod params;
 pub mod tensile;
 mod tensile_gpu;
+mod tensile_params;
 
 use std::ops::ControlFlow;
 
