@@ -238,3 +238,40 @@ fn modes_shows_the_load_cell_mode() {
         "{v}"
     );
 }
+
+#[test]
+fn precalibration_commands_write_campaign_fragments() {
+    let dir = tempfile::tempdir().unwrap();
+    let frag = dir.path().join("specimen.json");
+    let o = rigfit()
+        .args(["--quiet", "fit-specimen"])
+        .arg(repo().join("campaigns/specimen_quasistatic_synthetic.csv"))
+        .args(["--degree", "3", "--out"])
+        .arg(&frag)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let f = read_json(&frag);
+    let k_lin = f["params"]["k_lin"].as_f64().unwrap();
+    assert!((k_lin / 8.63e7 - 1.0).abs() < 0.01, "k_lin {k_lin}");
+    assert!(f["params"]["e_yield"].is_number() && f["params"]["a3"].is_number());
+
+    let o = rigfit()
+        .args(["--json", "ringdown"])
+        .arg(repo().join("campaigns/ringdown_synthetic.csv"))
+        .args(["--m1", "7.9"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    let c1 = v["fragment"]["params"]["c1_post"].as_f64().unwrap();
+    assert!((c1 / 9220.0 - 1.0).abs() < 0.02, "c1_post {c1}");
+
+    let o = rigfit().arg("ringdown").arg(shipped()).output().unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        stderr(&o).contains("aa2024_t3_synthetic.json"),
+        "{}",
+        stderr(&o)
+    );
+}

@@ -137,6 +137,16 @@ pub struct Campaign {
 }
 
 impl Campaign {
+    /// Index of the experiment called `name`; otherwise the list of the
+    /// campaign's experiment names, for the message.
+    pub fn experiment_index(&self, name: &str) -> Result<usize, String> {
+        let exps = &self.problem.experiments;
+        exps.iter().position(|x| x.name == name).ok_or_else(|| {
+            let names: Vec<&str> = exps.iter().map(|x| x.name.as_str()).collect();
+            names.join(", ")
+        })
+    }
+
     /// Reads and validates a campaign file; data files are relative to its
     /// folder.
     pub fn load(path: &Path) -> Result<Campaign, CampaignError> {

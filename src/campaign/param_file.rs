@@ -49,22 +49,10 @@ pub(crate) fn apply(campaign: &mut Campaign, path: &Path) -> Result<(), Campaign
                 Key::Shared(i)
             }
             Some((exp, name)) => {
-                let e = c
-                    .problem
-                    .experiments
-                    .iter()
-                    .position(|x| x.name == exp)
-                    .ok_or_else(|| {
-                        let names: Vec<&str> = c
-                            .problem
-                            .experiments
-                            .iter()
-                            .map(|x| x.name.as_str())
-                            .collect();
-                        let expected =
-                            format!("an experiment of the campaign ({})", names.join(", "));
-                        invalid(path, &at, expected, format!("'{exp}'"))
-                    })?;
+                let e = c.experiment_index(exp).map_err(|names| {
+                    let expected = format!("an experiment of the campaign ({names})");
+                    invalid(path, &at, expected, format!("'{exp}'"))
+                })?;
                 if name == "offset" {
                     Key::Offset(e)
                 } else {

@@ -30,23 +30,11 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
     let c = load(&args.campaign, args.params.as_deref())?;
     let e = match &args.experiment {
         None => 0,
-        Some(name) => c
-            .problem
-            .experiments
-            .iter()
-            .position(|x| &x.name == name)
-            .ok_or_else(|| {
-                let names: Vec<&str> = c
-                    .problem
-                    .experiments
-                    .iter()
-                    .map(|x| x.name.as_str())
-                    .collect();
-                BadInput(format!(
-                    "--experiment `{name}`: the campaign has experiments {}",
-                    names.join(", ")
-                ))
-            })?,
+        Some(name) => c.experiment_index(name).map_err(|names| {
+            BadInput(format!(
+                "--experiment `{name}`: the campaign has experiments {names}"
+            ))
+        })?,
     };
     if let Some(sigma) = args.noise {
         if !(sigma >= 0.0 && sigma.is_finite()) {

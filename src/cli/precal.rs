@@ -1,52 +1,129 @@
 //! `rigfit fit-specimen` and `rigfit ringdown`.
 
-use anyhow::{Context, Result};
+use std::path::Path;
+
+use anyhow::Result;
 
 use super::args::{FitSpecimenArgs, RingdownArgs};
-use super::{Output, write_fragment};
+use super::{BadInput, Output, write_fragment};
 use rigfit::precal::csv_input::read_two_columns;
 use rigfit::precal::ringdown::{self, RingdownOptions};
 use rigfit::precal::specimen::{self, SpecimenFitOptions};
 
 /// Fits the specimen law and prints or writes the campaign fragment.
 pub fn fit_specimen(args: &FitSpecimenArgs, out: &Output) -> Result<()> {
-    let data = read_two_columns(&args.data)?;
+    let data = read_two_columns(&args.data).map_err(|e| in_file(&args.data, e))?;
     let opts = SpecimenFitOptions {
         degree: args.degree,
         ..SpecimenFitOptions::default()
     };
-    let fit = specimen::fit(&data.x, &data.y, &opts)
-        .with_context(|| format!("fitting the specimen law to `{}`", args.data.display()))?;
+    let fit = specimen::fit(&data.x, &data.y, &opts).map_err(|e| in_file(&args.data, e))?;
     let fragment = fit.to_campaign_fragment();
-    if let Some(path) = &args.out {
-        write_fragment(path, &fragment)?;
+    deliver(
+        out,
+        args.out.as_deref(),
+        serde_json::json!({"fit": fit}),
+        &fragment,
+        || {
+            let mut s = format!(
+                "specimen law from {} ({} elastic + {} plastic points, degree {})\n",
+                args.data.display(),
+                fit.n_elastic,
+                fit.n_plastic,
+                fit.degree
+            );
+            s += &format!("  k_lin    = {:.6e} N/m\n", fit.k_lin);
+            s += &format!(
+                "  e_yield  = {:.6e} m  (chosen by best total fit)\n",
+                fit.e_yield
+            );
+            for (i, a) in fit.coefficients.iter().enumerate() {
+                s += &format!("  a{i}       = {a:.6e}\n");
+            }
+            s += &format!(
+                "  R²: elastic {:.6}, plastic {:.6}, overall {:.6}; jump at e_yield {:.3} N\n",
+                fit.r2_elastic, fit.r2_plastic, fit.r2_total, fit.jump_at_yield
+            );
+            s
+        },
+    )
+}
+
+/// Analyses a ringdown and prints or writes the campaign fragment.
+pub fn ringdown_cmd(args: &RingdownArgs, out: &Output) -> Result<()> {
+    let data = read_two_columns(&args.data).map_err(|e| in_file(&args.data, e))?;
+    let opts = RingdownOptions {
+        m1: args.m1,
+        k1: args.k1,
+        start: args.start,
+        ..RingdownOptions::default()
+    };
+    let r = ringdown::analyse(&data.x, &data.y, &opts).map_err(|e| in_file(&args.data, e))?;
+    let fragment = r.to_campaign_fragment();
+    deliver(
+        out,
+        args.out.as_deref(),
+        serde_json::json!({"ringdown": r}),
+        &fragment,
+        || {
+            let mut s = format!(
+                "ringdown of {} (sampled at {:.0} Hz, fracture at {:.6e} s)\n",
+                args.data.display(),
+                r.sample_rate_hz,
+                r.fracture.time
+            );
+            s += &format!(
+                "  PSD ({} window, {} samples × {} segments, resolution {:.1} Hz): peak {:.1} Hz\n",
+                r.psd.window,
+                r.psd.segment_len,
+                r.psd.n_segments,
+                r.psd.resolution_hz,
+                r.psd.peak_hz
+            );
+            s += &format!(
+                "  log decrement over {} peaks: ζ = {:.5} (spread {:.2e}, {:.5}..{:.5})\n",
+                r.decrement.n_peaks,
+                r.decrement.zeta_mean,
+                r.decrement.zeta_std,
+                r.decrement.zeta_min,
+                r.decrement.zeta_max
+            );
+            s += &format!(
+                "  damped-oscillator fit: f_n = {:.2} Hz, ζ = {:.6}, R² = {:.5}\n",
+                r.natural_frequency_hz, r.fit.zeta, r.fit.r2
+            );
+            if let (true, Some(k1)) = (r.k1_from_frequency, r.k1) {
+                s += &format!("  k1 from frequency and m1 = {k1:.6e} N/m\n");
+            }
+            if let Some(c) = r.c1_post {
+                s += &format!("  c1_post = {c:.6e} N·s/m\n");
+            }
+            s
+        },
+    )
+}
+
+/// Writes the fragment (with `--out`), then prints the report as JSON (with
+/// `--json`, the fragment added) or as text followed by where the fragment went.
+fn deliver(
+    out: &Output,
+    path: Option<&Path>,
+    mut report: serde_json::Value,
+    fragment: &serde_json::Value,
+    text: impl FnOnce() -> String,
+) -> Result<()> {
+    if let Some(path) = path {
+        write_fragment(path, fragment)?;
     }
-    out.json(&serde_json::json!({"fit": fit, "fragment": fragment}))?;
+    report["fragment"] = fragment.clone();
+    out.json(&report)?;
     out.say(|| {
-        let mut s = format!(
-            "specimen law from {} ({} elastic + {} plastic points, degree {})\n",
-            args.data.display(),
-            fit.n_elastic,
-            fit.n_plastic,
-            fit.degree
-        );
-        s += &format!("  k_lin    = {:.6e} N/m\n", fit.k_lin);
-        s += &format!(
-            "  e_yield  = {:.6e} m  (chosen by best total fit)\n",
-            fit.e_yield
-        );
-        for (i, a) in fit.coefficients.iter().enumerate() {
-            s += &format!("  a{i}       = {a:.6e}\n");
-        }
-        s += &format!(
-            "  R²: elastic {:.6}, plastic {:.6}, overall {:.6}; jump at e_yield {:.3} N\n",
-            fit.r2_elastic, fit.r2_plastic, fit.r2_total, fit.jump_at_yield
-        );
-        match &args.out {
+        let mut s = text();
+        match path {
             Some(p) => s += &format!("campaign fragment written to {}", p.display()),
             None => {
                 s += "campaign fragment:\n";
-                s += &serde_json::to_string_pretty(&fragment).unwrap_or_default();
+                s += &serde_json::to_string_pretty(fragment).unwrap_or_default();
             }
         }
         s
@@ -54,59 +131,7 @@ pub fn fit_specimen(args: &FitSpecimenArgs, out: &Output) -> Result<()> {
     Ok(())
 }
 
-/// Analyses a ringdown and prints or writes the campaign fragment.
-pub fn ringdown_cmd(args: &RingdownArgs, out: &Output) -> Result<()> {
-    let data = read_two_columns(&args.data)?;
-    let opts = RingdownOptions {
-        m1: args.m1,
-        k1: args.k1,
-        start: args.start,
-        ..RingdownOptions::default()
-    };
-    let r = ringdown::analyse(&data.x, &data.y, &opts)
-        .with_context(|| format!("analysing the ringdown in `{}`", args.data.display()))?;
-    let fragment = r.to_campaign_fragment();
-    if let Some(path) = &args.out {
-        write_fragment(path, &fragment)?;
-    }
-    out.json(&serde_json::json!({"ringdown": r, "fragment": fragment}))?;
-    out.say(|| {
-        let mut s = format!(
-            "ringdown of {} (sampled at {:.0} Hz, fracture at {:.6e} s)\n",
-            args.data.display(),
-            r.sample_rate_hz,
-            r.fracture.time
-        );
-        s += &format!(
-            "  PSD ({} window, {} samples × {} segments, resolution {:.1} Hz): peak {:.1} Hz\n",
-            r.psd.window, r.psd.segment_len, r.psd.n_segments, r.psd.resolution_hz, r.psd.peak_hz
-        );
-        s += &format!(
-            "  log decrement over {} peaks: ζ = {:.5} (spread {:.2e}, {:.5}..{:.5})\n",
-            r.decrement.n_peaks,
-            r.decrement.zeta_mean,
-            r.decrement.zeta_std,
-            r.decrement.zeta_min,
-            r.decrement.zeta_max
-        );
-        s += &format!(
-            "  damped-oscillator fit: f_n = {:.2} Hz, ζ = {:.6}, R² = {:.5}\n",
-            r.natural_frequency_hz, r.fit.zeta, r.fit.r2
-        );
-        if let (true, Some(k1)) = (r.k1_from_frequency, r.k1) {
-            s += &format!("  k1 from frequency and m1 = {k1:.6e} N/m\n");
-        }
-        if let Some(c) = r.c1_post {
-            s += &format!("  c1_post = {c:.6e} N·s/m\n");
-        }
-        match &args.out {
-            Some(p) => s += &format!("campaign fragment written to {}", p.display()),
-            None => {
-                s += "campaign fragment:\n";
-                s += &serde_json::to_string_pretty(&fragment).unwrap_or_default();
-            }
-        }
-        s
-    });
-    Ok(())
+/// A pre-calibration error as one line that names the input file.
+fn in_file(path: &Path, e: rigfit::precal::PrecalError) -> anyhow::Error {
+    BadInput(format!("{}: {e}", path.display())).into()
 }
