@@ -144,8 +144,13 @@ impl<'a> TensileSystem<'a> {
 
     /// Element forces `[F1, F2, F3, F4]` (N) at `(t, y)`.
     pub fn forces(&self, t: f64, y: &[f64]) -> [f64; 4] {
-        let p = &self.prep.p;
         let (y4, v4, _) = self.actuator(t, y);
+        self.forces_with_actuator(y, y4, v4)
+    }
+
+    /// Element forces given the actuator's displacement and velocity.
+    fn forces_with_actuator(&self, y: &[f64], y4: f64, v4: f64) -> [f64; 4] {
+        let p = &self.prep.p;
         let c1 = if self.broken {
             p[ix::C1_POST]
         } else {
@@ -183,7 +188,8 @@ impl System for TensileSystem<'_> {
 
     fn deriv(&self, t: f64, y: &[f64], dy: &mut [f64]) {
         let p = &self.prep.p;
-        let [f1, f2, f3, f4] = self.forces(t, y);
+        let (y4, v4, a4) = self.actuator(t, y);
+        let [f1, f2, f3, f4] = self.forces_with_actuator(y, y4, v4);
         dy[0] = y[4];
         dy[1] = y[5];
         dy[2] = y[6];
@@ -192,7 +198,6 @@ impl System for TensileSystem<'_> {
         dy[6] = (f4 - f3) / p[ix::M3];
         match self.drive {
             Drive::Velocity => {
-                let (_, v4, a4) = self.actuator(t, y);
                 dy[3] = v4;
                 dy[7] = a4;
             }
