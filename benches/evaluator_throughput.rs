@@ -164,7 +164,10 @@ fn print_table(evals: &[(&'static str, Factory)]) {
             // Per CPU-second: steadier than wall time while other jobs share the
             // cores (lavapipe's threads are this process's).
             if let (true, Some(a), Some(b)) = (per_cpu, cpu, process_cpu_seconds()) {
-                row.push_str(&format!(" ({:.2e}/cpu-s) |", (2 * n * steps) as f64 / (b - a)));
+                row.push_str(&format!(
+                    " ({:.2e}/cpu-s) |",
+                    (2 * n * steps) as f64 / (b - a)
+                ));
             }
         }
         println!("{row}");

@@ -42,13 +42,20 @@ fn exp_reduce(x: real) -> vec2<real> {
     return vec2<real>(k, r);
 }
 
-// e^x.
+// e^x. Selects, not branches: CPU drivers run both sides of a branch anyway.
 fn exp_r(x: real) -> real {
-    if x < real(-745.0) {
-        return real(0.0);
+    let kr = exp_reduce(clamp(x, real(-746.0), real(709.0)));
+    let e = ldexp(expm1_poly(kr.y) + real(1.0), i32(kr.x));
+    return select(e, real(0.0), x < real(-745.0));
+}
+
+// e^x where a few ulp do not matter: the built-in exp in f32 (EXP_NATIVE), exp_r
+// in f64 (lavapipe's f64 exp is wrong).
+fn exp_n(x: real) -> real {
+    if EXP_NATIVE {
+        return exp(x);
     }
-    let kr = exp_reduce(min(x, real(709.0)));
-    return ldexp(expm1_poly(kr.y) + real(1.0), i32(kr.x));
+    return exp_r(x);
 }
 
 // e^x − 1. In f64 accurate near 0; in f32 (EXP_NATIVE, from the prelude) the
@@ -58,16 +65,10 @@ fn expm1_r(x: real) -> real {
     if EXP_NATIVE {
         return exp(x) - real(1.0);
     }
-    if x < real(-40.0) {
-        return real(-1.0);
-    }
-    let kr = exp_reduce(min(x, real(709.0)));
+    let kr = exp_reduce(clamp(x, real(-41.0), real(709.0)));
     let p = expm1_poly(kr.y);
-    let k = i32(kr.x);
-    if k == 0 {
-        return p;
-    }
-    // 2^k·p + (2^k − 1): the second term is exact, so no cancellation near k = ±1.
-    let two_k = ldexp(real(1.0), k);
-    return two_k * p + (two_k - real(1.0));
+    // 2^k·p + (2^k − 1): the second term is exact, so no cancellation near k = ±1;
+    // for k = 0 it is p + 0 = p exactly.
+    let two_k = ldexp(real(1.0), i32(kr.x));
+    return select(two_k * p + (two_k - real(1.0)), real(-1.0), x < real(-40.0));
 }

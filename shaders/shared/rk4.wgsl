@@ -2,7 +2,7 @@
 // Mirrors src/integrate/rk4.rs operation for operation: same stage times, same
 // Hermite cubic, same CROSSING_ITERATIONS bisection halvings.
 //
-// The model file provides `Rig`, `rig_actuator`, `rig_deriv`, `rig_switch`,
+// The model file provides `Rig`, `rig_actuators` (→ `Actuation`), `rig_deriv`, `rig_switch`,
 // `rig_fire` and `rig_is_broken`.
 
 // Up to four degrees of freedom: positions q and velocities v.
@@ -12,12 +12,13 @@ struct State {
 }
 
 // One plain RK4 step of length h from (t, y). The actuator is evaluated once per
-// distinct stage time (t, t + h/2, t + h).
+// distinct stage time (t, t + h/2, t + h), by the model in one call.
 fn rk4(rig: Rig, t: real, h: real, y: State) -> State {
     let hh = real(0.5) * h;
-    let a0 = rig_actuator(rig, t);
-    let am = rig_actuator(rig, t + hh);
-    let a1 = rig_actuator(rig, t + h);
+    let act = rig_actuators(rig, t, h);
+    let a0 = act.a0;
+    let am = act.am;
+    let a1 = act.a1;
     // acc = ((k1 + 2·k2) + 2·k3) + k4, summed in the CPU's order while each k
     // is live, so only y, acc and one k stay in registers.
     var k = rig_deriv(rig, a0, y);
