@@ -28,7 +28,7 @@ fn rk4(rig: Rig, t: real, h: real, y: State) -> State {
     k = rig_deriv(rig, am, State(y.q + hh * k.q, y.v + hh * k.v));
     acc = State(acc.q + real(2.0) * k.q, acc.v + real(2.0) * k.v);
     k = rig_deriv(rig, a1, State(y.q + h * k.q, y.v + h * k.v));
-    let h6 = h / real(6.0);
+    let h6 = h * real(1.0 / 6.0);
     return State(y.q + h6 * (acc.q + k.q), y.v + h6 * (acc.v + k.v));
 }
 
