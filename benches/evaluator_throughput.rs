@@ -11,9 +11,9 @@
 //! `RIGFIT_BENCH_CPU_TIME=1` adds candidate-steps per CPU-second of the process.
 //!
 //! On the 2-core development machine (lavapipe, LLVM 15, 256-bit), idle: CPU
-//! 1 thread ≈ 1.0e7, all threads ≈ 1.9e7, GPU f32 ≈ 6.5–7.9e7, GPU f64 ≈
-//! 3.7–3.9e7 candidate-steps/s; timings drop by half or more while other builds
-//! share the cores.
+//! 1 thread ≈ 1.0e7, all threads ≈ 2.0e7, GPU f32 ≈ 1.1–1.2e8, GPU f64 ≈
+//! 6.0e7 candidate-steps/s; timings drop by half or more while other builds
+//! share the cores (compare variants alternately, several times).
 
 use std::time::{Duration, Instant};
 

@@ -3,8 +3,10 @@
 // src/model/tensile_gpu.rs (the packed P_* slots, derived constants).
 //
 // Differences from the CPU text, all within the parity tolerance: divisions by
-// masses are multiplications by 1/m packed on the host, and a/b of the slack law
-// is packed as one value (the same f64 the CPU computes).
+// masses are multiplications by 1/m packed on the host; a/b of the slack law
+// and v/r of the drive are packed as one value each; the drive's exponential at
+// t + h/2 and t + h is e(t)·e^{−v·h/2r} (two exponentials per step, not three);
+// piecewise laws are selects (CPU drivers run both sides of a branch anyway).
 
 // The actuator at the stage times t, t + h/2 and t + h of one RK4 step.
 struct Actuation {
