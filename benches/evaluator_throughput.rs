@@ -5,12 +5,15 @@
 //!
 //! `cargo bench --bench evaluator_throughput` prints a Markdown table first (two
 //! timed evaluations per cell after a warm-up), then runs the criterion groups.
-//! `RIGFIT_BENCH_TABLE_ONLY=1` stops after the table.
+//! `RIGFIT_BENCH_TABLE_ONLY=1` stops after the table; `RIGFIT_BENCH_ROWS=gpu-f32,…`
+//! keeps only the rows whose names contain one of the given words and
+//! `RIGFIT_BENCH_POPS=4096,…` only the given populations (for quick kernel work);
+//! `RIGFIT_BENCH_CPU_TIME=1` adds candidate-steps per CPU-second of the process.
 //!
 //! On the 2-core development machine (lavapipe, LLVM 15, 256-bit), idle: CPU
-//! 1 thread ≈ 1.0e7, all threads ≈ 1.9e7, GPU f32 ≈ 6.5–7.9e7, GPU f64 ≈
-//! 3.7–3.9e7 candidate-steps/s; timings drop by half or more while other builds
-//! share the cores.
+//! 1 thread ≈ 1.0e7, all threads ≈ 2.0e7, GPU f32 ≈ 1.1–1.2e8, GPU f64 ≈
+//! 6.0e7 candidate-steps/s; timings drop by half or more while other builds
+//! share the cores (compare variants alternately, several times).
 
 use std::time::{Duration, Instant};
 
@@ -109,25 +112,63 @@ fn evaluators() -> Vec<(&'static str, Factory)> {
     v
 }
 
+/// The comma-separated items of environment variable `name`, if set.
+fn env_list(name: &str) -> Option<Vec<String>> {
+    std::env::var(name)
+        .ok()
+        .map(|v| v.split(',').map(|s| s.trim().to_string()).collect())
+}
+
+/// CPU seconds used so far by this process, all threads (lavapipe's included),
+/// from `/proc/self/stat`; `None` where that is not available.
+fn process_cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the command name, which ends at the last ')'.
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: f64 = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
+    Some(ticks / 100.0)
+}
+
+fn populations() -> Vec<usize> {
+    match env_list("RIGFIT_BENCH_POPS") {
+        Some(l) => l.iter().filter_map(|s| s.parse().ok()).collect(),
+        None => POPULATIONS.to_vec(),
+    }
+}
+
 fn print_table(evals: &[(&'static str, Factory)]) {
     let steps = steps(&problem());
     println!(
         "\nReference problem, {SAMPLES} samples × {} substeps = {steps} RK4 steps per candidate",
         problem().substeps
     );
-    println!("\n| evaluator | 1024 | 4096 | 16384 |\n|---|---|---|---|");
+    let pops = populations();
+    let per_cpu = std::env::var_os("RIGFIT_BENCH_CPU_TIME").is_some();
+    let head: String = pops.iter().map(|n| format!(" {n} |")).collect();
+    let rule: String = pops.iter().map(|_| "---|").collect();
+    println!("\n| evaluator |{head}\n|---|{rule}");
     for (name, make) in evals {
         let mut eval = make();
         let mut row = format!("| {name} |");
-        for n in POPULATIONS {
+        for &n in &pops {
             let b = batch(n);
             eval.fitness(&b).unwrap();
             let t = Instant::now();
+            let cpu = process_cpu_seconds();
             for _ in 0..2 {
                 eval.fitness(&b).unwrap();
             }
             let rate = (2 * n * steps) as f64 / t.elapsed().as_secs_f64();
             row.push_str(&format!(" {rate:.2e} |"));
+            // Per CPU-second: steadier than wall time while other jobs share the
+            // cores (lavapipe's threads are this process's).
+            if let (true, Some(a), Some(b)) = (per_cpu, cpu, process_cpu_seconds()) {
+                row.push_str(&format!(
+                    " ({:.2e}/cpu-s) |",
+                    (2 * n * steps) as f64 / (b - a)
+                ));
+            }
         }
         println!("{row}");
     }
@@ -135,7 +176,10 @@ fn print_table(evals: &[(&'static str, Factory)]) {
 }
 
 fn main() {
-    let evals = evaluators();
+    let mut evals = evaluators();
+    if let Some(rows) = env_list("RIGFIT_BENCH_ROWS") {
+        evals.retain(|(name, _)| rows.iter().any(|r| name.contains(r.as_str())));
+    }
     print_table(&evals);
     if std::env::var_os("RIGFIT_BENCH_TABLE_ONLY").is_some() {
         return;

@@ -3,8 +3,17 @@
 // src/model/tensile_gpu.rs (the packed P_* slots, derived constants).
 //
 // Differences from the CPU text, all within the parity tolerance: divisions by
-// masses are multiplications by 1/m packed on the host, and a/b of the slack law
-// is packed as one value (the same f64 the CPU computes).
+// masses are multiplications by 1/m packed on the host; a/b of the slack law
+// and v/r of the drive are packed as one value each; the drive's exponential at
+// t + h/2 and t + h is e(t)·e^{−v·h/2r} (two exponentials per step, not three);
+// piecewise laws are selects (CPU drivers run both sides of a branch anyway).
+
+// The actuator at the stage times t, t + h/2 and t + h of one RK4 step.
+struct Actuation {
+    a0: vec3<real>,
+    am: vec3<real>,
+    a1: vec3<real>,
+}
 
 struct Rig {
     k1: real,
@@ -37,6 +46,8 @@ struct Rig {
     g_star: real,
     velocity: real,
     ramp: real,
+    // v/r (0 without a ramp), so the drive exponent needs no division.
+    v_over_r: real,
     // v²/r, the same f64 the CPU computes.
     v2_over_r: real,
     broken: bool,
@@ -76,6 +87,7 @@ fn rig_load(base: u32, ex: ExpInfo) -> Rig {
         run_params[base + P_G_STAR],
         run_params[base + P_VELOCITY],
         run_params[base + P_RAMP],
+        run_params[base + P_V_OVER_R],
         run_params[base + P_V2_OVER_R],
         false,
         ex.drive_kind,
@@ -128,43 +140,63 @@ fn drive_table(rig: Rig, t: real) -> real {
     return data[vv + lo] + w * (data[vv + lo + 1u] - data[vv + lo]);
 }
 
+// Velocity drive (y4, v4, a4) at tt > 0 from e = e^{−v·tt/r}: y4 = v·tt + r·(e − 1),
+// v4 = v·(1 − e), a4 = (v²/r)·e; a linear drive when there is no ramp, and
+// (0, 0, 0) for tt ≤ 0. Selects, not branches: CPU drivers run both sides anyway.
+fn velocity_drive(rig: Rig, tt: real, e: real) -> vec3<real> {
+    let v = rig.velocity;
+    let ramped = vec3<real>(v * tt + rig.ramp * (e - real(1.0)), v * (real(1.0) - e), rig.v2_over_r * e);
+    let linear = vec3<real>(v * tt, v, real(0.0));
+    let a = select(ramped, linear, rig.ramp <= real(0.0));
+    return select(a, vec3<real>(real(0.0)), tt <= real(0.0));
+}
+
 // Velocity drive: prescribed (y4, v4, a4) at t. Force drive: (F_drive, 0, 0).
 fn rig_actuator(rig: Rig, t: real) -> vec3<real> {
     if FORCE_DRIVE && rig.drive_kind == DRIVE_FORCE {
         return vec3<real>(drive_table(rig, t), real(0.0), real(0.0));
     }
-    let v = rig.velocity;
-    let r = rig.ramp;
-    if t <= real(0.0) {
-        return vec3<real>(real(0.0), real(0.0), real(0.0));
+    return velocity_drive(rig, t, exp_n(-rig.v_over_r * t));
+}
+
+// The actuator at the three stage times of an RK4 step (t, t + h/2, t + h).
+// Velocity drive: two exponentials instead of three, e(t + h/2) = e(t)·e^{−v·h/2r}
+// and e(t + h) = e(t + h/2)·e^{−v·h/2r} (a few ulp from the CPU's direct expm1).
+fn rig_actuators(rig: Rig, t: real, h: real) -> Actuation {
+    let hh = real(0.5) * h;
+    if FORCE_DRIVE && rig.drive_kind == DRIVE_FORCE {
+        return Actuation(
+            vec3<real>(drive_table(rig, t), real(0.0), real(0.0)),
+            vec3<real>(drive_table(rig, t + hh), real(0.0), real(0.0)),
+            vec3<real>(drive_table(rig, t + h), real(0.0), real(0.0)),
+        );
     }
-    if r <= real(0.0) {
-        return vec3<real>(v * t, v, real(0.0));
-    }
-    let m = expm1_r(-v * t / r);
-    return vec3<real>(v * t + r * m, -v * m, rig.v2_over_r * (m + real(1.0)));
+    let e0 = exp_n(-rig.v_over_r * t);
+    let eh = exp_n(-rig.v_over_r * hh);
+    let em = e0 * eh;
+    return Actuation(
+        velocity_drive(rig, t, e0),
+        velocity_drive(rig, t + hh, em),
+        velocity_drive(rig, t + h, em * eh),
+    );
 }
 
 // Specimen law S(e).
 fn specimen_law(rig: Rig, e: real) -> real {
-    if e <= rig.e_yield {
-        return rig.k_lin * e;
-    }
     var s = rig.a5;
     s = s * e + rig.a4;
     s = s * e + rig.a3;
     s = s * e + rig.a2;
     s = s * e + rig.a1;
     s = s * e + rig.a0;
-    return s;
+    return select(s, rig.k_lin * e, e <= rig.e_yield);
 }
 
 // Slack-adapter spring law G(d) for d > 0.
 fn slack_law(rig: Rig, d: real) -> real {
-    if d <= rig.d_star {
-        return rig.slack_a_over_b * expm1_r(rig.slack_b * d) + rig.slack_c * d;
-    }
-    return rig.g_star + rig.k4_lin * (d - rig.d_star);
+    let curved = rig.slack_a_over_b * expm1_r(rig.slack_b * d) + rig.slack_c * d;
+    let straight = rig.g_star + rig.k4_lin * (d - rig.d_star);
+    return select(straight, curved, d <= rig.d_star);
 }
 
 // Actuator displacement and velocity seen by the slack adapter.
@@ -178,17 +210,15 @@ fn actuator_motion(rig: Rig, act: vec3<real>, y: State) -> vec2<real> {
 // Element forces (F1, F2, F3, F4).
 fn rig_forces(rig: Rig, act: vec3<real>, y: State) -> vec4<real> {
     let f1 = rig.k1 * y.q.x + rig.c1_now * y.v.x;
-    var f2 = real(0.0);
-    if !rig.broken {
-        f2 = specimen_law(rig, y.q.y - y.q.x) + rig.c2 * (y.v.y - y.v.x);
-    }
+    let f2 = select(
+        specimen_law(rig, y.q.y - y.q.x) + rig.c2 * (y.v.y - y.v.x),
+        real(0.0),
+        rig.broken,
+    );
     let f3 = rig.k3 * (y.q.z - y.q.y) + rig.c3 * (y.v.z - y.v.y);
     let a = actuator_motion(rig, act, y);
     let d = a.x - y.q.z - rig.gap;
-    var f4 = real(0.0);
-    if !(d <= real(0.0)) {
-        f4 = slack_law(rig, d) + rig.c4 * (a.y - y.v.z);
-    }
+    let f4 = select(slack_law(rig, d) + rig.c4 * (a.y - y.v.z), real(0.0), d <= real(0.0));
     return vec4<real>(f1, f2, f3, f4);
 }
 

@@ -2,7 +2,7 @@
 // Mirrors src/integrate/rk4.rs operation for operation: same stage times, same
 // Hermite cubic, same CROSSING_ITERATIONS bisection halvings.
 //
-// The model file provides `Rig`, `rig_actuator`, `rig_deriv`, `rig_switch`,
+// The model file provides `Rig`, `rig_actuators` (→ `Actuation`), `rig_deriv`, `rig_switch`,
 // `rig_fire` and `rig_is_broken`.
 
 // Up to four degrees of freedom: positions q and velocities v.
@@ -12,12 +12,13 @@ struct State {
 }
 
 // One plain RK4 step of length h from (t, y). The actuator is evaluated once per
-// distinct stage time (t, t + h/2, t + h).
+// distinct stage time (t, t + h/2, t + h), by the model in one call.
 fn rk4(rig: Rig, t: real, h: real, y: State) -> State {
     let hh = real(0.5) * h;
-    let a0 = rig_actuator(rig, t);
-    let am = rig_actuator(rig, t + hh);
-    let a1 = rig_actuator(rig, t + h);
+    let act = rig_actuators(rig, t, h);
+    let a0 = act.a0;
+    let am = act.am;
+    let a1 = act.a1;
     // acc = ((k1 + 2·k2) + 2·k3) + k4, summed in the CPU's order while each k
     // is live, so only y, acc and one k stay in registers.
     var k = rig_deriv(rig, a0, y);
@@ -27,7 +28,7 @@ fn rk4(rig: Rig, t: real, h: real, y: State) -> State {
     k = rig_deriv(rig, am, State(y.q + hh * k.q, y.v + hh * k.v));
     acc = State(acc.q + real(2.0) * k.q, acc.v + real(2.0) * k.v);
     k = rig_deriv(rig, a1, State(y.q + h * k.q, y.v + h * k.v));
-    let h6 = h / real(6.0);
+    let h6 = h * real(1.0 / 6.0);
     return State(y.q + h6 * (acc.q + k.q), y.v + h6 * (acc.v + k.v));
 }
 
@@ -53,50 +54,56 @@ fn hermite_crossing(g0: real, d0: real, g1: real, d1: real) -> real {
     return real(0.5) * (lo + hi);
 }
 
-// One step of length h from (t, y), split at the switch if it fires inside.
+// n steps of length h from y, step i (0 ≤ i < n) starting at
+// t_base + (first + i)·h, each split at the switch if it fires inside.
 //
-// Written as a loop around a single `rk4` so the kernel holds one copy of the
-// stage code: CPU drivers such as lavapipe execute both sides of a divergent
-// branch, so three inlined copies would triple the cost of every step. Phases:
-// 0 the whole step; 1 (only when the switch crossed) from t to the crossing;
-// 2 from the crossing to t + h in the post-switch regime.
-fn rk4_switch_step(rig: ptr<function, Rig>, t: real, h: real, y: State) -> State {
-    var pending = !rig_is_broken(*rig);
-    var g0 = vec2<real>(real(0.0), real(0.0));
-    if pending {
-        g0 = rig_switch(*rig, y);
-        if g0.x >= real(0.0) {
-            rig_fire(rig);
-            pending = false;
-        }
-    }
-    var phase = 0u;
+// One loop around a single `rk4`, one sub-step per iteration, so the kernel
+// holds one copy of the stage code and no nested loop per step: CPU drivers
+// such as lavapipe execute both sides of every branch and every loop body at
+// least once. Phases of a step: 0 the whole step; 1 (only when the switch
+// crossed) from t to the crossing; 2 from the crossing to t + h in the
+// post-switch regime. The loop state is updated with selects.
+fn rk4_switch_steps(
+    rig: ptr<function, Rig>,
+    t_base: real,
+    first: u32,
+    n: u32,
+    h: real,
+    y: State,
+) -> State {
     var ys = y;
-    var ts = t;
-    var hs = h;
+    var i = 0u;
+    var phase = 0u;
     var s = real(0.0);
-    var out = y;
+    var g0 = vec2<real>(real(0.0), real(0.0));
+    var pending = false;
     loop {
-        let next = rk4(*rig, ts, hs, ys);
-        if phase == 0u && pending {
-            let g1 = rig_switch(*rig, next);
-            if g1.x >= real(0.0) {
-                s = hermite_crossing(g0.x, g0.y * h, g1.x, g1.y * h) * h;
-                hs = s;
-                phase = 1u;
-                continue;
+        if i >= n {
+            break;
+        }
+        let t = t_base + real(first + i) * h;
+        if phase == 0u {
+            g0 = rig_switch(*rig, ys);
+            pending = !rig_is_broken(*rig) && g0.x < real(0.0);
+            if !rig_is_broken(*rig) && g0.x >= real(0.0) {
+                rig_fire(rig);
             }
         }
-        if phase == 1u {
-            rig_fire(rig);
-            ys = next;
-            ts = t + s;
-            hs = h - s;
-            phase = 2u;
-            continue;
+        let ts = select(t, t + s, phase == 2u);
+        let hs = select(select(h, s, phase == 1u), h - s, phase == 2u);
+        let next = rk4(*rig, ts, hs, ys);
+        let g1 = rig_switch(*rig, next);
+        let crossed = phase == 0u && pending && g1.x >= real(0.0);
+        if crossed {
+            s = hermite_crossing(g0.x, g0.y * h, g1.x, g1.y * h) * h;
         }
-        out = next;
-        break;
+        let resume = phase == 1u;
+        if resume {
+            rig_fire(rig);
+        }
+        ys = State(select(next.q, ys.q, crossed), select(next.v, ys.v, crossed));
+        phase = select(select(0u, 1u, crossed), 2u, resume);
+        i = select(i + 1u, i, crossed || resume);
     }
-    return out;
+    return ys;
 }

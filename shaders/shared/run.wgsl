@@ -35,10 +35,11 @@ fn advance(slot: u32, base: u32, e: u32) {
     var budget = settings.chunk_steps;
     var done = false;
 
-    while prog.x < pro && budget > 0u {
-        y = rk4_switch_step(&rig, real(prog.x) * hp, hp, y);
-        prog.x += 1u;
-        budget -= 1u;
+    if prog.x < pro {
+        let n = min(pro - prog.x, budget);
+        y = rk4_switch_steps(&rig, real(0.0), prog.x, n, hp, y);
+        prog.x += n;
+        budget -= n;
     }
     if prog.x >= pro {
         if prog.y == 0u && ex.samples > 0u {
@@ -47,9 +48,7 @@ fn advance(slot: u32, base: u32, e: u32) {
         }
         while !done && prog.y < ex.samples && budget > 0u {
             let first = (prog.y - 1u) * settings.substeps;
-            for (var j = 0u; j < settings.substeps; j += 1u) {
-                y = rk4_switch_step(&rig, t0 + real(first + j) * h, h, y);
-            }
+            y = rk4_switch_steps(&rig, t0, first, settings.substeps, h, y);
             budget -= min(budget, settings.substeps);
             done = observe(slot, ex, prog.y, t0 + real(prog.y) * dt, limit, rig, y, &acc);
             prog.y += 1u;

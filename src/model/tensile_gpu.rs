@@ -6,7 +6,7 @@ use super::GpuModel;
 use super::tensile::{Prepared, ix};
 
 /// Slot names, in packing order; `shaders/model_tensile4.wgsl` reads `P_<NAME>`.
-pub const SLOTS: [&str; 30] = [
+pub const SLOTS: [&str; 31] = [
     "K1",
     "C1",
     "C1_POST",
@@ -36,13 +36,15 @@ pub const SLOTS: [&str; 30] = [
     "G_STAR",
     "VELOCITY",
     "RAMP",
+    "V_OVER_R",
     "V2_OVER_R",
 ];
 
 /// Packs a full tensile parameter vector into [`SLOTS`] order. The slack knee
 /// `d*` needs a logarithm, which is computed here in f64 (lavapipe's f64 `log`
-/// is wrong); masses are packed as reciprocals; `v²/r` is packed as the CPU
-/// computes it (0 when there is no ramp, where the kernel never uses it).
+/// is wrong); masses are packed as reciprocals; `v/r` (the drive exponent's
+/// rate) and `v²/r` are packed as the CPU computes them (0 when there is no
+/// ramp, where the kernel discards them).
 pub fn pack(params: &[f64], out: &mut Vec<f64>) {
     let p = params;
     let prep = Prepared::new(p);
@@ -74,6 +76,11 @@ pub fn pack(params: &[f64], out: &mut Vec<f64>) {
         prep.g_star,
         p[ix::VELOCITY],
         p[ix::RAMP],
+        if p[ix::RAMP] > 0.0 {
+            p[ix::VELOCITY] / p[ix::RAMP]
+        } else {
+            0.0
+        },
         if p[ix::RAMP] > 0.0 {
             p[ix::VELOCITY] * p[ix::VELOCITY] / p[ix::RAMP]
         } else {
