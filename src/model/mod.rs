@@ -86,7 +86,8 @@ pub trait RigModel: Send + Sync + std::fmt::Debug {
 /// A model's plug-in for the GPU ensemble kernels (see `crate::gpu`).
 #[derive(Debug, Clone, Copy)]
 pub struct GpuModel {
-    /// WGSL source defining `Rig`, `rig_load`, `rig_actuator`, `rig_deriv`,
+    /// WGSL source defining `Rig`, `rig_load`, `rig_actuator`, `rig_actuators`
+    /// (the `Actuation` of a whole step), `rig_deriv`,
     /// `rig_switch`, `rig_fire`, `rig_is_broken`, `rig_outputs` and
     /// `rig_full_state` (one of the constants in `crate::gpu::shaders`).
     pub wgsl: &'static str,
