@@ -28,26 +28,6 @@ impl CpuEvaluator {
     pub fn problem(&self) -> &Problem {
         &self.problem
     }
-
-    fn check(&self, batch: &Batch) -> Result<(), EvalError> {
-        let ne = self.problem.experiments.len();
-        let p = self.problem.model.params().len();
-        if batch.params.len() != ne || batch.offsets.len() != ne {
-            return Err(EvalError::Shape {
-                expected: format!("{ne} experiments"),
-                found: format!("{} parameter sets", batch.params.len()),
-            });
-        }
-        for (e, (ps, os)) in batch.params.iter().zip(&batch.offsets).enumerate() {
-            if ps.len() != batch.candidates * p || os.len() != batch.candidates {
-                return Err(EvalError::Shape {
-                    expected: format!("{} × {p} parameters in experiment {e}", batch.candidates),
-                    found: format!("{}", ps.len()),
-                });
-            }
-        }
-        Ok(())
-    }
 }
 
 impl Evaluator for CpuEvaluator {
@@ -60,7 +40,7 @@ impl Evaluator for CpuEvaluator {
     }
 
     fn fitness(&mut self, batch: &Batch) -> Result<Scores, EvalError> {
-        self.check(batch)?;
+        self.problem.check_batch(batch)?;
         let ne = self.problem.experiments.len();
         let problem = &self.problem;
         let runs: Vec<(f64, bool)> = self.pool.install(|| {
@@ -84,7 +64,7 @@ impl Evaluator for CpuEvaluator {
         batch: &Batch,
         which: &[usize],
     ) -> Result<Vec<Vec<History>>, EvalError> {
-        self.check(batch)?;
+        self.problem.check_batch(batch)?;
         let problem = &self.problem;
         Ok(self.pool.install(|| {
             which

@@ -2,6 +2,7 @@
 
 use std::ops::Range;
 
+use super::{Batch, EvalError};
 use crate::integrate::SampleGrid;
 use crate::model::{Drive, RigModel};
 
@@ -58,4 +59,28 @@ pub struct Problem {
     pub experiments: Vec<ExperimentData>,
     /// RK4 steps per sample interval.
     pub substeps: usize,
+}
+
+impl Problem {
+    /// Checks that a batch has one parameter set and one offset per candidate
+    /// for every experiment, each of the model's length.
+    pub fn check_batch(&self, batch: &Batch) -> Result<(), EvalError> {
+        let ne = self.experiments.len();
+        let p = self.model.params().len();
+        if batch.params.len() != ne || batch.offsets.len() != ne {
+            return Err(EvalError::Shape {
+                expected: format!("{ne} experiments"),
+                found: format!("{} parameter sets", batch.params.len()),
+            });
+        }
+        for (e, (ps, os)) in batch.params.iter().zip(&batch.offsets).enumerate() {
+            if ps.len() != batch.candidates * p || os.len() != batch.candidates {
+                return Err(EvalError::Shape {
+                    expected: format!("{} × {p} parameters in experiment {e}", batch.candidates),
+                    found: format!("{}", ps.len()),
+                });
+            }
+        }
+        Ok(())
+    }
 }

@@ -7,7 +7,7 @@ use crate::model::{Drive, GpuModel};
 
 use super::layout::{HIST_VALUES, STATE_STRIDE, Settings};
 use super::pack::{
-    PackedProblem, check_batch, from_real_bytes, pack_problem, pack_runs, real_size, to_real_bytes,
+    PackedProblem, from_real_bytes, pack_problem, pack_runs, real_size, to_real_bytes,
 };
 use super::pipeline::{self, Kernelled};
 use super::shaders::Kernel;
@@ -379,7 +379,7 @@ impl Evaluator for GpuEvaluator {
     }
 
     fn fitness(&mut self, batch: &Batch) -> Result<Scores, EvalError> {
-        check_batch(&self.problem, batch)?;
+        self.problem.check_batch(batch)?;
         let raw = self.run_fitness(batch).map_err(device_error)?;
         if let Some(j) = raw.iter().position(|&v| v == UNFINISHED) {
             return Err(EvalError::Device(format!(
@@ -411,7 +411,7 @@ impl Evaluator for GpuEvaluator {
         batch: &Batch,
         which: &[usize],
     ) -> Result<Vec<Vec<History>>, EvalError> {
-        check_batch(&self.problem, batch)?;
+        self.problem.check_batch(batch)?;
         if let Some(&bad) = which.iter().find(|&&i| i >= batch.candidates) {
             return Err(EvalError::Shape {
                 expected: format!("candidate indices < {}", batch.candidates),

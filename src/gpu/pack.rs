@@ -70,27 +70,6 @@ impl ExpInfo {
     }
 }
 
-/// Checks that a batch fits the problem (the CPU evaluator's rule).
-pub fn check_batch(problem: &Problem, batch: &Batch) -> Result<(), EvalError> {
-    let ne = problem.experiments.len();
-    let p = problem.model.params().len();
-    if batch.params.len() != ne || batch.offsets.len() != ne {
-        return Err(EvalError::Shape {
-            expected: format!("{ne} experiments"),
-            found: format!("{} parameter sets", batch.params.len()),
-        });
-    }
-    for (e, (ps, os)) in batch.params.iter().zip(&batch.offsets).enumerate() {
-        if ps.len() != batch.candidates * p || os.len() != batch.candidates {
-            return Err(EvalError::Shape {
-                expected: format!("{} × {p} parameters in experiment {e}", batch.candidates),
-                found: format!("{}", ps.len()),
-            });
-        }
-    }
-    Ok(())
-}
-
 /// Packs every (candidate, experiment) run of `batch`, run `i·E + e`, into
 /// `out` (cleared first): the grid header (`RUN_SLOTS`) computed exactly as
 /// `SampleGrid` does, then the model's slots. Returns the largest number of RK4
