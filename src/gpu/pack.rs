@@ -1,7 +1,7 @@
 //! Host-side packing: experiments, measured data and per-run parameters in the
 //! layouts of `layout.rs`, and conversion of f64 values to the kernel's `real`.
 
-use crate::eval::{Batch, EvalError, Precision, Problem};
+use crate::eval::{Batch, Precision, Problem};
 use crate::model::{Drive, GpuModel};
 
 use super::layout::{DRIVE_FORCE, DRIVE_VELOCITY, ExpInfo, RUN_HEADER, run_stride};
