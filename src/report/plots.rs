@@ -73,10 +73,10 @@ pub fn fit_svg(
             (
                 "measured load-cell force",
                 measured,
-                RGBColor(150, 150, 150),
-                1,
+                RGBColor(175, 175, 175),
+                4,
             ),
-            ("model load-cell force", model, RGBColor(31, 119, 180), 2),
+            ("model load-cell force", model, RGBColor(31, 119, 180), 1),
             (
                 "model specimen force (cleaned)",
                 cleaned,
