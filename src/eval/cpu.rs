@@ -65,6 +65,7 @@ impl Evaluator for CpuEvaluator {
         which: &[usize],
     ) -> Result<Vec<Vec<History>>, EvalError> {
         self.problem.check_batch(batch)?;
+        batch.check_indices(which)?;
         let problem = &self.problem;
         Ok(self.pool.install(|| {
             which

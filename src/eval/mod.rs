@@ -76,6 +76,17 @@ pub struct Batch {
 }
 
 impl Batch {
+    /// Checks that every index in `which` names a candidate of the batch.
+    pub fn check_indices(&self, which: &[usize]) -> Result<(), EvalError> {
+        match which.iter().find(|&&i| i >= self.candidates) {
+            Some(&bad) => Err(EvalError::Shape {
+                expected: format!("candidate indices < {}", self.candidates),
+                found: bad.to_string(),
+            }),
+            None => Ok(()),
+        }
+    }
+
     /// Parameters of candidate `i` in experiment `e`.
     pub fn params_of(&self, e: usize, i: usize) -> &[f64] {
         let p = self.params[e].len() / self.candidates.max(1);
