@@ -66,8 +66,13 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     };
     let info = evaluator.info();
     out.note(&format!(
-        "{} on {} ({}, {:?}), {} RK4 steps per sample ({})",
-        c.name, info.backend, info.device, info.precision, c.solver.substeps, c.solver.note
+        "{} on {} ({}, {}), {} RK4 steps per sample ({})",
+        c.name,
+        info.backend,
+        info.device,
+        format!("{:?}", info.precision).to_lowercase(),
+        c.solver.substeps,
+        c.solver.note
     ));
 
     let interrupt = Arc::new(AtomicBool::new(false));

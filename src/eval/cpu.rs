@@ -34,7 +34,10 @@ impl Evaluator for CpuEvaluator {
     fn info(&self) -> EvaluatorInfo {
         EvaluatorInfo {
             backend: "cpu".into(),
-            device: format!("{} threads (rayon)", self.pool.current_num_threads()),
+            device: match self.pool.current_num_threads() {
+                1 => "1 thread".to_string(),
+                n => format!("{n} threads (rayon)"),
+            },
             precision: Precision::F64,
         }
     }
