@@ -412,12 +412,7 @@ impl Evaluator for GpuEvaluator {
         which: &[usize],
     ) -> Result<Vec<Vec<History>>, EvalError> {
         self.problem.check_batch(batch)?;
-        if let Some(&bad) = which.iter().find(|&&i| i >= batch.candidates) {
-            return Err(EvalError::Shape {
-                expected: format!("candidate indices < {}", batch.candidates),
-                found: bad.to_string(),
-            });
-        }
+        batch.check_indices(which)?;
         if which.is_empty() {
             return Ok(Vec::new());
         }

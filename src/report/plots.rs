@@ -85,16 +85,8 @@ pub fn fit_svg(
             ),
         ];
         for (label, ys, color, width) in series {
-            chart
-                .draw_series(LineSeries::new(
-                    t_ms.iter().zip(ys).map(|(t, f)| (*t, f / 1e3)),
-                    color.stroke_width(width),
-                ))
-                .map_err(|e| err(here, e))?
-                .label(label)
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                });
+            let points = t_ms.iter().zip(ys).map(|(t, f)| (*t, f / 1e3));
+            labelled_line(&mut chart, points, label, color, width).map_err(|e| err(here, e))?;
         }
         chart
             .configure_series_labels()
@@ -145,16 +137,8 @@ pub fn fitness_svg(title: &str, best: &[f64], median: &[f64]) -> Result<String, 
             ("median", median, RGBColor(255, 127, 14)),
         ];
         for (label, ys, color) in series {
-            chart
-                .draw_series(LineSeries::new(
-                    ys.iter().enumerate().map(|(g, v)| (g as f64, clean(v))),
-                    color.stroke_width(2),
-                ))
-                .map_err(|e| err(here, e))?
-                .label(label)
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                });
+            let points = ys.iter().enumerate().map(|(g, v)| (g as f64, clean(v)));
+            labelled_line(&mut chart, points, label, color, 2).map_err(|e| err(here, e))?;
         }
         chart
             .configure_series_labels()
@@ -165,4 +149,25 @@ pub fn fitness_svg(title: &str, best: &[f64], median: &[f64]) -> Result<String, 
         root.present().map_err(|e| err(here, e))?;
     }
     Ok(svg)
+}
+
+/// Draws one line series with a legend entry.
+fn labelled_line<'a, X, Y>(
+    chart: &mut ChartContext<'a, SVGBackend<'a>, Cartesian2d<X, Y>>,
+    points: impl Iterator<Item = (X::ValueType, Y::ValueType)>,
+    label: &str,
+    color: RGBColor,
+    width: u32,
+) -> Result<(), DrawingAreaErrorKind<std::io::Error>>
+where
+    X: Ranged,
+    Y: Ranged,
+    X::ValueType: Clone + 'static,
+    Y::ValueType: Clone + 'static,
+{
+    chart
+        .draw_series(LineSeries::new(points, color.stroke_width(width)))?
+        .label(label)
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
+    Ok(())
 }
