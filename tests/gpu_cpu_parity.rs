@@ -53,13 +53,7 @@ fn history_error(
     problem: &Problem,
     batch: &Batch,
 ) -> (f64, usize) {
-    let mut gpu = GpuEvaluator::new(
-        ctx.clone(),
-        problem.clone(),
-        precision,
-        GpuOptions::default(),
-    )
-    .unwrap();
+    let mut gpu = common::evaluator(ctx, problem, precision);
     let which: Vec<usize> = (0..batch.candidates).collect();
     let hist = gpu.histories(batch, &which).unwrap();
     let (mut worst, mut broke) = (0.0_f64, 0);
@@ -213,13 +207,7 @@ fn fracture_at_a_step_boundary_does_not_flip_results() {
         &[(Precision::F32, F32_HISTORY_TOLERANCE)]
     };
     for &(precision, tol) in precisions {
-        let mut gpu = GpuEvaluator::new(
-            ctx.clone(),
-            problem.clone(),
-            precision,
-            GpuOptions::default(),
-        )
-        .unwrap();
+        let mut gpu = common::evaluator(&ctx, &problem, precision);
         let hist = gpu.histories(&batch, &[0, 1, 2, 3, 4]).unwrap();
         for (i, h) in hist.iter().enumerate() {
             let cpu = simulate_history(&problem, 0, batch.params_of(0, i), 0.0);

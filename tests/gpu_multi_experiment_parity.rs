@@ -9,7 +9,7 @@ use gpu_common as common;
 use rigfit::eval::{
     Batch, CpuEvaluator, Evaluator, ExperimentData, Precision, Problem, simulate_history,
 };
-use rigfit::gpu::{F32_HISTORY_TOLERANCE, F64_HISTORY_TOLERANCE, GpuEvaluator, GpuOptions};
+use rigfit::gpu::{F32_HISTORY_TOLERANCE, F64_HISTORY_TOLERANCE};
 use rigfit::model::tensile::{REFERENCE, TENSILE4};
 use rigfit::model::{Drive, PiecewiseLinear};
 
@@ -81,13 +81,7 @@ fn multi_experiment_force_drive_fitness_and_histories_match_cpu() {
         precisions.push((Precision::F64, 1e-9, F64_HISTORY_TOLERANCE));
     }
     for (precision, fit_tol, hist_tol) in precisions {
-        let mut gpu = GpuEvaluator::new(
-            ctx.clone(),
-            problem.clone(),
-            precision,
-            GpuOptions::default(),
-        )
-        .unwrap();
+        let mut gpu = common::evaluator(&ctx, &problem, precision);
         let g = gpu.fitness(&batch).unwrap();
         assert_eq!(g.diverged, cpu.diverged, "{precision:?}");
         for (j, (a, b)) in g.values.iter().zip(&cpu.values).enumerate() {

@@ -12,7 +12,6 @@ use std::sync::atomic::AtomicBool;
 
 use rigfit::campaign::Campaign;
 use rigfit::eval::{CpuEvaluator, Evaluator, Precision};
-use rigfit::gpu::{GpuEvaluator, GpuOptions};
 use rigfit::job::{self, JobOptions, JobSummary};
 use serde_json::Value;
 
@@ -91,13 +90,7 @@ fn shipped_example_calibrates_on_the_gpu_in_f32_and_f64() {
         if precision == Precision::F64 && !ctx.has_f64() {
             continue;
         }
-        let ev = GpuEvaluator::new(
-            ctx.clone(),
-            c.problem.clone(),
-            precision,
-            GpuOptions::default(),
-        )
-        .unwrap();
+        let ev = gpu_common::evaluator(&ctx, &c.problem, precision);
         let s = calibrate(&c, Box::new(ev));
         assert_eq!(s.backend, "gpu");
         check_recovery(&s);

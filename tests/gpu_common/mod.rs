@@ -7,8 +7,9 @@ use std::io::Write;
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use rigfit::eval::Precision;
 use rigfit::eval::{Batch, Problem};
-use rigfit::gpu::{GpuContext, gpu_required};
+use rigfit::gpu::{GpuContext, GpuEvaluator, GpuOptions, gpu_required};
 use rigfit::model::tensile::{REFERENCE, ix};
 
 /// The default GPU context; `None` (with a loud message) when there is no
@@ -28,6 +29,17 @@ pub fn gpu() -> Option<GpuContext> {
             None
         }
     }
+}
+
+/// A GPU evaluator of `problem` on `ctx` with the default options.
+pub fn evaluator(ctx: &GpuContext, problem: &Problem, precision: Precision) -> GpuEvaluator {
+    GpuEvaluator::new(
+        ctx.clone(),
+        problem.clone(),
+        precision,
+        GpuOptions::default(),
+    )
+    .unwrap()
 }
 
 /// Log-uniform factor in `[1/spread, spread]`.
