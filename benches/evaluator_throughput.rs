@@ -24,13 +24,21 @@ use rigfit::gpu::{GpuContext, GpuEvaluator, GpuOptions};
 use rigfit::model::tensile::REFERENCE;
 
 const SAMPLES: usize = 500;
+
+fn samples() -> usize {
+    std::env::var("RIGFIT_BENCH_SAMPLES")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(SAMPLES)
+}
 const POPULATIONS: [usize; 3] = [1024, 4096, 16384];
 
 fn problem() -> Problem {
     let mut p = reference_problem();
     let e = &mut p.experiments[0];
-    e.force.truncate(SAMPLES);
-    e.window = 0..SAMPLES;
+    let n = samples().min(e.force.len());
+    e.force.truncate(n);
+    e.window = 0..n;
     p
 }
 
@@ -140,7 +148,8 @@ fn populations() -> Vec<usize> {
 fn print_table(evals: &[(&'static str, Factory)]) {
     let steps = steps(&problem());
     println!(
-        "\nReference problem, {SAMPLES} samples × {} substeps = {steps} RK4 steps per candidate",
+        "\nReference problem, {} samples × {} substeps = {steps} RK4 steps per candidate",
+        problem().experiments[0].force.len(),
         problem().substeps
     );
     let pops = populations();
