@@ -1,65 +1,79 @@
 //! Candidate-steps per second (candidates × total RK4 steps / seconds) of every
-//! evaluator on the reference problem, shortened to `SAMPLES` samples: CPU on one
-//! thread, CPU on all threads, GPU f32, GPU f64, at populations 1024, 4096 and
-//! 16384.
+//! evaluator on the shipped example (`campaigns/aa2024_t3_synthetic.json`: 2501
+//! samples, one RK4 step per sample, seven free parameters), with the free
+//! parameters drawn uniformly over their bounds (log-uniform on log scales,
+//! seeded): CPU on one thread, CPU on all threads, GPU f32 and f64 (specialised
+//! to the batch, as a calibration runs them) and the same without
+//! specialisation (`-generic`), at populations 1024, 4096 and 16384.
 //!
 //! `cargo bench --bench evaluator_throughput` prints a Markdown table first (two
 //! timed evaluations per cell after a warm-up), then runs the criterion groups.
 //! `RIGFIT_BENCH_TABLE_ONLY=1` stops after the table; `RIGFIT_BENCH_ROWS=gpu-f32,…`
-//! keeps only the rows whose names contain one of the given words and
-//! `RIGFIT_BENCH_POPS=4096,…` only the given populations (for quick kernel work);
+//! keeps only the rows whose names contain one of the given words,
+//! `RIGFIT_BENCH_POPS=4096,…` only the given populations and
+//! `RIGFIT_BENCH_SAMPLES=500` shortens the record (for quick kernel work);
 //! `RIGFIT_BENCH_CPU_TIME=1` adds candidate-steps per CPU-second of the process.
 //!
-//! On the 2-core development machine (lavapipe, LLVM 15, 256-bit), idle: CPU
-//! 1 thread ≈ 1.0e7, all threads ≈ 2.0e7, GPU f32 ≈ 1.1–1.2e8, GPU f64 ≈
-//! 6.0e7 candidate-steps/s; timings drop by half or more while other builds
-//! share the cores (compare variants alternately, several times).
+//! Timings drop by half or more while other builds share the cores (compare
+//! variants alternately, several times). The README has the measured table.
 
+use std::path::Path;
 use std::time::{Duration, Instant};
 
 use criterion::{BenchmarkId, Criterion, Throughput};
+use rigfit::campaign::Campaign;
 use rigfit::eval::{Batch, CpuEvaluator, Evaluator, Precision, Problem};
-use rigfit::fixtures::reference_problem;
 use rigfit::gpu::{GpuContext, GpuEvaluator, GpuOptions};
-use rigfit::model::tensile::REFERENCE;
+use rigfit::model::Scale;
 
-const SAMPLES: usize = 500;
-
-fn samples() -> usize {
-    std::env::var("RIGFIT_BENCH_SAMPLES")
-        .ok()
-        .and_then(|v| v.parse().ok())
-        .unwrap_or(SAMPLES)
-}
 const POPULATIONS: [usize; 3] = [1024, 4096, 16384];
 
+fn campaign() -> Campaign {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("campaigns/aa2024_t3_synthetic.json");
+    Campaign::load(&path).expect("the shipped example loads")
+}
+
 fn problem() -> Problem {
-    let mut p = reference_problem();
-    let e = &mut p.experiments[0];
-    let n = samples().min(e.force.len());
-    e.force.truncate(n);
-    e.window = 0..n;
+    let mut p = campaign().problem;
+    if let Some(n) = std::env::var("RIGFIT_BENCH_SAMPLES")
+        .ok()
+        .and_then(|v| v.parse::<usize>().ok())
+    {
+        for e in &mut p.experiments {
+            let n = n.min(e.force.len());
+            e.force.truncate(n);
+            e.window = e.window.start.min(n)..n;
+        }
+    }
     p
 }
 
-/// `n` copies of the reference rig with ±20 % jitter on each value, seeded.
+/// `n` candidates with every free parameter uniform over its bounds (in the
+/// logarithm for log-scale genes), from a fixed xorshift seed.
 fn batch(n: usize) -> Batch {
-    let mut params = Vec::with_capacity(n * REFERENCE.len());
+    let c = campaign();
     let mut s = 0x2545_f491_4f6c_dd1d_u64;
-    for _ in 0..n {
-        for v in REFERENCE {
-            s ^= s << 13;
-            s ^= s >> 7;
-            s ^= s << 17;
-            let u = (s >> 11) as f64 / (1u64 << 53) as f64;
-            params.push(v * (0.8 + 0.4 * u));
-        }
-    }
-    Batch {
-        candidates: n,
-        params: vec![params],
-        offsets: vec![vec![0.0; n]],
-    }
+    let mut uniform = move || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let genomes: Vec<Vec<f64>> = (0..n)
+        .map(|_| {
+            c.genes
+                .iter()
+                .map(|g| {
+                    let u = uniform();
+                    match g.scale {
+                        Scale::Log => (g.lower.ln() + u * (g.upper / g.lower).ln()).exp(),
+                        Scale::Linear => g.lower + u * (g.upper - g.lower),
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    c.batch(&genomes)
 }
 
 fn steps(problem: &Problem) -> usize {
@@ -83,36 +97,28 @@ fn evaluators() -> Vec<(&'static str, Factory)> {
     ];
     match GpuContext::new() {
         Ok(ctx) => {
-            let c = ctx.clone();
-            v.push((
-                "gpu-f32",
-                Box::new(move || {
-                    Box::new(
-                        GpuEvaluator::new(
-                            c.clone(),
-                            problem(),
-                            Precision::F32,
-                            GpuOptions::default(),
-                        )
-                        .unwrap(),
-                    )
-                }),
-            ));
+            let mut precisions = vec![("f32", Precision::F32)];
             if ctx.has_f64() {
-                v.push((
-                    "gpu-f64",
-                    Box::new(move || {
-                        Box::new(
-                            GpuEvaluator::new(
-                                ctx.clone(),
-                                problem(),
-                                Precision::F64,
-                                GpuOptions::default(),
+                precisions.push(("f64", Precision::F64));
+            }
+            for (specialise, suffix) in [(true, ""), (false, "-generic")] {
+                for &(pname, precision) in &precisions {
+                    let name: &'static str = format!("gpu-{pname}{suffix}").leak();
+                    let c = ctx.clone();
+                    let options = GpuOptions {
+                        specialise,
+                        ..GpuOptions::default()
+                    };
+                    v.push((
+                        name,
+                        Box::new(move || {
+                            Box::new(
+                                GpuEvaluator::new(c.clone(), problem(), precision, options)
+                                    .unwrap(),
                             )
-                            .unwrap(),
-                        )
-                    }),
-                ));
+                        }),
+                    ));
+                }
             }
         }
         Err(e) => eprintln!("no GPU ({e}); GPU rows skipped"),
@@ -148,7 +154,7 @@ fn populations() -> Vec<usize> {
 fn print_table(evals: &[(&'static str, Factory)]) {
     let steps = steps(&problem());
     println!(
-        "\nReference problem, {} samples × {} substeps = {steps} RK4 steps per candidate",
+        "\nShipped example, {} samples × {} substeps = {steps} RK4 steps per candidate",
         problem().experiments[0].force.len(),
         problem().substeps
     );

@@ -34,7 +34,7 @@ fn finish(slot: u32, base: u32, acc: real) {
     if acc < real(0.0) {
         fitness[slot] = real(-1.0);
     } else {
-        fitness[slot] = acc / run_params[base + R_SS_TOT];
+        fitness[slot] = acc / param(base, R_SS_TOT);
     }
 }
 

@@ -77,11 +77,15 @@ fn chunk_size_does_not_change_gpu_fitness() {
         precision,
         GpuOptions {
             chunk_steps: 1 << 20,
+            ..GpuOptions::default()
         },
     )
     .unwrap();
-    let mut chunked =
-        GpuEvaluator::new(ctx, problem, precision, GpuOptions { chunk_steps: 37 }).unwrap();
+    let chunked_options = GpuOptions {
+        chunk_steps: 37,
+        ..GpuOptions::default()
+    };
+    let mut chunked = GpuEvaluator::new(ctx, problem, precision, chunked_options).unwrap();
     let a = whole.fitness(&batch).unwrap();
     let b = chunked.fitness(&batch).unwrap();
     assert_eq!(bits(&a.values), bits(&b.values));

@@ -3,7 +3,7 @@
 //! points, 1-D workgroups, shared constants) agrees with the WGSL.
 
 use rigfit::eval::Precision;
-use rigfit::gpu::layout::{ExpInfo, Settings, shared_constants};
+use rigfit::gpu::layout::{ExpInfo, Settings, run_stride, shared_constants};
 use rigfit::gpu::shaders::{self, Kernel};
 use rigfit::model::{GpuModel, registry};
 
@@ -24,9 +24,21 @@ fn sources() -> Vec<(String, Precision, Kernel, String)> {
                 for force_drive in [false, true] {
                     let src = match kernel {
                         Kernel::ExpProbe => shaders::probe_source(precision),
-                        _ => shaders::source(&model, precision, kernel, force_drive),
+                        _ => shaders::source(&model, precision, kernel, force_drive, &[]),
                     };
                     out.push((format!("{id} force={force_drive}"), precision, kernel, src));
+                }
+                if kernel == Kernel::Fitness {
+                    // Every per-run value baked (specialise.rs): literals of
+                    // both signs, tiny and large, an integer and a negative zero.
+                    let stride = run_stride(model.slots.len()) as usize;
+                    let values = [1.5e-3, -2.25e7, 1e-30, 3.0e38, 4.0, -0.0, 0.1];
+                    let baked: Vec<Option<f64>> = (0..stride)
+                        .map(|i| Some(values[i % values.len()]))
+                        .collect();
+                    let src = shaders::source(&model, precision, kernel, false, &baked);
+                    assert_eq!(src.matches("case ").count(), stride);
+                    out.push((format!("{id} all baked"), precision, kernel, src));
                 }
             }
         }
@@ -91,7 +103,7 @@ fn host_structs_match_wgsl_sizes() {
 #[test]
 fn shared_constants_reach_the_shader_unchanged() {
     for (id, model) in gpu_models() {
-        let src = shaders::source(&model, Precision::F32, Kernel::Fitness, true);
+        let src = shaders::source(&model, Precision::F32, Kernel::Fitness, true, &[]);
         let m = shaders::reflect(&src, Precision::F32, Kernel::Fitness)
             .unwrap()
             .module;

@@ -26,12 +26,12 @@ fn advance(slot: u32, base: u32, e: u32) {
         vec4<real>(state[sb + 4u], state[sb + 5u], state[sb + 6u], state[sb + 7u]),
     );
     var acc = state[sb + 8u];
-    let t0 = run_params[base + R_T0];
-    let h = run_params[base + R_H];
-    let hp = run_params[base + R_HP];
-    let dt = run_params[base + R_DT];
-    let pro = u32(run_params[base + R_PRO]);
-    let limit = run_params[base + R_LIMIT];
+    let t0 = param(base, R_T0);
+    let h = param(base, R_H);
+    let hp = param(base, R_HP);
+    let dt = param(base, R_DT);
+    let pro = u32(param(base, R_PRO));
+    let limit = param(base, R_LIMIT);
     var budget = settings.chunk_steps;
     var done = false;
 

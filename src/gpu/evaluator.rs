@@ -9,8 +9,9 @@ use super::layout::{HIST_VALUES, STATE_STRIDE, Settings};
 use super::pack::{
     PackedProblem, from_real_bytes, pack_problem, pack_runs, real_size, to_real_bytes,
 };
-use super::pipeline::{self, Kernelled};
+use super::pipeline::{self, Binding, Kernelled};
 use super::shaders::Kernel;
+use super::specialise;
 use super::{GpuContext, GpuError};
 
 /// Fitness-buffer value of a run that has not finished (the kernel writes ≥ 0,
@@ -24,12 +25,37 @@ pub struct GpuOptions {
     /// several dispatches (all in one submit) so that no single dispatch runs long
     /// enough to trip a display driver's watchdog.
     pub chunk_steps: u32,
+    /// Bake the per-run values that are the same in every run of a batch into
+    /// the fitness kernel (see `specialise.rs`); batches of fewer than
+    /// [`specialise::MIN_RUNS`] runs always use the generic kernel.
+    pub specialise: bool,
 }
 
 impl Default for GpuOptions {
     fn default() -> Self {
-        Self { chunk_steps: 2048 }
+        Self {
+            chunk_steps: 2048,
+            specialise: true,
+        }
     }
+}
+
+/// Bindings of the fitness kernel (`shared/bindings.wgsl`, then `fitness`).
+const FITNESS_BINDINGS: [Binding; 7] = [
+    Binding::Uniform,
+    Binding::Read,
+    Binding::Read,
+    Binding::Read,
+    Binding::ReadWrite,
+    Binding::ReadWrite,
+    Binding::ReadWrite,
+];
+
+/// A fitness kernel with the values it has baked in.
+#[derive(Debug)]
+struct Specialised {
+    baked: Vec<Option<f64>>,
+    kernel: Kernelled,
 }
 
 /// Buffers sized for a number of runs; grown when a batch needs more.
@@ -53,7 +79,10 @@ pub struct GpuEvaluator {
     model: GpuModel,
     precision: Precision,
     options: GpuOptions,
+    force_drive: bool,
+    fitness_layout: pipeline::Layout,
     fitness_kernel: Kernelled,
+    specialised: Option<Specialised>,
     history_kernel: Kernelled,
     settings: wgpu::Buffer,
     experiments: wgpu::Buffer,
@@ -81,10 +110,21 @@ impl GpuEvaluator {
             .experiments
             .iter()
             .any(|e| matches!(e.drive, Drive::Force(_)));
-        let fitness_kernel =
-            pipeline::build(&ctx, Some((&model, force)), precision, Kernel::Fitness)?;
-        let history_kernel =
-            pipeline::build(&ctx, Some((&model, force)), precision, Kernel::History)?;
+        let fitness_layout = pipeline::layout(&ctx, "fitness layout", &FITNESS_BINDINGS);
+        let fitness_kernel = pipeline::build(
+            &ctx,
+            Some((&model, force, &[])),
+            precision,
+            Kernel::Fitness,
+            Some(&fitness_layout),
+        )?;
+        let history_kernel = pipeline::build(
+            &ctx,
+            Some((&model, force, &[])),
+            precision,
+            Kernel::History,
+            None,
+        )?;
         let packed = pack_problem(&problem);
         let (settings, experiments, data) = pipeline::scoped(&ctx, "problem buffers", || {
             (
@@ -115,7 +155,10 @@ impl GpuEvaluator {
             model,
             precision,
             options,
+            force_drive: force,
+            fitness_layout,
             fitness_kernel,
+            specialised: None,
             history_kernel,
             settings,
             experiments,
@@ -133,6 +176,14 @@ impl GpuEvaluator {
     /// The device context.
     pub fn context(&self) -> &GpuContext {
         &self.ctx
+    }
+
+    /// How many per-run values the current specialised fitness kernel has
+    /// baked in; `None` before one was built.
+    pub fn specialised_constants(&self) -> Option<usize> {
+        self.specialised
+            .as_ref()
+            .map(|s| specialise::count(&s.baked))
     }
 
     fn stride(&self) -> u64 {
@@ -198,10 +249,10 @@ impl GpuEvaluator {
                 n * real,
                 U::MAP_READ | U::COPY_DST,
             );
-            let bind = pipeline::bind(
+            let bind = pipeline::bind_with(
                 ctx,
                 "fitness bind group",
-                &self.fitness_kernel,
+                &self.fitness_layout.group,
                 &[
                     &self.settings,
                     &self.experiments,
@@ -248,10 +299,51 @@ impl GpuEvaluator {
         }
     }
 
+    /// Whether the batch just uploaded gets the specialised kernel (one whose
+    /// baked values all hold in this batch; built, or rebuilt with fewer baked
+    /// values, where needed) rather than the generic one.
+    fn specialise_for(&mut self, runs: usize) -> Result<bool, GpuError> {
+        if !self.options.specialise {
+            return Ok(false);
+        }
+        let stride = self.stride() as usize;
+        let constants = specialise::constant_slots(&self.host, stride, self.precision);
+        let fits = self
+            .specialised
+            .as_ref()
+            .is_some_and(|s| specialise::serves(&s.baked, &constants));
+        if !fits && runs >= specialise::MIN_RUNS {
+            let baked = match &self.specialised {
+                Some(s) => specialise::intersect(&s.baked, &constants),
+                None => constants,
+            };
+            log::info!(
+                "specialising the {} fitness kernel: {} of {stride} per-run values are the same in every run",
+                super::shaders::real_type(self.precision),
+                specialise::count(&baked)
+            );
+            let kernel = pipeline::build(
+                &self.ctx,
+                Some((&self.model, self.force_drive, &baked)),
+                self.precision,
+                Kernel::Fitness,
+                Some(&self.fitness_layout),
+            )?;
+            self.specialised = Some(Specialised { baked, kernel });
+            return Ok(true);
+        }
+        Ok(fits)
+    }
+
     fn run_fitness(&mut self, batch: &Batch) -> Result<Vec<f64>, GpuError> {
         let max_steps = self.upload(batch)?;
         let runs = batch.candidates * self.problem.experiments.len();
-        let groups = pipeline::workgroups(&self.ctx, runs, self.fitness_kernel.workgroup_x)?;
+        let kernel = if self.specialise_for(runs)? {
+            &self.specialised.as_ref().expect("just chosen").kernel
+        } else {
+            &self.fitness_kernel
+        };
+        let groups = pipeline::workgroups(&self.ctx, runs, kernel.workgroup_x)?;
         let settings = Settings {
             runs: runs as u32,
             experiments: self.problem.experiments.len() as u32,
@@ -278,7 +370,7 @@ impl GpuEvaluator {
                 });
             enc.clear_buffer(&rb.state, 0, None);
             enc.clear_buffer(&rb.progress, 0, None);
-            Self::encode_pass(&mut enc, &self.fitness_kernel, &rb.bind, groups, dispatches);
+            Self::encode_pass(&mut enc, kernel, &rb.bind, groups, dispatches);
             enc.copy_buffer_to_buffer(&rb.fitness, 0, &rb.readback, 0, size);
             self.ctx.queue.submit([enc.finish()]);
         })?;

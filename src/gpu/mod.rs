@@ -64,6 +64,7 @@ mod pack;
 pub mod pipeline;
 mod probe;
 pub mod shaders;
+pub mod specialise;
 
 pub use context::{AdapterSummary, GpuContext, instance, list_adapters};
 pub use evaluator::{GpuEvaluator, GpuOptions};

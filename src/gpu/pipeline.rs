@@ -35,16 +35,76 @@ pub fn scoped<T>(ctx: &GpuContext, what: &str, f: impl FnOnce() -> T) -> Result<
     }
 }
 
-/// Builds `kernel` for `model` (with its force-drive flag) at `precision`: validates with naga, reads the
-/// workgroup size back, creates the pipeline.
+/// What one binding of an explicit bind group layout holds.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Binding {
+    /// `var<uniform>`.
+    Uniform,
+    /// `var<storage, read>`.
+    Read,
+    /// `var<storage, read_write>`.
+    ReadWrite,
+}
+
+/// An explicit layout (bind group 0 only), shared by every variant of a kernel
+/// so that one bind group serves them all.
+#[derive(Debug)]
+pub struct Layout {
+    /// Bind group 0.
+    pub group: wgpu::BindGroupLayout,
+    /// The pipeline layout over it.
+    pub pipeline: wgpu::PipelineLayout,
+}
+
+/// An explicit layout whose binding `i` holds `bindings[i]`, visible to compute.
+pub fn layout(ctx: &GpuContext, label: &str, bindings: &[Binding]) -> Layout {
+    let entries: Vec<wgpu::BindGroupLayoutEntry> = bindings
+        .iter()
+        .enumerate()
+        .map(|(i, b)| wgpu::BindGroupLayoutEntry {
+            binding: i as u32,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: match b {
+                    Binding::Uniform => wgpu::BufferBindingType::Uniform,
+                    Binding::Read => wgpu::BufferBindingType::Storage { read_only: true },
+                    Binding::ReadWrite => wgpu::BufferBindingType::Storage { read_only: false },
+                },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        })
+        .collect();
+    let group = ctx
+        .device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(label),
+            entries: &entries,
+        });
+    let pipeline = ctx
+        .device
+        .create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(label),
+            bind_group_layouts: &[Some(&group)],
+            immediate_size: 0,
+        });
+    Layout { group, pipeline }
+}
+
+/// Builds `kernel` for `model` (with its force-drive flag and baked per-run
+/// values, see [`shaders::param_fn`]) at `precision`: validates with naga, reads
+/// the workgroup size back, creates the pipeline, with `layout` or else the
+/// layout wgpu derives from the shader.
 pub fn build(
     ctx: &GpuContext,
-    model: Option<(&GpuModel, bool)>,
+    model: Option<(&GpuModel, bool, &[Option<f64>])>,
     precision: Precision,
     kernel: Kernel,
+    layout: Option<&Layout>,
 ) -> Result<Kernelled, GpuError> {
     let src = match model {
-        Some((m, force_drive)) => shaders::source(m, precision, kernel, force_drive),
+        Some((m, force_drive, baked)) => shaders::source(m, precision, kernel, force_drive, baked),
         None => shaders::probe_source(precision),
     };
     let reflected = shaders::reflect(&src, precision, kernel)?;
@@ -58,7 +118,7 @@ pub fn build(
         ctx.device
             .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some(kernel.entry_point()),
-                layout: None,
+                layout: layout.map(|l| &l.pipeline),
                 module: &module,
                 entry_point: Some(kernel.entry_point()),
                 compilation_options: Default::default(),
@@ -97,11 +157,26 @@ pub fn buffer(ctx: &GpuContext, label: &str, size: u64, usage: wgpu::BufferUsage
     })
 }
 
-/// A bind group over `buffers`, binding i ← buffers\[i\].
+/// A bind group for `kernel`'s own layout over `buffers`, binding i ← buffers\[i\].
 pub fn bind(
     ctx: &GpuContext,
     label: &str,
     kernel: &Kernelled,
+    buffers: &[&wgpu::Buffer],
+) -> wgpu::BindGroup {
+    bind_with(
+        ctx,
+        label,
+        &kernel.pipeline.get_bind_group_layout(0),
+        buffers,
+    )
+}
+
+/// A bind group for `layout` over `buffers`, binding i ← buffers\[i\].
+pub fn bind_with(
+    ctx: &GpuContext,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
     buffers: &[&wgpu::Buffer],
 ) -> wgpu::BindGroup {
     let entries: Vec<wgpu::BindGroupEntry<'_>> = buffers
@@ -114,7 +189,7 @@ pub fn bind(
         .collect();
     ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some(label),
-        layout: &kernel.pipeline.get_bind_group_layout(0),
+        layout,
         entries: &entries,
     })
 }

@@ -14,7 +14,7 @@ pub fn probe_exp(
     precision: Precision,
     xs: &[f64],
 ) -> Result<Vec<(f64, f64)>, GpuError> {
-    let kernel = pipeline::build(ctx, None, precision, Kernel::ExpProbe)?;
+    let kernel = pipeline::build(ctx, None, precision, Kernel::ExpProbe, None)?;
     let size = 2 * xs.len() as u64 * real_size(precision);
     let groups = pipeline::workgroups(ctx, xs.len(), kernel.workgroup_x)?;
     use wgpu::BufferUsages as U;

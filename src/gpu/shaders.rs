@@ -98,9 +98,50 @@ pub fn prelude(model: &GpuModel, precision: Precision, force_drive: bool) -> Str
     s
 }
 
+/// WGSL literal for `value` as the kernel's `real`: the shortest decimal that
+/// reads back as the same f64, after rounding to f32 for [`Precision::F32`] (an
+/// f32 is an exact f64, so the kernel's constant is the value the host would
+/// have uploaded, bit for bit).
+pub fn real_literal(value: f64, precision: Precision) -> String {
+    let v = match precision {
+        Precision::F64 => value,
+        Precision::F32 => f64::from(value as f32),
+    };
+    format!("real({v:e})")
+}
+
+/// `fn param(base, i)`, which the kernels use to read value `i` of the run whose
+/// block starts at `base`. Where `baked[i]` is `Some`, every run of the batch
+/// has that value and it is returned as a constant: after inlining, the
+/// compiler folds it into the arithmetic, and the storage read disappears.
+pub fn param_fn(baked: &[Option<f64>], precision: Precision) -> String {
+    let mut s = String::from(
+        "// Value i of the run whose parameters start at base: a constant where the\n\
+         // evaluator baked it (the same in every run), else read from run_params.\n\
+         fn param(base: u32, i: u32) -> real {\n    switch i {\n",
+    );
+    for (i, v) in baked.iter().enumerate() {
+        if let Some(v) = v {
+            s.push_str(&format!(
+                "        case {i}u: {{ return {}; }}\n",
+                real_literal(*v, precision)
+            ));
+        }
+    }
+    s.push_str("        default: {}\n    }\n    return run_params[base + i];\n}\n");
+    s
+}
+
 /// Full WGSL source of `kernel` for `model` at `precision`; `force_drive` when
-/// any experiment of the problem is force-driven.
-pub fn source(model: &GpuModel, precision: Precision, kernel: Kernel, force_drive: bool) -> String {
+/// any experiment of the problem is force-driven; `baked` per-run values that
+/// are constants (see [`param_fn`]; empty for the generic kernel).
+pub fn source(
+    model: &GpuModel,
+    precision: Precision,
+    kernel: Kernel,
+    force_drive: bool,
+    baked: &[Option<f64>],
+) -> String {
     let mut parts = vec![
         prelude(model, precision, force_drive),
         SHARED_EXP.to_string(),
@@ -112,6 +153,7 @@ pub fn source(model: &GpuModel, precision: Precision, kernel: Kernel, force_driv
                     .iter()
                     .map(|s| s.to_string()),
             );
+            parts.push(param_fn(baked, precision));
             parts.push(
                 match kernel {
                     Kernel::Fitness => KERNEL_FITNESS,

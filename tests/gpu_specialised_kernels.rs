@@ -1,0 +1,134 @@
+//! Fitness kernels specialised to a batch (per-run values that are the same in
+//! every run baked in as constants) score exactly as the generic kernel does:
+//! on the shipped example's free parameters, and after a batch changes a value
+//! the specialised kernel had baked (it is rebuilt with fewer constants).
+
+mod gpu_common;
+use gpu_common as common;
+
+use std::path::Path;
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rigfit::campaign::Campaign;
+use rigfit::eval::{Batch, Evaluator, Precision, Problem};
+use rigfit::gpu::{GpuContext, GpuEvaluator, GpuOptions};
+use rigfit::model::Scale;
+use rigfit::model::tensile::ix;
+
+const CANDIDATES: usize = 96;
+const SAMPLES: usize = 700;
+
+/// The shipped example, shortened to `SAMPLES` samples.
+fn shipped() -> Campaign {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("campaigns/aa2024_t3_synthetic.json");
+    let mut c = Campaign::load(&path).unwrap();
+    for e in &mut c.problem.experiments {
+        e.force.truncate(SAMPLES);
+        e.window = e.window.start..SAMPLES;
+    }
+    c
+}
+
+/// Free parameters uniform over their bounds (log-uniform on log scales).
+fn batch(c: &Campaign, seed: u64) -> Batch {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let genomes: Vec<Vec<f64>> = (0..CANDIDATES)
+        .map(|_| {
+            c.genes
+                .iter()
+                .map(|g| {
+                    let u: f64 = rng.random();
+                    match g.scale {
+                        Scale::Log => (g.lower.ln() + u * (g.upper / g.lower).ln()).exp(),
+                        Scale::Linear => g.lower + u * (g.upper - g.lower),
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    c.batch(&genomes)
+}
+
+fn evaluator(ctx: &GpuContext, problem: &Problem, p: Precision, specialise: bool) -> GpuEvaluator {
+    let options = GpuOptions {
+        specialise,
+        ..GpuOptions::default()
+    };
+    GpuEvaluator::new(ctx.clone(), problem.clone(), p, options).unwrap()
+}
+
+fn precisions(ctx: &GpuContext) -> Vec<Precision> {
+    let mut v = vec![Precision::F32];
+    if ctx.has_f64() {
+        v.push(Precision::F64);
+    }
+    v
+}
+
+fn bits(v: &[f64]) -> Vec<u64> {
+    v.iter().map(|x| x.to_bits()).collect()
+}
+
+/// Sets parameter `j` of every candidate with `value(i)`.
+fn set_param(b: &mut Batch, j: usize, value: impl Fn(usize) -> f64) {
+    let n = b.params[0].len() / b.candidates;
+    for i in 0..b.candidates {
+        b.params[0][i * n + j] = value(i);
+    }
+}
+
+#[test]
+fn specialised_fitness_equals_generic_bit_for_bit() {
+    let Some(ctx) = common::gpu() else { return };
+    let c = shipped();
+    let b = batch(&c, 11);
+    for p in precisions(&ctx) {
+        let generic = evaluator(&ctx, &c.problem, p, false).fitness(&b).unwrap();
+        let special = evaluator(&ctx, &c.problem, p, true).fitness(&b).unwrap();
+        assert_eq!(generic.diverged, special.diverged, "{p:?}");
+        assert_eq!(bits(&generic.values), bits(&special.values), "{p:?}");
+        // Not vacuous: every candidate scores differently, some of them well.
+        let mut distinct = bits(&generic.values);
+        distinct.sort_unstable();
+        distinct.dedup();
+        assert_eq!(distinct.len(), CANDIDATES, "{p:?}");
+        assert!(generic.values.iter().any(|v| *v < 0.1), "{p:?}");
+    }
+}
+
+#[test]
+fn a_changed_baked_value_rebuilds_the_kernel() {
+    let Some(ctx) = common::gpu() else { return };
+    let c = shipped();
+    for p in precisions(&ctx) {
+        let mut generic = evaluator(&ctx, &c.problem, p, false);
+        let mut special = evaluator(&ctx, &c.problem, p, true);
+        let first = batch(&c, 5);
+        // The specimen mass moves to another shared value, then varies per
+        // candidate: each batch must still score as the generic kernel does.
+        let mut moved = batch(&c, 6);
+        let m2 = moved.params[0][ix::M2];
+        set_param(&mut moved, ix::M2, |_| m2 * 1.5);
+        let mut spread = batch(&c, 7);
+        set_param(&mut spread, ix::M2, |i| m2 * (1.0 + i as f64 / 64.0));
+        let mut baked = Vec::new();
+        for b in [&first, &moved, &spread, &first] {
+            let g = generic.fitness(b).unwrap();
+            let s = special.fitness(b).unwrap();
+            assert_eq!(bits(&g.values), bits(&s.values), "{p:?}");
+            baked.push(special.specialised_constants().unwrap());
+        }
+        // 1/m2 was baked, then dropped once; nothing else changed.
+        assert_eq!(
+            baked,
+            vec![baked[0], baked[0] - 1, baked[0] - 1, baked[0] - 1],
+            "{p:?}"
+        );
+        assert_eq!(generic.specialised_constants(), None);
+        // The mass did matter.
+        let a = generic.fitness(&spread).unwrap();
+        let b = generic.fitness(&moved).unwrap();
+        assert_ne!(bits(&a.values), bits(&b.values));
+    }
+}
