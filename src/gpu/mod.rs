@@ -11,7 +11,9 @@
 //! of chosen candidates ([`with_best`] adds the best one). Long runs are split
 //! into chunks of [`GpuOptions::chunk_steps`] steps, all dispatched in one
 //! submit; the [`GpuContext`] (device) and the evaluator's pipelines and buffers
-//! are built once per job and reused every generation.
+//! are built once per job and reused every generation. The fitness kernel is
+//! specialised to the batch ([`specialise`]): values shared by every run are
+//! compiled in as constants, with bit-identical results.
 //!
 //! Candidates whose load-cell force leaves the experiment's blow-up limit (or
 //! becomes NaN/Inf) stop integrating and score [`crate::eval::DIVERGED`]; they
