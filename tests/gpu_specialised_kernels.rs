@@ -1,7 +1,9 @@
 //! Fitness kernels specialised to a batch (per-run values that are the same in
-//! every run baked in as constants) score exactly as the generic kernel does:
-//! on the shipped example's free parameters, and after a batch changes a value
-//! the specialised kernel had baked (it is rebuilt with fewer constants).
+//! every run baked in as constants) score as the generic kernel does, to
+//! rounding (the driver's compiler may regroup arithmetic on folded constants):
+//! on the shipped example's free parameters, and when batches share different
+//! values; each batch gets the kernel of its own shared values, so the same
+//! batch always gets the same bits.
 
 mod gpu_common;
 use gpu_common as common;
@@ -70,6 +72,26 @@ fn bits(v: &[f64]) -> Vec<u64> {
     v.iter().map(|x| x.to_bits()).collect()
 }
 
+/// Largest relative difference allowed between specialised and generic fitness.
+fn tolerance(p: Precision) -> f64 {
+    match p {
+        Precision::F64 => 1e-11,
+        Precision::F32 => 1e-4,
+    }
+}
+
+/// Asserts that two fitness vectors agree within `tolerance(p)`, relative.
+fn assert_close(generic: &[f64], special: &[f64], p: Precision) {
+    assert_eq!(generic.len(), special.len());
+    for (i, (g, s)) in generic.iter().zip(special).enumerate() {
+        let rel = ((g - s) / g.abs().max(1e-12)).abs();
+        assert!(
+            rel <= tolerance(p),
+            "{p:?} candidate {i}: generic {g}, specialised {s}"
+        );
+    }
+}
+
 /// Sets parameter `j` of every candidate with `value(i)`.
 fn set_param(b: &mut Batch, j: usize, value: impl Fn(usize) -> f64) {
     let n = b.params[0].len() / b.candidates;
@@ -79,7 +101,7 @@ fn set_param(b: &mut Batch, j: usize, value: impl Fn(usize) -> f64) {
 }
 
 #[test]
-fn specialised_fitness_equals_generic_bit_for_bit() {
+fn specialised_fitness_equals_generic_to_rounding() {
     let Some(ctx) = common::gpu() else { return };
     let c = shipped();
     let b = batch(&c, 11);
@@ -87,7 +109,7 @@ fn specialised_fitness_equals_generic_bit_for_bit() {
         let generic = evaluator(&ctx, &c.problem, p, false).fitness(&b).unwrap();
         let special = evaluator(&ctx, &c.problem, p, true).fitness(&b).unwrap();
         assert_eq!(generic.diverged, special.diverged, "{p:?}");
-        assert_eq!(bits(&generic.values), bits(&special.values), "{p:?}");
+        assert_close(&generic.values, &special.values, p);
         // Not vacuous: every candidate scores differently, some of them well.
         let mut distinct = bits(&generic.values);
         distinct.sort_unstable();
@@ -98,7 +120,7 @@ fn specialised_fitness_equals_generic_bit_for_bit() {
 }
 
 #[test]
-fn a_changed_baked_value_rebuilds_the_kernel() {
+fn each_batch_gets_the_kernel_of_its_own_shared_values() {
     let Some(ctx) = common::gpu() else { return };
     let c = shipped();
     for p in precisions(&ctx) {
@@ -113,22 +135,42 @@ fn a_changed_baked_value_rebuilds_the_kernel() {
         let mut spread = batch(&c, 7);
         set_param(&mut spread, ix::M2, |i| m2 * (1.0 + i as f64 / 64.0));
         let mut baked = Vec::new();
+        let mut first_bits = Vec::new();
         for b in [&first, &moved, &spread, &first] {
             let g = generic.fitness(b).unwrap();
             let s = special.fitness(b).unwrap();
-            assert_eq!(bits(&g.values), bits(&s.values), "{p:?}");
+            assert_eq!(g.diverged, s.diverged, "{p:?}");
+            assert_close(&g.values, &s.values, p);
             baked.push(special.specialised_constants().unwrap());
+            if std::ptr::eq(b, &first) {
+                first_bits.push(bits(&s.values));
+            }
         }
-        // 1/m2 was baked, then dropped once; nothing else changed.
-        assert_eq!(
-            baked,
-            vec![baked[0], baked[0] - 1, baked[0] - 1, baked[0] - 1],
-            "{p:?}"
-        );
+        // 1/m2 is baked while it is shared (with either value) and not once
+        // it varies.
+        let n = baked[0];
+        assert_eq!(baked, vec![n, n, n - 1, n], "{p:?}");
+        // The same batch gets the same bits whatever was scored in between.
+        assert_eq!(first_bits[0], first_bits[1], "{p:?}");
         assert_eq!(generic.specialised_constants(), None);
         // The mass did matter.
         let a = generic.fitness(&spread).unwrap();
         let b = generic.fitness(&moved).unwrap();
         assert_ne!(bits(&a.values), bits(&b.values));
     }
+}
+
+#[test]
+fn small_batches_use_the_generic_kernel() {
+    let Some(ctx) = common::gpu() else { return };
+    let c = shipped();
+    let mut b = batch(&c, 9);
+    let keep = rigfit::gpu::specialise::MIN_RUNS - 1;
+    let per_candidate = b.params[0].len() / b.candidates;
+    b.params[0].truncate(keep * per_candidate);
+    b.offsets[0].truncate(keep);
+    b.candidates = keep;
+    let mut special = evaluator(&ctx, &c.problem, Precision::F32, true);
+    special.fitness(&b).unwrap();
+    assert_eq!(special.specialised_constants(), None);
 }

@@ -55,13 +55,15 @@ fn hermite_crossing(g0: real, d0: real, g1: real, d1: real) -> real {
 }
 
 // n steps of length h from y, step i (0 ≤ i < n) starting at
-// t_base + (first + i)·h, each split at the switch if it fires inside.
+// t_base + (first + i)·h, each split at the switch if it fires inside. Used for
+// the prologue (a few steps per run); the sampled part of a run takes plain
+// steps in blocks and locates a crossing after the block (shared/run.wgsl).
 //
 // One loop around a single `rk4`, one sub-step per iteration, so the kernel
-// holds one copy of the stage code and no nested loop per step: CPU drivers
-// such as lavapipe execute both sides of every branch and every loop body at
-// least once. Phases of a step: 0 the whole step; 1 (only when the switch
-// crossed) from t to the crossing; 2 from the crossing to t + h in the
+// holds one copy of the stage code here and no nested loop per step: CPU
+// drivers such as lavapipe execute both sides of every branch and every loop
+// body at least once. Phases of a step: 0 the whole step; 1 (only when the
+// switch crossed) from t to the crossing; 2 from the crossing to t + h in the
 // post-switch regime. The loop state is updated with selects.
 fn rk4_switch_steps(
     rig: ptr<function, Rig>,

@@ -82,7 +82,10 @@ pub struct GpuEvaluator {
     force_drive: bool,
     fitness_layout: pipeline::Layout,
     fitness_kernel: Kernelled,
-    specialised: Option<Specialised>,
+    /// Specialised fitness kernels built so far, oldest first.
+    specialised: Vec<Specialised>,
+    /// The one that scored the last batch.
+    last_specialised: Option<usize>,
     history_kernel: Kernelled,
     settings: wgpu::Buffer,
     experiments: wgpu::Buffer,
@@ -158,7 +161,8 @@ impl GpuEvaluator {
             force_drive: force,
             fitness_layout,
             fitness_kernel,
-            specialised: None,
+            specialised: Vec::new(),
+            last_specialised: None,
             history_kernel,
             settings,
             experiments,
@@ -178,12 +182,11 @@ impl GpuEvaluator {
         &self.ctx
     }
 
-    /// How many per-run values the current specialised fitness kernel has
-    /// baked in; `None` before one was built.
+    /// How many per-run values the kernel that scored the last batch had baked
+    /// in; `None` when the generic kernel scored it.
     pub fn specialised_constants(&self) -> Option<usize> {
-        self.specialised
-            .as_ref()
-            .map(|s| specialise::count(&s.baked))
+        self.last_specialised
+            .map(|i| specialise::count(&self.specialised[i].baked))
     }
 
     fn stride(&self) -> u64 {
@@ -299,49 +302,52 @@ impl GpuEvaluator {
         }
     }
 
-    /// Whether the batch just uploaded gets the specialised kernel (one whose
-    /// baked values all hold in this batch; built, or rebuilt with fewer baked
-    /// values, where needed) rather than the generic one.
-    fn specialise_for(&mut self, runs: usize) -> Result<bool, GpuError> {
-        if !self.options.specialise {
-            return Ok(false);
+    /// Which specialised kernel scores the batch just uploaded (an index into
+    /// `specialised`, built first where needed), or `None` for the generic one.
+    /// The kernel depends only on the batch, never on the batches before it,
+    /// so the same batch always gets the same bits.
+    fn specialise_for(&mut self, runs: usize) -> Result<Option<usize>, GpuError> {
+        self.last_specialised = None;
+        if !self.options.specialise || runs < specialise::MIN_RUNS {
+            return Ok(None);
         }
         let stride = self.stride() as usize;
-        let constants = specialise::constant_slots(&self.host, stride, self.precision);
-        let fits = self
+        let baked = specialise::constant_slots(&self.host, stride, self.precision);
+        if let Some(i) = self
             .specialised
-            .as_ref()
-            .is_some_and(|s| specialise::serves(&s.baked, &constants));
-        if !fits && runs >= specialise::MIN_RUNS {
-            let baked = match &self.specialised {
-                Some(s) => specialise::intersect(&s.baked, &constants),
-                None => constants,
-            };
-            log::info!(
-                "specialising the {} fitness kernel: {} of {stride} per-run values are the same in every run",
-                super::shaders::real_type(self.precision),
-                specialise::count(&baked)
-            );
-            let kernel = pipeline::build(
-                &self.ctx,
-                Some((&self.model, self.force_drive, &baked)),
-                self.precision,
-                Kernel::Fitness,
-                Some(&self.fitness_layout),
-            )?;
-            self.specialised = Some(Specialised { baked, kernel });
-            return Ok(true);
+            .iter()
+            .position(|s| specialise::same(&s.baked, &baked))
+        {
+            self.last_specialised = Some(i);
+            return Ok(Some(i));
         }
-        Ok(fits)
+        log::info!(
+            "specialising the {} fitness kernel: {} of {stride} per-run values are the same in every run",
+            super::shaders::real_type(self.precision),
+            specialise::count(&baked)
+        );
+        let kernel = pipeline::build(
+            &self.ctx,
+            Some((&self.model, self.force_drive, &baked)),
+            self.precision,
+            Kernel::Fitness,
+            Some(&self.fitness_layout),
+        )?;
+        if self.specialised.len() >= specialise::MAX_KERNELS {
+            self.specialised.remove(0);
+        }
+        self.specialised.push(Specialised { baked, kernel });
+        let i = self.specialised.len() - 1;
+        self.last_specialised = Some(i);
+        Ok(Some(i))
     }
 
     fn run_fitness(&mut self, batch: &Batch) -> Result<Vec<f64>, GpuError> {
         let max_steps = self.upload(batch)?;
         let runs = batch.candidates * self.problem.experiments.len();
-        let kernel = if self.specialise_for(runs)? {
-            &self.specialised.as_ref().expect("just chosen").kernel
-        } else {
-            &self.fitness_kernel
+        let kernel = match self.specialise_for(runs)? {
+            Some(i) => &self.specialised[i].kernel,
+            None => &self.fitness_kernel,
         };
         let groups = pipeline::workgroups(&self.ctx, runs, kernel.workgroup_x)?;
         let settings = Settings {

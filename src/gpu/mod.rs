@@ -13,7 +13,7 @@
 //! submit; the [`GpuContext`] (device) and the evaluator's pipelines and buffers
 //! are built once per job and reused every generation. The fitness kernel is
 //! specialised to the batch ([`specialise`]): values shared by every run are
-//! compiled in as constants, with bit-identical results.
+//! compiled in as constants (the same results to rounding).
 //!
 //! Candidates whose load-cell force leaves the experiment's blow-up limit (or
 //! becomes NaN/Inf) stop integrating and score [`crate::eval::DIVERGED`]; they
@@ -26,9 +26,9 @@
 //!   velocity-only problems are compiled without the force-drive code.
 //! - In f32, step indices and prologue step counts are exact up to 2^24.
 //! - On CPU drivers (lavapipe) both sides of every branch run and every loop
-//!   body runs at least once, so the kernels hold one copy of the stage code
-//!   (one loop of sub-steps per sample interval, `shaders/shared/rk4.wgsl`) and
-//!   write the model's piecewise laws with `select`.
+//!   body runs at least once, so the sampled part of a run takes plain RK4
+//!   steps in blocks of samples and locates a fracture after its block
+//!   (`shaders/shared/run.wgsl`), and the model's piecewise laws are `select`s.
 //!
 //! # Precision
 //! `f32` everywhere; `f64` where the adapter has `SHADER_F64`. Exponentials use
