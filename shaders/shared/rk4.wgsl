@@ -3,7 +3,8 @@
 // Hermite cubic, same CROSSING_ITERATIONS bisection halvings.
 //
 // The model file provides `Rig`, `rig_actuators` (→ `Actuation`), `rig_deriv`, `rig_switch`,
-// `rig_fire` and `rig_is_broken`.
+// `rig_fire` and `rig_is_broken`; shared/run.wgsl also uses its drive clock
+// (`rig_clock`, `rig_clock_half`, `rig_clock_next`, `rig_actuators_clocked`).
 
 // Up to four degrees of freedom: positions q and velocities v.
 struct State {
@@ -14,8 +15,12 @@ struct State {
 // One plain RK4 step of length h from (t, y). The actuator is evaluated once per
 // distinct stage time (t, t + h/2, t + h), by the model in one call.
 fn rk4(rig: Rig, t: real, h: real, y: State) -> State {
+    return rk4_act(rig, rig_actuators(rig, t, h), h, y);
+}
+
+// One plain RK4 step of length h from y with the actuator `act` at its stage times.
+fn rk4_act(rig: Rig, act: Actuation, h: real, y: State) -> State {
     let hh = real(0.5) * h;
-    let act = rig_actuators(rig, t, h);
     let a0 = act.a0;
     let am = act.am;
     let a1 = act.a1;

@@ -19,7 +19,9 @@
 // CPU drivers such as lavapipe run every loop body and both sides of every
 // branch for all lanes, and the crossing code now costs once per block instead
 // of once per step. A lane that crossed waits for the rest of its block, at
-// most BLOCK_SAMPLES intervals per run.
+// most BLOCK_SAMPLES intervals per run. The drive's clock (the model's
+// rig_clock) is computed at the start of a block and advanced by a product per
+// step.
 
 const BLOCK_SAMPLES: u32 = 32u;
 
@@ -68,12 +70,14 @@ fn advance(slot: u32, base: u32, e: u32) {
         }
         // First step of the current interval still to take (after a crossing).
         var resume_at = 0u;
+        let half = rig_clock_half(rig, h);
         loop {
             if done || prog.y >= ex.samples || budget == 0u {
                 break;
             }
             var crossed = false;
             var i = resume_at;
+            var clock = rig_clock(rig, t0 + real((prog.y - 1u) * settings.substeps + i) * h);
             var g1 = g;
             var b = 0u;
             loop {
@@ -85,7 +89,8 @@ fn advance(slot: u32, base: u32, e: u32) {
                     if i >= settings.substeps {
                         break;
                     }
-                    let next = rk4(rig, t0 + real(first + i) * h, h, y);
+                    let t = t0 + real(first + i) * h;
+                    let next = rk4_act(rig, rig_actuators_clocked(rig, t, h, clock, half), h, y);
                     g1 = rig_switch(rig, next);
                     if !rig_is_broken(rig) && g1.x >= real(0.0) {
                         crossed = true;
@@ -93,6 +98,7 @@ fn advance(slot: u32, base: u32, e: u32) {
                     }
                     y = next;
                     g = g1;
+                    clock = rig_clock_next(clock, half);
                     i += 1u;
                 }
                 if crossed {

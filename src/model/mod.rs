@@ -87,9 +87,11 @@ pub trait RigModel: Send + Sync + std::fmt::Debug {
 #[derive(Debug, Clone, Copy)]
 pub struct GpuModel {
     /// WGSL source defining `Rig`, `rig_load`, `rig_actuator`, `rig_actuators`
-    /// (the `Actuation` of a whole step), `rig_deriv`,
-    /// `rig_switch`, `rig_fire`, `rig_is_broken`, `rig_outputs` and
-    /// `rig_full_state` (one of the constants in `crate::gpu::shaders`).
+    /// (the `Actuation` of a whole step), the drive clock carried between steps
+    /// (`rig_clock`, `rig_clock_half`, `rig_clock_next`, `rig_actuators_clocked`;
+    /// a model without one returns constants), `rig_deriv`, `rig_switch`,
+    /// `rig_fire`, `rig_is_broken`, `rig_outputs` and `rig_full_state` (one of
+    /// the constants in `crate::gpu::shaders`).
     pub wgsl: &'static str,
     /// Names of the packed per-run values, in order; the shader stitcher emits a
     /// `const P_<NAME>: u32` index for each.
