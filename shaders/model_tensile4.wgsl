@@ -5,8 +5,9 @@
 // Differences from the CPU text, all within the parity tolerance: divisions by
 // masses are multiplications by 1/m packed on the host; a/b of the slack law
 // and v/r of the drive are packed as one value each; the drive's exponential at
-// t + h/2 and t + h is e(t)·e^{−v·h/2r} (two exponentials per step, not three);
-// piecewise laws are selects (CPU drivers run both sides of a branch anyway).
+// t + h/2 and t + h is e(t)·e^{−v·h/2r}, and e(t) itself is carried from step to
+// step by the run loop (see rig_clock); piecewise laws are selects (CPU drivers
+// run both sides of a branch anyway).
 
 // The actuator at the stage times t, t + h/2 and t + h of one RK4 step.
 struct Actuation {
