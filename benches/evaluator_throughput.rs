@@ -25,7 +25,7 @@ use criterion::{BenchmarkId, Criterion, Throughput};
 use rigfit::campaign::Campaign;
 use rigfit::eval::{Batch, CpuEvaluator, Evaluator, Precision, Problem};
 use rigfit::gpu::{GpuContext, GpuEvaluator, GpuOptions};
-use rigfit::model::Scale;
+use rigfit::job::gene_specs;
 
 const POPULATIONS: [usize; 3] = [1024, 4096, 16384];
 /// Timed evaluations per table cell; the table shows the fastest.
@@ -62,19 +62,9 @@ fn batch(n: usize) -> Batch {
         s ^= s << 17;
         (s >> 11) as f64 / (1u64 << 53) as f64
     };
+    let genes = gene_specs(&c);
     let genomes: Vec<Vec<f64>> = (0..n)
-        .map(|_| {
-            c.genes
-                .iter()
-                .map(|g| {
-                    let u = uniform();
-                    match g.scale {
-                        Scale::Log => (g.lower.ln() + u * (g.upper / g.lower).ln()).exp(),
-                        Scale::Linear => g.lower + u * (g.upper - g.lower),
-                    }
-                })
-                .collect()
-        })
+        .map(|_| genes.iter().map(|g| g.at_fraction(uniform())).collect())
         .collect();
     c.batch(&genomes)
 }

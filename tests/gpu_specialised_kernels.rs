@@ -15,7 +15,7 @@ use rand_chacha::ChaCha8Rng;
 use rigfit::campaign::Campaign;
 use rigfit::eval::{Batch, Evaluator, Precision, Problem};
 use rigfit::gpu::{GpuContext, GpuEvaluator, GpuOptions};
-use rigfit::model::Scale;
+use rigfit::job::gene_specs;
 use rigfit::model::tensile::ix;
 
 const CANDIDATES: usize = 96;
@@ -35,19 +35,9 @@ fn shipped() -> Campaign {
 /// Free parameters uniform over their bounds (log-uniform on log scales).
 fn batch(c: &Campaign, seed: u64) -> Batch {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let genes = gene_specs(c);
     let genomes: Vec<Vec<f64>> = (0..CANDIDATES)
-        .map(|_| {
-            c.genes
-                .iter()
-                .map(|g| {
-                    let u: f64 = rng.random();
-                    match g.scale {
-                        Scale::Log => (g.lower.ln() + u * (g.upper / g.lower).ln()).exp(),
-                        Scale::Linear => g.lower + u * (g.upper - g.lower),
-                    }
-                })
-                .collect()
-        })
+        .map(|_| genes.iter().map(|g| g.at_fraction(rng.random())).collect())
         .collect();
     c.batch(&genomes)
 }

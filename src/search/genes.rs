@@ -91,6 +91,14 @@ impl GeneSpec {
         }
     }
 
+    /// The value at fraction `u` (0 at the lower bound, 1 at the upper) of the
+    /// range in scale space: uniform `u` gives values uniform on a linear scale
+    /// and log-uniform on a log scale.
+    pub fn at_fraction(&self, u: f64) -> f64 {
+        let (lo, hi) = self.scaled_bounds();
+        self.to_value(lo + u * (hi - lo))
+    }
+
     /// A scale-space coordinate mapped back to a value inside the bounds.
     pub fn to_value(&self, scaled: f64) -> f64 {
         let v = match self.scale {
@@ -130,6 +138,16 @@ mod tests {
         let (lo, hi) = g.scaled_bounds();
         assert!(g.to_value(lo) >= g.lower && g.to_value(hi) <= g.upper);
         assert!((g.to_value(g.to_scaled(2.5)) - 2.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn fractions_span_the_range_in_scale_space() {
+        let g = GeneSpec::new("k", 1e2, 1e6, Scale::Log);
+        assert_eq!(g.at_fraction(0.0), 1e2);
+        assert!((g.at_fraction(0.5) - 1e4).abs() < 1e-8);
+        assert_eq!(g.at_fraction(1.0), 1e6);
+        let l = GeneSpec::new("x", -1.0, 3.0, Scale::Linear);
+        assert_eq!(l.at_fraction(0.25), 0.0);
     }
 
     #[test]
