@@ -146,7 +146,7 @@ mod tests {
         let near = |a: f64, b: f64| (a / b - 1.0).abs() < 1e-12;
         assert!(near(g.at_fraction(0.0), 1e2));
         assert!(near(g.at_fraction(0.5), 1e4));
-        assert_eq!(g.at_fraction(1.0), 1e6);
+        assert!(near(g.at_fraction(1.0), 1e6) && g.at_fraction(1.0) <= 1e6);
         let l = GeneSpec::new("x", -1.0, 3.0, Scale::Linear);
         assert_eq!(l.at_fraction(0.25), 0.0);
     }
