@@ -25,6 +25,18 @@
 
 const BLOCK_SAMPLES: u32 = 32u;
 
+// Index of the first step of the interval that ends at sample k (k ≥ 1).
+fn interval_start(k: u32) -> u32 {
+    return (k - 1u) * settings.substeps;
+}
+
+// Start time of step n (counted from t0), from its index, as the CPU computes
+// it. The block's clock, the steps and a crossing's redo all take their times
+// from here, so they agree bit for bit.
+fn step_time(t0: real, h: real, n: u32) -> real {
+    return t0 + real(n) * h;
+}
+
 fn advance(slot: u32, base: u32, e: u32) {
     var prog = progress[slot];
     if (prog.z & FLAG_DONE) != 0u {
@@ -77,19 +89,19 @@ fn advance(slot: u32, base: u32, e: u32) {
             }
             var crossed = false;
             var i = resume_at;
-            var clock = rig_clock(rig, t0 + real((prog.y - 1u) * settings.substeps + i) * h);
+            var clock = rig_clock(rig, step_time(t0, h, interval_start(prog.y) + i));
             var g1 = g;
             var b = 0u;
             loop {
                 if done || b >= BLOCK_SAMPLES || prog.y >= ex.samples || budget == 0u {
                     break;
                 }
-                let first = (prog.y - 1u) * settings.substeps;
+                let first = interval_start(prog.y);
                 loop {
                     if i >= settings.substeps {
                         break;
                     }
-                    let t = t0 + real(first + i) * h;
+                    let t = step_time(t0, h, first + i);
                     let next = rk4_act(rig, rig_actuators_clocked(rig, t, h, clock, half), h, y);
                     g1 = rig_switch(rig, next);
                     if !rig_is_broken(rig) && g1.x >= real(0.0) {
@@ -114,7 +126,7 @@ fn advance(slot: u32, base: u32, e: u32) {
             if crossed {
                 // Step i of the interval, from y at t, crosses: redo it as t → t + s,
                 // fire, t + s → t + h, then resume the interval at step i + 1.
-                let t = t0 + real((prog.y - 1u) * settings.substeps + i) * h;
+                let t = step_time(t0, h, interval_start(prog.y) + i);
                 let s = hermite_crossing(g.x, g.y * h, g1.x, g1.y * h) * h;
                 for (var part = 0u; part < 2u; part += 1u) {
                     let second = part == 1u;
