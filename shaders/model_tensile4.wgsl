@@ -245,8 +245,8 @@ fn rig_forces(rig: Rig, act: vec3<real>, y: State) -> vec4<real> {
 
 fn rig_deriv(rig: Rig, act: vec3<real>, y: State) -> State {
     let f = rig_forces(rig, act, y);
-    var q4 = act.y;
-    var a4 = act.z;
+    var q4 = real(0.0);
+    var a4 = real(0.0);
     if FORCE_DRIVE && rig.drive_kind == DRIVE_FORCE {
         q4 = y.v.w;
         a4 = (act.x - f.w) * rig.inv_m4;

@@ -80,62 +80,63 @@ fn advance(slot: u32, base: u32, e: u32) {
         if !rig_is_broken(rig) && g.x >= real(0.0) {
             rig_fire(&rig);
         }
-        // First step of the current interval still to take (after a crossing).
-        var resume_at = 0u;
         let half = rig_clock_half(rig, h);
+        // Step i of the current interval is step idx from t0.
+        var i = 0u;
+        var idx = interval_start(prog.y);
+        // A crossing being redone: phase 1 takes t → t + s, phase 2 t + s → t + h;
+        // fa and fb are the drive clock's factors over half of each part.
+        var phase = 0u;
+        var s = real(0.0);
+        var fa = real(1.0);
+        var fb = real(1.0);
         loop {
             if done || prog.y >= ex.samples || budget == 0u {
                 break;
             }
+            // A run whose step crosses the switch stops advancing (crossed) with
+            // y and g at that step's start and gc at its end.
             var crossed = false;
-            var i = resume_at;
-            var clock = rig_clock(rig, step_time(t0, h, interval_start(prog.y) + i));
-            var g1 = g;
-            var b = 0u;
-            loop {
-                if done || b >= BLOCK_SAMPLES || prog.y >= ex.samples || budget == 0u {
-                    break;
+            var gc = g;
+            var clock = rig_clock(rig, step_time(t0, h, idx));
+            for (var n = 0u; n < BLOCK_SAMPLES * settings.substeps; n += 1u) {
+                let live = !crossed && !done && prog.y < ex.samples && budget > 0u;
+                let first = phase == 1u;
+                let second = phase == 2u;
+                let t = step_time(t0, h, idx);
+                let ts = select(t, t + s, second);
+                let hs = select(select(h, s, first), h - s, second);
+                let hf = select(half, select(fa, fb, second), phase != 0u);
+                let next = rk4_act(rig, rig_actuators_clocked(rig, ts, hs, clock, hf), hs, y);
+                let gn = rig_switch(rig, next);
+                let hit = live && phase == 0u && !rig_is_broken(rig) && gn.x >= real(0.0);
+                crossed = crossed || hit;
+                gc = select(gc, gn, hit);
+                let take = live && !hit;
+                y = State(select(y.q, next.q, take), select(y.v, next.v, take));
+                g = select(g, gn, take);
+                clock = select(clock, rig_clock_next(clock, hf), take);
+                if take && first {
+                    rig_fire(&rig);
                 }
-                let first = interval_start(prog.y);
-                loop {
-                    if i >= settings.substeps {
-                        break;
-                    }
-                    let t = step_time(t0, h, first + i);
-                    let next = rk4_act(rig, rig_actuators_clocked(rig, t, h, clock, half), h, y);
-                    g1 = rig_switch(rig, next);
-                    if !rig_is_broken(rig) && g1.x >= real(0.0) {
-                        crossed = true;
-                        break;
-                    }
-                    y = next;
-                    g = g1;
-                    clock = rig_clock_next(clock, half);
-                    i += 1u;
+                phase = select(phase, select(0u, 2u, first), take && phase != 0u);
+                let stepped = take && !first;
+                idx += select(0u, 1u, stepped);
+                i += select(0u, 1u, stepped);
+                if stepped && i == settings.substeps {
+                    budget -= min(budget, settings.substeps);
+                    done = observe(slot, ex, prog.y, t0 + real(prog.y) * dt, limit, rig, y, &acc);
+                    prog.y += 1u;
+                    i = 0u;
                 }
-                if crossed {
-                    break;
-                }
-                budget -= min(budget, settings.substeps);
-                done = observe(slot, ex, prog.y, t0 + real(prog.y) * dt, limit, rig, y, &acc);
-                prog.y += 1u;
-                b += 1u;
-                i = 0u;
             }
-            resume_at = 0u;
             if crossed {
-                // Step i of the interval, from y at t, crosses: redo it as t → t + s,
-                // fire, t + s → t + h, then resume the interval at step i + 1.
-                let t = step_time(t0, h, interval_start(prog.y) + i);
-                let s = hermite_crossing(g.x, g.y * h, g1.x, g1.y * h) * h;
-                for (var part = 0u; part < 2u; part += 1u) {
-                    let second = part == 1u;
-                    y = rk4(rig, select(t, t + s, second), select(s, h - s, second), y);
-                    if !second {
-                        rig_fire(&rig);
-                    }
-                }
-                resume_at = i + 1u;
+                // Locate the crossing in step idx (Hermite cubic, as the CPU); the
+                // next block redoes the step in two parts.
+                s = hermite_crossing(g.x, g.y * h, gc.x, gc.y * h) * h;
+                fa = rig_clock_half(rig, s);
+                fb = rig_clock_half(rig, h - s);
+                phase = 1u;
             }
         }
         if prog.y >= ex.samples {
