@@ -99,7 +99,8 @@ fn advance(slot: u32, base: u32, e: u32) {
             var crossed = false;
             var gc = g;
             var clock = rig_clock(rig, step_time(t0, h, idx));
-            for (var n = 0u; n < BLOCK_SAMPLES * settings.substeps; n += 1u) {
+            var n = 0u;
+            loop {
                 let live = !crossed && !done && prog.y < ex.samples && budget > 0u;
                 let first = phase == 1u;
                 let second = phase == 2u;
@@ -128,6 +129,10 @@ fn advance(slot: u32, base: u32, e: u32) {
                     done = observe(slot, ex, prog.y, t0 + real(prog.y) * dt, limit, rig, y, &acc);
                     prog.y += 1u;
                     i = 0u;
+                }
+                continuing {
+                    n += 1u;
+                    break if n >= BLOCK_SAMPLES * settings.substeps;
                 }
             }
             if crossed {
