@@ -243,6 +243,9 @@ fn rig_forces(rig: Rig, act: vec3<real>, y: State) -> vec4<real> {
     return vec4<real>(f1, f2, f3, f4);
 }
 
+// Under a velocity drive the actuator's slots (q.w, v.w) are not integrated:
+// its motion is prescribed (act), and rig_full_state fills them for outputs.
+// Their derivatives are 0, which the driver's compiler folds away.
 fn rig_deriv(rig: Rig, act: vec3<real>, y: State) -> State {
     let f = rig_forces(rig, act, y);
     var q4 = real(0.0);

@@ -10,18 +10,23 @@
 // storage load in the per-sample path is a per-lane gather, and the measured
 // force is the only one left there.
 //
-// Samples are taken in blocks of BLOCK_SAMPLES intervals of plain RK4 steps,
-// each step checking the switching function at its end. A run whose step
-// crosses the switch leaves the block at once, with the state and switching
-// function at the start of that step; after the block the crossing is located
-// (Hermite cubic, as the CPU) and the step is redone in two parts, and the next
-// block resumes the interval after it. So the hot loop holds no crossing code:
-// CPU drivers such as lavapipe run every loop body and both sides of every
-// branch for all lanes, and the crossing code now costs once per block instead
-// of once per step. A lane that crossed waits for the rest of its block, at
-// most BLOCK_SAMPLES intervals per run. The drive's clock (the model's
+// Samples are taken in blocks of BLOCK_SAMPLES intervals: one flat loop of
+// BLOCK_SAMPLES · substeps iterations, one RK4 step each, every step checking
+// the switching function at its end and every completed interval observed.
+// A run whose step crosses the switch stops advancing for the rest of the
+// block, keeping the state and switching function at that step's start; after
+// the block the crossing is located (Hermite cubic, as the CPU), and the next
+// block's first two iterations redo the step in two parts (phase 1: t → t + s,
+// then fire; phase 2: t + s → t + h). The drive's clock (the model's
 // rig_clock) is computed at the start of a block and advanced by a product per
-// step.
+// step, with its own factors over the two parts.
+//
+// Why this shape: CPU drivers such as lavapipe run every loop body and both
+// sides of every branch for all lanes, and a loop whose exit test sits at its
+// head runs one more masked pass of its body. So the hot loop holds one copy
+// of the step and no nested loop, tests its trip count at its end, and keeps
+// runs apart with selects rather than breaks; the crossing code runs once per
+// block. A run that crossed waits at most one block.
 
 const BLOCK_SAMPLES: u32 = 32u;
 
