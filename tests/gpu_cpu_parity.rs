@@ -105,6 +105,40 @@ fn f64_force_histories_match_cpu_within_1e_9() {
     assert!(worst <= F64_HISTORY_TOLERANCE, "{worst:e}");
 }
 
+/// The same 1600 RK4 steps of length REFERENCE_DT / 2 taken as one and as three
+/// steps per sample: a fracture step then ends its interval or sits anywhere in
+/// it, and a block of 32 samples spans 32 or 96 steps.
+#[test]
+fn f64_force_histories_match_cpu_at_one_and_three_steps_per_sample() {
+    let Some(ctx) = common::gpu() else { return };
+    if !ctx.has_f64() {
+        eprintln!("no SHADER_F64 on {}; skipped", ctx.describe());
+        return;
+    }
+    let h = REFERENCE_DT / REFERENCE_SUBSTEPS as f64;
+    for substeps in [1, 3] {
+        let samples = SAMPLES * REFERENCE_SUBSTEPS / substeps;
+        let dt = h * substeps as f64;
+        let problem = Problem {
+            model: &TENSILE4,
+            experiments: vec![reference_experiment(samples, dt, substeps, 20.0, 7)],
+            substeps,
+        };
+        let (worst, broke) = history_error(&ctx, Precision::F64, &problem, &spread_batch(&problem));
+        eprintln!(
+            "{substeps} steps per sample: f64 worst relative history error {worst:e}; {broke} fractured"
+        );
+        assert!(
+            broke > 10 && broke < CANDIDATES - 10,
+            "fracture mix: {broke}"
+        );
+        assert!(
+            worst <= F64_HISTORY_TOLERANCE,
+            "{substeps} steps per sample: {worst:e}"
+        );
+    }
+}
+
 #[test]
 fn f32_force_histories_match_cpu_within_documented_tolerance() {
     let Some(ctx) = common::gpu() else { return };
