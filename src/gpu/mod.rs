@@ -25,10 +25,12 @@
 //! - Force drives are supported (table in the data buffer); kernels for
 //!   velocity-only problems are compiled without the force-drive code.
 //! - In f32, step indices and prologue step counts are exact up to 2^24.
-//! - On CPU drivers (lavapipe) both sides of every branch run and every loop
-//!   body runs at least once, so the sampled part of a run takes plain RK4
-//!   steps in blocks of samples and locates a fracture after its block
-//!   (`shaders/shared/run.wgsl`), and the model's piecewise laws are `select`s.
+//! - On CPU drivers (lavapipe) both sides of every branch run, every loop body
+//!   runs at least once and a loop tested at its head runs one extra masked
+//!   pass, so the sampled part of a run is one flat loop of RK4 steps per block
+//!   of samples that locates a fracture after its block and redoes that step in
+//!   the next (`shaders/shared/run.wgsl`), and the model's piecewise laws are
+//!   `select`s.
 //!
 //! # Precision
 //! `f32` everywhere; `f64` where the adapter has `SHADER_F64`. Exponentials use
