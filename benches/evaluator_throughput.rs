@@ -12,7 +12,8 @@
 //! `RIGFIT_BENCH_TABLE_ONLY=1` stops after the table; `RIGFIT_BENCH_ROWS=gpu-f32,…`
 //! keeps only the rows whose names contain one of the given words,
 //! `RIGFIT_BENCH_POPS=4096,…` only the given populations and
-//! `RIGFIT_BENCH_SAMPLES=500` shortens the record (for quick kernel work);
+//! `RIGFIT_BENCH_SAMPLES=500` shortens the record (for quick kernel work),
+//! `RIGFIT_BENCH_SUBSTEPS=10` takes that many RK4 steps per sample;
 //! `RIGFIT_BENCH_CPU_TIME=1` adds candidate-steps per CPU-second of the process.
 //!
 //! Timings drop by half or more while other builds share the cores (compare
@@ -47,6 +48,12 @@ fn problem() -> Problem {
             e.force.truncate(n);
             e.window = e.window.start.min(n)..n;
         }
+    }
+    if let Some(n) = std::env::var("RIGFIT_BENCH_SUBSTEPS")
+        .ok()
+        .and_then(|v| v.parse::<usize>().ok())
+    {
+        p.substeps = n.max(1);
     }
     p
 }

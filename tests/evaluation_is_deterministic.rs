@@ -65,7 +65,12 @@ fn gpu_f64_fitness_is_bit_identical_across_runs() {
 #[test]
 fn chunk_size_does_not_change_gpu_fitness() {
     let Some(ctx) = common::gpu() else { return };
-    let (problem, batch) = setup();
+    let (problem, mut batch) = setup();
+    // Clock offsets with a prologue, so a chunk's budget also runs out inside a
+    // block of the run loop.
+    for (i, o) in batch.offsets[0].iter_mut().enumerate() {
+        *o = [0.0, 1.7e-6, 3.0e-6][i % 3];
+    }
     let precision = if ctx.has_f64() {
         Precision::F64
     } else {
@@ -81,6 +86,7 @@ fn chunk_size_does_not_change_gpu_fitness() {
         },
     )
     .unwrap();
+    // Rounded up to one block of 32 samples (64 steps): 25 dispatches.
     let chunked_options = GpuOptions {
         chunk_steps: 37,
         ..GpuOptions::default()

@@ -10,7 +10,8 @@
 // storage load in the per-sample path is a per-lane gather, and the measured
 // force is the only one left there.
 //
-// Samples are taken in blocks of BLOCK_SAMPLES intervals: one flat loop of
+// Samples are taken in blocks of BLOCK_SAMPLES intervals (from the prelude; the
+// host makes a chunk a whole number of blocks): one flat loop of
 // BLOCK_SAMPLES · substeps iterations, one RK4 step each, every step checking
 // the switching function at its end and every completed interval observed.
 // A run whose step crosses the switch stops advancing for the rest of the
@@ -27,8 +28,6 @@
 // of the step and no nested loop, tests its trip count at its end, and keeps
 // runs apart with selects rather than breaks; the crossing code runs once per
 // block. A run that crossed waits at most one block.
-
-const BLOCK_SAMPLES: u32 = 32u;
 
 // Index of the first step of the interval that ends at sample k (k ≥ 1).
 fn interval_start(k: u32) -> u32 {

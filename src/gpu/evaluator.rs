@@ -5,7 +5,7 @@ use crate::eval::{
 };
 use crate::model::{Drive, GpuModel};
 
-use super::layout::{HIST_VALUES, STATE_STRIDE, Settings};
+use super::layout::{BLOCK_SAMPLES, HIST_VALUES, STATE_STRIDE, Settings};
 use super::pack::{
     PackedProblem, from_real_bytes, pack_problem, pack_runs, real_size, to_real_bytes,
 };
@@ -23,7 +23,8 @@ const UNFINISHED: f64 = -2.0;
 pub struct GpuOptions {
     /// RK4 steps each invocation advances per dispatch. Long runs are split into
     /// several dispatches (all in one submit) so that no single dispatch runs long
-    /// enough to trip a display driver's watchdog.
+    /// enough to trip a display driver's watchdog. Rounded up to whole blocks of
+    /// the run loop (32 samples of `substeps` steps each).
     pub chunk_steps: u32,
     /// Bake the per-run values that are the same in every run of a batch into
     /// the fitness kernel (see `specialise.rs`); batches of fewer than
@@ -278,9 +279,17 @@ impl GpuEvaluator {
         })
     }
 
+    /// Steps per dispatch: `options.chunk_steps` rounded up to whole blocks of
+    /// [`BLOCK_SAMPLES`] samples, so that no block of the run loop outlasts its
+    /// chunk's budget with every lane idle.
+    fn chunk_steps(&self) -> u32 {
+        let block = BLOCK_SAMPLES * self.problem.substeps as u32;
+        self.options.chunk_steps.max(1).div_ceil(block) * block
+    }
+
     /// Number of dispatches that finish runs of up to `max_steps` steps.
     fn dispatches(&self, max_steps: usize) -> u32 {
-        (max_steps.div_ceil(self.options.chunk_steps.max(1) as usize) + 1) as u32
+        (max_steps.div_ceil(self.chunk_steps() as usize) + 1) as u32
     }
 
     /// Encodes the chunked dispatches of one pass into `encoder`.
@@ -353,7 +362,7 @@ impl GpuEvaluator {
         let settings = Settings {
             runs: runs as u32,
             experiments: self.problem.experiments.len() as u32,
-            chunk_steps: self.options.chunk_steps,
+            chunk_steps: self.chunk_steps(),
             hist_stride: 0,
             substeps: self.problem.substeps as u32,
             _pad: [0; 3],
@@ -392,7 +401,7 @@ impl GpuEvaluator {
         let settings = Settings {
             runs: runs as u32,
             experiments: ne as u32,
-            chunk_steps: self.options.chunk_steps,
+            chunk_steps: self.chunk_steps(),
             hist_stride: self.packed.hist_stride,
             substeps: self.problem.substeps as u32,
             _pad: [0; 3],

@@ -63,6 +63,11 @@ pub const FLAG_DONE: u32 = 1;
 /// Progress flag: the specimen has fractured.
 pub const FLAG_BROKEN: u32 = 2;
 
+/// Samples per block of the sampled run loop (`shaders/shared/run.wgsl`): the
+/// loop's trip count is `BLOCK_SAMPLES · substeps` steps, and a chunk is a whole
+/// number of blocks.
+pub const BLOCK_SAMPLES: u32 = 32;
+
 /// Values per run in the state buffer: 8 states, the residual sum, one spare.
 pub const STATE_STRIDE: u32 = 10;
 /// Values per sample in a history record: t, 2 outputs, 8 full states.
@@ -86,6 +91,7 @@ pub fn shared_constants(model_slots: &[&str]) -> Vec<(String, u32)> {
             "CROSSING_ITERATIONS".into(),
             crate::integrate::CROSSING_ITERATIONS as u32,
         ),
+        ("BLOCK_SAMPLES".into(), BLOCK_SAMPLES),
         ("FLAG_DONE".into(), FLAG_DONE),
         ("FLAG_BROKEN".into(), FLAG_BROKEN),
         ("DRIVE_VELOCITY".into(), DRIVE_VELOCITY),
