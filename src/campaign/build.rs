@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use super::error::{invalid, parse_json};
 use super::raw::{RawCampaign, RawDrive, RawExperiment, RawParam};
-use super::resolve::{Spec, check_map, check_physics, check_value, resolve};
+use super::resolve::{check_map, check_physics, check_value, resolve};
 use super::stability::{SolverSettings, choose};
 use super::{Campaign, CampaignError, FNV_BASIS, Gene, GeneTarget, Source, acts_in, fnv1a};
 use crate::data::{Column, CsvSpec, Series, parse_csv};
@@ -83,26 +83,8 @@ pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, Cam
         genes.extend(r.genes.iter().filter(|g| g.experiment == Some(e)).cloned());
         let raw_off = x.offset.clone().unwrap_or(RawParam::Fixed(0.0));
         let spec = check_value(file, &format!("experiments[{e}].offset"), &raw_off, None)?;
-        if let Spec::Free {
-            lower,
-            upper,
-            scale,
-            init,
-        } = spec
-        {
-            let name = format!("{}.offset", x.name);
-            let target = GeneTarget::Offset;
-            genes.push(Gene {
-                name,
-                experiment: Some(e),
-                target,
-                lower,
-                upper,
-                scale,
-                init,
-                unit: "s",
-            });
-        }
+        let name = format!("{}.offset", x.name);
+        genes.extend(spec.gene(name, Some(e), GeneTarget::Offset, "s"));
         base_offsets.push(spec.base());
     }
 

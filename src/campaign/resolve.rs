@@ -36,6 +36,34 @@ impl Spec {
             Spec::Free { lower, upper, .. } => 0.5 * (lower + upper),
         }
     }
+
+    /// The gene that searches this value, or `None` when it is fixed.
+    pub(crate) fn gene(
+        &self,
+        name: String,
+        experiment: Option<usize>,
+        target: GeneTarget,
+        unit: &'static str,
+    ) -> Option<Gene> {
+        match *self {
+            Spec::Fixed(_) => None,
+            Spec::Free {
+                lower,
+                upper,
+                scale,
+                init,
+            } => Some(Gene {
+                name,
+                experiment,
+                target,
+                lower,
+                upper,
+                scale,
+                init,
+                unit,
+            }),
+        }
+    }
 }
 
 /// Checks one raw value at `path`. `info` is `None` for an offset (linear only).
@@ -203,33 +231,22 @@ pub(crate) fn resolve(
         warnings: Vec::new(),
     };
     for (&i, (spec, path)) in shared {
-        if let Spec::Free {
-            lower,
-            upper,
-            scale,
-            init,
-        } = *spec
-        {
-            if own.iter().all(|o| o.contains_key(&i)) {
-                r.warnings.push(format!(
-                    "{}: {path}: free parameter is overridden in every experiment; it is not searched",
-                    file.display()
-                ));
-                continue;
-            }
-            let target = GeneTarget::Param(i);
-            let (name, unit) = (infos[i].name.to_string(), infos[i].unit);
-            r.genes.push(Gene {
-                name,
-                experiment: None,
-                target,
-                lower,
-                upper,
-                scale,
-                init,
-                unit,
-            });
+        let Some(gene) = spec.gene(
+            infos[i].name.to_string(),
+            None,
+            GeneTarget::Param(i),
+            infos[i].unit,
+        ) else {
+            continue;
+        };
+        if own.iter().all(|o| o.contains_key(&i)) {
+            r.warnings.push(format!(
+                "{}: {path}: free parameter is overridden in every experiment; it is not searched",
+                file.display()
+            ));
+            continue;
         }
+        r.genes.push(gene);
     }
     for (e, own_e) in own.iter().enumerate() {
         let mut base = Vec::with_capacity(infos.len());
@@ -251,26 +268,9 @@ pub(crate) fn resolve(
                 }
             };
             if source == Source::Own {
-                if let Spec::Free {
-                    lower,
-                    upper,
-                    scale,
-                    init,
-                } = spec
-                {
-                    let name = format!("{}.{}", names[e], info.name);
-                    let target = GeneTarget::Param(i);
-                    r.genes.push(Gene {
-                        name,
-                        experiment: Some(e),
-                        target,
-                        lower,
-                        upper,
-                        scale,
-                        init,
-                        unit: info.unit,
-                    });
-                }
+                let name = format!("{}.{}", names[e], info.name);
+                r.genes
+                    .extend(spec.gene(name, Some(e), GeneTarget::Param(i), info.unit));
             }
             base.push(spec.base());
             sources.push(source);
