@@ -17,3 +17,4 @@ pub mod modes;
 pub mod precal;
 pub mod report;
 pub mod search;
+pub mod text;

@@ -1,9 +1,9 @@
 //! Raw campaign → validated [`Campaign`]: names, experiments, data, genes, step.
 
-use std::collections::HashSet;
 use std::path::{Path, PathBuf};
 
 use super::error::{invalid, parse_json};
+use super::names::{check_campaign_name, check_experiment_names};
 use super::raw::{RawCampaign, RawDrive, RawExperiment, RawParam};
 use super::resolve::{check_map, check_physics, check_value, resolve};
 use super::stability::{SolverSettings, choose};
@@ -15,15 +15,7 @@ use crate::model::{Drive, PiecewiseLinear, by_id, registry};
 /// Validates campaign text from `file`, resolving paths against `dir`.
 pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, CampaignError> {
     let raw: RawCampaign = parse_json(text, file)?;
-    if raw.name.trim().is_empty() || raw.name.contains(['/', '\\']) {
-        let found = format!("{:?}", raw.name);
-        return Err(invalid(
-            file,
-            "name",
-            "a non-empty name without '/' or '\\'",
-            found,
-        ));
-    }
+    check_campaign_name(file, &raw.name)?;
     let model = by_id(&raw.model).ok_or_else(|| {
         let known: Vec<&str> = registry().iter().map(|m| m.id()).collect();
         let expected = format!("a known model ({})", known.join(", "));
@@ -40,18 +32,8 @@ pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, Cam
             "an empty list",
         ));
     }
-    let mut seen = HashSet::new();
-    for (e, x) in raw.experiments.iter().enumerate() {
-        let path = format!("experiments[{e}].name");
-        if x.name.trim().is_empty() || x.name.contains('.') {
-            let found = format!("{:?}", x.name);
-            return Err(invalid(file, path, "a non-empty name without '.'", found));
-        }
-        if !seen.insert(x.name.as_str()) {
-            let found = format!("{:?} a second time", x.name);
-            return Err(invalid(file, path, "a unique experiment name", found));
-        }
-    }
+    let names: Vec<&str> = raw.experiments.iter().map(|x| x.name.as_str()).collect();
+    check_experiment_names(file, &names)?;
 
     let shared = check_map(file, "params", model, &raw.params, false)?;
     let own = raw
@@ -90,6 +72,7 @@ pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, Cam
 
     let mut digest = fnv1a(FNV_BASIS, text.as_bytes());
     let mut experiments = Vec::new();
+    let mut inputs = vec![file.to_path_buf()];
     for (e, x) in raw.experiments.iter().enumerate() {
         let free = |i: usize| {
             genes
@@ -101,6 +84,7 @@ pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, Cam
         let (exp, bytes_hash) = experiment(file, dir, e, x, digest, &mut r.warnings)?;
         digest = bytes_hash;
         experiments.push(exp);
+        inputs.push(dir.join(&x.data.file));
     }
 
     let requested = raw.solver.substeps;
@@ -141,6 +125,7 @@ pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, Cam
         },
         search: raw.search,
         output,
+        inputs,
         raw_json: text.to_string(),
         digest,
         warnings: r.warnings,

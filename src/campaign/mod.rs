@@ -34,6 +34,7 @@
 
 mod build;
 mod error;
+mod names;
 mod param_file;
 pub mod raw;
 mod resolve;
@@ -42,6 +43,7 @@ mod stability;
 use std::path::{Path, PathBuf};
 
 pub use error::CampaignError;
+pub use names::{MAX_NAME_CHARS, file_stem};
 pub use stability::{MAX_AUTO_SUBSTEPS, STABILITY_LIMIT, SolverSettings};
 
 use crate::eval::{Batch, DIVERGED, Problem, Scores};
@@ -126,6 +128,9 @@ pub struct Campaign {
     pub search: GaSettings,
     /// Results folder (resolved against the campaign's folder).
     pub output: PathBuf,
+    /// The files the campaign was read from (the campaign file, then each
+    /// experiment's data file): a job never writes over them.
+    pub inputs: Vec<PathBuf>,
     /// The campaign text as read.
     pub raw_json: String,
     /// FNV-1a hash of the campaign text and every data file's bytes; a resumed

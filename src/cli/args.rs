@@ -152,6 +152,9 @@ pub struct SimulateArgs {
     /// CSV file to write.
     #[arg(long)]
     pub out: PathBuf,
+    /// Replace the --out file when it exists (never the campaign's own input files).
+    #[arg(long)]
+    pub overwrite: bool,
     /// Experiment to simulate, by name (default: the first).
     #[arg(long)]
     pub experiment: Option<String>,

@@ -1,6 +1,7 @@
 //! Commands that read a campaign without searching: `simulate`, `modes`, `check`.
 
 use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use rand::SeedableRng;
@@ -28,6 +29,7 @@ fn load(path: &std::path::Path, params: Option<&std::path::Path>) -> Result<Camp
 /// Simulates one experiment with the campaign's values and writes a CSV.
 pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
     let c = load(&args.campaign, args.params.as_deref())?;
+    check_out_file(&args.out, &c, args.params.as_deref(), args.overwrite)?;
     let e = match &args.experiment {
         None => 0,
         Some(name) => c.experiment_index(name).map_err(|names| {
@@ -110,6 +112,46 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
             args.out.display()
         )
     });
+    Ok(())
+}
+
+/// Refuses an `--out` file that is one of the job's inputs, or that exists
+/// without `--overwrite`.
+fn check_out_file(
+    out: &Path,
+    c: &Campaign,
+    params: Option<&Path>,
+    overwrite: bool,
+) -> Result<(), BadInput> {
+    let Ok(meta) = std::fs::metadata(out) else {
+        return Ok(());
+    };
+    let target = out.canonicalize().ok();
+    let input = c
+        .inputs
+        .iter()
+        .map(PathBuf::as_path)
+        .chain(params)
+        .find(|p| p.canonicalize().ok() == target);
+    if let Some(input) = input {
+        return Err(BadInput(format!(
+            "--out `{}` is the input file `{}`; rigfit never writes over its inputs",
+            out.display(),
+            input.display()
+        )));
+    }
+    if !meta.is_file() {
+        return Err(BadInput(format!(
+            "--out `{}`: expected a file name, found an existing folder or device",
+            out.display()
+        )));
+    }
+    if !overwrite {
+        return Err(BadInput(format!(
+            "--out `{}` exists; pass --overwrite to replace it",
+            out.display()
+        )));
+    }
     Ok(())
 }
 

@@ -91,6 +91,9 @@ pub fn exit_code(err: &anyhow::Error) -> u8 {
                 Some(
                     rigfit::job::JobError::OutputInUse { .. }
                         | rigfit::job::JobError::NoCheckpoint { .. }
+                        | rigfit::job::JobError::OutputPath { .. }
+                        | rigfit::job::JobError::ForeignFile { .. }
+                        | rigfit::job::JobError::OutputLocked { .. }
                 )
             )
             || matches!(

@@ -11,7 +11,7 @@ use super::args::{BackendArg, PrecisionArg, RunArgs};
 use super::{EXIT_INTERRUPTED, Output};
 use rigfit::campaign::Campaign;
 use rigfit::eval::{Backend, CpuEvaluator, PrecisionChoice};
-use rigfit::job::{self, JobOptions, JobSummary};
+use rigfit::job::{self, FolderMode, JobError, JobOptions, JobSummary, OutputFolder};
 
 /// How to get the GPU path when `auto` fell back to the CPU.
 const GPU_HINT: &str = "for the GPU path install a Vulkan driver (Debian: \
@@ -40,7 +40,25 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         out.note(&format!("warning: {w}"));
     }
     let dir = a.out.clone().unwrap_or_else(|| c.output.clone());
-    job::check_output_folder(&dir, a.resume, a.overwrite)?;
+    let mode = match (a.resume, a.overwrite) {
+        (true, _) => FolderMode::Resume,
+        (false, true) => FolderMode::Overwrite,
+        (false, false) => FolderMode::New,
+    };
+    // Held to the end of the job: the lock keeps other jobs out of the folder.
+    let _folder = OutputFolder::open(&dir, &job::output_files(&c), &c.inputs, mode).map_err(
+        |e| -> anyhow::Error {
+            match (&e, &a.out) {
+                (JobError::OutputPath { .. }, None) => {
+                    super::BadInput(format!("{}: output: {e}", a.campaign.display())).into()
+                }
+                (JobError::OutputPath { .. }, Some(_)) => {
+                    super::BadInput(format!("--out: {e}")).into()
+                }
+                _ => e.into(),
+            }
+        },
+    )?;
 
     let backend = match a.backend {
         Some(BackendArg::Auto) => Backend::Auto,

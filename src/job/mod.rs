@@ -5,6 +5,7 @@
 //! while it runs and removes it only once the results are complete.
 
 mod cost;
+mod folder;
 mod outputs;
 
 use std::path::PathBuf;
@@ -12,6 +13,7 @@ use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
 pub use cost::CampaignCost;
+pub use folder::{FolderMode, LOCK_FILE, MANIFEST_FILE, OutputFolder, output_files};
 pub use outputs::{ExperimentFit, JobSummary, ParamSummary, write_outputs};
 
 use crate::campaign::Campaign;
@@ -57,10 +59,46 @@ pub enum JobError {
         found: String,
     },
     /// `--resume` without a checkpoint.
-    #[error("nothing to resume: `{}` does not exist", path.display())]
+    #[error(
+        "nothing to resume: `{}` does not exist (a job stopped before its first checkpoint \
+         leaves none; run it again without --resume to start it from the beginning)",
+        path.display()
+    )]
     NoCheckpoint {
         /// The expected checkpoint.
         path: PathBuf,
+    },
+    /// The output folder cannot be one: a file, under a file, unnamable.
+    #[error("output folder `{}`: {reason}", path.display())]
+    OutputPath {
+        /// The folder.
+        path: PathBuf,
+        /// Why not.
+        reason: String,
+    },
+    /// A file the job would write exists and is not rigfit's to replace.
+    #[error(
+        "`{}` {what}; rigfit never replaces a file it did not write, not even with \
+         --overwrite: move it away or choose another output folder",
+        path.display()
+    )]
+    ForeignFile {
+        /// The file.
+        path: PathBuf,
+        /// Why it is not rigfit's.
+        what: String,
+    },
+    /// Another job holds the output folder.
+    #[error(
+        "output folder `{}` is in use by another rigfit job ({holder}); wait for it or choose \
+         another output folder",
+        path.display()
+    )]
+    OutputLocked {
+        /// The folder.
+        path: PathBuf,
+        /// What the lock file says about its holder.
+        holder: String,
     },
     /// The search failed.
     #[error("search failed")]
@@ -80,35 +118,6 @@ pub enum JobError {
     /// Drawing a plot failed.
     #[error(transparent)]
     Plot(#[from] crate::report::plots::PlotError),
-}
-
-/// Refuses an output folder that holds an earlier job unless `overwrite` or
-/// `resume` says what to do with it. Creates nothing.
-pub fn check_output_folder(
-    out: &std::path::Path,
-    resume: bool,
-    overwrite: bool,
-) -> Result<(), JobError> {
-    let checkpoint = out.join(CHECKPOINT_FILE);
-    if resume {
-        return if checkpoint.is_file() {
-            Ok(())
-        } else {
-            Err(JobError::NoCheckpoint { path: checkpoint })
-        };
-    }
-    if overwrite {
-        return Ok(());
-    }
-    for found in [CHECKPOINT_FILE, "result.json"] {
-        if out.join(found).exists() {
-            return Err(JobError::OutputInUse {
-                path: out.to_path_buf(),
-                found: found.to_string(),
-            });
-        }
-    }
-    Ok(())
 }
 
 /// What a campaign's checkpoint must agree on to be resumed.
@@ -154,8 +163,8 @@ pub fn steps_per_candidate(campaign: &Campaign) -> f64 {
         .sum()
 }
 
-/// Runs the search and writes every output. The output folder must have been
-/// checked with [`check_output_folder`].
+/// Runs the search and writes every output. The binary opens the output folder
+/// with [`OutputFolder::open`] first and holds it until this returns.
 pub fn run(
     campaign: &Campaign,
     evaluator: Box<dyn Evaluator>,

@@ -7,7 +7,7 @@ use std::path::Path;
 use serde::Serialize;
 
 use super::JobError;
-use crate::campaign::{Campaign, GeneTarget};
+use crate::campaign::{Campaign, GeneTarget, file_stem};
 use crate::eval::{Batch, Evaluator, History, score_one};
 use crate::fsutil::atomic_write;
 use crate::report::plots;
@@ -210,18 +210,6 @@ pub fn r_squared(exp: &crate::eval::ExperimentData, hist: &History) -> f64 {
         ss_tot += (exp.force[k] - mean).powi(2);
     }
     1.0 - ss_res / ss_tot
-}
-
-fn file_stem(name: &str) -> String {
-    name.chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || c == '-' || c == '_' {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect()
 }
 
 fn experiment_csv(exp: &crate::eval::ExperimentData, hist: &History, offset: f64) -> String {
