@@ -404,3 +404,99 @@ fn a_campaign_without_free_parameters_loads_but_cannot_run() {
         "{err}"
     );
 }
+
+#[test]
+fn a_parameter_given_twice_is_refused_not_last_one_wins() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = example().to_string();
+    for (from, to, at) in [
+        ("\"m1\":7.9", "\"m1\":7.9,\"m1\":1000", "params"),
+        (
+            "\"velocity\":2.0",
+            "\"velocity\":2.0,\"velocity\":20.0",
+            "experiments[0].params",
+        ),
+    ] {
+        assert!(text.contains(from), "{text}");
+        let path = write(
+            dir.path(),
+            &text.replacen(from, to, 1),
+            &[("v2.csv", &good_csv())],
+        );
+        let err = Campaign::load(&path).unwrap_err().to_string();
+        assert!(err.contains(&format!("{at}: ")), "{err}");
+        assert!(err.contains("given twice"), "{err}");
+    }
+    // The same in a --params file.
+    let path = write(dir.path(), &text, &[("v2.csv", &good_csv())]);
+    let mut c = Campaign::load(&path).unwrap();
+    let params = dir.path().join("p.json");
+    std::fs::write(&params, r#"{"params": {"m1": 7.9, "m1": 1000}}"#).unwrap();
+    let err = c.apply_param_file(&params).unwrap_err().to_string();
+    assert!(
+        err.contains("p.json") && err.contains("given twice"),
+        "{err}"
+    );
+    assert_eq!(c.base[0][0], 7.9);
+}
+
+#[test]
+fn text_after_the_campaign_object_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = serde_json::to_string_pretty(&example()).unwrap();
+    let lines = text.lines().count();
+    let path = write(
+        dir.path(),
+        &format!("{text}\n{{}}garbage"),
+        &[("v2.csv", &good_csv())],
+    );
+    let err = Campaign::load(&path).unwrap_err().to_string();
+    assert!(
+        err.contains(&format!("campaign.json:{}:", lines + 1)),
+        "{err}"
+    );
+    assert!(err.contains("end of the file"), "{err}");
+    // Trailing blanks are fine, and so is a byte-order mark in front.
+    let path = write(
+        dir.path(),
+        &format!("\u{feff}{text}\n\n  "),
+        &[("v2.csv", &good_csv())],
+    );
+    Campaign::load(&path).unwrap();
+}
+
+#[test]
+fn a_top_level_array_names_what_was_expected_not_an_internal_type() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = write(dir.path(), " []", &[]);
+    let err = Campaign::load(&path).unwrap_err().to_string();
+    assert!(err.contains("campaign.json:1:2:"), "{err}");
+    assert!(err.contains("expected a JSON object"), "{err}");
+    assert!(!err.contains("Raw"), "{err}");
+}
+
+#[test]
+fn weights_near_the_largest_float_still_give_the_weighted_mean() {
+    let dir = tempfile::tempdir().unwrap();
+    for (w0, w1, expected) in [
+        (1e308, 1e308, 0.5 * (0.78 + 0.58)),
+        (1e308, 5e307, (0.78 + 0.5 * 0.58) / 1.5),
+        (1.0, 1.0, 0.5 * (0.78 + 0.58)),
+    ] {
+        let mut v = example();
+        set(&mut v, "/experiments/0/weight", json!(w0));
+        let mut x = v["experiments"][0].clone();
+        x["name"] = json!("v3");
+        x["weight"] = json!(w1);
+        v["experiments"].as_array_mut().unwrap().push(x);
+        let path = write(dir.path(), &v.to_string(), &[("v2.csv", &good_csv())]);
+        let c = Campaign::load(&path).unwrap();
+        let scores = rigfit::eval::Scores {
+            experiments: 2,
+            values: vec![0.78, 0.58],
+            diverged: 0,
+        };
+        let joint = c.combine(&scores)[0];
+        assert!((joint - expected).abs() < 1e-12, "{w0} {w1}: {joint}");
+    }
+}

@@ -87,6 +87,7 @@ pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, Cam
         inputs.push(dir.join(&x.data.file));
     }
 
+    check_weights(file, &experiments)?;
     let requested = raw.solver.substeps;
     let (substeps, auto, note) = choose(
         model,
@@ -131,6 +132,35 @@ pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, Cam
         warnings: r.warnings,
         sources: r.sources,
     })
+}
+
+/// Largest ratio of two experiments' weights: beyond it the lighter experiment
+/// would count for nothing in the joint fitness.
+pub const MAX_WEIGHT_RATIO: f64 = 1e9;
+
+/// Weights are used relative to the largest, so their size cannot overflow the
+/// joint fitness; one far below another would be ignored in effect.
+fn check_weights(file: &Path, experiments: &[ExperimentData]) -> Result<(), CampaignError> {
+    let (max_e, max) = experiments
+        .iter()
+        .enumerate()
+        .fold((0, 0.0_f64), |(i, m), (e, x)| {
+            if x.weight > m { (e, x.weight) } else { (i, m) }
+        });
+    for (e, x) in experiments.iter().enumerate() {
+        if x.weight * MAX_WEIGHT_RATIO < max {
+            return Err(invalid(
+                file,
+                format!("experiments[{e}].weight"),
+                format!(
+                    "a weight at least 1/{MAX_WEIGHT_RATIO:e} of the largest \
+                     (experiments[{max_e}].weight = {max:e})"
+                ),
+                format!("{:e}", x.weight),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Lower and upper parameter vectors of experiment `e`.

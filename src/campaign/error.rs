@@ -149,30 +149,62 @@ pub(crate) fn parse_json<T: serde::de::DeserializeOwned>(
     text: &str,
     file: &Path,
 ) -> Result<T, CampaignError> {
-    let de = &mut serde_json::Deserializer::from_str(text);
-    let result = serde_path_to_error::deserialize(de);
-    result.map_err(|e| {
-        let path = e.path().to_string();
-        let inner = e.into_inner();
-        let (line, column) = (inner.line(), inner.column());
-        let full = inner.to_string();
-        let suffix = format!(" at line {line} column {column}");
-        let message = full.strip_suffix(&suffix).unwrap_or(&full).to_string();
-        if inner.is_syntax() || inner.is_eof() {
-            CampaignError::Syntax {
+    // A byte-order mark, as editors on some systems write it, is not content.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    if let Some((at, c)) = text.char_indices().find(|(_, c)| !c.is_whitespace()) {
+        if c != '{' {
+            let (line, column) = line_column(text, at);
+            let found = crate::text::echo(&text[at..].chars().take(20).collect::<String>());
+            return Err(CampaignError::Schema {
                 file: file.to_path_buf(),
                 line,
                 column,
-                message,
-            }
-        } else {
-            CampaignError::Schema {
-                file: file.to_path_buf(),
-                line,
-                column,
-                path,
-                message,
-            }
+                path: "(top level)".into(),
+                message: format!("expected a JSON object {{…}}, found {found}"),
+            });
         }
-    })
+    }
+    let de = &mut serde_json::Deserializer::from_str(text);
+    let value = serde_path_to_error::deserialize(&mut *de).map_err(|e| {
+        let path = e.path().to_string();
+        json_error(file, path, e.into_inner())
+    })?;
+    // Anything after the first value (a bad merge's second object) is an error,
+    // not something to ignore.
+    de.end().map_err(|e| json_error(file, String::new(), e))?;
+    Ok(value)
+}
+
+fn json_error(file: &Path, path: String, inner: serde_json::Error) -> CampaignError {
+    let (line, column) = (inner.line(), inner.column());
+    let full = inner.to_string();
+    let suffix = format!(" at line {line} column {column}");
+    let mut message = full.strip_suffix(&suffix).unwrap_or(&full).to_string();
+    if message == "trailing characters" {
+        message = "expected the end of the file after the JSON object, found more text".into();
+    }
+    if inner.is_syntax() || inner.is_eof() {
+        CampaignError::Syntax {
+            file: file.to_path_buf(),
+            line,
+            column,
+            message,
+        }
+    } else {
+        CampaignError::Schema {
+            file: file.to_path_buf(),
+            line,
+            column,
+            path,
+            message,
+        }
+    }
+}
+
+/// 1-based line and column of byte `at` in `text`.
+fn line_column(text: &str, at: usize) -> (usize, usize) {
+    let before = &text[..at];
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, column)
 }

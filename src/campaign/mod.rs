@@ -224,18 +224,18 @@ impl Campaign {
     /// Joint fitness per candidate: the weighted mean of `1 − R²` over the
     /// experiments; [`DIVERGED`] if any experiment diverged.
     pub fn combine(&self, scores: &Scores) -> Vec<f64> {
-        let exps = &self.problem.experiments;
-        let total: f64 = exps.iter().map(|x| x.weight).sum();
+        let weights = self.problem.relative_weights();
+        let total: f64 = weights.iter().sum();
         let n = scores.values.len() / scores.experiments.max(1);
         (0..n)
             .map(|i| {
                 let mut sum = 0.0;
-                for (e, x) in exps.iter().enumerate() {
+                for (e, w) in weights.iter().enumerate() {
                     let s = scores.get(i, e);
                     if s.is_nan() || s >= DIVERGED {
                         return DIVERGED;
                     }
-                    sum += x.weight * s;
+                    sum += w * s;
                 }
                 sum / total
             })

@@ -16,6 +16,7 @@ use crate::model::{ParamScope, param_index};
 /// `{"params": {...}}`; other keys (a `result.json`'s) are ignored.
 #[derive(Debug, Deserialize)]
 struct ParamFile {
+    #[serde(deserialize_with = "super::raw::unique_keys")]
     params: BTreeMap<String, f64>,
 }
 

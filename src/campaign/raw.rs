@@ -28,8 +28,8 @@ pub struct RawCampaign {
     pub model: String,
     /// `"params"`: parameters shared by every experiment, by model parameter
     /// name (value in the parameter's SI unit). Parameters with a model default
-    /// may be left out.
-    #[serde(default)]
+    /// may be left out. A name given twice is refused.
+    #[serde(default, deserialize_with = "unique_keys")]
     pub params: BTreeMap<String, RawParam>,
     /// `"experiments"`: at least one.
     pub experiments: Vec<RawExperiment>,
@@ -69,9 +69,40 @@ pub struct RawExperiment {
     #[serde(default = "one")]
     pub weight: f64,
     /// `"params"`: overrides of experiment-scope parameters for this experiment
-    /// alone.
-    #[serde(default)]
+    /// alone. A name given twice is refused.
+    #[serde(default, deserialize_with = "unique_keys")]
     pub params: BTreeMap<String, RawParam>,
+}
+
+/// A JSON object as a map, refusing a key given twice: serde's own maps keep
+/// the last value silently, while a duplicate struct field is refused.
+pub(crate) fn unique_keys<'de, D, V>(d: D) -> Result<BTreeMap<String, V>, D::Error>
+where
+    D: Deserializer<'de>,
+    V: Deserialize<'de>,
+{
+    struct Unique<V>(std::marker::PhantomData<V>);
+    impl<'de, V: Deserialize<'de>> Visitor<'de> for Unique<V> {
+        type Value = BTreeMap<String, V>;
+        fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            f.write_str("an object of parameter values by name")
+        }
+        fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
+            let mut out = BTreeMap::new();
+            while let Some(key) = map.next_key::<String>()? {
+                if out.contains_key(&key) {
+                    return Err(de::Error::custom(format!(
+                        "parameter '{}' is given twice; give each parameter once",
+                        crate::text::echo_bare(&key)
+                    )));
+                }
+                let value = map.next_value()?;
+                out.insert(key, value);
+            }
+            Ok(out)
+        }
+    }
+    d.deserialize_map(Unique(std::marker::PhantomData))
 }
 
 fn one() -> f64 {

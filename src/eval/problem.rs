@@ -62,6 +62,17 @@ pub struct Problem {
 }
 
 impl Problem {
+    /// Each experiment's weight divided by the largest: in (0, 1], so a joint
+    /// fitness summed with them cannot overflow, whatever the weights' size.
+    /// Equal weights give exactly 1.
+    pub fn relative_weights(&self) -> Vec<f64> {
+        let max = self
+            .experiments
+            .iter()
+            .fold(0.0_f64, |m, x| m.max(x.weight));
+        self.experiments.iter().map(|x| x.weight / max).collect()
+    }
+
     /// Checks that a batch has one parameter set and one offset per candidate
     /// for every experiment, each of the model's length.
     pub fn check_batch(&self, batch: &Batch) -> Result<(), EvalError> {

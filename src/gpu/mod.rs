@@ -156,11 +156,8 @@ impl std::fmt::Debug for Opened {
 /// `problem`) put first when it is not already there.
 pub fn with_best(problem: &Problem, scores: &Scores, which: &[usize]) -> Vec<usize> {
     let ne = scores.experiments.max(1);
-    let joint = |i: usize| -> f64 {
-        (0..ne)
-            .map(|e| problem.experiments[e].weight * scores.get(i, e))
-            .sum()
-    };
+    let weights = problem.relative_weights();
+    let joint = |i: usize| -> f64 { (0..ne).map(|e| weights[e] * scores.get(i, e)).sum() };
     let best = (0..scores.values.len() / ne).min_by(|&a, &b| joint(a).total_cmp(&joint(b)));
     let mut out = Vec::with_capacity(which.len() + 1);
     if let Some(b) = best.filter(|b| !which.contains(b)) {
