@@ -116,6 +116,16 @@ pub enum CampaignError {
         /// The limiting experiment and parameter and a substeps count that works.
         message: String,
     },
+    /// One candidate's runs would take too many RK4 steps.
+    #[error("{}: {path}: {message}", file.display())]
+    TooLong {
+        /// The file.
+        file: PathBuf,
+        /// The experiment that takes longest.
+        path: String,
+        /// The estimate and the limit.
+        message: String,
+    },
     /// `run` needs at least one free parameter.
     #[error(
         "{}: params: expected at least one free parameter ({{\"min\", \"max\"}}) to search, \

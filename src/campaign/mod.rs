@@ -38,12 +38,16 @@ mod names;
 mod param_file;
 pub mod raw;
 mod resolve;
+mod run_length;
 mod stability;
 
 use std::path::{Path, PathBuf};
 
 pub use error::CampaignError;
 pub use names::{MAX_NAME_CHARS, file_stem};
+pub use run_length::{
+    CPU_STEPS_PER_S_PER_CORE, DEFAULT_MAX_STEPS, ExperimentRun, RunLength, human_duration,
+};
 pub use stability::{MAX_AUTO_SUBSTEPS, STABILITY_LIMIT, SolverSettings};
 
 use crate::eval::{Batch, DIVERGED, Problem, Scores};

@@ -139,6 +139,10 @@ pub struct RunArgs {
     /// CPU threads for the CPU evaluator (0: all cores).
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
+    /// Refuse a job whose candidate takes more RK4 steps than this (all
+    /// experiments together).
+    #[arg(long, default_value_t = rigfit::campaign::DEFAULT_MAX_STEPS, value_parser = positive)]
+    pub max_steps: f64,
 }
 
 /// `rigfit simulate`.
@@ -168,6 +172,10 @@ pub struct SimulateArgs {
     /// experiment's run length).
     #[arg(long)]
     pub samples: Option<usize>,
+    /// Refuse a job whose candidate takes more RK4 steps than this (all
+    /// experiments together).
+    #[arg(long, default_value_t = rigfit::campaign::DEFAULT_MAX_STEPS, value_parser = positive)]
+    pub max_steps: f64,
 }
 
 /// `rigfit modes`.
@@ -185,6 +193,10 @@ pub struct ModesArgs {
 pub struct CheckArgs {
     /// Campaign JSON file.
     pub campaign: PathBuf,
+    /// Refuse a job whose candidate takes more RK4 steps than this (all
+    /// experiments together).
+    #[arg(long, default_value_t = rigfit::campaign::DEFAULT_MAX_STEPS, value_parser = positive)]
+    pub max_steps: f64,
 }
 
 /// `rigfit fit-specimen`.
@@ -217,4 +229,15 @@ pub struct RingdownArgs {
     /// Write the campaign fragment (JSON) here.
     #[arg(long)]
     pub out: Option<PathBuf>,
+}
+
+/// A finite number > 0.
+fn positive(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v > 0.0 && v.is_finite() => Ok(v),
+        _ => Err(format!(
+            "expected a number > 0, found {}",
+            rigfit::text::echo(s)
+        )),
+    }
 }

@@ -29,6 +29,7 @@ fn load(path: &std::path::Path, params: Option<&std::path::Path>) -> Result<Camp
 /// Simulates one experiment with the campaign's values and writes a CSV.
 pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
     let c = load(&args.campaign, args.params.as_deref())?;
+    c.check_run_length(args.max_steps)?;
     check_out_file(&args.out, &c, args.params.as_deref(), args.overwrite)?;
     let e = match &args.experiment {
         None => 0,
@@ -187,10 +188,11 @@ pub fn modes(args: &ModesArgs, out: &Output) -> Result<()> {
 /// Validates a campaign and its data.
 pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
     let c = load(&args.campaign, None)?;
+    let length = c.check_run_length(args.max_steps)?;
     out.json(&serde_json::json!({
         "campaign": c.name, "model": c.model.id(), "experiments": c.problem.experiments.len(),
         "genes": c.genes.iter().map(|g| &g.name).collect::<Vec<_>>(),
-        "substeps": c.solver.substeps, "warnings": c.warnings,
+        "substeps": c.solver.substeps, "warnings": c.warnings, "run_length": length,
     }))?;
     out.say(|| {
         let mut s = format!(
@@ -213,6 +215,12 @@ pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
                 e.window.end
             );
         }
+        let _ = write!(
+            s,
+            "\n  one candidate: {:.3e} RK4 steps, about {} on one CPU core",
+            length.steps_per_candidate,
+            rigfit::campaign::human_duration(length.cpu_core_seconds_per_candidate)
+        );
         for g in &c.genes {
             let _ = write!(s, "\n  free {} in [{:e}, {:e}] {} ({:?})", g.name, g.lower, g.upper, g.unit, g.scale);
         }

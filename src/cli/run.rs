@@ -36,6 +36,7 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         .validate()
         .map_err(|e| super::BadInput(format!("{}: {e}", a.campaign.display())))?;
     c.require_genes()?;
+    let length = c.check_run_length(a.max_steps)?;
     for w in &c.warnings {
         out.note(&format!("warning: {w}"));
     }
@@ -84,13 +85,14 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     };
     let info = evaluator.info();
     out.note(&format!(
-        "{} on {} ({}, {}), {} RK4 steps per sample ({})",
-        c.name,
+        "{} on {} ({}, {}), {} RK4 steps per sample ({}), {:.3e} steps per candidate",
+        rigfit::text::echo_bare(&c.name),
         info.backend,
         info.device,
         format!("{:?}", info.precision).to_lowercase(),
         c.solver.substeps,
-        c.solver.note
+        c.solver.note,
+        length.steps_per_candidate
     ));
 
     let interrupt = Arc::new(AtomicBool::new(false));
