@@ -17,6 +17,8 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+use crate::text::echo_bare;
+
 /// Relative jitter of the sample interval (against the median interval) above
 /// which a record is resampled.
 pub const JITTER_TOLERANCE: f64 = 1.0e-3;
@@ -160,6 +162,17 @@ fn cell_err(file: &Path, line: usize, what: String, expected: &str, found: Strin
 
 /// Parses CSV text; `file` is only used in messages.
 pub fn parse_csv(text: &str, file: &Path, spec: &CsvSpec) -> Result<Series, DataError> {
+    // A spreadsheet's "CSV UTF-8" starts with a byte-order mark; it is not part
+    // of the first column's name.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    // Old Mac files end lines with CR alone.
+    let cr_only;
+    let text = if text.contains('\r') && !text.contains('\n') {
+        cr_only = text.replace('\r', "\n");
+        cr_only.as_str()
+    } else {
+        text
+    };
     let mut rows = text
         .lines()
         .enumerate()
@@ -177,7 +190,8 @@ pub fn parse_csv(text: &str, file: &Path, spec: &CsvSpec) -> Result<Series, Data
         .find(|c| first.contains(*c))
         .unwrap_or(',');
     let split = |l: &str| -> Vec<String> {
-        l.split(sep)
+        split_fields(l, sep)
+            .into_iter()
             .map(|f| f.trim().trim_matches('"').trim().to_string())
             .collect()
     };
@@ -199,7 +213,7 @@ pub fn parse_csv(text: &str, file: &Path, spec: &CsvSpec) -> Result<Series, Data
             file: file.into(),
             line: first_line,
             column: c.to_string(),
-            available: format!("{} column(s): {}", header.len(), header.join(", ")),
+            available: columns_list(&header),
         })
     };
     let cols = [resolve(&spec.time)?, resolve(&spec.force)?];
@@ -207,10 +221,10 @@ pub fn parse_csv(text: &str, file: &Path, spec: &CsvSpec) -> Result<Series, Data
     let mut t: Vec<f64> = Vec::new();
     let mut force: Vec<f64> = Vec::new();
     for (line, row) in rows {
-        let fields: Vec<&str> = row.split(sep).collect();
+        let fields: Vec<&str> = split_fields(row, sep);
         let mut vals = [0.0; 2];
         for (j, &c) in cols.iter().enumerate() {
-            let what = format!("column {} ('{}')", c + 1, header[c]);
+            let what = format!("column {} ('{}')", c + 1, echo_bare(&header[c]));
             let Some(raw) = fields.get(c) else {
                 return Err(cell_err(
                     file,
@@ -221,21 +235,14 @@ pub fn parse_csv(text: &str, file: &Path, spec: &CsvSpec) -> Result<Series, Data
                 ));
             };
             let raw = raw.trim().trim_matches('"').trim();
-            let v = parse_number(raw, sep).ok_or_else(|| {
-                cell_err(file, line, what.clone(), "a number", format!("'{raw}'"))
-            })?;
+            let v = parse_number(raw, sep)
+                .ok_or_else(|| cell_err(file, line, what.clone(), "a number", quote(raw)))?;
             if !v.is_finite() {
-                return Err(cell_err(
-                    file,
-                    line,
-                    what,
-                    "a finite number",
-                    format!("'{raw}'"),
-                ));
+                return Err(cell_err(file, line, what, "a finite number", quote(raw)));
             }
             vals[j] = v * scales[j];
             if !vals[j].is_finite() {
-                let found = format!("'{raw}' × {}", scales[j]);
+                let found = format!("{} × {}", quote(raw), scales[j]);
                 return Err(cell_err(
                     file,
                     line,
@@ -247,7 +254,11 @@ pub fn parse_csv(text: &str, file: &Path, spec: &CsvSpec) -> Result<Series, Data
         }
         if let Some(&prev) = t.last() {
             if vals[0] <= prev {
-                let what = format!("time column {} ('{}')", cols[0] + 1, header[cols[0]]);
+                let what = format!(
+                    "time column {} ('{}')",
+                    cols[0] + 1,
+                    echo_bare(&header[cols[0]])
+                );
                 let found = format!("{} s after {} s", vals[0], prev);
                 return Err(cell_err(
                     file,
@@ -268,6 +279,39 @@ pub fn parse_csv(text: &str, file: &Path, spec: &CsvSpec) -> Result<Series, Data
         });
     }
     uniform(t, force, file)
+}
+
+/// The fields of one row: split at `sep`, except inside double quotes (a
+/// header `"force, N"` is one field).
+fn split_fields(row: &str, sep: char) -> Vec<&str> {
+    let mut fields = Vec::new();
+    let (mut start, mut quoted) = (0, false);
+    for (i, c) in row.char_indices() {
+        if c == '"' {
+            quoted = !quoted;
+        } else if c == sep && !quoted {
+            fields.push(&row[start..i]);
+            start = i + c.len_utf8();
+        }
+    }
+    fields.push(&row[start..]);
+    fields
+}
+
+/// The header's columns for a message: each name escaped and cut, at most
+/// twelve of them.
+fn columns_list(header: &[String]) -> String {
+    const SHOWN: usize = 12;
+    let mut names: Vec<String> = header.iter().take(SHOWN).map(|h| echo_bare(h)).collect();
+    if header.len() > SHOWN {
+        names.push(format!("… {} more", header.len() - SHOWN));
+    }
+    format!("{} column(s): {}", header.len(), names.join(", "))
+}
+
+/// A cell as messages quote it: `'x'`, escaped and cut short.
+fn quote(raw: &str) -> String {
+    format!("'{}'", echo_bare(raw))
 }
 
 /// A number, accepting a decimal comma when the separator is `;`.
@@ -352,6 +396,12 @@ fn uniform(t: Vec<f64>, force: Vec<f64>, file: &Path) -> Result<Series, DataErro
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn quoted_fields_keep_their_separators() {
+        assert_eq!(split_fields("\"force, N\",t", ','), ["\"force, N\"", "t"]);
+        assert_eq!(split_fields("a;b;;", ';'), ["a", "b", "", ""]);
+    }
 
     #[test]
     fn decimal_comma_only_with_semicolons() {

@@ -21,6 +21,15 @@ fn good_csv() -> String {
     csv(300, 1e-6, 0.0)
 }
 
+/// A record whose force is 100 N throughout.
+fn csv_constant() -> String {
+    let mut s = String::from("t_s,force_N\n");
+    for k in 0..300 {
+        s += &format!("{:e},100\n", k as f64 * 1e-6);
+    }
+    s
+}
+
 /// The example CSV with line `line` (1-based) replaced.
 fn csv_with_line(line: usize, text: &str) -> String {
     let mut lines: Vec<String> = good_csv().lines().map(String::from).collect();
@@ -344,6 +353,80 @@ fn bad_campaign_values_name_path_and_expectation() {
             "empty name",
             |v| set(v, "/name", json!("")),
             ["name: expected a non-empty name"]
+        ),
+        case!(
+            "constant force in the fit window",
+            |_| {},
+            data = csv_constant(),
+            [
+                "experiments[0].fit_window: expected a force that varies",
+                "v2.csv",
+                "100 N at every sample"
+            ]
+        ),
+        case!(
+            "campaign named ..",
+            |v| set(v, "/name", json!("..")),
+            ["name: expected a non-empty name", "not '.' or '..'"]
+        ),
+        case!(
+            "experiment name too long for a file name",
+            |v| set(v, "/experiments/0/name", json!("v".repeat(300))),
+            [
+                "experiments[0].name: expected",
+                "at most 100 characters",
+                "300 characters"
+            ]
+        ),
+        case!(
+            "experiment name with a newline",
+            |v| set(v, "/experiments/0/name", json!("v2\nINFO fake log line")),
+            [
+                "experiments[0].name: expected",
+                "\"v2\\nINFO fake log line\""
+            ]
+        ),
+        case!(
+            "experiment called history",
+            |v| set(v, "/experiments/0/name", json!("History")),
+            [
+                "experiments[0].name: expected",
+                "\"History\"",
+                "history.csv"
+            ]
+        ),
+        case!(
+            "names that differ only in case",
+            |v| {
+                let mut x = v["experiments"][0].clone();
+                x["name"] = json!("V2");
+                v["experiments"].as_array_mut().unwrap().push(x);
+            },
+            [
+                "experiments[1].name: expected a unique experiment name",
+                "\"V2\"",
+                "\"v2\""
+            ]
+        ),
+        case!(
+            "non-ASCII names that map to one file",
+            |v| {
+                set(v, "/experiments/0/name", json!("versuch_µ_😀"));
+                let mut x = v["experiments"][0].clone();
+                x["name"] = json!("versuch_ä_ö");
+                v["experiments"].as_array_mut().unwrap().push(x);
+            },
+            ["experiments[1].name", "versuch____.csv", "\"versuch_µ_😀\""]
+        ),
+        case!(
+            "a weight a billionth of another",
+            |v| {
+                let mut x = v["experiments"][0].clone();
+                x["name"] = json!("v3");
+                x["weight"] = json!(1e-10);
+                v["experiments"].as_array_mut().unwrap().push(x);
+            },
+            ["experiments[1].weight: expected a weight at least 1/1e9 of the largest"]
         ),
     ];
     for case in &cases {

@@ -146,3 +146,48 @@ fn load_csv_names_a_missing_file() {
     let e = e.unwrap_err().to_string();
     assert!(e.starts_with("/nonexistent/rec.csv: cannot read"), "{e}");
 }
+
+#[test]
+fn a_byte_order_mark_is_not_part_of_the_first_column_name() {
+    let text = "\u{feff}t_s,force_N\n0.0,5\n1e-6,6\n2e-6,7\n";
+    let s = parse(text, &by_name("t_s", "force_N")).unwrap();
+    assert_eq!(s.force, [5.0, 6.0, 7.0]);
+}
+
+#[test]
+fn cr_only_line_endings_are_lines() {
+    let s = parse("t,f\r0.0,5\r1e-6,6\r2e-6,7\r", &by_name("t", "f")).unwrap();
+    assert_eq!(s.force, [5.0, 6.0, 7.0]);
+}
+
+#[test]
+fn a_quoted_header_keeps_its_comma() {
+    let text = "\"time, s\",\"force, N\"\n0.0,5\n1e-6,6\n";
+    let s = parse(text, &by_name("time, s", "force, N")).unwrap();
+    assert_eq!(s.force, [5.0, 6.0]);
+}
+
+#[test]
+fn errors_quote_huge_or_binary_input_short_and_escaped() {
+    // A gigabyte of NULs on one line stands for any unbounded input: the
+    // message quotes a short, escaped prefix and the length.
+    let nul_line = "\0".repeat(1 << 20);
+    let text = format!("t,f\n0.0,5\n1e-6,{nul_line}\n");
+    let e = parse(&text, &by_name("t", "f")).unwrap_err().to_string();
+    assert!(e.len() < 400, "{} bytes", e.len());
+    assert!(
+        e.contains("rec.csv:3:") && e.contains("\\0") && e.contains("1048576 bytes"),
+        "{e}"
+    );
+    // A file of one huge "column", like /proc/self/environ.
+    let env: String = (0..5000).map(|i| format!("VAR{i}=secret\0")).collect();
+    let e = parse(&env, &by_name("t", "f")).unwrap_err().to_string();
+    assert!(e.len() < 400, "{} bytes", e.len());
+    assert!(!e.contains("VAR4999"), "{e}");
+    // Many columns: a dozen are listed, then how many more.
+    let header: Vec<String> = (0..100).map(|i| format!("c{i}")).collect();
+    let e = parse(&format!("{}\n", header.join(",")), &by_name("t", "f"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("100 column(s)") && e.contains("88 more"), "{e}");
+}

@@ -163,3 +163,33 @@ fn an_output_that_cannot_be_a_folder_is_refused_with_its_json_path() {
         stderr(&o)
     );
 }
+
+#[test]
+fn a_campaign_without_a_search_section_simulates_but_does_not_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let c = campaign(dir.path(), |c| {
+        c.as_object_mut().unwrap().remove("search");
+    });
+    let sim = dir.path().join("sim.csv");
+    let o = rigfit()
+        .args(["--quiet", "simulate"])
+        .arg(&c)
+        .arg("--out")
+        .arg(&sim)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(sim.is_file());
+    for cmd in ["check", "modes"] {
+        let o = rigfit().arg(cmd).arg(&c).output().unwrap();
+        assert!(o.status.success(), "{cmd}: {}", stderr(&o));
+    }
+    let o = rigfit().arg("run").arg(&c).output().unwrap();
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("c.json: search: expected a search section"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(!dir.path().join("out").exists());
+}

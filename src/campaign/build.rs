@@ -11,6 +11,7 @@ use super::{Campaign, CampaignError, FNV_BASIS, Gene, GeneTarget, Source, acts_i
 use crate::data::{Column, CsvSpec, Series, parse_csv};
 use crate::eval::{ExperimentData, Problem};
 use crate::model::{Drive, PiecewiseLinear, by_id, registry};
+use crate::search::GaSettings;
 
 /// Validates campaign text from `file`, resolving paths against `dir`.
 pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, CampaignError> {
@@ -21,9 +22,11 @@ pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, Cam
         let expected = format!("a known model ({})", known.join(", "));
         invalid(file, "model", expected, format!("{:?}", raw.model))
     })?;
-    raw.search
-        .validate()
-        .map_err(|e| invalid(file, format!("search.{}", e.field), e.expected, e.found))?;
+    if let Some(search) = &raw.search {
+        search
+            .validate()
+            .map_err(|e| invalid(file, format!("search.{}", e.field), e.expected, e.found))?;
+    }
     if raw.experiments.is_empty() {
         return Err(invalid(
             file,
@@ -124,7 +127,8 @@ pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, Cam
             auto,
             note,
         },
-        search: raw.search,
+        search_given: raw.search.is_some(),
+        search: raw.search.unwrap_or_else(GaSettings::unset),
         output,
         inputs,
         raw_json: text.to_string(),
@@ -271,6 +275,22 @@ fn experiment(
     let series = parse_csv(&text, &data_file, &spec).map_err(|s| data_err(data_at.clone(), s))?;
     warnings.extend(series.warning.clone());
     let window = window(file, &at, x, &series, warnings)?;
+    let scored = &series.force[window.clone()];
+    if scored.iter().all(|&f| f == scored[0]) {
+        // R² compares the model with the record's variation: there is none.
+        let (t0, t1) = (series.t[window.start], series.t[window.end - 1]);
+        return Err(invalid(
+            file,
+            format!("{at}.fit_window"),
+            format!(
+                "a force that varies inside the fit window ({} samples from {t0} s to {t1} s of \
+                 {}); R² is undefined for a constant record",
+                window.len(),
+                data_file.display()
+            ),
+            format!("{} N at every sample", scored[0]),
+        ));
+    }
     let mut force = series.force;
     force.truncate(window.end);
     let exp = ExperimentData {

@@ -128,8 +128,11 @@ pub struct Campaign {
     pub base_offsets: Vec<f64>,
     /// Integration settings as chosen.
     pub solver: SolverSettings,
-    /// Search settings (validated).
+    /// Search settings (validated when given).
     pub search: GaSettings,
+    /// Whether the file has a `search` section; without one, `search` holds
+    /// [`GaSettings::unset`] and [`Campaign::require_search`] refuses a run.
+    pub search_given: bool,
     /// Results folder (resolved against the campaign's folder).
     pub output: PathBuf,
     /// The files the campaign was read from (the campaign file, then each
@@ -181,6 +184,20 @@ impl Campaign {
             });
         }
         Ok(())
+    }
+
+    /// Refuses a campaign without a `search` section (for `rigfit run`;
+    /// `simulate`, `modes` and `check` do not need one).
+    pub fn require_search(&self) -> Result<(), CampaignError> {
+        if self.search_given {
+            return Ok(());
+        }
+        Err(error::invalid(
+            &self.path,
+            "search",
+            "a search section {\"population\", \"generations\", …} to run a calibration",
+            "none",
+        ))
     }
 
     /// Full parameter vector and offset of each experiment for one genome (one

@@ -36,8 +36,10 @@ pub struct RawCampaign {
     /// `"solver"`: integration settings (all optional).
     #[serde(default)]
     pub solver: RawSolver,
-    /// `"search"`: genetic-algorithm settings ([`GaSettings`]).
-    pub search: GaSettings,
+    /// `"search"`: genetic-algorithm settings ([`GaSettings`]); needed by
+    /// `rigfit run` only.
+    #[serde(default)]
+    pub search: Option<GaSettings>,
     /// `"output"`: results folder, relative to the campaign file's folder
     /// (default `results/<name>`).
     #[serde(default)]

@@ -20,6 +20,7 @@ const GPU_HINT: &str = "for the GPU path install a Vulkan driver (Debian: \
 /// Loads, validates, runs and reports one calibration job.
 pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     let mut c = Campaign::load(&a.campaign)?;
+    c.require_search()?;
     if let Some(n) = a.population {
         c.search.population = n;
     }

@@ -127,6 +127,13 @@ pub struct SettingsError {
 }
 
 impl GaSettings {
+    /// Settings of a campaign that has no `search` section: every default, no
+    /// population and no generations, so [`GaSettings::validate`] refuses them.
+    pub fn unset() -> Self {
+        serde_json::from_str(r#"{"population": 0, "generations": 0}"#)
+            .expect("the defaults deserialise")
+    }
+
     /// Checks every setting's range: population ≥ 4, generations ≥ 1,
     /// tournament ≥ 2 and ≤ population, elitism < population, probabilities in
     /// [0, 1], distribution indices > 0, time limit > 0.
