@@ -22,14 +22,31 @@ fn main() -> ExitCode {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn"))
         .format_timestamp_millis()
         .init();
+    let json = cli.json;
     match cli::dispatch(cli) {
         Ok(code) => code,
         Err(err) => {
-            eprintln!("rigfit: error: {err}");
+            let code = cli::exit_code(&err);
+            let message = err.to_string();
+            let mut shown = message.clone();
+            let mut causes = Vec::new();
+            eprintln!("rigfit: error: {message}");
             for cause in err.chain().skip(1) {
-                eprintln!("  caused by: {cause}");
+                // A message that already quotes its cause needs no second copy.
+                let text = cause.to_string();
+                if !shown.contains(&text) {
+                    eprintln!("  caused by: {text}");
+                    shown.push_str(&text);
+                    causes.push(text);
+                }
             }
-            ExitCode::from(cli::exit_code(&err))
+            if json {
+                let doc = serde_json::json!({
+                    "error": message, "causes": causes, "exit_code": code,
+                });
+                cli::print_stdout(&serde_json::to_string_pretty(&doc).unwrap_or_default());
+            }
+            ExitCode::from(code)
         }
     }
 }

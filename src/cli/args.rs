@@ -24,7 +24,8 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
     rigfit simulate campaigns/aa2024_t3_synthetic.json --out sim.csv\n  \
     rigfit modes campaigns/aa2024_t3_synthetic.json\n  \
     rigfit devices\n\n\
-    Exit codes: 0 success, 1 failed job, 2 bad input or usage.\n\
+    Exit codes: 0 success, 1 failed job, 2 bad input or usage, 130 stopped by\n\
+    Ctrl-C or SIGTERM (checkpoint kept; continue with --resume).\n\
     Diagnostics: RUST_LOG=debug rigfit …")]
 pub struct Cli {
     /// Print nothing but errors (no progress bar, no summary).

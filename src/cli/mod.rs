@@ -34,14 +34,14 @@ impl Output {
     /// Prints the human text (built lazily) unless quiet or JSON.
     pub fn say(&self, text: impl FnOnce() -> String) {
         if !self.quiet && !self.json {
-            println!("{}", text());
+            print_stdout(&text());
         }
     }
 
     /// Prints `value` as JSON when `--json`.
     pub fn json(&self, value: &impl serde::Serialize) -> Result<()> {
         if self.json {
-            println!("{}", serde_json::to_string_pretty(value)?);
+            print_stdout(&serde_json::to_string_pretty(value)?);
         }
         Ok(())
     }
@@ -52,6 +52,15 @@ impl Output {
             eprintln!("rigfit: {text}");
         }
     }
+}
+
+/// Writes one line to stdout. A reader that has gone away (`rigfit … | head`)
+/// is no error: there is nobody left to tell, and the job's files are written
+/// either way.
+pub fn print_stdout(text: &str) {
+    use std::io::Write as _;
+    let mut out = std::io::stdout().lock();
+    let _ = writeln!(out, "{text}").and_then(|()| out.flush());
 }
 
 /// Writes a campaign fragment atomically.

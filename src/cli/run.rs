@@ -33,14 +33,45 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     if let Some(t) = a.target_fitness {
         c.search.target_fitness = Some(t);
     }
-    c.search
-        .validate()
-        .map_err(|e| super::BadInput(format!("{}: {e}", a.campaign.display())))?;
+    c.search.validate().map_err(|e| {
+        // Blame the flag that set the value, not the campaign file.
+        let flag = match e.field {
+            "population" => a.population.map(|n| format!("--population {n}")),
+            "generations" => a.generations.map(|n| format!("--generations {n}")),
+            "target_fitness" => a.target_fitness.map(|t| format!("--target-fitness {t}")),
+            "tournament" | "elitism" => a.population.map(|n| {
+                format!(
+                    "--population {n}: the campaign's search.{} = {} needs a larger population",
+                    e.field, e.found
+                )
+            }),
+            _ => None,
+        };
+        match flag {
+            Some(flag) => super::BadInput(format!(
+                "{flag}: expected {}, found {}",
+                e.expected, e.found
+            )),
+            None => super::BadInput(format!("{}: search.{e}", a.campaign.display())),
+        }
+    })?;
     c.require_genes()?;
     let length = c.check_run_length(a.max_steps)?;
     for w in &c.warnings {
         out.note(&format!("warning: {w}"));
     }
+    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    if a.threads > 2 * cores {
+        out.note(&format!(
+            "warning: --threads {} is far above the {cores} cores here; threads beyond the \
+             cores only slow the job down",
+            a.threads
+        ));
+    }
+    // Start the threads now, so a system that refuses them is told before any work
+    // (a GPU job needs them if it falls back to the CPU).
+    let cpu = CpuEvaluator::try_new(c.problem.clone(), a.threads)
+        .map_err(|e| super::BadInput(format!("--threads {}: {e}", a.threads)))?;
     let dir = a.out.clone().unwrap_or_else(|| c.output.clone());
     let mode = match (a.resume, a.overwrite) {
         (true, _) => FolderMode::Resume,
@@ -75,8 +106,9 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         None => c.solver.precision,
     };
     let evaluator: Box<dyn rigfit::eval::Evaluator> = if backend == Backend::Cpu {
-        Box::new(CpuEvaluator::new(c.problem.clone(), a.threads))
+        Box::new(cpu)
     } else {
+        drop(cpu);
         let opened = rigfit::gpu::open_evaluator(c.problem.clone(), backend, precision)
             .context("opening the GPU evaluator")?;
         if let Some(note) = &opened.note {

@@ -16,12 +16,26 @@ pub struct CpuEvaluator {
 
 impl CpuEvaluator {
     /// An evaluator on `threads` threads (0: all cores).
+    ///
+    /// # Panics
+    /// When the system refuses to start the threads; [`CpuEvaluator::try_new`]
+    /// returns that as an error instead.
     pub fn new(problem: Problem, threads: usize) -> Self {
+        Self::try_new(problem, threads).expect("starting the CPU evaluator's threads")
+    }
+
+    /// An evaluator on `threads` threads (0: all cores), or
+    /// [`EvalError::Unsupported`] when the system refuses to start them.
+    pub fn try_new(problem: Problem, threads: usize) -> Result<Self, EvalError> {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
-            .expect("building a rayon pool with a fixed thread count cannot fail");
-        Self { problem, pool }
+            .map_err(|e| {
+                EvalError::Unsupported(format!(
+                    "the system refused to start {threads} threads: {e}"
+                ))
+            })?;
+        Ok(Self { problem, pool })
     }
 
     /// The problem being scored.
