@@ -198,3 +198,46 @@ fn corrupt_checkpoint_is_a_format_error() {
     let err = executor(base_settings(0)).resume_from(&path).err().unwrap();
     assert!(matches!(err, SearchError::CheckpointFormat { .. }), "{err}");
 }
+
+/// Raises the interrupt flag during its `cancel_on`-th call and returns
+/// [`EvalError::Cancelled`], like an evaluator stopped mid-generation.
+struct CancelledAt {
+    calls: usize,
+    cancel_on: usize,
+    flag: Arc<AtomicBool>,
+}
+
+impl BatchCost for CancelledAt {
+    fn cost(&mut self, genomes: &[Vec<f64>]) -> Result<CostBatch, SearchError> {
+        self.calls += 1;
+        if self.calls == self.cancel_on {
+            self.flag.store(true, std::sync::atomic::Ordering::SeqCst);
+            return Err(SearchError::Eval(rigfit::eval::EvalError::Cancelled));
+        }
+        FnCost(rosenbrock).cost(genomes)
+    }
+}
+
+#[test]
+fn a_generation_cancelled_in_flight_is_dropped_and_resume_repeats_it_exactly() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("checkpoint.json");
+    let flag = Arc::new(AtomicBool::new(false));
+    let ga = GeneticAlgorithm::new(base_settings(0), genes()).unwrap();
+    let cost = CancelledAt {
+        calls: 0,
+        cancel_on: 8,
+        flag: flag.clone(),
+    };
+    let stopped = Executor::new(ga, cost)
+        .fingerprint(fingerprint("abc"))
+        .checkpoint_to(&path)
+        .interrupt(flag)
+        .run()
+        .unwrap();
+    assert_eq!(stopped.termination, TerminationReason::Interrupted);
+    // Calls 1..=7 finished generations 0..=6; the eighth was dropped.
+    assert_eq!(stopped.generations, 7);
+    assert_eq!(Checkpoint::load(&path).unwrap().state.generation, 6);
+    assert_same_result(&straight(), &resumed(&path));
+}

@@ -140,3 +140,50 @@ fn resume_refuses_a_changed_campaign_and_names_the_change() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("gene k1"), "{err}");
 }
+
+#[cfg(unix)]
+#[test]
+fn sigterm_cancels_the_generation_in_flight() {
+    use std::io::{BufRead, BufReader};
+    let dir = tempfile::tempdir().unwrap();
+    let c = campaign(dir.path());
+    // One generation of 4096 candidates of 22 500 steps on one thread: several
+    // seconds, so the signal arrives while the first generation is evaluated.
+    let out = dir.path().join("out");
+    let text = std::fs::read_to_string(&c).unwrap();
+    let mut v: Value = serde_json::from_str(&text).unwrap();
+    v["experiments"][0]["offset"] = Value::from(0.02);
+    std::fs::write(&c, v.to_string()).unwrap();
+    let mut child = rigfit()
+        .arg("run")
+        .arg(&c)
+        .arg("--out")
+        .arg(&out)
+        .args(["--threads", "1", "--population", "4096"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stderr = BufReader::new(child.stderr.take().unwrap());
+    let mut text = String::new();
+    while !text.contains("steps per candidate") {
+        assert!(stderr.read_line(&mut text).unwrap() > 0, "{text}");
+    }
+    // The signal handler is installed right after that line.
+    std::thread::sleep(Duration::from_millis(300));
+    let status = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    std::io::Read::read_to_string(&mut stderr, &mut text).unwrap();
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130), "{text}");
+    // Had the generation been finished first, it would have been checkpointed.
+    assert!(
+        text.contains("before the first generation was complete"),
+        "{text}"
+    );
+    assert!(!out.join("checkpoint.json").exists());
+    assert!(!out.join("result.json").exists());
+}

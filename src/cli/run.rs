@@ -10,8 +10,9 @@ use anyhow::{Context, Result};
 use super::args::{BackendArg, PrecisionArg, RunArgs};
 use super::{EXIT_INTERRUPTED, Output};
 use rigfit::campaign::Campaign;
-use rigfit::eval::{Backend, CpuEvaluator, PrecisionChoice};
+use rigfit::eval::{Backend, CpuEvaluator, EvalError, PrecisionChoice};
 use rigfit::job::{self, FolderMode, JobError, JobOptions, JobSummary, OutputFolder};
+use rigfit::search::SearchError;
 
 /// How to get the GPU path when `auto` fell back to the CPU.
 const GPU_HINT: &str = "for the GPU path install a Vulkan driver (Debian: \
@@ -105,7 +106,7 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         Some(PrecisionArg::F64) => PrecisionChoice::F64,
         None => c.solver.precision,
     };
-    let evaluator: Box<dyn rigfit::eval::Evaluator> = if backend == Backend::Cpu {
+    let mut evaluator: Box<dyn rigfit::eval::Evaluator> = if backend == Backend::Cpu {
         Box::new(cpu)
     } else {
         drop(cpu);
@@ -136,9 +137,12 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
             if flag.swap(true, Ordering::SeqCst) {
                 std::process::exit(i32::from(EXIT_INTERRUPTED));
             }
-            eprintln!("\nrigfit: interrupted; finishing this generation and writing a checkpoint");
+            eprintln!(
+                "\nrigfit: interrupted; stopping the evaluation and keeping the last checkpoint"
+            );
         });
     }
+    evaluator.set_cancel(interrupt.clone());
     let opts = JobOptions {
         out: dir.clone(),
         resume: a.resume,
@@ -147,7 +151,17 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         require_gpu: backend == Backend::Gpu || rigfit::gpu::gpu_required(),
         threads: a.threads,
     };
-    let summary = job::run(&c, evaluator, &opts)?;
+    let summary = match job::run(&c, evaluator, &opts) {
+        Err(JobError::Search(SearchError::Eval(EvalError::Cancelled))) => {
+            out.note(&format!(
+                "interrupted before the first generation was complete: nothing to keep; \
+                 start it again with: rigfit run {}",
+                a.campaign.display()
+            ));
+            return Ok(ExitCode::from(EXIT_INTERRUPTED));
+        }
+        other => other?,
+    };
     out.json(&summary)?;
     out.say(|| summary_text(&summary, &dir, job::steps_per_candidate(&c)));
     if interrupt.load(Ordering::SeqCst) {

@@ -1,5 +1,8 @@
 //! The CPU evaluator: the f64 RK4 reference, parallel over candidates (rayon).
 
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
 use rayon::prelude::*;
 
 use super::{
@@ -12,6 +15,7 @@ use super::{
 pub struct CpuEvaluator {
     problem: Problem,
     pool: rayon::ThreadPool,
+    cancel: Option<Arc<AtomicBool>>,
 }
 
 impl CpuEvaluator {
@@ -35,7 +39,11 @@ impl CpuEvaluator {
                     "the system refused to start {threads} threads: {e}"
                 ))
             })?;
-        Ok(Self { problem, pool })
+        Ok(Self {
+            problem,
+            pool,
+            cancel: None,
+        })
     }
 
     /// The problem being scored.
@@ -60,15 +68,28 @@ impl Evaluator for CpuEvaluator {
         self.problem.check_batch(batch)?;
         let ne = self.problem.experiments.len();
         let problem = &self.problem;
+        let cancelled = || {
+            self.cancel
+                .as_ref()
+                .is_some_and(|f| f.load(Ordering::Relaxed))
+        };
         let runs: Vec<(f64, bool)> = self.pool.install(|| {
             (0..batch.candidates * ne)
                 .into_par_iter()
                 .map(|j| {
+                    // Each lane checks before its run, so an interrupt stops
+                    // the batch within one run per thread.
+                    if cancelled() {
+                        return (f64::NAN, false);
+                    }
                     let (i, e) = (j / ne, j % ne);
                     score_one(problem, e, batch.params_of(e, i), batch.offsets[e][i])
                 })
                 .collect()
         });
+        if cancelled() {
+            return Err(EvalError::Cancelled);
+        }
         Ok(Scores {
             experiments: ne,
             diverged: runs.iter().filter(|r| r.1).count(),
@@ -96,5 +117,9 @@ impl Evaluator for CpuEvaluator {
                 })
                 .collect()
         }))
+    }
+
+    fn set_cancel(&mut self, flag: Arc<AtomicBool>) {
+        self.cancel = Some(flag);
     }
 }

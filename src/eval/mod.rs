@@ -145,6 +145,10 @@ pub enum EvalError {
     /// The evaluator cannot handle this problem.
     #[error("unsupported: {0}")]
     Unsupported(String),
+    /// The flag given to [`Evaluator::set_cancel`] was raised while the batch
+    /// was being evaluated; its results are incomplete and were dropped.
+    #[error("evaluation cancelled by an interrupt")]
+    Cancelled,
 }
 
 /// Scores whole populations of candidates against a [`Problem`].
@@ -159,6 +163,11 @@ pub trait Evaluator: Send {
     /// `[candidate][experiment]`, over samples `0..window.end`.
     fn histories(&mut self, batch: &Batch, which: &[usize])
     -> Result<Vec<Vec<History>>, EvalError>;
+
+    /// A flag that, once raised (Ctrl-C, SIGTERM), makes a [`Evaluator::fitness`]
+    /// in flight stop as soon as it can and return [`EvalError::Cancelled`].
+    /// An evaluator that cannot stop early ignores it.
+    fn set_cancel(&mut self, _flag: std::sync::Arc<std::sync::atomic::AtomicBool>) {}
 }
 
 /// Samples an experiment's run must reach: `0..window.end`.

@@ -20,6 +20,7 @@ use super::report::{
     median, ranking, sanitize_cost,
 };
 use super::state::SearchState;
+use crate::eval::EvalError;
 
 /// Share of diverged candidates in a generation above which the outcome warns.
 pub const DIVERGED_WARN_SHARE: f64 = 0.25;
@@ -29,7 +30,10 @@ pub const DIVERGED_WARN_SHARE: f64 = 0.25;
 /// Stops on the limits in the GA's settings (`generations`, `target_fitness`,
 /// `stall_generations`, `max_time_s`) or when the interrupt flag is raised; the
 /// flag and the limits are checked after every generation, so an interrupt takes
-/// effect once the running evaluation returns.
+/// effect once the running evaluation returns. A cost whose evaluator watches
+/// the same flag ([`crate::eval::Evaluator::set_cancel`]) returns early with
+/// [`EvalError::Cancelled`]; the generation in flight is then dropped and the
+/// checkpoint holds the last finished one.
 ///
 /// Checkpoints are written by the executor itself rather than by an observer:
 /// they need the full state (RNG included), taken at the one point of the loop
@@ -165,10 +169,20 @@ impl<C: BatchCost> Executor<C> {
                 self.save(&fingerprint, &state)?;
             }
             let gen_start = Instant::now();
+            let rng_before = state.rng.clone();
             let off = self
                 .ga
                 .next_generation(&mut state.rng, &state.population, &state.costs);
-            let (child_costs, diverged_runs) = self.evaluate(&off.children)?;
+            let (child_costs, diverged_runs) = match self.evaluate(&off.children) {
+                Err(SearchError::Eval(EvalError::Cancelled)) if self.interrupted() => {
+                    // The generation in flight is dropped: the state goes back to
+                    // the last finished one, which the loop's head checkpoints, so
+                    // a resume repeats this generation exactly.
+                    state.rng = rng_before;
+                    continue;
+                }
+                other => other?,
+            };
             let mut population: Vec<Vec<f64>> = off
                 .elites
                 .iter()
@@ -326,15 +340,17 @@ impl<C: BatchCost> Executor<C> {
             Some(TerminationReason::Stalled)
         } else if s.max_time_s.is_some_and(|t| elapsed >= t) {
             Some(TerminationReason::Timeout)
-        } else if self
-            .interrupt
-            .as_ref()
-            .is_some_and(|f| f.load(Ordering::SeqCst))
-        {
+        } else if self.interrupted() {
             Some(TerminationReason::Interrupted)
         } else {
             None
         }
+    }
+
+    fn interrupted(&self) -> bool {
+        self.interrupt
+            .as_ref()
+            .is_some_and(|f| f.load(Ordering::SeqCst))
     }
 
     fn save(&self, fingerprint: &Fingerprint, state: &SearchState) -> Result<(), SearchError> {
