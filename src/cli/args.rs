@@ -78,6 +78,8 @@ pub enum Command {
         rigfit ringdown campaigns/ringdown_synthetic.csv --m1 7.9 --k1 8.4e9 --out loadcell.json\n\n\
         Input: CSV of time (s) and force (N); '#' lines are comments.")]
     Ringdown(RingdownArgs),
+    /// Classical identification from the seed documents (restoring force, FRF, inverse model).
+    Identify(super::identify::IdentifyArgs),
     /// Validate a campaign and its data without running anything.
     #[command(after_help = "Example:\n  rigfit check campaigns/aa2024_t3_synthetic.json")]
     Check(CheckArgs),

@@ -3,6 +3,7 @@
 pub mod args;
 mod campaign_cmds;
 mod devices;
+pub mod identify;
 mod precal;
 mod run;
 
@@ -84,6 +85,7 @@ pub fn dispatch(cli: Cli) -> Result<ExitCode> {
         Command::Devices => devices::devices(&out)?,
         Command::FitSpecimen(a) => precal::fit_specimen(a, &out)?,
         Command::Ringdown(a) => precal::ringdown_cmd(a, &out)?,
+        Command::Identify(a) => identify::identify(a, &out)?,
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -105,7 +105,7 @@ pub fn ringdown_cmd(args: &RingdownArgs, out: &Output) -> Result<()> {
 
 /// Writes the fragment (with `--out`), then prints the report as JSON (with
 /// `--json`, the fragment added) or as text followed by where the fragment went.
-fn deliver(
+pub(super) fn deliver(
     out: &Output,
     path: Option<&Path>,
     mut report: serde_json::Value,
@@ -132,6 +132,6 @@ fn deliver(
 }
 
 /// A pre-calibration error as one line that names the input file.
-fn in_file(path: &Path, e: rigfit::precal::PrecalError) -> anyhow::Error {
+pub(super) fn in_file(path: &Path, e: rigfit::precal::PrecalError) -> anyhow::Error {
     BadInput(format!("{}: {e}", path.display())).into()
 }

@@ -7,7 +7,10 @@
 //!   natural frequency, damping ratio and `c1_post` (and `k1` when `m1` is known)
 //!   (`rigfit ringdown`);
 //! - [`psd`]: the Welch power spectral density used by the ring-down analysis;
-//! - [`csv_input`]: the small two-column CSV reader both commands use.
+//! - [`csv_input`]: the small two-column CSV reader both commands use;
+//! - [`identify`]: classical identification from the seed documents (restoring
+//!   force surface, frequency response, inverse-model least squares;
+//!   `rigfit identify <method>`).
 //!
 //! Both reports turn into a campaign fragment, `{"params": {...}}`, whose values
 //! are plain numbers, i.e. fixed parameters. A user who prefers to let the search
@@ -16,6 +19,7 @@
 pub mod csv_input;
 mod decay_fit;
 mod decrement;
+pub mod identify;
 pub mod psd;
 pub mod ringdown;
 pub mod specimen;

@@ -1,0 +1,470 @@
+//! `rigfit identify <method>`: the classical identification tools of the seed
+//! documents, each writing a campaign fragment and an SVG figure.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result};
+use clap::{Args, Subcommand, ValueEnum};
+
+use super::Output;
+use super::precal::{deliver, in_file};
+use rigfit::precal::identify::columns::{Table, sample_interval};
+use rigfit::precal::identify::dpe::{self, DpeOptions, GridOptions, Term};
+use rigfit::precal::identify::frf;
+use rigfit::precal::identify::idim::{self, IdimOptions};
+use rigfit::precal::identify::modal::{self, ModalOptions, Response};
+use rigfit::precal::identify::plot::{Panel, panels_svg};
+use rigfit::precal::identify::rfs::{self, RfsOptions};
+
+/// `rigfit identify`.
+#[derive(Debug, Args)]
+pub struct IdentifyArgs {
+    /// The method.
+    #[command(subcommand)]
+    pub method: Method,
+}
+
+/// The identification methods.
+#[derive(Debug, Subcommand)]
+pub enum Method {
+    /// Restoring-force surface and direct parameter estimation of a base-excited
+    /// SDOF rig (document 000, §3.2–3.3).
+    #[command(after_help = "Example:\n  \
+        rigfit identify rfs rig.csv --x x_m --accel a_ms2 --mass 9 \\\n    \
+        --terms linear,cubic,power-stiffness,viscous,cubic-damping,power-damping \\\n    \
+        --out sdof.json --svg rfs.svg\n\n\
+        Input: CSV with a time column (s), the relative displacement of the mass (m)\n\
+        and the base acceleration (m/s²); columns by header name or 1-based position.")]
+    Rfs(RfsArgs),
+    /// H1/H2 frequency response with coherence and a modal fit (documents 003, 002).
+    #[command(after_help = "Example:\n  \
+        rigfit identify frf hammer.csv --input force_N --output x_m --modes 2 \\\n    \
+        --f-min 5 --f-max 80 --csv frf.csv --svg frf.svg --out modes.json\n\n\
+        Input: CSV with a time column (s), the input force (N) and the response\n\
+        (m, m/s or m/s², see --response).")]
+    Frf(FrfArgs),
+    /// Inverse-model least squares for a driven mass with friction (EMPS IDIM-LS).
+    #[command(after_help = "Example:\n  \
+        rigfit identify idim tests/data/emps/emps_position_voltage.csv \\\n    \
+        --position position_m --force controller_voltage_V --gain 35.15065188248547 \\\n    \
+        --sample-rate 1000 --out emps.json --svg emps.svg\n\n\
+        Input: CSV with the position (m) and the applied force (N, or a signal times --gain).")]
+    Idim(IdimArgs),
+}
+
+/// A restoring-force term on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum TermArg {
+    /// kf1·x
+    Linear,
+    /// kf2·x³
+    Cubic,
+    /// kf3·|x|^β·sgn x
+    PowerStiffness,
+    /// cf1·ẋ
+    Viscous,
+    /// cf2·ẋ³
+    CubicDamping,
+    /// cf3·|ẋ|^α·sgn ẋ
+    PowerDamping,
+    /// fc·sgn ẋ
+    Coulomb,
+}
+
+impl From<TermArg> for Term {
+    fn from(t: TermArg) -> Self {
+        match t {
+            TermArg::Linear => Term::Linear,
+            TermArg::Cubic => Term::Cubic,
+            TermArg::PowerStiffness => Term::PowerStiffness,
+            TermArg::Viscous => Term::Viscous,
+            TermArg::CubicDamping => Term::CubicDamping,
+            TermArg::PowerDamping => Term::PowerDamping,
+            TermArg::Coulomb => Term::Coulomb,
+        }
+    }
+}
+
+/// What the FRF's output column measures.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ResponseArg {
+    /// Displacement (m).
+    Displacement,
+    /// Velocity (m/s).
+    Velocity,
+    /// Acceleration (m/s²).
+    Acceleration,
+}
+
+/// Options every method shares.
+#[derive(Debug, Args)]
+pub struct Common {
+    /// Write the campaign fragment (JSON) here.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Write the figure (SVG) here.
+    #[arg(long)]
+    pub svg: Option<PathBuf>,
+    /// Write fixed values instead of free parameters with bounds and an init seed.
+    #[arg(long)]
+    pub fixed: bool,
+}
+
+/// `rigfit identify rfs`.
+#[derive(Debug, Args)]
+pub struct RfsArgs {
+    /// CSV record.
+    pub data: PathBuf,
+    /// Time column (s).
+    #[arg(long, default_value = "1")]
+    pub time: String,
+    /// Relative displacement column (m).
+    #[arg(long, default_value = "2")]
+    pub x: String,
+    /// Base acceleration column (m/s²).
+    #[arg(long, default_value = "3")]
+    pub accel: String,
+    /// Mass of the moving body (kg), measured.
+    #[arg(long)]
+    pub mass: f64,
+    /// Terms of the restoring force.
+    #[arg(long, value_enum, value_delimiter = ',', default_values_t = [TermArg::Linear, TermArg::Viscous])]
+    pub terms: Vec<TermArg>,
+    /// Fixed damping exponent α (default: searched).
+    #[arg(long)]
+    pub alpha: Option<f64>,
+    /// Fixed stiffness exponent β (default: searched).
+    #[arg(long)]
+    pub beta: Option<f64>,
+    /// Zero-phase low-pass on x and a before differencing (Hz).
+    #[arg(long)]
+    pub cutoff: Option<f64>,
+    /// Order of that Butterworth filter.
+    #[arg(long, default_value_t = 4)]
+    pub filter_order: usize,
+    #[command(flatten)]
+    pub common: Common,
+}
+
+/// `rigfit identify frf`.
+#[derive(Debug, Args)]
+pub struct FrfArgs {
+    /// CSV record.
+    pub data: PathBuf,
+    /// Time column (s).
+    #[arg(long, default_value = "1")]
+    pub time: String,
+    /// Input (force) column.
+    #[arg(long, default_value = "2")]
+    pub input: String,
+    /// Output (response) column.
+    #[arg(long, default_value = "3")]
+    pub output: String,
+    /// What the output measures.
+    #[arg(long, value_enum, default_value_t = ResponseArg::Displacement)]
+    pub response: ResponseArg,
+    /// Samples per Welch segment (default: the largest power of two giving ≥ 8 segments).
+    #[arg(long)]
+    pub segment: Option<usize>,
+    /// Modes to fit in the band (0: no modal fit).
+    #[arg(long, default_value_t = 1)]
+    pub modes: usize,
+    /// Lower edge of the fitted band (Hz).
+    #[arg(long)]
+    pub f_min: Option<f64>,
+    /// Upper edge of the fitted band (Hz).
+    #[arg(long)]
+    pub f_max: Option<f64>,
+    /// Lines with a lower coherence are left out of the fit.
+    #[arg(long, default_value_t = 0.8)]
+    pub min_coherence: f64,
+    /// Campaign names of the SDOF mass, stiffness and damping (one mode).
+    #[arg(long, value_delimiter = ',', default_values_t = ["m".to_string(), "k".to_string(), "c".to_string()])]
+    pub names: Vec<String>,
+    /// Write the FRF table (frequency, H1, H2, coherence, fit) here.
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+    #[command(flatten)]
+    pub common: Common,
+}
+
+/// `rigfit identify idim`.
+#[derive(Debug, Args)]
+pub struct IdimArgs {
+    /// CSV record.
+    pub data: PathBuf,
+    /// Position column (m).
+    #[arg(long, default_value = "1")]
+    pub position: String,
+    /// Force column (N, or a signal scaled by --gain).
+    #[arg(long, default_value = "2")]
+    pub force: String,
+    /// Force per unit of the force column (e.g. EMPS gtau, N/V).
+    #[arg(long, default_value_t = 1.0)]
+    pub gain: f64,
+    /// Time column (s); or give --sample-rate.
+    #[arg(long, conflicts_with = "sample_rate")]
+    pub time: Option<String>,
+    /// Sample rate (Hz) when the record has no time column.
+    #[arg(long)]
+    pub sample_rate: Option<f64>,
+    /// Cut-off of the zero-phase Butterworth low-pass (Hz).
+    #[arg(long, default_value_t = 100.0)]
+    pub cutoff: f64,
+    /// Order of that filter.
+    #[arg(long, default_value_t = 4)]
+    pub filter_order: usize,
+    /// Keep every N-th row in the least squares.
+    #[arg(long, default_value_t = 10)]
+    pub decimation: usize,
+    #[command(flatten)]
+    pub common: Common,
+}
+
+/// Runs one identification method.
+pub fn identify(args: &IdentifyArgs, out: &Output) -> Result<()> {
+    match &args.method {
+        Method::Rfs(a) => rfs_cmd(a, out),
+        Method::Frf(a) => frf_cmd(a, out),
+        Method::Idim(a) => idim_cmd(a, out),
+    }
+}
+
+fn write_svg(path: Option<&Path>, title: &str, panels: &[Panel], columns: usize) -> Result<()> {
+    if let Some(path) = path {
+        let svg = panels_svg(title, panels, columns)?;
+        rigfit::fsutil::atomic_write(path, svg.as_bytes())
+            .with_context(|| format!("writing `{}`", path.display()))?;
+    }
+    Ok(())
+}
+
+fn rfs_cmd(a: &RfsArgs, out: &Output) -> Result<()> {
+    let bad = |e| in_file(&a.data, e);
+    let table = Table::read(&a.data).map_err(bad)?;
+    let t = table.column(&a.time).map_err(bad)?;
+    let x = table.column(&a.x).map_err(bad)?;
+    let acc = table.column(&a.accel).map_err(bad)?;
+    let surface = rfs::surface(
+        t,
+        x,
+        acc,
+        &RfsOptions {
+            mass: a.mass,
+            cutoff_hz: a.cutoff,
+            filter_order: a.filter_order,
+        },
+    )
+    .map_err(bad)?;
+    let opts = DpeOptions {
+        terms: a.terms.iter().map(|&t| t.into()).collect(),
+        alpha: a.alpha,
+        beta: a.beta,
+        grid: GridOptions::default(),
+    };
+    let r = dpe::estimate(&surface, &opts).map_err(bad)?;
+    write_svg(
+        a.common.svg.as_deref(),
+        &format!("restoring force of {}", a.data.display()),
+        &dpe::figure(&surface, &r),
+        3,
+    )?;
+    let fragment = r.to_campaign_fragment(a.common.fixed, &opts.grid);
+    deliver(
+        out,
+        a.common.out.as_deref(),
+        serde_json::json!({"dpe": r}),
+        &fragment,
+        || {
+            let mut s = format!(
+                "restoring-force surface of {} ({} samples at {:.0} Hz, m = {} kg)\n",
+                a.data.display(),
+                r.samples,
+                surface.sample_rate_hz,
+                r.mass
+            );
+            for c in &r.coefficients {
+                s += &format!(
+                    "  {:<4} = {:>12.5e} ± {:.2e} {}\n",
+                    c.param, c.value, c.std_error, c.unit
+                );
+            }
+            if let Some(al) = r.alpha {
+                s += &format!("  alpha = {al:.4}\n");
+            }
+            if let Some(b) = r.beta {
+                s += &format!("  beta  = {b:.4}\n");
+            }
+            if !r.search.is_empty() {
+                s += &format!(
+                    "  exponent grid: {} levels, step {} → {}\n",
+                    r.search.len(),
+                    r.search[0].step,
+                    r.search[r.search.len() - 1].step
+                );
+            }
+            s += &format!(
+                "  R² = {:.6}, RMS residual {:.4e} N, largest {:.4e} N, condition {:.2e}\n",
+                r.r2, r.rms_residual, r.max_residual, r.condition
+            );
+            s
+        },
+    )
+}
+
+fn frf_cmd(a: &FrfArgs, out: &Output) -> Result<()> {
+    let bad = |e| in_file(&a.data, e);
+    let table = Table::read(&a.data).map_err(bad)?;
+    let t = table.column(&a.time).map_err(bad)?;
+    let u = table.column(&a.input).map_err(bad)?;
+    let y = table.column(&a.output).map_err(bad)?;
+    let fs = 1.0 / sample_interval(t).map_err(bad)?;
+    let est = frf::estimate(u, y, fs, a.segment).map_err(bad)?;
+    let response = match a.response {
+        ResponseArg::Displacement => Response::Displacement,
+        ResponseArg::Velocity => Response::Velocity,
+        ResponseArg::Acceleration => Response::Acceleration,
+    };
+    let fit = if a.modes > 0 {
+        let opts = ModalOptions {
+            modes: a.modes,
+            f_min: a.f_min.unwrap_or(est.settings.resolution_hz),
+            f_max: a.f_max.unwrap_or(fs / 2.0),
+            response,
+            min_coherence: a.min_coherence,
+            iterations: 10,
+        };
+        Some(modal::fit(&est.freqs, &est.h1, &est.coherence, &opts).map_err(bad)?)
+    } else {
+        None
+    };
+    if let Some(path) = &a.csv {
+        let mut text = String::from(
+            "frequency_Hz,h1_re,h1_im,h1_abs,h1_phase_rad,h2_abs,h2_phase_rad,coherence,fit_abs,fit_phase_rad\n",
+        );
+        for k in 0..est.freqs.len() {
+            let f = est.freqs[k];
+            let fitted = fit
+                .as_ref()
+                .map(|m| m.response(f, response))
+                .unwrap_or(f64::NAN.into());
+            text += &format!(
+                "{f},{},{},{},{},{},{},{},{},{}\n",
+                est.h1[k].re,
+                est.h1[k].im,
+                est.h1[k].norm(),
+                est.h1[k].arg(),
+                est.h2[k].norm(),
+                est.h2[k].arg(),
+                est.coherence[k],
+                fitted.norm(),
+                fitted.arg()
+            );
+        }
+        rigfit::fsutil::atomic_write(path, text.as_bytes())
+            .with_context(|| format!("writing `{}`", path.display()))?;
+    }
+    write_svg(
+        a.common.svg.as_deref(),
+        &format!("frequency response of {}", a.data.display()),
+        &modal::figure(&est, fit.as_ref(), response),
+        1,
+    )?;
+    let fragment = match &fit {
+        Some(m) => m.to_campaign_fragment(&a.names, a.common.fixed),
+        None => serde_json::json!({"params": {}}),
+    };
+    deliver(
+        out,
+        a.common.out.as_deref(),
+        serde_json::json!({"welch": est.settings, "modal": fit}),
+        &fragment,
+        || {
+            let w = &est.settings;
+            let mut s = format!(
+                "frequency response of {} ({} samples at {:.1} Hz)\n  Welch: {} window, {} samples × {} segments, resolution {:.4} Hz\n",
+                a.data.display(),
+                u.len(),
+                fs,
+                w.window,
+                w.segment_len,
+                w.n_segments,
+                w.resolution_hz
+            );
+            if let Some(m) = &fit {
+                for (i, md) in m.modes.iter().enumerate() {
+                    s += &format!(
+                        "  mode {}: f_n = {:.4} Hz, ζ = {:.5}, modal m = {:.5e} kg, k = {:.5e} N/m, c = {:.5e} N·s/m\n",
+                        i + 1,
+                        md.natural_frequency_hz,
+                        md.damping_ratio,
+                        md.mass,
+                        md.stiffness,
+                        md.damping
+                    );
+                }
+                s += &format!(
+                    "  fit over {} lines: relative RMS error {:.4}\n",
+                    m.lines, m.relative_error
+                );
+            }
+            s
+        },
+    )
+}
+
+fn idim_cmd(a: &IdimArgs, out: &Output) -> Result<()> {
+    let bad = |e| in_file(&a.data, e);
+    let table = Table::read(&a.data).map_err(bad)?;
+    let q = table.column(&a.position).map_err(bad)?;
+    let tau: Vec<f64> = table
+        .column(&a.force)
+        .map_err(bad)?
+        .iter()
+        .map(|v| a.gain * v)
+        .collect();
+    let fs = match (&a.time, a.sample_rate) {
+        (Some(col), _) => 1.0 / sample_interval(table.column(col).map_err(bad)?).map_err(bad)?,
+        (None, Some(fs)) => fs,
+        (None, None) => anyhow::bail!(super::BadInput(
+            "give the sample rate (--sample-rate) or a time column (--time)".into()
+        )),
+    };
+    let opts = IdimOptions {
+        sample_rate_hz: fs,
+        cutoff_hz: a.cutoff,
+        filter_order: a.filter_order,
+        decimation: a.decimation,
+        border: 49,
+    };
+    let r = idim::estimate(q, &tau, &opts).map_err(bad)?;
+    write_svg(
+        a.common.svg.as_deref(),
+        &format!("inverse model of {}", a.data.display()),
+        &idim::figure(&r),
+        1,
+    )?;
+    let fragment = r.to_campaign_fragment(a.common.fixed);
+    deliver(
+        out,
+        a.common.out.as_deref(),
+        serde_json::json!({"idim": r}),
+        &fragment,
+        || {
+            let mut s = format!(
+                "inverse model of {} ({} rows after decimation by {})\n",
+                a.data.display(),
+                r.rows,
+                opts.decimation
+            );
+            for e in &r.estimates {
+                s += &format!(
+                    "  {:<3} = {:>10.4} ± {:.2} % {}\n",
+                    e.param, e.value, e.relative_error_percent, e.unit
+                );
+            }
+            s += &format!("  R² = {:.5}, RMS residual {:.4} N\n", r.r2, r.rms_residual);
+            s
+        },
+    )
+}
