@@ -75,4 +75,51 @@ fn duffing_paths_give_impedance_and_cubic_coefficient() {
     assert!(path.coherence_nonlinear[res] > 0.0);
     // Ignoring the cubic input biases the linear stiffness.
     assert!((path.h_o[res].re - path.h[res].re).abs() > 0.0);
+
+    // The command reads the same record from a CSV and writes the fragment.
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("duffing.csv");
+    let mut text = String::from("t_s,x_m,force_N\n");
+    for (i, (x, f)) in x.iter().zip(&f).enumerate() {
+        text += &format!("{:.17e},{x:.17e},{f:.17e}\n", t[skip + i]);
+    }
+    std::fs::write(&csv, text).unwrap();
+    let frag = dir.path().join("duffing.json");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_rigfit"))
+        .args(["identify", "nimiso"])
+        .arg(&csv)
+        .args([
+            "--motion",
+            "x_m",
+            "--force",
+            "force_N",
+            "--nonlinear",
+            "cubic",
+        ])
+        .args([
+            "--segment",
+            "2048",
+            "--f-min",
+            "3",
+            "--f-max",
+            "38",
+            "--fixed",
+        ])
+        .arg("--out")
+        .arg(&frag)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let fragment: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&frag).unwrap()).unwrap();
+    close(
+        "k3 from the command",
+        fragment["params"]["k3"].as_f64().unwrap(),
+        k3,
+        0.03,
+    );
 }

@@ -13,6 +13,7 @@ use rigfit::precal::identify::dpe::{self, DpeOptions, GridOptions, Term};
 use rigfit::precal::identify::frf;
 use rigfit::precal::identify::idim::{self, IdimOptions};
 use rigfit::precal::identify::modal::{self, ModalOptions, Response};
+use rigfit::precal::identify::nimiso::{self, NimisoOptions, Nonlinearity};
 use rigfit::precal::identify::plot::{Panel, panels_svg};
 use rigfit::precal::identify::rfs::{self, RfsOptions};
 
@@ -50,6 +51,12 @@ pub enum Method {
         --sample-rate 1000 --out emps.json --svg emps.svg\n\n\
         Input: CSV with the position (m) and the applied force (N, or a signal times --gain).")]
     Idim(IdimArgs),
+    /// Reverse-path nonlinear MISO analysis of a force-driven rig (Bendat; document 004).
+    #[command(after_help = "Example:\n  \
+        rigfit identify nimiso rig.csv --motion x_m --force force_N --nonlinear cubic \\\n    \
+        --f-min 3 --f-max 38 --out rig.json --svg paths.svg\n\n\
+        Input: CSV with a time column (s), the measured motion (m) and the applied force (N).")]
+    Nimiso(NimisoArgs),
 }
 
 /// A restoring-force term on the command line.
@@ -94,6 +101,17 @@ pub enum ResponseArg {
     Velocity,
     /// Acceleration (m/s²).
     Acceleration,
+}
+
+/// The nonlinear input of the reverse path.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum NonlinearArg {
+    /// x³ (cubic stiffness, fragment name k3).
+    Cubic,
+    /// sgn ẋ (Coulomb friction, fragment name Fc).
+    SignVelocity,
+    /// |ẋ|·ẋ (quadratic damping, fragment name c2).
+    QuadraticDamping,
 }
 
 /// Options every method shares.
@@ -221,12 +239,43 @@ pub struct IdimArgs {
     pub common: Common,
 }
 
+/// `rigfit identify nimiso`.
+#[derive(Debug, Args)]
+pub struct NimisoArgs {
+    /// CSV record.
+    pub data: PathBuf,
+    /// Time column (s).
+    #[arg(long, default_value = "1")]
+    pub time: String,
+    /// Motion column (m), the reverse path's input.
+    #[arg(long, default_value = "2")]
+    pub motion: String,
+    /// Force column (N), the reverse path's output.
+    #[arg(long, default_value = "3")]
+    pub force: String,
+    /// The nonlinear input v = g(x, ẋ).
+    #[arg(long, value_enum, default_value_t = NonlinearArg::Cubic)]
+    pub nonlinear: NonlinearArg,
+    /// Samples per Welch segment (default: the largest power of two giving ≥ 8 segments).
+    #[arg(long)]
+    pub segment: Option<usize>,
+    /// Lower edge of the fitted band (Hz).
+    #[arg(long)]
+    pub f_min: f64,
+    /// Upper edge of the fitted band (Hz).
+    #[arg(long)]
+    pub f_max: f64,
+    #[command(flatten)]
+    pub common: Common,
+}
+
 /// Runs one identification method.
 pub fn identify(args: &IdentifyArgs, out: &Output) -> Result<()> {
     match &args.method {
         Method::Rfs(a) => rfs_cmd(a, out),
         Method::Frf(a) => frf_cmd(a, out),
         Method::Idim(a) => idim_cmd(a, out),
+        Method::Nimiso(a) => nimiso_cmd(a, out),
     }
 }
 
@@ -465,6 +514,62 @@ fn idim_cmd(a: &IdimArgs, out: &Output) -> Result<()> {
             }
             s += &format!("  R² = {:.5}, RMS residual {:.4} N\n", r.r2, r.rms_residual);
             s
+        },
+    )
+}
+
+fn nimiso_cmd(a: &NimisoArgs, out: &Output) -> Result<()> {
+    let bad = |e| in_file(&a.data, e);
+    let table = Table::read(&a.data).map_err(bad)?;
+    let t = table.column(&a.time).map_err(bad)?;
+    let x = table.column(&a.motion).map_err(bad)?;
+    let f = table.column(&a.force).map_err(bad)?;
+    let fs = 1.0 / sample_interval(t).map_err(bad)?;
+    let (nonlinearity, name) = match a.nonlinear {
+        NonlinearArg::Cubic => (Nonlinearity::Cubic, "k3"),
+        NonlinearArg::SignVelocity => (Nonlinearity::SignVelocity, "Fc"),
+        NonlinearArg::QuadraticDamping => (Nonlinearity::QuadraticDamping, "c2"),
+    };
+    let opts = NimisoOptions {
+        sample_rate_hz: fs,
+        segment_len: a.segment,
+        nonlinearity,
+        f_min: a.f_min,
+        f_max: a.f_max,
+    };
+    let (path, r) = nimiso::analyse(x, f, &opts).map_err(bad)?;
+    write_svg(
+        a.common.svg.as_deref(),
+        &format!("reverse-path analysis of {}", a.data.display()),
+        &nimiso::figure(&path, &r, (a.f_min, a.f_max)),
+        3,
+    )?;
+    let fragment = r.to_campaign_fragment(name, a.common.fixed);
+    deliver(
+        out,
+        a.common.out.as_deref(),
+        serde_json::json!({"nimiso": r}),
+        &fragment,
+        || {
+            format!(
+                "reverse-path analysis of {} ({} lines in {}…{} Hz, {} segments of {})\n  \
+                 m = {:.5e} kg, k = {:.5e} N/m, c = {:.5e} N·s/m\n  \
+                 {name} = {:.5e} (spread over the band {:.2e})\n  \
+                 coherence: linear path {:.4}, nonlinear path adds {:.4}\n",
+                a.data.display(),
+                r.lines,
+                a.f_min,
+                a.f_max,
+                r.settings.n_segments,
+                r.settings.segment_len,
+                r.mass,
+                r.stiffness,
+                r.damping,
+                r.nonlinear_coefficient,
+                r.nonlinear_spread,
+                r.mean_coherence_linear,
+                r.mean_coherence_nonlinear
+            )
         },
     )
 }

@@ -279,3 +279,88 @@ pub fn analyse(
     };
     Ok((path, report))
 }
+
+impl NimisoReport {
+    /// The campaign fragment: `m`, `c`, `k` and the nonlinear coefficient under
+    /// `nonlinear_name`, free with `init` at the estimate and bounds ±50 %, or
+    /// plain numbers with `fixed`.
+    pub fn to_campaign_fragment(&self, nonlinear_name: &str, fixed: bool) -> serde_json::Value {
+        let mut params = serde_json::Map::new();
+        for (name, value) in [
+            ("m", self.mass),
+            ("c", self.damping),
+            ("k", self.stiffness),
+            (nonlinear_name, self.nonlinear_coefficient),
+        ] {
+            let entry = if fixed {
+                serde_json::json!(value)
+            } else {
+                let w = 0.5 * value.abs();
+                serde_json::json!({"min": value - w, "max": value + w, "init": value})
+            };
+            params.insert(name.into(), entry);
+        }
+        serde_json::json!({ "params": params })
+    }
+}
+
+/// Panels of the reverse-path figure: the linear path's real and imaginary
+/// parts with the fitted `k − mω²` and `ωc`, the nonlinear path `Re A` with its
+/// band mean, and the coherence of each path.
+pub fn figure(
+    path: &ReversePath,
+    report: &NimisoReport,
+    band: (f64, f64),
+) -> Vec<super::plot::Panel> {
+    use super::plot::{FIT, MEASURED, OTHER, Panel, Series, Style, THIRD};
+    let ks: Vec<usize> = (1..path.freqs.len())
+        .filter(|&k| path.freqs[k] >= band.0 && path.freqs[k] <= band.1)
+        .collect();
+    let series = |label: &str, f: &dyn Fn(usize) -> f64, color| Series {
+        label: label.into(),
+        points: ks.iter().map(|&k| (path.freqs[k], f(k))).collect(),
+        style: Style::Line,
+        color,
+    };
+    let w = |k: usize| 2.0 * PI * path.freqs[k];
+    vec![
+        Panel {
+            caption: "linear path H (force per displacement)".into(),
+            x_desc: "frequency (Hz)".into(),
+            y_desc: "N/m".into(),
+            series: vec![
+                series("Re H", &|k| path.h[k].re, MEASURED),
+                series(
+                    "k − mω²",
+                    &|k| report.stiffness - report.mass * w(k).powi(2),
+                    FIT,
+                ),
+                series("Im H", &|k| path.h[k].im, OTHER),
+                series("ωc", &|k| w(k) * report.damping, THIRD),
+            ],
+        },
+        Panel {
+            caption: "nonlinear path A".into(),
+            x_desc: "frequency (Hz)".into(),
+            y_desc: "Re A".into(),
+            series: vec![
+                series("Re A", &|k| path.a[k].re, MEASURED),
+                series("band mean", &|_| report.nonlinear_coefficient, FIT),
+            ],
+        },
+        Panel {
+            caption: "coherence of each path".into(),
+            x_desc: "frequency (Hz)".into(),
+            y_desc: "γ²".into(),
+            series: vec![
+                series("linear γ²_xy", &|k| path.coherence_linear[k], FIT),
+                series("nonlinear γ²_uy", &|k| path.coherence_nonlinear[k], OTHER),
+                series(
+                    "sum",
+                    &|k| path.coherence_linear[k] + path.coherence_nonlinear[k],
+                    MEASURED,
+                ),
+            ],
+        },
+    ]
+}
