@@ -192,28 +192,57 @@ pub fn summary_text(s: &JobSummary, dir: &std::path::Path, steps: f64) -> String
             e.name, e.r2, e.one_minus_r2, e.r2_cpu_reference
         );
     }
+    if let Some(p) = &s.polish {
+        let _ = writeln!(
+            t,
+            "  polish: 1 − R² {:.4e} (GA) → {:.4e} in {} iterations, {} evaluations, {:.1} s",
+            p.ga_fitness, s.fitness, p.iterations, p.evaluations, p.wall_time_s
+        );
+    }
     let _ = writeln!(
         t,
-        "  fitted parameters (elite width: spread of the best 10 % relative to the value):"
+        "  fitted parameters (95 % interval from the covariance at the optimum; \
+         elite width: spread of the GA's best 10 % relative to the value):"
     );
     let _ = writeln!(
         t,
-        "    {:<18} {:>14} {:<7} {:>25} {:>12}",
-        "name", "value", "unit", "bounds", "elite width"
+        "    {:<18} {:>14} {:<7} {:>25} {:>25} {:>12}",
+        "name", "value", "unit", "bounds", "95 % interval", "elite width"
     );
     for p in s.parameters.iter().filter(|p| p.free) {
         let bounds = p
             .bounds
             .map(|[lo, hi]| format!("[{lo:.3e}, {hi:.3e}]"))
             .unwrap_or_default();
+        let interval = p
+            .interval_95
+            .map(|[lo, hi]| format!("[{lo:.3e}, {hi:.3e}]"))
+            .unwrap_or_else(|| {
+                if p.determined.is_some() {
+                    "—".into()
+                } else {
+                    String::new()
+                }
+            });
         let width = p
             .elite_relative_width
             .map(|w| format!("{:.2} %", 100.0 * w))
             .unwrap_or_default();
+        let mut flags = String::new();
+        if p.determined == Some(false) {
+            flags += "  not determined by the data";
+        }
+        if !p.correlated_with.is_empty() {
+            let _ = write!(
+                flags,
+                "  |corr| > 0.99 with {}",
+                p.correlated_with.join(", ")
+            );
+        }
         let _ = writeln!(
             t,
-            "    {:<18} {:>14.6e} {:<7} {:>25} {:>12}",
-            p.name, p.value, p.unit, bounds, width
+            "    {:<18} {:>14.6e} {:<7} {:>25} {:>25} {:>12}{flags}",
+            p.name, p.value, p.unit, bounds, interval, width
         );
     }
     for w in &s.warnings {

@@ -8,12 +8,14 @@
 mod cpu;
 mod fitness;
 mod problem;
+mod residuals;
 
 use std::ops::Range;
 
 pub use cpu::CpuEvaluator;
 pub use fitness::{FitnessAccumulator, score_one, simulate_history};
 pub use problem::{ExperimentData, Problem};
+pub use residuals::window_residuals;
 
 /// Floating-point precision of an evaluator's arithmetic.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]

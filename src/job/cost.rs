@@ -1,8 +1,8 @@
 //! The campaign as the search's batched cost, with CPU fallback on device loss.
 
 use crate::campaign::Campaign;
-use crate::eval::{CpuEvaluator, EvalError, Evaluator};
-use crate::search::{BatchCost, CostBatch, SearchError};
+use crate::eval::{CpuEvaluator, EvalError, Evaluator, window_residuals};
+use crate::search::{BatchCost, CostBatch, ResidualCost, SearchError};
 
 /// Scores genomes: genomes → per-experiment parameter vectors → evaluator →
 /// weighted mean of `1 − R²`.
@@ -36,17 +36,26 @@ impl<'a> CampaignCost<'a> {
         self.fallback.clone()
     }
 
+    /// Arithmetic precision of the evaluator in use now.
+    pub fn precision(&self) -> crate::eval::Precision {
+        self.evaluator.info().precision
+    }
+
     /// The evaluator in use now.
     pub fn into_evaluator(self) -> Box<dyn Evaluator> {
         self.evaluator
     }
 }
 
-impl BatchCost for CampaignCost<'_> {
-    fn cost(&mut self, genomes: &[Vec<f64>]) -> Result<CostBatch, SearchError> {
-        let batch = self.campaign.batch(genomes);
-        let scores = match self.evaluator.fitness(&batch) {
-            Ok(s) => s,
+impl CampaignCost<'_> {
+    /// Runs `f` on the evaluator; on a device failure (unless the GPU is
+    /// required) moves to the CPU, says so once, and runs `f` again there.
+    fn with_fallback<T>(
+        &mut self,
+        mut f: impl FnMut(&mut dyn Evaluator) -> Result<T, EvalError>,
+    ) -> Result<T, SearchError> {
+        match f(self.evaluator.as_mut()) {
+            Ok(v) => Ok(v),
             Err(EvalError::Device(msg)) if !self.require_gpu => {
                 let note =
                     format!("the GPU failed ({msg}); continuing on the CPU from this generation");
@@ -57,13 +66,47 @@ impl BatchCost for CampaignCost<'_> {
                     self.campaign.problem.clone(),
                     self.threads,
                 ));
-                self.evaluator.fitness(&batch)?
+                Ok(f(self.evaluator.as_mut())?)
             }
-            Err(e) => return Err(e.into()),
-        };
+            Err(e) => Err(e.into()),
+        }
+    }
+}
+
+impl BatchCost for CampaignCost<'_> {
+    fn cost(&mut self, genomes: &[Vec<f64>]) -> Result<CostBatch, SearchError> {
+        let batch = self.campaign.batch(genomes);
+        let scores = self.with_fallback(|ev| ev.fitness(&batch))?;
         Ok(CostBatch {
             costs: self.campaign.combine(&scores),
             diverged: scores.diverged,
         })
+    }
+}
+
+/// Residuals of every experiment's fit window, one after the other, each
+/// scaled by `√(w_e / (W · SS_tot,e))` so that their sum of squares is the
+/// joint fitness [`Campaign::combine`] gives (`W`: the sum of the weights).
+impl ResidualCost for CampaignCost<'_> {
+    fn residuals(&mut self, genomes: &[Vec<f64>]) -> Result<Vec<Option<Vec<f64>>>, SearchError> {
+        let batch = self.campaign.batch(genomes);
+        let which: Vec<usize> = (0..genomes.len()).collect();
+        let histories = self.with_fallback(|ev| ev.histories(&batch, &which))?;
+        let exps = &self.campaign.problem.experiments;
+        let total: f64 = exps.iter().map(|x| x.weight).sum();
+        let scale: Vec<f64> = exps
+            .iter()
+            .map(|x| (x.weight / (total * x.ss_tot())).sqrt())
+            .collect();
+        Ok(histories
+            .iter()
+            .map(|per_exp| {
+                let mut r = Vec::new();
+                for ((exp, h), s) in exps.iter().zip(per_exp).zip(&scale) {
+                    r.extend(window_residuals(exp, h)?.into_iter().map(|v| v * s));
+                }
+                Some(r)
+            })
+            .collect())
     }
 }

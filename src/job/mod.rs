@@ -14,13 +14,15 @@ use std::sync::atomic::AtomicBool;
 
 pub use cost::CampaignCost;
 pub use folder::{FolderMode, LOCK_FILE, MANIFEST_FILE, OutputFolder, output_files};
-pub use outputs::{ExperimentFit, JobSummary, ParamSummary, write_outputs};
+pub use outputs::{ExperimentFit, JobSummary, ParamSummary, PolishSummary, write_outputs};
 
 use crate::campaign::Campaign;
 use crate::eval::Evaluator;
+use crate::eval::Precision;
 use crate::search::{
-    Executor, Fingerprint, GeneSpec, GeneticAlgorithm, HistoryCsvObserver, ObserverMode,
-    ProgressObserver, SearchError,
+    Executor, Fingerprint, GeneSpec, GeneticAlgorithm, HistoryCsvObserver, ObserverMode, Polish,
+    PolishOutcome, PolishStop, ProgressObserver, SearchError, SearchOutcome, TerminationReason,
+    distinct_starts,
 };
 
 /// Name of the checkpoint file inside the output folder.
@@ -195,20 +197,65 @@ pub fn run(
     if opts.resume {
         exec = exec.resume_from(&checkpoint)?;
     }
-    let outcome = exec.run()?;
+    let mut outcome = exec.run()?;
+    let polish = if campaign.search.polish.enabled
+        && outcome.termination != TerminationReason::Interrupted
+    {
+        let p = polish(campaign, &genes, &outcome, &mut cost, opts)?;
+        if p.stop == PolishStop::Interrupted {
+            outcome.termination = TerminationReason::Interrupted;
+        }
+        Some(p)
+    } else {
+        None
+    };
     let fallback = cost.fallback_note();
     let mut evaluator = cost.into_evaluator();
     let summary = write_outputs(
         campaign,
         evaluator.as_mut(),
         &outcome,
+        polish.as_ref(),
         &genes,
         &opts.out,
         fallback,
     )?;
-    if outcome.termination != crate::search::TerminationReason::Interrupted {
+    if outcome.termination != TerminationReason::Interrupted {
         // The results are complete: the checkpoint has served its purpose.
         let _ = std::fs::remove_file(&checkpoint);
     }
     Ok(summary)
+}
+
+/// The local polish after the GA, from the GA's final state: a resumed job
+/// whose GA had finished polishes again from the same state, so a polish cut
+/// short by a kill or an interrupt ends, once resumed, with the same bits.
+fn polish(
+    campaign: &Campaign,
+    genes: &[GeneSpec],
+    outcome: &SearchOutcome,
+    cost: &mut CampaignCost<'_>,
+    opts: &JobOptions,
+) -> Result<PolishOutcome, JobError> {
+    let settings = campaign.search.polish;
+    let starts = distinct_starts(genes, outcome, settings.starts);
+    let eps = match cost.precision() {
+        Precision::F32 => f64::from(f32::EPSILON),
+        Precision::F64 => f64::EPSILON,
+    };
+    let p = Polish::new(settings, genes.to_vec())
+        .relative_step(eps.cbrt())
+        .interrupt(opts.interrupt.clone())
+        .run(&mut *cost, &starts)?;
+    log::info!(
+        "polish: {} starts, {} iterations, {} evaluations in {:.1} s ({:?}): 1 − R² {:.4e} → {:.4e}",
+        p.starts.len(),
+        p.iterations,
+        p.evaluations,
+        p.wall_time_s,
+        p.stop,
+        outcome.best_cost,
+        p.best_cost
+    );
+    Ok(p)
 }

@@ -11,7 +11,9 @@ use crate::campaign::{Campaign, GeneTarget, file_stem};
 use crate::eval::{Batch, Evaluator, History, score_one};
 use crate::fsutil::atomic_write;
 use crate::report::plots;
-use crate::search::{GeneSpec, SearchOutcome, write_history_csv};
+use crate::search::{
+    GeneSpec, PolishOutcome, PolishStop, SearchOutcome, StartReport, Uncertainty, write_history_csv,
+};
 
 /// Fit quality of one experiment.
 #[derive(Debug, Clone, Serialize)]
@@ -53,6 +55,52 @@ pub struct ParamSummary {
     /// Width of the elite range relative to the value.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub elite_relative_width: Option<f64>,
+    /// Standard error at the optimum (free parameters, after the polish), in
+    /// the parameter's unit; log-scale parameters: value × the error of ln value.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub std_error: Option<f64>,
+    /// 95 % interval from the Gauss–Newton covariance, in the gene's scale
+    /// mapped back (asymmetric for log-scale parameters).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub interval_95: Option<[f64; 2]>,
+    /// Whether the data determine the parameter (free parameters, after the
+    /// polish): false if its 95 % interval is wider than its bounds or the
+    /// Jacobian does not see it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub determined: Option<bool>,
+    /// Why it is not determined.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub uncertainty_note: Option<String>,
+    /// Parameters correlated with this one beyond ±0.99.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub correlated_with: Vec<String>,
+}
+
+/// The local polish in `result.json`.
+#[derive(Debug, Clone, Serialize)]
+pub struct PolishSummary {
+    /// Why it stopped.
+    pub stop: PolishStop,
+    /// Levenberg–Marquardt iterations (one batch each).
+    pub iterations: usize,
+    /// Candidates scored (stencils included).
+    pub evaluations: u64,
+    /// Wall time (s).
+    pub wall_time_s: f64,
+    /// Joint fitness of the GA's best, before the polish.
+    pub ga_fitness: f64,
+    /// Which start gave the result (0: the GA's best).
+    pub best_start: usize,
+    /// Per start (distinct GA candidates, best first): joint fitness before and after.
+    pub starts: Vec<StartReport>,
+    /// Residuals behind the covariance (fit-window samples, all experiments).
+    pub residuals: usize,
+    /// `s²`, the residual variance in the weighted residuals' units.
+    pub residual_variance: f64,
+    /// Free parameters, in the order of [`Self::correlation`].
+    pub genes: Vec<String>,
+    /// Correlation matrix of the free parameters; `null` where undetermined.
+    pub correlation: Vec<Vec<Option<f64>>>,
 }
 
 /// The content of `result.json`.
@@ -84,8 +132,11 @@ pub struct JobSummary {
     pub wall_time_s: f64,
     /// Why the search stopped.
     pub stop_reason: String,
-    /// Best joint fitness (weighted mean of `1 − R²`).
+    /// Best joint fitness (weighted mean of `1 − R²`), after the polish.
     pub fitness: f64,
+    /// The local polish and the uncertainty estimate (absent when disabled).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub polish: Option<PolishSummary>,
     /// Per experiment.
     pub experiments: Vec<ExperimentFit>,
     /// Every parameter value, by name: feed this file to
@@ -100,11 +151,13 @@ pub struct JobSummary {
 }
 
 /// Writes result.json, one CSV and one plot per experiment, history.csv and
-/// fitness.svg for the best candidate of `outcome`. Returns the summary.
+/// fitness.svg for the best candidate: the polish's where it has one, else the
+/// GA's. Returns the summary.
 pub fn write_outputs(
     campaign: &Campaign,
     evaluator: &mut dyn Evaluator,
     outcome: &SearchOutcome,
+    polish: Option<&PolishOutcome>,
     genes: &[GeneSpec],
     out: &Path,
     fallback: Option<String>,
@@ -114,7 +167,14 @@ pub fn write_outputs(
         atomic_write(&path, bytes).map_err(|source| JobError::Write { path, source })
     };
     let info = evaluator.info();
-    let best = &outcome.best_genome;
+    // The polish starts from the GA's best, so its result is never worse
+    // (beyond the rounding of a different summation order).
+    let polished = polish
+        .filter(|p| p.best_cost.is_finite() && p.best_cost <= outcome.best_cost * (1.0 + 1e-9));
+    let (best, fitness) = match polished {
+        Some(p) => (&p.best_genome, p.best_cost),
+        None => (&outcome.best_genome, outcome.best_cost),
+    };
     let batch: Batch = campaign.batch(std::slice::from_ref(best));
     let histories = evaluator.histories(&batch, &[0])?.remove(0);
     let full = campaign.full_params(best);
@@ -167,7 +227,8 @@ pub fn write_outputs(
     )?;
     write("fitness.svg", svg.as_bytes())?;
 
-    let (params, parameters) = parameter_tables(campaign, outcome);
+    let uncertainty = polish.and_then(|p| p.uncertainty.as_ref());
+    let (params, parameters) = parameter_tables(campaign, outcome, best, uncertainty);
     let mut warnings = campaign.warnings.clone();
     warnings.extend(outcome.warnings.iter().cloned());
     warnings.extend(fallback);
@@ -185,7 +246,8 @@ pub fn write_outputs(
         evaluations: outcome.evaluations,
         wall_time_s: outcome.wall_time_s,
         stop_reason: outcome.termination.to_string(),
-        fitness: outcome.best_cost,
+        fitness,
+        polish: polish.map(|p| polish_summary(p, outcome.best_cost)),
         experiments,
         params,
         parameters,
@@ -233,11 +295,32 @@ fn experiment_csv(exp: &crate::eval::ExperimentData, hist: &History, offset: f64
     s
 }
 
+fn polish_summary(p: &PolishOutcome, ga_fitness: f64) -> PolishSummary {
+    let u = p.uncertainty.as_ref();
+    PolishSummary {
+        stop: p.stop,
+        iterations: p.iterations,
+        evaluations: p.evaluations,
+        wall_time_s: p.wall_time_s,
+        ga_fitness,
+        best_start: p.best_start,
+        starts: p.starts.clone(),
+        residuals: u.map_or(0, |u| u.residuals),
+        residual_variance: u.map_or(f64::NAN, |u| u.residual_variance),
+        genes: u.map_or_else(Vec::new, |u| {
+            u.genes.iter().map(|g| g.name.clone()).collect()
+        }),
+        correlation: u.map_or_else(Vec::new, |u| u.correlation.clone()),
+    }
+}
+
 fn parameter_tables(
     campaign: &Campaign,
     outcome: &SearchOutcome,
+    best: &[f64],
+    uncertainty: Option<&Uncertainty>,
 ) -> (BTreeMap<String, f64>, Vec<ParamSummary>) {
-    let full = campaign.full_params(&outcome.best_genome);
+    let full = campaign.full_params(best);
     let model = campaign.model;
     let exps = &campaign.problem.experiments;
     let mut params = BTreeMap::new();
@@ -246,6 +329,7 @@ fn parameter_tables(
     let mut row = |name: String, unit: &str, value: f64| {
         let g = gene_of(&name);
         let spread = g.and_then(|i| outcome.elite_spread.get(i));
+        let u = g.and_then(|i| uncertainty.and_then(|u| u.genes.get(i)));
         params.insert(name.clone(), value);
         rows.push(ParamSummary {
             unit: unit.to_string(),
@@ -254,6 +338,11 @@ fn parameter_tables(
             bounds: g.map(|i| [campaign.genes[i].lower, campaign.genes[i].upper]),
             elite_range: spread.map(|s| [s.min, s.max]),
             elite_relative_width: spread.map(|s| s.relative_width),
+            std_error: u.and_then(|u| u.std_error),
+            interval_95: u.and_then(|u| u.interval_95),
+            determined: u.map(|u| u.determined),
+            uncertainty_note: u.and_then(|u| u.note.clone()),
+            correlated_with: u.map_or_else(Vec::new, |u| u.correlated_with.clone()),
             name,
         });
     };

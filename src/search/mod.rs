@@ -7,6 +7,8 @@
 //! - [`Executor`]: drives both, calls [`Observer`]s, writes [`Checkpoint`]s,
 //!   stops on generations / target / stall / wall time / interrupt and says why
 //!   ([`TerminationReason`]).
+//! - [`Polish`]: Levenberg–Marquardt on a [`ResidualCost`] from the GA's best
+//!   distinct candidates, and the [`Uncertainty`] of each gene at the optimum.
 //!
 //! ```
 //! use rigfit::model::Scale;
@@ -32,10 +34,12 @@ mod ga;
 pub mod genes;
 mod observers;
 pub mod operators;
+mod polish;
 mod progress;
 pub mod report;
 mod settings;
 mod state;
+pub mod uncertainty;
 
 pub use checkpoint::{Checkpoint, Fingerprint};
 pub use cost::{BatchCost, CostBatch, FnCost};
@@ -46,7 +50,13 @@ pub use genes::GeneSpec;
 pub use observers::{
     HISTORY_COLUMNS, HistoryCsvObserver, Observer, ObserverMode, history_csv, write_history_csv,
 };
+pub use polish::{
+    FnResiduals, Polish, PolishOutcome, PolishStop, ResidualCost, StartReport, distinct_starts,
+};
 pub use progress::ProgressObserver;
 pub use report::{EliteSpread, GenerationReport, SearchOutcome, TerminationReason};
-pub use settings::{CrossoverSettings, GaSettings, InitKind, MutationSettings, SettingsError};
+pub use settings::{
+    CrossoverSettings, GaSettings, InitKind, MutationSettings, PolishSettings, SettingsError,
+};
 pub use state::SearchState;
+pub use uncertainty::{GeneUncertainty, Uncertainty};

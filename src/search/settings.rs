@@ -75,6 +75,48 @@ pub struct GaSettings {
     /// Write a checkpoint every this many generations (0: only on interrupt).
     #[serde(default = "default_checkpoint_every")]
     pub checkpoint_every: usize,
+    /// The local polish after the GA, and the parameter uncertainty it gives.
+    #[serde(default)]
+    pub polish: PolishSettings,
+}
+
+/// The campaign's `"search": {"polish": {…}}` object: Levenberg–Marquardt from
+/// the best distinct candidates of the GA's final population, then the
+/// parameters' standard errors at the optimum (see [`crate::search::Polish`]).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PolishSettings {
+    /// Polish the GA's result and estimate the uncertainty (default `true`).
+    #[serde(default = "default_polish_enabled")]
+    pub enabled: bool,
+    /// Distinct GA candidates to start from, best first (≥ 1; default 8).
+    #[serde(default = "default_polish_starts")]
+    pub starts: usize,
+    /// Iterations at most (default 30); each scores one batch of
+    /// `starts × (2 × genes + 1)` candidates. 0 keeps the GA's best and only
+    /// estimates the uncertainty there.
+    #[serde(default = "default_polish_iterations")]
+    pub max_iterations: usize,
+}
+
+impl Default for PolishSettings {
+    fn default() -> Self {
+        Self {
+            enabled: default_polish_enabled(),
+            starts: default_polish_starts(),
+            max_iterations: default_polish_iterations(),
+        }
+    }
+}
+
+fn default_polish_enabled() -> bool {
+    true
+}
+fn default_polish_starts() -> usize {
+    8
+}
+fn default_polish_iterations() -> usize {
+    30
 }
 
 fn default_crossover_probability() -> f64 {
@@ -136,7 +178,7 @@ impl GaSettings {
 
     /// Checks every setting's range: population ≥ 4, generations ≥ 1,
     /// tournament ≥ 2 and ≤ population, elitism < population, probabilities in
-    /// [0, 1], distribution indices > 0, time limit > 0.
+    /// [0, 1], distribution indices > 0, time limit > 0, polish starts ≥ 1.
     pub fn validate(&self) -> Result<(), SettingsError> {
         let err = |field, expected: &str, found: String| {
             Err(SettingsError {
@@ -183,6 +225,9 @@ impl GaSettings {
             if t.is_nan() || t <= 0.0 {
                 return err("max_time_s", "a time > 0 s", t.to_string());
             }
+        }
+        if self.polish.starts < 1 {
+            return err("polish.starts", "at least 1", "0".into());
         }
         if let Some(f) = self.target_fitness {
             if !f.is_finite() {

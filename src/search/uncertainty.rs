@@ -1,0 +1,279 @@
+//! How sure the data make each gene: the Gauss–Newton covariance
+//! `s² (JᵀJ)⁻¹` at a least-squares optimum, in each gene's scale.
+//!
+//! `J` is the Jacobian of the residuals with respect to the scale-space genome
+//! (the logarithm for log genes), `s² = Σ r² / (N − n)` the residual variance
+//! over `N` residuals and `n` genes. The covariance assumes independent residuals
+//! of equal variance: true for white measurement noise of the same size relative
+//! to each experiment's force range (the residuals are weighted by experiment),
+//! optimistic where the misfit is systematic (a model that cannot follow the
+//! record) or the noise is correlated from sample to sample.
+
+use nalgebra::{DMatrix, SymmetricEigen};
+use serde::Serialize;
+
+use super::genes::GeneSpec;
+use crate::model::Scale;
+
+/// Two-sided 95 % quantile of the normal distribution. The residual count of a
+/// record is in the thousands, where Student's t is the normal to three digits.
+pub const Z95: f64 = 1.959_963_984_540_054;
+
+/// Absolute correlation above which two genes are reported as entangled.
+pub const CORRELATION_FLAG: f64 = 0.99;
+
+/// Eigenvalues of the unit-diagonal `JᵀJ` below this fraction of the largest
+/// count as zero: directions the data do not see at all.
+const SINGULAR: f64 = 1e-10;
+
+/// Squared weight of a gene in a zero-eigenvalue direction above which the
+/// gene counts as undetermined.
+const NULL_SHARE: f64 = 1e-6;
+
+/// One gene's uncertainty.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct GeneUncertainty {
+    /// Gene name.
+    pub name: String,
+    /// Value at the optimum.
+    pub value: f64,
+    /// Standard error in scale space (log genes: of ln value, i.e. relative);
+    /// `None` where `JᵀJ` is singular in the gene's direction.
+    pub std_error_scaled: Option<f64>,
+    /// Standard error in the gene's unit (log genes: value × the scale-space
+    /// error, to first order).
+    pub std_error: Option<f64>,
+    /// 95 % interval in the gene's unit: `x ± 1.96 σ` in scale space mapped
+    /// back (log genes: asymmetric about the value). Not clipped to the bounds.
+    pub interval_95: Option<[f64; 2]>,
+    /// False where the data do not determine the gene: its 95 % interval is
+    /// wider (in scale space) than its bounds, or `JᵀJ` is singular in its
+    /// direction.
+    pub determined: bool,
+    /// Why the gene is not determined.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
+    /// Genes whose correlation with this one exceeds
+    /// [`CORRELATION_FLAG`] in magnitude: the data fix a combination, not each.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub correlated_with: Vec<String>,
+}
+
+/// The uncertainty of every gene at an optimum.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Uncertainty {
+    /// Residuals `N` (fit-window samples over all experiments).
+    pub residuals: usize,
+    /// Degrees of freedom `N − n`.
+    pub dof: usize,
+    /// `s²`: the residual variance, in the units of the weighted residuals
+    /// (their sum of squares is the joint `1 − R²`).
+    pub residual_variance: f64,
+    /// Per gene, in genome order.
+    pub genes: Vec<GeneUncertainty>,
+    /// Correlation matrix of the genes (genome order); `None` where a gene is
+    /// undetermined by a singular `JᵀJ`.
+    pub correlation: Vec<Vec<Option<f64>>>,
+}
+
+impl Uncertainty {
+    /// The uncertainty at scale-space optimum `x` from `JᵀJ` (`n × n`, scale
+    /// space), the residual sum of squares `ssr` and the residual count.
+    pub fn at(
+        genes: &[GeneSpec],
+        x: &[f64],
+        jtj: &DMatrix<f64>,
+        ssr: f64,
+        residuals: usize,
+    ) -> Self {
+        let n = genes.len();
+        let dof = residuals.saturating_sub(n).max(1);
+        let s2 = ssr / dof as f64;
+        let (cov, null) = covariance(jtj, s2);
+        let se: Vec<Option<f64>> = (0..n)
+            .map(|i| (!null[i] && cov[(i, i)].is_finite()).then(|| cov[(i, i)].max(0.0).sqrt()))
+            .collect();
+        let correlation: Vec<Vec<Option<f64>>> = (0..n)
+            .map(|i| {
+                (0..n)
+                    .map(|j| match (se[i], se[j]) {
+                        (Some(a), Some(b)) if a > 0.0 && b > 0.0 => {
+                            Some((cov[(i, j)] / (a * b)).clamp(-1.0, 1.0))
+                        }
+                        _ => None,
+                    })
+                    .collect()
+            })
+            .collect();
+        let genes = genes
+            .iter()
+            .enumerate()
+            .map(|(i, g)| {
+                let (lo, hi) = g.scaled_bounds();
+                let value = g.to_value(x[i]);
+                let correlated_with = (0..n)
+                    .filter(|&j| {
+                        j != i && correlation[i][j].is_some_and(|c| c.abs() > CORRELATION_FLAG)
+                    })
+                    .map(|j| genes[j].name.clone())
+                    .collect();
+                let note = match se[i] {
+                    None => Some("the data do not constrain it (JᵀJ is singular in its direction)"),
+                    Some(s) if 2.0 * Z95 * s > hi - lo => {
+                        Some("its 95 % interval is wider than its bounds")
+                    }
+                    Some(_) => None,
+                };
+                GeneUncertainty {
+                    name: g.name.clone(),
+                    value,
+                    std_error_scaled: se[i],
+                    std_error: se[i].map(|s| match g.scale {
+                        Scale::Linear => s,
+                        Scale::Log => value * s,
+                    }),
+                    interval_95: se[i].map(|s| {
+                        let back = |y: f64| match g.scale {
+                            Scale::Linear => y,
+                            Scale::Log => y.exp(),
+                        };
+                        [back(x[i] - Z95 * s), back(x[i] + Z95 * s)]
+                    }),
+                    determined: note.is_none(),
+                    note: note.map(String::from),
+                    correlated_with,
+                }
+            })
+            .collect();
+        Self {
+            residuals,
+            dof,
+            residual_variance: s2,
+            genes,
+            correlation,
+        }
+    }
+}
+
+/// `s² (JᵀJ)⁺` and, per gene, whether it lies in a null direction of `JᵀJ`.
+///
+/// The matrix is first scaled to unit diagonal, so the eigenvalue threshold
+/// does not depend on the genes' units; a gene with a zero diagonal (its
+/// residuals do not move at all) is null outright.
+fn covariance(jtj: &DMatrix<f64>, s2: f64) -> (DMatrix<f64>, Vec<bool>) {
+    let n = jtj.nrows();
+    let d: Vec<f64> = (0..n)
+        .map(|i| {
+            let a = jtj[(i, i)];
+            if a > 0.0 && a.is_finite() {
+                1.0 / a.sqrt()
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let scaled = DMatrix::from_fn(n, n, |i, j| jtj[(i, j)] * d[i] * d[j]);
+    let eig = SymmetricEigen::new(scaled);
+    let top = eig.eigenvalues.iter().fold(0.0_f64, |m, &l| m.max(l));
+    let mut null: Vec<bool> = d.iter().map(|&x| x == 0.0).collect();
+    let mut inv = DMatrix::zeros(n, n);
+    for (k, &l) in eig.eigenvalues.iter().enumerate() {
+        let v = eig.eigenvectors.column(k);
+        if l > SINGULAR * top {
+            inv += v * v.transpose() / l;
+        } else {
+            for (i, flag) in null.iter_mut().enumerate() {
+                if d[i] != 0.0 && v[i] * v[i] > NULL_SHARE {
+                    *flag = true;
+                }
+            }
+        }
+    }
+    let cov = DMatrix::from_fn(n, n, |i, j| s2 * inv[(i, j)] * d[i] * d[j]);
+    (cov, null)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Straight line y = a + b t: the covariance is known in closed form.
+    #[test]
+    fn a_straight_line_has_the_textbook_errors() {
+        let t: Vec<f64> = (0..50).map(|k| k as f64 / 10.0).collect();
+        let jac = DMatrix::from_fn(t.len(), 2, |k, j| if j == 0 { 1.0 } else { t[k] });
+        let jtj = jac.transpose() * &jac;
+        let genes = vec![
+            GeneSpec::new("a", -10.0, 10.0, Scale::Linear),
+            GeneSpec::new("b", -10.0, 10.0, Scale::Linear),
+        ];
+        let ssr = 2.4;
+        let u = Uncertainty::at(&genes, &[1.0, 2.0], &jtj, ssr, t.len());
+        let s2 = ssr / 48.0;
+        let n = t.len() as f64;
+        let sxx: f64 = t.iter().map(|x| x * x).sum::<f64>() - t.iter().sum::<f64>().powi(2) / n;
+        let mean = t.iter().sum::<f64>() / n;
+        let se_b = (s2 / sxx).sqrt();
+        let se_a = (s2 * (1.0 / n + mean * mean / sxx)).sqrt();
+        let near = |x: f64, y: f64| (x / y - 1.0).abs() < 1e-10;
+        assert!(near(u.genes[0].std_error.unwrap(), se_a));
+        assert!(near(u.genes[1].std_error.unwrap(), se_b));
+        let [lo, hi] = u.genes[1].interval_95.unwrap();
+        assert!(near(hi - lo, 2.0 * Z95 * se_b));
+        let c = u.correlation[0][1].unwrap();
+        assert!(near(
+            c,
+            -mean / (1.0 / n + mean * mean / sxx).sqrt() / sxx.sqrt()
+        ));
+        assert!(u.genes.iter().all(|g| g.determined));
+    }
+
+    #[test]
+    fn an_unseen_gene_and_a_wide_interval_are_flagged() {
+        // Gene 1 never moves the residuals; gene 2 barely does.
+        let jtj = DMatrix::from_row_slice(3, 3, &[4.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1e-3]);
+        let genes = vec![
+            GeneSpec::new("a", -1.0, 1.0, Scale::Linear),
+            GeneSpec::new("b", -1.0, 1.0, Scale::Linear),
+            GeneSpec::new("k", 1.0, 10.0, Scale::Log),
+        ];
+        let u = Uncertainty::at(&genes, &[0.0, 0.0, 1.0], &jtj, 1.0, 1001);
+        assert!(u.genes[0].determined);
+        assert!(!u.genes[1].determined && u.genes[1].std_error.is_none());
+        assert!(!u.genes[2].determined && u.genes[2].std_error.is_some());
+        assert!(u.genes[2].note.as_deref().unwrap().contains("wider"));
+        // A log gene's interval is symmetric in ln about the value.
+        let [lo, hi] = u.genes[2].interval_95.unwrap();
+        assert!(((lo * hi).sqrt() / 1.0f64.exp() - 1.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn two_genes_that_only_act_together_are_null() {
+        // Residuals depend on a + b only.
+        let jac = DMatrix::from_fn(20, 2, |k, _| 1.0 + k as f64);
+        let u = Uncertainty::at(
+            &[
+                GeneSpec::new("a", -1.0, 1.0, Scale::Linear),
+                GeneSpec::new("b", -1.0, 1.0, Scale::Linear),
+            ],
+            &[0.0, 0.0],
+            &(jac.transpose() * &jac),
+            1.0,
+            20,
+        );
+        assert!(u.genes.iter().all(|g| !g.determined));
+    }
+
+    #[test]
+    fn strongly_correlated_genes_name_each_other() {
+        let jac = DMatrix::from_fn(40, 2, |k, j| 1.0 + k as f64 + 0.02 * (j * k % 3) as f64);
+        let genes = vec![
+            GeneSpec::new("a", -1e6, 1e6, Scale::Linear),
+            GeneSpec::new("b", -1e6, 1e6, Scale::Linear),
+        ];
+        let u = Uncertainty::at(&genes, &[0.0, 0.0], &(jac.transpose() * &jac), 1e-3, 40);
+        assert!(u.correlation[0][1].unwrap().abs() > CORRELATION_FLAG);
+        assert_eq!(u.genes[0].correlated_with, ["b"]);
+        assert_eq!(u.genes[1].correlated_with, ["a"]);
+    }
+}
