@@ -201,8 +201,8 @@ pub fn summary_text(s: &JobSummary, dir: &std::path::Path, steps: f64) -> String
     }
     let _ = writeln!(
         t,
-        "  fitted parameters (95 % interval from the covariance at the optimum; \
-         elite width: spread of the GA's best 10 % relative to the value):"
+        "  fitted parameters (95 % interval from the covariance at the optimum, relative \
+         to the value; elite width: spread of the GA's best 10 % relative to the value):"
     );
     let _ = writeln!(
         t,
@@ -216,7 +216,11 @@ pub fn summary_text(s: &JobSummary, dir: &std::path::Path, steps: f64) -> String
             .unwrap_or_default();
         let interval = p
             .interval_95
-            .map(|[lo, hi]| format!("[{lo:.3e}, {hi:.3e}]"))
+            .map(|[lo, hi]| {
+                // Relative to the value: a log-scale interval is asymmetric.
+                let rel = |x: f64| 100.0 * (x / p.value - 1.0);
+                format!("{:+.3} % / {:+.3} %", rel(lo), rel(hi))
+            })
             .unwrap_or_else(|| {
                 if p.determined.is_some() {
                     "—".into()

@@ -55,7 +55,7 @@ impl<F: FnMut(&[f64]) -> Option<Vec<f64>>> ResidualCost for FnResiduals<F> {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum PolishStop {
-    /// Every start stopped moving.
+    /// Every start converged, or could no longer catch up with the best one.
     Converged,
     /// `max_iterations` iterations were run.
     MaxIterations,
@@ -122,8 +122,16 @@ pub struct Polish {
     interrupt: Option<Arc<AtomicBool>>,
 }
 
-/// Relative cost decrease below which an accepted step ends a start.
-const FTOL: f64 = 1e-10;
+/// Cost decrease, as a fraction of the residual variance `s²`, below which an
+/// accepted step ends a start: near the optimum a move of `k` standard errors
+/// changes the cost by `k² s²`, so the start is within ~3 % of a standard
+/// error of where it would end.
+const FTOL: f64 = 1e-3;
+/// Accepted steps over which a start's pace (its largest cost decrease) is taken.
+const PACE_WINDOW: usize = 3;
+/// How much faster than its recent pace a start may still get (a
+/// Levenberg–Marquardt start often speeds up once it is in the valley).
+const PACE_MARGIN: f64 = 10.0;
 /// Cosine between the residuals and every Jacobian column below which a start
 /// is at a stationary point.
 const GTOL: f64 = 1e-10;
@@ -213,6 +221,17 @@ impl Polish {
                 }
             }
             iterations += 1;
+            retire_the_hopeless(&mut runs, self.settings.max_iterations - iterations);
+            if log::log_enabled!(log::Level::Debug) {
+                let costs: Vec<String> = runs
+                    .iter()
+                    .map(|r| {
+                        r.as_ref()
+                            .map_or("-".into(), |r| format!("{:.6e}", r.lin.cost))
+                    })
+                    .collect();
+                log::debug!("polish iteration {iterations}: {}", costs.join(" "));
+            }
         }
         if stop != PolishStop::Interrupted && runs.iter().flatten().all(|r| r.done) {
             stop = PolishStop::Converged;
@@ -420,6 +439,27 @@ struct Run {
     nu: f64,
     predicted: f64,
     done: bool,
+    /// Cost decreases of the last [`PACE_WINDOW`] accepted steps.
+    decreases: Vec<f64>,
+}
+
+/// Ends every start that could not reach the best start's cost in the
+/// iterations left even at [`PACE_MARGIN`] times its recent pace: a start
+/// crawling along a worse valley would otherwise take up every remaining batch.
+fn retire_the_hopeless(runs: &mut [Option<Run>], left: usize) {
+    let best = runs
+        .iter()
+        .flatten()
+        .map(|r| r.lin.cost)
+        .fold(f64::INFINITY, f64::min);
+    for run in runs.iter_mut().flatten().filter(|r| !r.done) {
+        if run.decreases.len() >= PACE_WINDOW {
+            let pace = run.decreases.iter().fold(0.0_f64, |m, &d| m.max(d));
+            if run.lin.cost - best > PACE_MARGIN * left as f64 * pace {
+                run.done = true;
+            }
+        }
+    }
 }
 
 impl Run {
@@ -431,7 +471,15 @@ impl Run {
             nu: 2.0,
             predicted: 0.0,
             done: false,
+            decreases: Vec::new(),
         }
+    }
+
+    fn remember(&mut self, decrease: f64) {
+        if self.decreases.len() == PACE_WINDOW {
+            self.decreases.remove(0);
+        }
+        self.decreases.push(decrease);
     }
 
     fn raise_damping(&mut self) {
@@ -447,7 +495,9 @@ impl Run {
                 let rho = actual / self.predicted;
                 self.lambda *= (1.0 - (2.0 * rho - 1.0).powi(3)).max(1.0 / 3.0);
                 self.nu = 2.0;
-                self.done = actual <= FTOL * self.lin.cost;
+                let s2 = lin.cost / lin.residuals.max(1) as f64;
+                self.done = actual <= FTOL * s2;
+                self.remember(actual);
                 self.x = x;
                 self.lin = lin;
             }
