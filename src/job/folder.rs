@@ -93,6 +93,12 @@ impl OutputFolder {
                 return Err(bad("it exists and is not a folder".into()));
             }
         }
+        let checkpoint = path.join(CHECKPOINT_FILE);
+        if mode == FolderMode::Resume && !checkpoint.is_file() {
+            // Checked again under the lock below; this keeps a mistyped folder
+            // from being created.
+            return Err(JobError::NoCheckpoint { path: checkpoint });
+        }
         fs::create_dir_all(path).map_err(|e| bad(format!("cannot create it: {e}")))?;
         let lock = lock(path)?;
 
@@ -129,7 +135,6 @@ impl OutputFolder {
                 });
             }
         }
-        let checkpoint = path.join(CHECKPOINT_FILE);
         match mode {
             FolderMode::Resume if !checkpoint.is_file() => {
                 return Err(JobError::NoCheckpoint { path: checkpoint });
