@@ -154,3 +154,17 @@ fn help_lists_every_exit_code_and_many_threads_draw_a_warning() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stderr(&o).contains("far above"), "{}", stderr(&o));
 }
+
+#[test]
+fn the_vulkan_drivers_xdg_runtime_dir_lines_stay_out_of_rigfits_output() {
+    // Mesa prints "XDG_RUNTIME_DIR is invalid or not set" twice on headless
+    // machines; without an adapter the test shows only that nothing else broke.
+    let o = rigfit()
+        .arg("devices")
+        .env_remove("XDG_RUNTIME_DIR")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!stderr(&o).contains("XDG_RUNTIME_DIR"), "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("GPU adapters"));
+}

@@ -37,10 +37,42 @@ pub fn instance() -> wgpu::Instance {
     wgpu::Instance::new(desc)
 }
 
+/// Runs `f` (which creates an instance and finds adapters) with the process's
+/// stderr sent to /dev/null when `XDG_RUNTIME_DIR` is unset or not a folder.
+/// Mesa's Vulkan driver then prints "XDG_RUNTIME_DIR is invalid or not set in
+/// the environment." on headless machines, before rigfit's own first line,
+/// and users read it as rigfit's error. The variable itself cannot be set
+/// from safe Rust once threads may run, so the driver's lines are dropped.
+pub fn without_driver_noise<T>(f: impl FnOnce() -> T) -> T {
+    #[cfg(unix)]
+    {
+        use std::io::Write as _;
+        use std::os::fd::AsFd as _;
+        let unset =
+            std::env::var_os("XDG_RUNTIME_DIR").is_none_or(|d| !std::path::Path::new(&d).is_dir());
+        if unset {
+            let saved = rustix::io::dup(std::io::stderr().as_fd());
+            let null = std::fs::OpenOptions::new().write(true).open("/dev/null");
+            if let (Ok(saved), Ok(null)) = (saved, null) {
+                let _ = std::io::stderr().flush();
+                if rustix::stdio::dup2_stderr(&null).is_ok() {
+                    let out = f();
+                    let _ = rustix::stdio::dup2_stderr(&saved);
+                    return out;
+                }
+            }
+        }
+    }
+    f()
+}
+
 /// Every adapter the instance can see.
 pub fn list_adapters() -> Vec<AdapterSummary> {
-    let instance = instance();
-    pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()))
+    let adapters = without_driver_noise(|| {
+        let instance = instance();
+        pollster::block_on(instance.enumerate_adapters(wgpu::Backends::all()))
+    });
+    adapters
         .iter()
         .map(|a| {
             let info = a.get_info();
@@ -61,11 +93,13 @@ impl GpuContext {
     /// Opens the default adapter's device, enabling `SHADER_F64` where the
     /// adapter has it and asking for the adapter's own limits.
     pub fn new() -> Result<Self, GpuError> {
-        let instance = instance();
-        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
-            power_preference: wgpu::PowerPreference::HighPerformance,
-            ..Default::default()
-        }))
+        let adapter = without_driver_noise(|| {
+            let instance = instance();
+            pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+                power_preference: wgpu::PowerPreference::HighPerformance,
+                ..Default::default()
+            }))
+        })
         .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
         let features = adapter.features() & wgpu::Features::SHADER_F64;
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
