@@ -5,6 +5,7 @@
 //! search → results; see `ARCHITECTURE.md`.
 
 pub mod campaign;
+pub mod compile;
 pub mod data;
 pub mod eval;
 pub mod fixtures;
@@ -16,5 +17,6 @@ pub mod model;
 pub mod modes;
 pub mod precal;
 pub mod report;
+pub mod rig;
 pub mod search;
 pub mod text;

@@ -10,18 +10,16 @@ use super::stability::{SolverSettings, choose};
 use super::{Campaign, CampaignError, FNV_BASIS, Gene, GeneTarget, Source, acts_in, fnv1a};
 use crate::data::{Column, CsvSpec, Series, parse_csv};
 use crate::eval::{ExperimentData, Problem};
-use crate::model::{Drive, PiecewiseLinear, by_id, registry};
+use crate::model::compiled::CompiledRig;
+use crate::model::{Drive, PiecewiseLinear, RigModel, by_id, registry};
+use crate::rig;
 use crate::search::GaSettings;
 
 /// Validates campaign text from `file`, resolving paths against `dir`.
 pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, CampaignError> {
     let raw: RawCampaign = parse_json(text, file)?;
     check_campaign_name(file, &raw.name)?;
-    let model = by_id(&raw.model).ok_or_else(|| {
-        let known: Vec<&str> = registry().iter().map(|m| m.id()).collect();
-        let expected = format!("a known model ({})", known.join(", "));
-        invalid(file, "model", expected, format!("{:?}", raw.model))
-    })?;
+    let model = model_of(&raw, dir, file)?;
     if let Some(search) = &raw.search {
         search
             .validate()
@@ -85,6 +83,14 @@ pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, Cam
         let (lo, hi) = corners(&r.base[e], &genes, e, &r.sources);
         check_physics(file, model, &r.base[e], &lo, &hi, &r.paths[e], &free)?;
         let (exp, bytes_hash) = experiment(file, dir, e, x, digest, &mut r.warnings)?;
+        if !model.supports(&exp.drive) {
+            return Err(invalid(
+                file,
+                format!("experiments[{e}].drive"),
+                format!("a drive mode that rig '{}' declares", model.id()),
+                "a force table (the rig has no \"force\"-mode drive)",
+            ));
+        }
         digest = bytes_hash;
         experiments.push(exp);
         inputs.push(dir.join(&x.data.file));
@@ -182,6 +188,58 @@ pub(crate) fn corners(
         }
     }
     (lo, hi)
+}
+
+/// The campaign's model: a built-in one by `"model"` id, or the rig of `"rig"`
+/// compiled.
+fn model_of(
+    raw: &RawCampaign,
+    dir: &Path,
+    file: &Path,
+) -> Result<&'static dyn RigModel, CampaignError> {
+    match (&raw.model, &raw.rig) {
+        (Some(id), None) => by_id(id).ok_or_else(|| {
+            let known: Vec<&str> = registry().iter().map(|m| m.id()).collect();
+            let expected = format!(
+                "a known model ({}), or a \"rig\" instead (shipped rigs: {})",
+                known.join(", "),
+                rig::SHIPPED.map(|(i, _)| i).join(", ")
+            );
+            invalid(file, "model", expected, format!("{id:?}"))
+        }),
+        (None, Some(v)) => {
+            let (desc, src) = rig::resolve(v, dir, file).map_err(|e| rig_error(e, file))?;
+            let rig = CompiledRig::leaked(desc, &src.label()).map_err(|mut e| {
+                if matches!(src, rig::RigSource::Inline(..)) {
+                    e.path = format!("rig.{}", e.path);
+                    e.file = file.display().to_string();
+                }
+                rig_error(e, file)
+            })?;
+            Ok(rig)
+        }
+        (Some(_), Some(_)) => Err(invalid(
+            file,
+            "rig",
+            "either \"model\" or \"rig\", not both",
+            "both",
+        )),
+        (None, None) => Err(invalid(
+            file,
+            "model",
+            "a \"model\" id or a \"rig\"",
+            "neither",
+        )),
+    }
+}
+
+fn rig_error(e: rig::RigError, _campaign: &Path) -> CampaignError {
+    CampaignError::Invalid {
+        file: e.file.into(),
+        path: e.path,
+        expected: e.expected,
+        found: e.found,
+    }
 }
 
 /// Loads and checks one experiment's data, drive, window and weight. Returns the

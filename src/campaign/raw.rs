@@ -24,8 +24,13 @@ pub struct RawCampaign {
     /// `"description"`: optional free text.
     #[serde(default)]
     pub description: Option<String>,
-    /// `"model"`: model id, e.g. `"tensile4"`.
-    pub model: String,
+    /// `"model"`: a built-in model's id, e.g. `"tensile4"`; or give `"rig"`.
+    #[serde(default)]
+    pub model: Option<String>,
+    /// `"rig"`: a rig description (see `rigs/`): a shipped rig's id, a rig file
+    /// (relative to the campaign's folder) or the rig itself, inline.
+    #[serde(default)]
+    pub rig: Option<serde_json::Value>,
     /// `"params"`: parameters shared by every experiment, by model parameter
     /// name (value in the parameter's SI unit). Parameters with a model default
     /// may be left out. A name given twice is refused.

@@ -11,7 +11,7 @@ mod rk4;
 pub mod test_systems;
 
 pub use grid::SampleGrid;
-pub use rk4::{CROSSING_ITERATIONS, Integrator, hermite_crossing, rk4_step};
+pub use rk4::{CROSSING_ITERATIONS, Integrator, hermite_crossing, rk4_step, walk_grid};
 
 /// A system of first-order ODEs, `dy/dt = f(t, y)`, in the current regime.
 pub trait System {

@@ -88,25 +88,43 @@ impl Integrator {
         y: &mut [f64],
         mut observe: impl FnMut(usize, f64, &S, &[f64]) -> ControlFlow<()>,
     ) {
-        let pro = grid.prologue_steps();
-        if pro > 0 {
-            let hp = grid.t0 / pro as f64;
-            for i in 0..pro {
-                self.step(sys, i as f64 * hp, hp, y);
+        let mut state = (sys, y);
+        walk_grid(
+            grid,
+            &mut state,
+            |(sys, y), t, h| self.step(&mut **sys, t, h, y),
+            |(sys, y), k, t| observe(k, t, &**sys, y),
+        );
+    }
+}
+
+/// Walks `grid` as every integrator of rigfit does: the prologue from `t = 0`
+/// to `t0` when `t0 > 0`, then `substeps` steps per sample, every step's time
+/// computed from its index, calling `step(ctx, t, h)` for each step and
+/// `observe(ctx, k, t_k)` at every sample (which may stop the walk).
+pub fn walk_grid<C>(
+    grid: &SampleGrid,
+    ctx: &mut C,
+    mut step: impl FnMut(&mut C, f64, f64),
+    mut observe: impl FnMut(&mut C, usize, f64) -> ControlFlow<()>,
+) {
+    let pro = grid.prologue_steps();
+    if pro > 0 {
+        let hp = grid.t0 / pro as f64;
+        for i in 0..pro {
+            step(ctx, i as f64 * hp, hp);
+        }
+    }
+    let h = grid.step();
+    for k in 0..grid.samples {
+        if k > 0 {
+            for j in 0..grid.substeps {
+                let i = (k - 1) * grid.substeps + j;
+                step(ctx, grid.t0 + i as f64 * h, h);
             }
         }
-        let h = grid.step();
-        for k in 0..grid.samples {
-            if k > 0 {
-                for j in 0..grid.substeps {
-                    let i = (k - 1) * grid.substeps + j;
-                    let t = grid.t0 + i as f64 * h;
-                    self.step(sys, t, h, y);
-                }
-            }
-            if observe(k, grid.time(k), sys, y).is_break() {
-                return;
-            }
+        if observe(ctx, k, grid.time(k)).is_break() {
+            return;
         }
     }
 }

@@ -2,6 +2,7 @@
 //! registered in [`registry`]; the integrator, the fitness and the search only
 //! ever see the [`RigModel`] trait.
 
+pub mod compiled;
 mod drive;
 mod params;
 pub mod tensile;
@@ -76,6 +77,12 @@ pub trait RigModel: Send + Sync + std::fmt::Debug {
     /// vector inside `[lower, upper]`, with the name of the parameter that limits
     /// it most. Used to choose or refuse the RK4 step.
     fn omega_bound(&self, lower: &[f64], upper: &[f64], drive: &Drive) -> (f64, &'static str);
+
+    /// Whether the model can run under `drive` (a rig without a force-mode
+    /// drive cannot take a force table).
+    fn supports(&self, _drive: &Drive) -> bool {
+        true
+    }
 
     /// How the model runs in the GPU ensemble kernels; `None` keeps it CPU-only.
     fn gpu(&self) -> Option<GpuModel> {

@@ -1,0 +1,19 @@
+//! The rig compiler: a rig description lowered to one SSA graph of scalar
+//! operations per drive mode ([`ir`], [`lower`]), evaluated by the f64 CPU
+//! reference ([`tape`], [`events`]).
+//!
+//! ```text
+//! rigs/*.json ─► rig::RigDesc ─► lower ─► Program (Graph + roots + Transitions) ─► Tape ─► EventStepper
+//! ```
+
+pub mod events;
+pub mod ir;
+pub mod lower;
+pub mod program;
+pub mod tape;
+
+pub use events::{EventStepper, Fired, MAX_EVENTS_PER_STEP};
+pub use ir::{Graph, Id, Input, Op};
+pub use lower::{Lowered, lower};
+pub use program::{Direction, ModeVar, Program, Transition};
+pub use tape::{Frame, Point, Tape};

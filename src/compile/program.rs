@@ -1,0 +1,104 @@
+//! What a rig compiles to: for each drive mode, one [`Graph`] with the roots
+//! that the integrator needs (derivative, outputs, full state) and the rig's
+//! located switches as [`Transition`]s of discrete mode variables.
+
+use super::ir::{Graph, Id, Op, operands};
+use crate::model::PiecewiseLinear;
+
+/// Which way an event function must go for its transition to fire.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Direction {
+    /// Fires once `g ≥ 0` (while armed, the run keeps `g < 0`).
+    Up,
+    /// Fires once `g ≤ 0` (while armed, the run keeps `g > 0`).
+    Down,
+}
+
+/// A located switch: while mode variable `var` is `from`, the transition is
+/// armed; it fires where `g` reaches zero in `dir`, and sets `var` to `to`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Transition {
+    /// What it is (`"specimen fracture"`), for messages and docs.
+    pub name: String,
+    /// Mode variable index.
+    pub var: u32,
+    /// Value that arms it.
+    pub from: u32,
+    /// Value it sets.
+    pub to: u32,
+    /// Event function root.
+    pub g: Id,
+    /// Direction.
+    pub dir: Direction,
+}
+
+impl Transition {
+    /// Whether `g` is past the switch.
+    pub fn violated(&self, g: f64) -> bool {
+        match self.dir {
+            Direction::Up => g >= 0.0,
+            Direction::Down => g <= 0.0,
+        }
+    }
+}
+
+/// A discrete mode variable of the rig (contact, yield, fracture, stick-slip).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModeVar {
+    /// `"slack.contact"`.
+    pub name: String,
+    /// Names of its values, value 0 first (the state at rest).
+    pub values: Vec<&'static str>,
+}
+
+/// One drive mode's compiled rig.
+#[derive(Debug, Clone)]
+pub struct Program {
+    /// Drive mode (`"velocity"`, `"force"`).
+    pub mode: String,
+    /// The operations.
+    pub graph: Graph,
+    /// `dy/dt` of every state.
+    pub deriv: Vec<Id>,
+    /// Every output.
+    pub outputs: Vec<Id>,
+    /// The state as reported: prescribed nodes' slots from their drive.
+    pub full_state: Vec<Id>,
+    /// The located switches.
+    pub transitions: Vec<Transition>,
+    /// Whether op `i` depends on per-run values only (evaluated once per run).
+    pub run_constant: Vec<bool>,
+    /// Tables read by `Input::Table(i)`; `None` is the experiment's force table.
+    pub tables: Vec<Option<PiecewiseLinear>>,
+}
+
+impl Program {
+    /// Marks the operations that depend only on constants and slots.
+    pub fn mark_run_constants(&mut self) {
+        use super::ir::Input;
+        let ops = &self.graph.ops;
+        let mut rc = vec![false; ops.len()];
+        for (i, op) in ops.iter().enumerate() {
+            rc[i] = match op {
+                Op::Const(_) | Op::In(Input::Slot(_)) => true,
+                Op::In(_) => false,
+                other => operands(other).iter().all(|&o| rc[o as usize]),
+            };
+        }
+        self.run_constant = rc;
+    }
+
+    /// Number of mode variables read or set.
+    pub fn mode_count(&self) -> usize {
+        self.transitions
+            .iter()
+            .map(|t| t.var as usize + 1)
+            .max()
+            .unwrap_or(0)
+    }
+
+    /// Event-function roots, one per transition.
+    pub fn event_roots(&self) -> Vec<Id> {
+        self.transitions.iter().map(|t| t.g).collect()
+    }
+}

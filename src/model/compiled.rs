@@ -1,0 +1,399 @@
+//! A rig described as data (`rigs/*.json` or a campaign's `"rig"`), compiled
+//! once and run through the [`RigModel`] interface like any model.
+
+use std::ops::ControlFlow;
+
+use super::{Drive, Linearised, ParamInfo, RigModel, Sample};
+use crate::compile::{EventStepper, Lowered, Tape, lower};
+use crate::integrate::{SampleGrid, walk_grid};
+use crate::rig::RigError;
+use crate::rig::desc::{Coef, DamperLaw, FrictionLaw, RigDesc, SpringLaw};
+
+/// A compiled rig. Built once per job; its names live for the whole process.
+#[derive(Debug)]
+pub struct CompiledRig {
+    id: &'static str,
+    params: &'static [ParamInfo],
+    states: &'static [&'static str],
+    outputs: &'static [(&'static str, &'static str)],
+    /// The description it was compiled from.
+    pub desc: RigDesc,
+    /// The compiled programs, one per drive mode.
+    pub lowered: Lowered,
+    tapes: Vec<Tape>,
+}
+
+fn leak(s: &str) -> &'static str {
+    Box::leak(s.to_string().into_boxed_str())
+}
+
+impl CompiledRig {
+    /// Compiles `desc` (read from `file`, for messages).
+    pub fn new(desc: RigDesc, file: &str) -> Result<Self, RigError> {
+        let lowered = lower(&desc, file)?;
+        let params: Vec<ParamInfo> = desc
+            .params
+            .iter()
+            .map(|p| ParamInfo {
+                name: leak(&p.name),
+                unit: leak(&p.unit),
+                doc: leak(&p.doc),
+                scope: p.scope,
+                default: p.default,
+                scale: p.scale,
+            })
+            .collect();
+        let states: Vec<&'static str> = lowered.states.iter().map(|s| leak(s)).collect();
+        let outputs: Vec<(&'static str, &'static str)> = desc
+            .outputs
+            .iter()
+            .map(|o| (leak(&o.name), leak(&o.unit)))
+            .collect();
+        let tapes = lowered.programs.iter().map(Tape::new).collect();
+        Ok(Self {
+            id: leak(&desc.id),
+            params: Box::leak(params.into_boxed_slice()),
+            states: Box::leak(states.into_boxed_slice()),
+            outputs: Box::leak(outputs.into_boxed_slice()),
+            desc,
+            lowered,
+            tapes,
+        })
+    }
+
+    /// Compiles and leaks, for the `&'static dyn RigModel` the campaign holds.
+    pub fn leaked(desc: RigDesc, file: &str) -> Result<&'static Self, RigError> {
+        Ok(Box::leak(Box::new(Self::new(desc, file)?)))
+    }
+
+    /// Index of the program for `drive`.
+    pub fn program_for(&self, drive: &Drive) -> Option<usize> {
+        let mode = match drive {
+            Drive::Velocity => "velocity",
+            Drive::Force(_) => "force",
+        };
+        self.lowered.programs.iter().position(|p| p.mode == mode)
+    }
+
+    /// A run's integrator for `params` under `drive`.
+    pub fn stepper<'a>(&'a self, params: &[f64], drive: &'a Drive) -> Option<EventStepper<'a>> {
+        let i = self.program_for(drive)?;
+        let force = match drive {
+            Drive::Force(t) => Some(t),
+            Drive::Velocity => None,
+        };
+        Some(EventStepper::new(
+            &self.lowered.programs[i],
+            &self.tapes[i],
+            params,
+            force,
+        ))
+    }
+
+    fn coef_bound(&self, c: &Coef, lo: &[f64], hi: &[f64]) -> f64 {
+        match c {
+            Coef::Number(v) => v.abs(),
+            Coef::Param(n) => {
+                let i = self
+                    .desc
+                    .params
+                    .iter()
+                    .position(|p| &p.name == n)
+                    .expect("checked at compile time");
+                lo[i].abs().max(hi[i].abs())
+            }
+            Coef::Switch(s) => self
+                .coef_bound(&s.before, lo, hi)
+                .max(self.coef_bound(&s.after, lo, hi)),
+        }
+    }
+
+    fn coef_lower(&self, c: &Coef, lo: &[f64]) -> f64 {
+        match c {
+            Coef::Number(v) => *v,
+            Coef::Param(n) => {
+                lo[self
+                    .desc
+                    .params
+                    .iter()
+                    .position(|p| &p.name == n)
+                    .expect("checked at compile time")]
+            }
+            Coef::Switch(s) => self
+                .coef_lower(&s.before, lo)
+                .min(self.coef_lower(&s.after, lo)),
+        }
+    }
+
+    /// Reach (elongation m, rate m/s) used by the stability bound.
+    fn reach(&self, lo: &[f64], hi: &[f64]) -> (f64, f64) {
+        if let Some(r) = self.desc.reach {
+            return (r.elongation, r.rate);
+        }
+        let e = self
+            .desc
+            .elements
+            .iter()
+            .filter_map(|e| e.breaks_at.as_ref())
+            .map(|c| self.coef_bound(c, lo, hi))
+            .fold(0.0, f64::max);
+        (if e > 0.0 { e } else { 0.01 }, 10.0)
+    }
+
+    /// Largest tangent stiffness (N/m) and damping (N·s/m) of element `i` over
+    /// the parameter box, with the names that set them.
+    fn element_bound(&self, i: usize, lo: &[f64], hi: &[f64]) -> (f64, f64, String) {
+        let e = &self.desc.elements[i];
+        let (ex, rx) = self.reach(lo, hi);
+        let b = |c: &Coef| self.coef_bound(c, lo, hi);
+        let name = |c: &Coef| match c {
+            Coef::Param(n) => n.clone(),
+            _ => e.name.clone(),
+        };
+        let (mut k, mut kname) = (0.0, e.name.clone());
+        if let Some(s) = &e.spring {
+            let (kk, nn) = match s {
+                SpringLaw::Linear { k } => (b(k), name(k)),
+                SpringLaw::Polynomial { coeffs } => (poly_slope(coeffs, &b, ex), e.name.clone()),
+                SpringLaw::LinearThenPolynomial { k, coeffs, .. } => {
+                    let ps = poly_slope(coeffs, &b, ex);
+                    if ps > b(k) {
+                        (ps, format!("{}.coeffs", e.name))
+                    } else {
+                        (b(k), name(k))
+                    }
+                }
+                SpringLaw::ExpLinear { a, c, k, .. } => (b(k).max(b(a) + b(c)), name(k)),
+                SpringLaw::PowerLaw { k, beta } => {
+                    let bl = self.coef_lower(beta, lo);
+                    let bh = b(beta);
+                    // k·β·|e|^{β−1}: largest at the reach for β ≥ 1; for β < 1 it
+                    // grows without bound at 0, so take a micrometre.
+                    let x = if bl < 1.0 { 1e-6_f64.min(ex) } else { ex };
+                    (
+                        b(k) * bh * x.powf(bl.min(bh) - 1.0).max(x.powf(bh - 1.0)),
+                        name(k),
+                    )
+                }
+            };
+            k = kk;
+            kname = nn;
+        }
+        if let Some(FrictionLaw::StickSlip { k_t, .. }) = &e.friction
+            && b(k_t) > k
+        {
+            k = b(k_t);
+            kname = name(k_t);
+        }
+        let c = match &e.damper {
+            None => 0.0,
+            Some(DamperLaw::Viscous { c }) => b(c),
+            Some(DamperLaw::PowerLaw { c, alpha }) => {
+                let a = b(alpha);
+                let x = if self.coef_lower(alpha, lo) < 1.0 {
+                    1e-6_f64.min(rx)
+                } else {
+                    rx
+                };
+                b(c) * a
+                    * x.powf(self.coef_lower(alpha, lo) - 1.0)
+                        .max(x.powf(a - 1.0))
+            }
+            Some(DamperLaw::Saturating { c, c_high, .. }) => b(c).max(b(c_high)),
+            Some(DamperLaw::Asymmetric {
+                c_tension,
+                c_compression,
+            }) => b(c_tension).max(b(c_compression)),
+        };
+        (k, c, kname)
+    }
+}
+
+fn poly_slope(coeffs: &[Coef], b: &impl Fn(&Coef) -> f64, e: f64) -> f64 {
+    coeffs
+        .iter()
+        .enumerate()
+        .skip(1)
+        .map(|(i, c)| i as f64 * b(c) * e.powi(i as i32 - 1))
+        .sum()
+}
+
+impl RigModel for CompiledRig {
+    fn id(&self) -> &'static str {
+        self.id
+    }
+
+    fn params(&self) -> &'static [ParamInfo] {
+        self.params
+    }
+
+    fn state_names(&self) -> &'static [&'static str] {
+        self.states
+    }
+
+    fn output_names(&self) -> &'static [(&'static str, &'static str)] {
+        self.outputs
+    }
+
+    fn supports(&self, drive: &Drive) -> bool {
+        self.program_for(drive).is_some()
+    }
+
+    fn check(&self, params: &[f64]) -> Result<(), (&'static str, String)> {
+        for (i, info) in self.params.iter().enumerate() {
+            if !params[i].is_finite() {
+                return Err((info.name, "a finite number".into()));
+            }
+        }
+        for node in &self.desc.nodes {
+            if let Coef::Param(n) = &node.mass {
+                let i = self
+                    .params
+                    .iter()
+                    .position(|p| p.name == n)
+                    .expect("checked");
+                if params[i] <= 0.0 {
+                    return Err((self.params[i].name, "a mass > 0".into()));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn simulate(
+        &self,
+        params: &[f64],
+        drive: &Drive,
+        grid: &SampleGrid,
+        observe: &mut dyn FnMut(&Sample<'_>) -> ControlFlow<()>,
+    ) {
+        let n_out = self.outputs.len();
+        let n = self.states.len();
+        let Some(mut st) = self.stepper(params, drive) else {
+            // A drive mode the rig does not declare (refused by campaign
+            // validation): every output is NaN, so the run counts as diverged.
+            let nan = vec![f64::NAN; n_out.max(n)];
+            for k in 0..grid.samples {
+                let s = Sample {
+                    index: k,
+                    t: grid.time(k),
+                    state: &nan[..n],
+                    outputs: &nan[..n_out],
+                };
+                if observe(&s).is_break() {
+                    return;
+                }
+            }
+            return;
+        };
+        let mut y = vec![0.0; n];
+        let mut outs = vec![0.0; n_out];
+        let mut full = vec![0.0; n];
+        let mut ctx = (&mut st, &mut y);
+        walk_grid(
+            grid,
+            &mut ctx,
+            |(st, y), t, h| st.step(t, h, y),
+            |(st, y), k, t| {
+                st.report(t, y, &mut outs, &mut full);
+                if st.chattered {
+                    outs.fill(f64::NAN);
+                }
+                observe(&Sample {
+                    index: k,
+                    t,
+                    state: &full,
+                    outputs: &outs,
+                })
+            },
+        );
+    }
+
+    fn linearise(&self, params: &[f64], drive: &Drive) -> Linearised {
+        // About rest with every contact closed, nothing broken or yielded and
+        // every slider stuck, by central differences of the compiled derivative.
+        let mut st = self.stepper(params, drive).expect("a declared drive mode");
+        for (v, m) in self.lowered.modes.iter().enumerate() {
+            st.modes[v] = u32::from(m.name.ends_with(".contact"));
+        }
+        let prog = &self.lowered.programs[self.program_for(drive).expect("declared")];
+        let nodes = self.desc.nodes.len();
+        let n = self.states.len();
+        // A node is a degree of freedom unless the drive prescribes it (its
+        // displacement slot's derivative is then the constant 0).
+        let free: Vec<usize> = (0..nodes)
+            .filter(|&k| {
+                !matches!(
+                    prog.graph.ops[prog.deriv[k] as usize],
+                    crate::compile::Op::Const(_)
+                )
+            })
+            .collect();
+        let mass: Vec<f64> = free
+            .iter()
+            .map(|&k| match &self.desc.nodes[k].mass {
+                Coef::Number(v) => *v,
+                Coef::Param(p) => {
+                    params[self
+                        .params
+                        .iter()
+                        .position(|q| q.name == p)
+                        .expect("checked")]
+                }
+                Coef::Switch(_) => f64::NAN,
+            })
+            .collect();
+        let d = free.len();
+        let mut kmat = vec![0.0; d * d];
+        let (mut plus, mut minus) = (vec![0.0; n], vec![0.0; n]);
+        let delta = 1e-9;
+        for (j, &kj) in free.iter().enumerate() {
+            let mut y = vec![0.0; n];
+            y[kj] = delta;
+            st.deriv(0.0, &y, &mut plus);
+            y[kj] = -delta;
+            st.deriv(0.0, &y, &mut minus);
+            for (i, &ki) in free.iter().enumerate() {
+                let da = (plus[nodes + ki] - minus[nodes + ki]) / (2.0 * delta);
+                kmat[i * d + j] = -mass[i] * da;
+            }
+        }
+        Linearised {
+            dofs: free
+                .iter()
+                .map(|&k| leak(&self.desc.nodes[k].name))
+                .collect(),
+            mass,
+            stiffness: kmat,
+        }
+    }
+
+    fn omega_bound(&self, lower: &[f64], upper: &[f64], _drive: &Drive) -> (f64, &'static str) {
+        // Gershgorin on each node's row of M⁻¹K and M⁻¹C, with every element's
+        // largest tangent stiffness and damping over the box and the reach.
+        let bounds: Vec<(f64, f64, String)> = (0..self.desc.elements.len())
+            .map(|i| self.element_bound(i, lower, upper))
+            .collect();
+        let mut best = (0.0, self.params.first().map_or("", |p| p.name));
+        for node in &self.desc.nodes {
+            let m = self.coef_lower(&node.mass, lower);
+            let (mut kr, mut cr) = (0.0, 0.0);
+            let mut stiffest = (0.0, String::new());
+            for (e, b) in self.desc.elements.iter().zip(&bounds) {
+                if e.between.contains(&node.name) {
+                    let both = 1.0 + f64::from(u8::from(!e.between.iter().any(|x| x == "ground")));
+                    kr += both * b.0;
+                    cr += both * b.1;
+                    if b.0 >= stiffest.0 {
+                        stiffest = (b.0, b.2.clone());
+                    }
+                }
+            }
+            let lam = cr / m + (kr / m).sqrt();
+            if lam > best.0 || !lam.is_finite() {
+                best = (lam, leak(&stiffest.1));
+            }
+        }
+        best
+    }
+}

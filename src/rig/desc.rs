@@ -1,0 +1,369 @@
+//! The rig description as it is written in a rig file (serde, unknown keys
+//! refused). [`super::validate`] turns it into a checked [`super::Rig`].
+//!
+//! A rig is a 1-D lumped network: nodes (masses) joined to each other or to
+//! ground by elements; drives move or push nodes; outputs combine element forces
+//! and node motions. Every coefficient names a parameter of the rig (or is a
+//! number, or switches from one parameter to another when an element breaks).
+
+use serde::Deserialize;
+
+use crate::model::{ParamScope, Scale};
+
+/// A whole rig file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RigDesc {
+    /// Identifier (`"tensile4"`); campaigns name shipped rigs by it.
+    pub id: String,
+    /// One line on what the rig is.
+    #[serde(default)]
+    pub doc: String,
+    /// Parameters, in the order of every parameter vector.
+    pub params: Vec<ParamDesc>,
+    /// Nodes (masses). `"ground"` is implicit and fixed.
+    pub nodes: Vec<NodeDesc>,
+    /// Elements between two nodes or a node and ground.
+    pub elements: Vec<ElementDesc>,
+    /// Drives; each belongs to a drive mode (`"velocity"`, the default mode of
+    /// an experiment, or `"force"`, an experiment driven by a force table).
+    #[serde(default)]
+    pub drives: Vec<DriveDesc>,
+    /// Outputs; output 0 is fitted to the measured record.
+    pub outputs: Vec<OutputDesc>,
+    /// How far the run can reach, for the RK4 stability bound of nonlinear laws.
+    #[serde(default)]
+    pub reach: Option<ReachDesc>,
+}
+
+/// One parameter.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParamDesc {
+    /// Name in campaign and result files.
+    pub name: String,
+    /// SI unit.
+    pub unit: String,
+    /// What it is.
+    #[serde(default)]
+    pub doc: String,
+    /// Rig-wide (default) or per experiment.
+    #[serde(default = "rig_scope")]
+    pub scope: ParamScope,
+    /// Value used when a campaign does not give one.
+    #[serde(default)]
+    pub default: Option<f64>,
+    /// Search scale (default linear).
+    #[serde(default)]
+    pub scale: Scale,
+}
+
+fn rig_scope() -> ParamScope {
+    ParamScope::Rig
+}
+
+/// A node: a lumped mass.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NodeDesc {
+    /// Name (not `"ground"`).
+    pub name: String,
+    /// Mass parameter (kg).
+    pub mass: Coef,
+}
+
+/// A coefficient: a parameter name, a number, or a parameter that switches to
+/// another once an element has broken (`c1 → c1_post` at fracture).
+#[derive(Debug, Clone)]
+pub enum Coef {
+    /// A literal in the law's unit.
+    Number(f64),
+    /// A parameter by name.
+    Param(String),
+    /// `before` until element `broken` breaks, `after` from then on.
+    Switch(SwitchCoef),
+}
+
+impl<'de> Deserialize<'de> for Coef {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> serde::de::Visitor<'de> for V {
+            type Value = Coef;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a parameter name, a number, or {\"before\", \"after\", \"broken\"}")
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<Coef, E> {
+                Ok(Coef::Param(v.to_string()))
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Coef, E> {
+                Ok(Coef::Number(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Coef, E> {
+                Ok(Coef::Number(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Coef, E> {
+                Ok(Coef::Number(v as f64))
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(self, m: A) -> Result<Coef, A::Error> {
+                SwitchCoef::deserialize(serde::de::value::MapAccessDeserializer::new(m))
+                    .map(Coef::Switch)
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// See [`Coef::Switch`].
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SwitchCoef {
+    /// Coefficient while the element is intact.
+    pub before: Box<Coef>,
+    /// Coefficient once it has broken.
+    pub after: Box<Coef>,
+    /// A breakable element.
+    pub broken: String,
+}
+
+/// An element between `between[0]` (a) and `between[1]` (b): elongation
+/// `e = x_b − x_a`, rate `ė = v_b − v_a`. Its force `F` (tension positive) acts
+/// as `+F` on a and `−F` on b.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ElementDesc {
+    /// Name, for outputs and messages.
+    pub name: String,
+    /// The two nodes; either may be `"ground"`.
+    pub between: [String; 2],
+    /// The spring part.
+    #[serde(default)]
+    pub spring: Option<SpringLaw>,
+    /// The damper part.
+    #[serde(default)]
+    pub damper: Option<DamperLaw>,
+    /// A Coulomb slider with tangential stiffness (its own internal state).
+    #[serde(default)]
+    pub friction: Option<FrictionLaw>,
+    /// The element carries force only in contact (see [`GapDesc`]).
+    #[serde(default)]
+    pub gap: Option<GapDesc>,
+    /// The element breaks for good when its elongation reaches this (m).
+    #[serde(default)]
+    pub breaks_at: Option<Coef>,
+}
+
+/// Spring laws `F_s(e)`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "law", rename_all = "snake_case", deny_unknown_fields)]
+pub enum SpringLaw {
+    /// `k·e`.
+    Linear {
+        /// Stiffness (N/m).
+        k: Coef,
+    },
+    /// `Σ a_i·eⁱ`, degree ≤ 5.
+    Polynomial {
+        /// `a_0 … a_n` (N/mⁱ).
+        coeffs: Vec<Coef>,
+    },
+    /// `k·e` up to `limit`, `Σ a_i·eⁱ` beyond (a located switch).
+    LinearThenPolynomial {
+        /// Stiffness below the limit (N/m).
+        k: Coef,
+        /// Elongation where the polynomial starts (m).
+        limit: Coef,
+        /// `a_0 … a_n` (N/mⁱ), degree ≤ 5.
+        coeffs: Vec<Coef>,
+    },
+    /// `(a/b)(e^{b·e} − 1) + c·e` up to the knee `e* = ln((k − c)/a)/b`, then
+    /// linear with slope `k` (C¹ at the knee; `e* = 0` when `k ≤ a + c`).
+    ExpLinear {
+        /// N/m.
+        a: Coef,
+        /// 1/m.
+        b: Coef,
+        /// N/m.
+        c: Coef,
+        /// Stiffness beyond the knee (N/m).
+        k: Coef,
+    },
+    /// `k·|e|^β·sign(e)`.
+    PowerLaw {
+        /// N/m^β.
+        k: Coef,
+        /// Exponent β > 0.
+        beta: Coef,
+    },
+}
+
+/// Damper laws `F_d(ė)`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "law", rename_all = "snake_case", deny_unknown_fields)]
+pub enum DamperLaw {
+    /// `c·ė`.
+    Viscous {
+        /// N·s/m.
+        c: Coef,
+    },
+    /// `c·|ė|^α·sign(ė)`.
+    PowerLaw {
+        /// N·(s/m)^α.
+        c: Coef,
+        /// Exponent α > 0.
+        alpha: Coef,
+    },
+    /// `c·ė` for `|ė| ≤ v_knee`, slope `c_high` beyond (bilinear in ė).
+    Saturating {
+        /// N·s/m.
+        c: Coef,
+        /// N·s/m beyond the knee.
+        c_high: Coef,
+        /// Knee velocity (m/s).
+        v_knee: Coef,
+    },
+    /// `c_tension·ė` for `ė ≥ 0`, `c_compression·ė` below.
+    Asymmetric {
+        /// N·s/m.
+        c_tension: Coef,
+        /// N·s/m.
+        c_compression: Coef,
+    },
+}
+
+/// Coulomb friction with stick-slip: a spring `k_t` in series with a slider of
+/// limit `f_c`; the slider's position is a state, the element sticks, slips
+/// forward or slips backward (located events).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "law", rename_all = "snake_case", deny_unknown_fields)]
+pub enum FrictionLaw {
+    /// See [`FrictionLaw`].
+    StickSlip {
+        /// Slip force (N).
+        f_c: Coef,
+        /// Tangential (pre-sliding) stiffness (N/m).
+        k_t: Coef,
+    },
+}
+
+/// A gap: one-sided contact (force only once `e > size`, from `e − size`) or
+/// two-sided free play (from `e − size` above `size`, `e + size` below `−size`).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GapDesc {
+    /// `"tension"` (contact once stretched past the gap), `"compression"` (once
+    /// compressed past it) or `"free_play"` (both).
+    pub kind: GapKind,
+    /// Gap size (m, ≥ 0).
+    pub size: Coef,
+}
+
+/// See [`GapDesc`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GapKind {
+    /// Contact for `e > size`.
+    Tension,
+    /// Contact for `e < −size`.
+    Compression,
+    /// Contact on both sides.
+    FreePlay,
+}
+
+/// A drive: what moves or pushes a node in one drive mode.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DriveDesc {
+    /// `"velocity"` (default) or `"force"`: which experiments it applies to.
+    #[serde(default = "velocity_mode")]
+    pub mode: String,
+    /// The node it acts on (for `base_acceleration`: every node).
+    #[serde(default)]
+    pub node: Option<String>,
+    /// The law.
+    pub law: DriveLaw,
+}
+
+fn velocity_mode() -> String {
+    "velocity".into()
+}
+
+/// Drive laws.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum DriveLaw {
+    /// Prescribed motion `x = v·t − r·(1 − e^{−v·t/r})` (`x = v·t` for `r = 0`),
+    /// at rest for `t ≤ 0`; the node's mass plays no part.
+    VelocityRamp {
+        /// Target velocity (m/s).
+        velocity: Coef,
+        /// Ramp length (m).
+        ramp: Coef,
+    },
+    /// A force on the node from a table (N), 0 for `t < 0`; without `t`/`value`
+    /// the experiment's force table (campaign `"drive": {"force": …}`).
+    ForceTable {
+        /// Times (s).
+        #[serde(default)]
+        t: Option<Vec<f64>>,
+        /// Forces (N).
+        #[serde(default)]
+        value: Option<Vec<f64>>,
+    },
+    /// Base acceleration `a(t)` (m/s²) from a table, 0 for `t < 0`: states are
+    /// relative to the base and every node feels `−m·a(t)`.
+    BaseAccelerationTable {
+        /// Times (s).
+        t: Vec<f64>,
+        /// Accelerations (m/s²).
+        value: Vec<f64>,
+    },
+}
+
+/// An output: a sum of terms.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputDesc {
+    /// Name (`"load_cell_force"`).
+    pub name: String,
+    /// Unit, for files and plots.
+    pub unit: String,
+    /// Terms, added.
+    pub sum: Vec<TermDesc>,
+}
+
+/// One term of an output: exactly one of the fields, times `gain`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TermDesc {
+    /// An element's force (N).
+    #[serde(default)]
+    pub force: Option<String>,
+    /// A node's displacement (m).
+    #[serde(default)]
+    pub displacement: Option<String>,
+    /// A node's velocity (m/s).
+    #[serde(default)]
+    pub velocity: Option<String>,
+    /// A node's acceleration (m/s²).
+    #[serde(default)]
+    pub acceleration: Option<String>,
+    /// Factor (default 1; −1 makes a difference).
+    #[serde(default = "one")]
+    pub gain: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+/// Largest elongation (m) and elongation rate (m/s) any element reaches, for the
+/// stability bound of nonlinear laws (default 0.01 m and 10 m/s, or the largest
+/// `breaks_at` bound).
+#[derive(Debug, Clone, Copy, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReachDesc {
+    /// m.
+    pub elongation: f64,
+    /// m/s.
+    pub rate: f64,
+}

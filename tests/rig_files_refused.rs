@@ -1,0 +1,190 @@
+//! Bad rig files are refused with one line naming the file, the JSON path and
+//! what was expected: a table of cases, each a small edit of a shipped rig.
+
+use rigfit::model::compiled::CompiledRig;
+use rigfit::rig::{RigSource, parse};
+use serde_json::{Value, json};
+
+fn base() -> Value {
+    serde_json::from_str(
+        rigfit::rig::SHIPPED
+            .iter()
+            .find(|(i, _)| *i == "tensile4")
+            .unwrap()
+            .1,
+    )
+    .unwrap()
+}
+
+fn compile(v: &Value) -> Result<(), String> {
+    let src = RigSource::File("bad_rig.json".into());
+    let desc = parse(&v.to_string(), &src).map_err(|e| e.to_string())?;
+    CompiledRig::new(desc, &src.label())
+        .map(|_| ())
+        .map_err(|e| e.to_string())
+}
+
+type Edit = fn(&mut Value);
+
+#[test]
+fn every_bad_rig_is_refused_with_its_file_and_json_path() {
+    let cases: Vec<(&str, Edit, &str)> = vec![
+        (
+            "element to a node that does not exist",
+            |v| v["elements"][2]["between"][1] = json!("barr"),
+            "elements[2].between[1]",
+        ),
+        (
+            "a node no element touches",
+            |v| {
+                v["nodes"]
+                    .as_array_mut()
+                    .unwrap()
+                    .push(json!({"name": "loose", "mass": "m1"}))
+            },
+            "nodes[4]",
+        ),
+        (
+            "unknown spring law",
+            |v| v["elements"][0]["spring"]["law"] = json!("hyperelastic"),
+            "elements[0].spring",
+        ),
+        (
+            "missing parameter",
+            |v| v["elements"][2]["spring"]["k"] = json!("k33"),
+            "elements[2].spring.k",
+        ),
+        (
+            "negative mass",
+            |v| v["nodes"][0]["mass"] = json!(-7.9),
+            "nodes[0].mass",
+        ),
+        (
+            "gap on a damper",
+            |v| {
+                v["elements"][2]["spring"] = Value::Null;
+                v["elements"][2]["gap"] = json!({"kind": "tension", "size": "gap"});
+            },
+            "elements[2].gap",
+        ),
+        (
+            "duplicate node",
+            |v| v["nodes"][1]["name"] = json!("load_cell"),
+            "nodes[1].name",
+        ),
+        (
+            "duplicate parameter",
+            |v| v["params"][1]["name"] = json!("m1"),
+            "params[1].name",
+        ),
+        (
+            "duplicate element",
+            |v| v["elements"][1]["name"] = json!("load_cell"),
+            "elements[1].name",
+        ),
+        (
+            "unknown key",
+            |v| v["elements"][0]["stiffness"] = json!(1.0),
+            "elements[0]",
+        ),
+        (
+            "polynomial of degree 6",
+            |v| {
+                v["elements"][1]["spring"]["coeffs"]
+                    .as_array_mut()
+                    .unwrap()
+                    .push(json!(0.0))
+            },
+            "elements[1].spring.coeffs",
+        ),
+        (
+            "a switch on an element that never breaks",
+            |v| v["elements"][0]["damper"]["c"]["broken"] = json!("bar"),
+            "elements[0].damper.c.broken",
+        ),
+        (
+            "a switch on an unknown element",
+            |v| v["elements"][0]["damper"]["c"]["broken"] = json!("specimenn"),
+            "elements[0].damper.c.broken",
+        ),
+        (
+            "unknown drive mode",
+            |v| v["drives"][1]["mode"] = json!("torque"),
+            "drives[1].mode",
+        ),
+        (
+            "drive on an unknown node",
+            |v| v["drives"][0]["node"] = json!("piston"),
+            "drives[0].node",
+        ),
+        (
+            "output term with two quantities",
+            |v| v["outputs"][0]["sum"][0]["displacement"] = json!("bar"),
+            "outputs[0].sum[0]",
+        ),
+        (
+            "output of an unknown element",
+            |v| v["outputs"][1]["sum"][0]["force"] = json!("specimen2"),
+            "outputs[1].sum[0].force",
+        ),
+        ("no outputs", |v| v["outputs"] = json!([]), "outputs"),
+        (
+            "element joining a node to itself",
+            |v| v["elements"][2]["between"] = json!(["bar", "bar"]),
+            "elements[2].between",
+        ),
+        (
+            "rig id that is not an identifier",
+            |v| v["id"] = json!("tensile 4"),
+            "id",
+        ),
+        (
+            "table times not increasing",
+            |v| {
+                v["drives"][1]["law"] =
+                    json!({"type": "force_table", "t": [0.0, 1.0, 0.5], "value": [0.0, 1.0, 2.0]})
+            },
+            "drives[1].law.t",
+        ),
+        (
+            "base acceleration on one node",
+            |v| v["drives"][0] = json!({"node": "bar", "law": {"type": "base_acceleration_table", "t": [0.0, 1.0], "value": [0.0, 1.0]}}),
+            "drives[0].node",
+        ),
+        (
+            "velocity-mode force drive without a table",
+            |v| v["drives"][0] = json!({"node": "actuator", "law": {"type": "force_table"}}),
+            "drives[0].law",
+        ),
+        (
+            "negative gap",
+            |v| v["elements"][3]["gap"]["size"] = json!(-1e-5),
+            "elements[3].gap.size",
+        ),
+        (
+            "element with no law",
+            |v| {
+                v["elements"][2]["spring"] = Value::Null;
+                v["elements"][2]["damper"] = Value::Null;
+            },
+            "elements[2]",
+        ),
+        (
+            "non-numeric coefficient",
+            |v| v["elements"][2]["spring"]["k"] = json!([1, 2]),
+            "elements[2].spring: expected a valid rig description, found invalid type: sequence, expected a parameter name",
+        ),
+        ("no nodes", |v| v["nodes"] = json!([]), "nodes"),
+    ];
+    assert!(cases.len() >= 20);
+    assert!(compile(&base()).is_ok(), "the base rig compiles");
+    for (what, edit, path) in cases {
+        let mut v = base();
+        edit(&mut v);
+        let err = compile(&v).expect_err(what);
+        println!("{what}: {err}");
+        assert!(err.starts_with("bad_rig.json: "), "{what}: {err}");
+        assert!(err.contains(path), "{what}: expected path {path} in: {err}");
+        assert!(!err.contains('\n'), "{what}: more than one line: {err}");
+    }
+}
