@@ -193,3 +193,41 @@ fn a_campaign_without_a_search_section_simulates_but_does_not_run() {
     );
     assert!(!dir.path().join("out").exists());
 }
+
+#[test]
+fn a_campaigns_output_outside_its_folder_and_the_current_one_needs_out() {
+    let dir = tempfile::tempdir().unwrap();
+    let home = dir.path().join("campaigns");
+    std::fs::create_dir(&home).unwrap();
+    let elsewhere = tempfile::tempdir().unwrap();
+    let target = elsewhere.path().join("victim");
+    for output in [target.to_str().unwrap().to_string(), "../../up".to_string()] {
+        let c = campaign(&home, |c| c["output"] = json!(output));
+        let o = rigfit()
+            .arg("run")
+            .arg(&c)
+            .current_dir(&home)
+            .output()
+            .unwrap();
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{output}: {err}");
+        assert!(
+            err.contains("c.json: output: expected a folder inside"),
+            "{err}"
+        );
+        assert!(err.contains("--out"), "{err}");
+    }
+    assert!(!target.exists());
+    // --out is the user's own choice.
+    let c = campaign(&home, |c| c["output"] = json!("/etc/rigfit-never"));
+    let o = rigfit()
+        .args(["--quiet", "run"])
+        .arg(&c)
+        .arg("--out")
+        .arg(&target)
+        .current_dir(&home)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(target.join("result.json").is_file());
+}

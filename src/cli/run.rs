@@ -1,6 +1,7 @@
 //! `rigfit run`: the calibration job.
 
 use std::fmt::Write as _;
+use std::path::{Component, Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -73,6 +74,9 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     // (a GPU job needs them if it falls back to the CPU).
     let cpu = CpuEvaluator::try_new(c.problem.clone(), a.threads)
         .map_err(|e| super::BadInput(format!("--threads {}: {e}", a.threads)))?;
+    if a.out.is_none() {
+        check_output_inside(&c, &a.campaign)?;
+    }
     let dir = a.out.clone().unwrap_or_else(|| c.output.clone());
     let mode = match (a.resume, a.overwrite) {
         (true, _) => FolderMode::Resume,
@@ -173,6 +177,40 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         return Ok(ExitCode::from(EXIT_INTERRUPTED));
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// A campaign's own `output` must stay inside the campaign's folder or the
+/// current folder: a campaign from someone else must not send files to `/etc`.
+/// `--out` is the user's own choice and goes anywhere.
+fn check_output_inside(c: &Campaign, file: &Path) -> Result<(), super::BadInput> {
+    let Ok(cwd) = std::env::current_dir() else {
+        return Ok(());
+    };
+    let absolute = |p: &Path| -> PathBuf {
+        let mut out = PathBuf::new();
+        for part in cwd.join(p).components() {
+            match part {
+                Component::ParentDir => {
+                    out.pop();
+                }
+                Component::CurDir => {}
+                other => out.push(other),
+            }
+        }
+        out
+    };
+    let output = absolute(&c.output);
+    let home = absolute(c.path.parent().unwrap_or(Path::new(".")));
+    if output.starts_with(&home) || output.starts_with(absolute(Path::new("."))) {
+        return Ok(());
+    }
+    Err(super::BadInput(format!(
+        "{}: output: expected a folder inside the campaign's folder `{}` or the current \
+         folder, found `{}`; pass --out DIR to write elsewhere",
+        file.display(),
+        home.display(),
+        output.display()
+    )))
 }
 
 /// The one-screen summary at the end of a job.
