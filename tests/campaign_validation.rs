@@ -583,3 +583,19 @@ fn weights_near_the_largest_float_still_give_the_weighted_mean() {
         assert!((joint - expected).abs() < 1e-12, "{w0} {w1}: {joint}");
     }
 }
+
+#[test]
+fn an_unknown_parameter_name_is_quoted_short_and_escaped() {
+    let dir = tempfile::tempdir().unwrap();
+    let long = format!("k\n{}", "x".repeat(100_000));
+    let mut v = example();
+    set(&mut v, &format!("/params/{long}"), json!(1.0));
+    let path = write(dir.path(), &v.to_string(), &[("v2.csv", &good_csv())]);
+    let err = Campaign::load(&path).unwrap_err().to_string();
+    assert!(err.len() < 600, "{} bytes", err.len());
+    assert!(
+        err.contains("unknown parameter 'k\\nxxx") && err.contains("100002 bytes"),
+        "{err}"
+    );
+    assert!(!err.contains('\n'), "{err}");
+}

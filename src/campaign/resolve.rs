@@ -145,6 +145,8 @@ pub(crate) fn unknown_param(
         (Some(max), Some(k)) if k > max => {
             format!("; the polynomial degree is at most {max} (a0..a{max})")
         }
+        // A name far longer than any parameter's is no typo of one.
+        _ if name.len() > 100 => String::new(),
         _ => names
             .iter()
             .map(|n| (strsim::levenshtein(n, name), *n))
@@ -153,10 +155,11 @@ pub(crate) fn unknown_param(
             .map(|(_, n)| format!("; did you mean '{n}'?"))
             .unwrap_or_default(),
     };
+    // Both echo the key: escaped and cut short, whatever the file holds.
     CampaignError::UnknownParam {
         file: file.to_path_buf(),
-        path: path.to_string(),
-        name: name.to_string(),
+        path: crate::text::echo_bare(path),
+        name: crate::text::echo_bare(name),
         model: model.id().to_string(),
         hint,
     }
