@@ -195,3 +195,34 @@ fn a_folder_held_by_another_job_is_refused_before_any_work() {
     let o = run(&c, &[]);
     assert!(o.status.success(), "{}", stderr(&o));
 }
+
+#[test]
+fn a_rig_file_is_an_input_too() {
+    let dir = tempfile::tempdir().unwrap();
+    let c = campaign(dir.path(), "v2", "v2.csv", "out");
+    let mut v: Value = serde_json::from_str(&std::fs::read_to_string(&c).unwrap()).unwrap();
+    v.as_object_mut().unwrap().remove("model");
+    v["rig"] = json!("my_rig.json");
+    std::fs::write(&c, v.to_string()).unwrap();
+    std::fs::copy(
+        repo().join("rigs/tensile4.json"),
+        dir.path().join("my_rig.json"),
+    )
+    .unwrap();
+    let rig = std::fs::read(dir.path().join("my_rig.json")).unwrap();
+    let o = rigfit()
+        .args(["--quiet", "simulate"])
+        .arg(&c)
+        .arg("--out")
+        .arg(dir.path().join("my_rig.json"))
+        .arg("--overwrite")
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("never writes over its inputs"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(std::fs::read(dir.path().join("my_rig.json")).unwrap(), rig);
+}

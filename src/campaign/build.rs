@@ -19,7 +19,8 @@ use crate::search::GaSettings;
 pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, CampaignError> {
     let raw: RawCampaign = parse_json(text, file)?;
     check_campaign_name(file, &raw.name)?;
-    let model = model_of(&raw, dir, file)?;
+    let mut rig_file = None;
+    let model = model_of(&raw, dir, file, &mut rig_file)?;
     if let Some(search) = &raw.search {
         search
             .validate()
@@ -73,7 +74,9 @@ pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, Cam
 
     let mut digest = fnv1a(FNV_BASIS, text.as_bytes());
     let mut experiments = Vec::new();
-    let mut inputs = vec![file.to_path_buf()];
+    let mut inputs: Vec<PathBuf> = std::iter::once(file.to_path_buf())
+        .chain(rig_file)
+        .collect();
     for (e, x) in raw.experiments.iter().enumerate() {
         let free = |i: usize| {
             genes
@@ -196,6 +199,7 @@ fn model_of(
     raw: &RawCampaign,
     dir: &Path,
     file: &Path,
+    rig_file: &mut Option<PathBuf>,
 ) -> Result<&'static dyn RigModel, CampaignError> {
     match (&raw.model, &raw.rig) {
         (Some(id), None) => by_id(id).ok_or_else(|| {
@@ -205,10 +209,14 @@ fn model_of(
                 known.join(", "),
                 rig::SHIPPED.map(|(i, _)| i).join(", ")
             );
-            invalid(file, "model", expected, format!("{id:?}"))
+            invalid(file, "model", expected, crate::text::echo(id))
         }),
         (None, Some(v)) => {
             let (desc, src) = rig::resolve(v, dir, file).map_err(|e| rig_error(e, file))?;
+            if let rig::RigSource::File(path) = &src {
+                // An input like the data: a job never writes over it.
+                *rig_file = Some(path.clone());
+            }
             let rig = CompiledRig::leaked(desc, &src.label()).map_err(|mut e| {
                 if matches!(src, rig::RigSource::Inline(..)) {
                     e.path = format!("rig.{}", e.path);

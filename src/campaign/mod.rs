@@ -135,8 +135,9 @@ pub struct Campaign {
     pub search_given: bool,
     /// Results folder (resolved against the campaign's folder).
     pub output: PathBuf,
-    /// The files the campaign was read from (the campaign file, then each
-    /// experiment's data file): a job never writes over them.
+    /// The files the campaign was read from (the campaign file, its rig file
+    /// if it names one, then each experiment's data file): a job never writes
+    /// over them.
     pub inputs: Vec<PathBuf>,
     /// The campaign text as read.
     pub raw_json: String,
