@@ -16,6 +16,18 @@ fn shipped() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("campaigns/aa2024_t3_synthetic.json")
 }
 
+/// The shipped campaign without the polish after the GA (not what these
+/// tests are about), written into `dir`.
+fn quick(dir: &std::path::Path) -> PathBuf {
+    let mut c: Value = serde_json::from_str(&std::fs::read_to_string(shipped()).unwrap()).unwrap();
+    let data = shipped().with_file_name("aa2024_t3_v2_synthetic.csv");
+    c["experiments"][0]["data"]["file"] = Value::from(data.to_str().unwrap());
+    c["search"]["polish"] = serde_json::json!({"enabled": false});
+    let path = dir.join("quick.json");
+    std::fs::write(&path, c.to_string()).unwrap();
+    path
+}
+
 fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
@@ -62,7 +74,7 @@ fn a_closed_stdout_ends_the_job_quietly() {
     let dir = tempfile::tempdir().unwrap();
     let mut child = rigfit()
         .args(["--json", "run"])
-        .arg(shipped())
+        .arg(quick(dir.path()))
         .args([
             "--backend",
             "cpu",
@@ -114,10 +126,11 @@ fn help_lists_every_exit_code_and_many_threads_draw_a_warning() {
     assert!(help.contains("130"), "{help}");
 
     let dir = tempfile::tempdir().unwrap();
+    let c = quick(dir.path());
     let cores = std::thread::available_parallelism().map_or(1, usize::from);
     let o = rigfit()
         .args(["--quiet", "run"])
-        .arg(shipped())
+        .arg(&c)
         .args([
             "--backend",
             "cpu",
@@ -133,7 +146,7 @@ fn help_lists_every_exit_code_and_many_threads_draw_a_warning() {
     assert!(o.status.success(), "{}", stderr(&o));
     let o = rigfit()
         .args(["run"])
-        .arg(shipped())
+        .arg(&c)
         .args([
             "--backend",
             "cpu",

@@ -33,6 +33,8 @@ fn campaign(dir: &Path, experiment: &str, record: &str, output: &str) -> PathBuf
     c["experiments"][0]["data"]["file"] = json!(record);
     c["search"]["population"] = json!(8);
     c["search"]["generations"] = json!(1);
+    // The polish after the GA is not what these tests are about.
+    c["search"]["polish"] = json!({"enabled": false});
     c["solver"]["backend"] = json!("cpu");
     c["output"] = json!(output);
     let path = dir.join("c.json");
