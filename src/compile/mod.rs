@@ -8,12 +8,14 @@
 
 pub mod events;
 pub mod ir;
+pub mod lanes;
 pub mod lower;
 pub mod program;
 pub mod tape;
 
 pub use events::{EventStepper, Fired, MAX_EVENTS_PER_STEP};
 pub use ir::{Graph, Id, Input, Op};
+pub use lanes::{LANES, LaneRunner};
 pub use lower::{Lowered, lower};
 pub use program::{Direction, ModeVar, Program, Transition};
 pub use tape::{Frame, Point, Tape};

@@ -103,13 +103,7 @@ impl<'p> Frame<'p> {
                 Op::In(Input::Slot(s)) => slots[s as usize],
                 Op::In(Input::State(s)) => pt.y[s as usize],
                 Op::In(Input::Mode(m)) => f64::from(pt.modes[m as usize]),
-                Op::In(Input::Table(k)) => {
-                    let tab = self.prog.tables[k as usize].as_ref().or(self.force);
-                    match tab {
-                        Some(tab) if pt.t >= 0.0 => tab.at(pt.t),
-                        _ => 0.0,
-                    }
-                }
+                Op::In(Input::Table(k)) => table_value(self.prog, self.force, k, pt.t),
                 Op::Add(p, q) => a(p) + a(q),
                 Op::Sub(p, q) => a(p) - a(q),
                 Op::Mul(p, q) => a(p) * a(q),
@@ -138,6 +132,20 @@ impl<'p> Frame<'p> {
     /// The value of `id` after an evaluation that included it.
     pub fn get(&self, id: Id) -> f64 {
         self.vals[id as usize]
+    }
+}
+
+/// Table `k` of `prog` at `t` (the experiment's `force` table for a `None`
+/// table); 0 before `t = 0`, where the rig is at rest.
+pub fn table_value(
+    prog: &Program,
+    force: Option<&crate::model::PiecewiseLinear>,
+    k: u32,
+    t: f64,
+) -> f64 {
+    match prog.tables[k as usize].as_ref().or(force) {
+        Some(tab) if t >= 0.0 => tab.at(t),
+        _ => 0.0,
     }
 }
 

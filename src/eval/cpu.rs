@@ -6,8 +6,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use rayon::prelude::*;
 
 use super::{
-    Batch, EvalError, Evaluator, EvaluatorInfo, History, Precision, Problem, Scores, score_one,
-    simulate_history,
+    Batch, EvalError, Evaluator, EvaluatorInfo, History, Precision, Problem, Scores, score_many,
+    score_one, simulate_history,
 };
 
 /// Scores candidates with the f64 reference on a rayon pool.
@@ -73,20 +73,53 @@ impl Evaluator for CpuEvaluator {
                 .as_ref()
                 .is_some_and(|f| f.load(Ordering::Relaxed))
         };
-        let runs: Vec<(f64, bool)> = self.pool.install(|| {
-            (0..batch.candidates * ne)
-                .into_par_iter()
-                .map(|j| {
-                    // Each lane checks before its run, so an interrupt stops
-                    // the batch within one run per thread.
+        // Groups of consecutive candidates of one experiment with one offset
+        // (one sample grid), as many as the model advances together.
+        let lanes = problem.model.lanes().max(1);
+        let mut groups: Vec<(usize, usize, usize)> = Vec::new();
+        for e in 0..ne {
+            let mut i = 0;
+            while i < batch.candidates {
+                let off = batch.offsets[e][i].to_bits();
+                let mut n = 1;
+                while n < lanes
+                    && i + n < batch.candidates
+                    && batch.offsets[e][i + n].to_bits() == off
+                {
+                    n += 1;
+                }
+                groups.push((e, i, n));
+                i += n;
+            }
+        }
+        let scored: Vec<Vec<(f64, bool)>> = self.pool.install(|| {
+            groups
+                .par_iter()
+                .map(|&(e, i, n)| {
+                    // Each group checks before its runs, so an interrupt stops
+                    // the batch within one group per thread.
                     if cancelled() {
-                        return (f64::NAN, false);
+                        return vec![(f64::NAN, false); n];
                     }
-                    let (i, e) = (j / ne, j % ne);
-                    score_one(problem, e, batch.params_of(e, i), batch.offsets[e][i])
+                    if n == 1 {
+                        return vec![score_one(
+                            problem,
+                            e,
+                            batch.params_of(e, i),
+                            batch.offsets[e][i],
+                        )];
+                    }
+                    let params: Vec<&[f64]> = (i..i + n).map(|c| batch.params_of(e, c)).collect();
+                    score_many(problem, e, &params, batch.offsets[e][i])
                 })
                 .collect()
         });
+        let mut runs = vec![(f64::NAN, false); batch.candidates * ne];
+        for (&(e, i, _), vals) in groups.iter().zip(scored) {
+            for (k, v) in vals.into_iter().enumerate() {
+                runs[(i + k) * ne + e] = v;
+            }
+        }
         if cancelled() {
             return Err(EvalError::Cancelled);
         }

@@ -66,6 +66,28 @@ pub fn score_one(problem: &Problem, e: usize, params: &[f64], offset: f64) -> (f
     (v, acc.diverged() || v >= DIVERGED)
 }
 
+/// [`score_one`] for several candidates of experiment `e` with one offset, run
+/// together where the model has lanes (the same values as one by one).
+pub fn score_many(problem: &Problem, e: usize, params: &[&[f64]], offset: f64) -> Vec<(f64, bool)> {
+    let exp = &problem.experiments[e];
+    let grid = exp.grid(offset, problem.substeps);
+    let mut accs: Vec<FitnessAccumulator> = params
+        .iter()
+        .map(|_| FitnessAccumulator::new(exp))
+        .collect();
+    problem
+        .model
+        .simulate_many(params, &exp.drive, &grid, &mut |l, s| {
+            accs[l].add(exp, s.index, s.outputs[0])
+        });
+    accs.iter()
+        .map(|acc| {
+            let v = acc.value();
+            (v, acc.diverged() || v >= DIVERGED)
+        })
+        .collect()
+}
+
 /// Full f64 reference history of one candidate in one experiment.
 pub fn simulate_history(problem: &Problem, e: usize, params: &[f64], offset: f64) -> History {
     let exp = &problem.experiments[e];

@@ -4,7 +4,7 @@
 use std::ops::ControlFlow;
 
 use super::{Drive, Linearised, ParamInfo, RigModel, Sample};
-use crate::compile::{EventStepper, Lowered, Tape, lower};
+use crate::compile::{EventStepper, LANES, LaneRunner, Lowered, Tape, lower};
 use crate::integrate::{SampleGrid, walk_grid};
 use crate::rig::RigError;
 use crate::rig::desc::{Coef, DamperLaw, FrictionLaw, RigDesc, SpringLaw};
@@ -307,6 +307,34 @@ impl RigModel for CompiledRig {
                 })
             },
         );
+    }
+
+    fn simulate_many(
+        &self,
+        params: &[&[f64]],
+        drive: &Drive,
+        grid: &SampleGrid,
+        observe: &mut dyn FnMut(usize, &Sample<'_>) -> ControlFlow<()>,
+    ) {
+        let Some(i) = self.program_for(drive) else {
+            for (j, p) in params.iter().enumerate() {
+                self.simulate(p, drive, grid, &mut |s| observe(j, s));
+            }
+            return;
+        };
+        let force = match drive {
+            Drive::Force(t) => Some(t),
+            Drive::Velocity => None,
+        };
+        for (c, chunk) in params.chunks(LANES).enumerate() {
+            let mut runner =
+                LaneRunner::new(&self.lowered.programs[i], &self.tapes[i], chunk, force);
+            runner.run(grid, &mut |l, s| observe(c * LANES + l, s));
+        }
+    }
+
+    fn lanes(&self) -> usize {
+        LANES
     }
 
     fn linearise(&self, params: &[f64], drive: &Drive) -> Linearised {

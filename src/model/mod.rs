@@ -70,6 +70,28 @@ pub trait RigModel: Send + Sync + std::fmt::Debug {
         observe: &mut dyn FnMut(&Sample<'_>) -> ControlFlow<()>,
     );
 
+    /// Runs several parameter vectors on one grid, calling `observe(run,
+    /// sample)` at every sample of each until its observer breaks. By default
+    /// one run after the other; a model with a lane-batched ensemble (see
+    /// [`RigModel::lanes`]) advances them together, with the same results.
+    fn simulate_many(
+        &self,
+        params: &[&[f64]],
+        drive: &Drive,
+        grid: &SampleGrid,
+        observe: &mut dyn FnMut(usize, &Sample<'_>) -> ControlFlow<()>,
+    ) {
+        for (i, p) in params.iter().enumerate() {
+            self.simulate(p, drive, grid, &mut |s| observe(i, s));
+        }
+    }
+
+    /// How many runs [`RigModel::simulate_many`] advances together (1: no
+    /// gain from grouping runs).
+    fn lanes(&self) -> usize {
+        1
+    }
+
     /// The rig linearised about its engaged, unbroken configuration.
     fn linearise(&self, params: &[f64], drive: &Drive) -> Linearised;
 
