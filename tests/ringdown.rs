@@ -271,3 +271,31 @@ fn coarse_psd_resolution_still_gives_the_decay() {
         r.decrement
     );
 }
+
+/// A hammer-like free decay at 212 Hz sampled at only 1280 Hz (six samples per
+/// cycle) with very light damping: the envelope recovers ζ, and the report
+/// compares the three estimates and says so when they disagree.
+#[test]
+fn six_samples_per_cycle_envelope_recovers_light_damping_and_agreement_is_reported() {
+    let (fs, f0, zeta) = (1280.0, 212.0, 0.0009);
+    let w0 = 2.0 * PI * f0;
+    let t: Vec<f64> = (0..12_800).map(|i| i as f64 / fs).collect();
+    let f: Vec<f64> = t
+        .iter()
+        .map(|&t| 100.0 * (-zeta * w0 * t).exp() * (w0 * (1.0 - zeta * zeta).sqrt() * t).cos())
+        .collect();
+    let opts = RingdownOptions {
+        start: Some(0.0),
+        ..RingdownOptions::default()
+    };
+    let r = analyse(&t, &f, &opts).unwrap();
+    let env = r.envelope.as_ref().expect("an envelope");
+    assert!((env.zeta / zeta - 1.0).abs() < 0.03, "{env:?}");
+    assert!((r.fit.zeta / zeta - 1.0).abs() < 0.03, "{:?}", r.fit);
+    let g = &r.agreement;
+    assert!((g.samples_per_cycle - fs / f0).abs() < 0.01);
+    assert_eq!(g.zeta_envelope, Some(env.zeta));
+    // The flag follows the spread, and a disagreement always carries a warning.
+    assert_eq!(g.agree, g.relative_spread <= 0.1);
+    assert_eq!(g.agree, g.warnings.is_empty());
+}

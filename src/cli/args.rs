@@ -73,7 +73,7 @@ pub enum Command {
         rigfit fit-specimen campaigns/specimen_quasistatic_synthetic.csv --degree 3 --out specimen.json\n\n\
         Input: CSV of elongation (m) and force (N); '#' lines are comments.")]
     FitSpecimen(FitSpecimenArgs),
-    /// Load-cell frequency and damping from a post-fracture ringdown.
+    /// Frequency and damping of a free ringdown (e.g. the load cell after a fracture).
     #[command(after_help = "Example:\n  \
         rigfit ringdown campaigns/ringdown_synthetic.csv --m1 7.9 --k1 8.4e9 --out loadcell.json\n\n\
         Input: CSV of time (s) and force (N); '#' lines are comments.")]
@@ -226,7 +226,7 @@ pub struct RingdownArgs {
     /// Load-cell stiffness k1 (N/m), held fixed in the damping fit.
     #[arg(long)]
     pub k1: Option<f64>,
-    /// Start of the free ringing (s; default: detected at the fracture drop).
+    /// Start of the free ringing (s; default: the start of the largest drop, e.g. a fracture).
     #[arg(long)]
     pub start: Option<f64>,
     /// Write the campaign fragment (JSON) here.

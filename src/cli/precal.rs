@@ -67,7 +67,7 @@ pub fn ringdown_cmd(args: &RingdownArgs, out: &Output) -> Result<()> {
         &fragment,
         || {
             let mut s = format!(
-                "ringdown of {} (sampled at {:.0} Hz, fracture at {:.6e} s)\n",
+                "ringdown of {} (sampled at {:.0} Hz, free ringing from {:.6e} s)\n",
                 args.data.display(),
                 r.sample_rate_hz,
                 r.fracture.time
@@ -92,6 +92,22 @@ pub fn ringdown_cmd(args: &RingdownArgs, out: &Output) -> Result<()> {
                 "  damped-oscillator fit: f_n = {:.2} Hz, ζ = {:.6}, R² = {:.5}\n",
                 r.natural_frequency_hz, r.fit.zeta, r.fit.r2
             );
+            if let Some(e) = &r.envelope {
+                s += &format!(
+                    "  analytic-signal envelope in {:.1}…{:.1} Hz: ζ = {:.6} (R² = {:.5})\n",
+                    e.band_hz.0, e.band_hz.1, e.zeta, e.r2
+                );
+            }
+            let g = &r.agreement;
+            s += &format!(
+                "  the damping estimates {} (spread {:.1} %, {:.1} samples per cycle)\n",
+                if g.agree { "agree" } else { "DISAGREE" },
+                100.0 * g.relative_spread,
+                g.samples_per_cycle
+            );
+            for w in &g.warnings {
+                s += &format!("  warning: {w}\n");
+            }
             if let (true, Some(k1)) = (r.k1_from_frequency, r.k1) {
                 s += &format!("  k1 from frequency and m1 = {k1:.6e} N/m\n");
             }

@@ -19,6 +19,7 @@
 pub mod csv_input;
 mod decay_fit;
 mod decrement;
+pub mod envelope;
 pub mod identify;
 pub mod psd;
 pub mod ringdown;

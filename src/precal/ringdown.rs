@@ -24,7 +24,16 @@
 //! 4. **Decay fit**: Levenberg–Marquardt on `(A, φ, σ = ζω_n, ω_d, offset)`
 //!    (see [`DecayFit`]) from `ω_d` of the peak times and `ζ` of step 3; its ζ
 //!    and ω_n are the refined values, with the fit's R².
-//! 5. **Load cell**: with `m1` and `k1` given, `c1_post = 2ζ·sqrt(k1·m1)` (held
+//! 5. **Envelope**: the analytic signal of the band `f_n ± band` (default
+//!    ±30 % of `f_n`; see [`super::envelope`]) gives a third ζ that does not
+//!    depend on sampling the crests, and isolates the chosen mode of a record
+//!    with several.
+//! 6. **Agreement**: the three ζ (decrement, fit, envelope) are compared; when
+//!    their spread exceeds [`AGREEMENT_TOLERANCE`] of their median the report
+//!    carries a warning saying which disagree, since then at least one of them
+//!    is wrong (too few samples per cycle for the peaks, another mode in the
+//!    record, a decay that is not exponential).
+//! 7. **Load cell**: with `m1` and `k1` given, `c1_post = 2ζ·sqrt(k1·m1)` (held
 //!    fixed, so the fit acts as a single-mass oscillator with known `m1, k1`);
 //!    with `m1` only, `k1 = m1·ω_n²` and `c1_post = 2ζ·m1·ω_n`; with `k1` only,
 //!    `c1_post = 2ζ·k1/ω_n`. `c1_post` is given for both the decrement ζ and the
@@ -38,6 +47,7 @@ use serde_json::{Value, json};
 use super::decay_fit::fit_decay;
 pub use super::decrement::Decrement;
 use super::decrement::{find_peaks, log_decrement, slope};
+use super::envelope::{EnvelopeDecay, envelope_decay};
 use super::psd::welch;
 use super::{DecayFit, PrecalError, check_inputs};
 
@@ -45,6 +55,9 @@ use super::{DecayFit, PrecalError, check_inputs};
 pub const MIN_RING_SAMPLES: usize = 256;
 /// Fewest positive peaks accepted for the logarithmic decrement.
 pub const MIN_PEAKS: usize = 6;
+/// Largest spread of the three damping estimates, relative to their median,
+/// that counts as agreement.
+pub const AGREEMENT_TOLERANCE: f64 = 0.1;
 
 /// Options of [`analyse`].
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -61,6 +74,9 @@ pub struct RingdownOptions {
     pub max_separations: usize,
     /// Lowest frequency considered for the PSD peak (Hz).
     pub min_frequency: f64,
+    /// Half-width of the envelope's band around the peak (Hz); 30 % of the
+    /// peak frequency when `None`.
+    pub envelope_band_hz: Option<f64>,
 }
 
 impl Default for RingdownOptions {
@@ -72,6 +88,7 @@ impl Default for RingdownOptions {
             segment_len: None,
             max_separations: 5,
             min_frequency: 0.0,
+            envelope_band_hz: None,
         }
     }
 }
@@ -123,6 +140,11 @@ pub struct RingdownReport {
     pub decrement: Decrement,
     /// Damped-oscillator fit.
     pub fit: DecayFit,
+    /// Analytic-signal envelope in a band around the peak; `None` when the band
+    /// does not fit below the Nyquist rate or leaves too few samples.
+    pub envelope: Option<EnvelopeDecay>,
+    /// How the three damping estimates agree.
+    pub agreement: Agreement,
     /// Undamped natural frequency from the fit, `ω_n/2π` (Hz).
     pub natural_frequency_hz: f64,
     /// Load-cell mass used (kg).
@@ -137,6 +159,64 @@ pub struct RingdownReport {
     pub c1_post_decrement: Option<f64>,
     /// `c1_post` from the fitted ζ (N·s/m); this one goes into the fragment.
     pub c1_post: Option<f64>,
+}
+
+/// The three damping estimates side by side.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Agreement {
+    /// ζ from the logarithmic decrement.
+    pub zeta_decrement: f64,
+    /// ζ from the damped-oscillator fit.
+    pub zeta_fit: f64,
+    /// ζ from the envelope, when there is one.
+    pub zeta_envelope: Option<f64>,
+    /// (largest − smallest) / median.
+    pub relative_spread: f64,
+    /// Whether the spread is within [`AGREEMENT_TOLERANCE`].
+    pub agree: bool,
+    /// Samples per cycle at the peak frequency.
+    pub samples_per_cycle: f64,
+    /// What to look at when they disagree (empty when they agree).
+    pub warnings: Vec<String>,
+}
+
+impl Agreement {
+    fn of(decrement: f64, fit: f64, envelope: Option<f64>, samples_per_cycle: f64) -> Self {
+        let mut z: Vec<f64> = [Some(decrement), Some(fit), envelope]
+            .into_iter()
+            .flatten()
+            .collect();
+        z.sort_by(f64::total_cmp);
+        let median = if z.len() == 3 {
+            z[1]
+        } else {
+            0.5 * (z[0] + z[1])
+        };
+        let relative_spread = (z[z.len() - 1] - z[0]) / median.abs();
+        let agree = relative_spread <= AGREEMENT_TOLERANCE;
+        let mut warnings = Vec::new();
+        if !agree {
+            warnings.push(format!(
+                "the damping estimates disagree by {:.0} % (decrement {decrement:.5}, fit {fit:.5}, envelope {})",
+                100.0 * relative_spread,
+                envelope.map_or("none".to_string(), |e| format!("{e:.5}"))
+            ));
+            if samples_per_cycle < 10.0 {
+                warnings.push(format!(
+                    "only {samples_per_cycle:.1} samples per cycle: picked peaks miss the crests, so the decrement is the least reliable"
+                ));
+            }
+        }
+        Self {
+            zeta_decrement: decrement,
+            zeta_fit: fit,
+            zeta_envelope: envelope,
+            relative_spread,
+            agree,
+            samples_per_cycle,
+            warnings,
+        }
+    }
 }
 
 impl RingdownReport {
@@ -231,6 +311,15 @@ pub fn analyse(
 
     let (m1, k1_given) = (options.m1, options.k1);
     let wn = fit.omega_n;
+    let fn_hz = wn / (2.0 * PI);
+    let band = options.envelope_band_hz.unwrap_or(0.3 * fn_hz);
+    let envelope = envelope_decay(x, fs, fn_hz, band.min(0.49 * fs - fn_hz)).ok();
+    let agreement = Agreement::of(
+        decrement.zeta_mean,
+        fit.zeta,
+        envelope.as_ref().map(|e| e.zeta),
+        fs / fn_hz,
+    );
     let c1_of = |zeta: f64| match (m1, k1_given) {
         (Some(m), Some(k)) => Some(2.0 * zeta * (k * m).sqrt()),
         (Some(m), None) => Some(2.0 * zeta * m * wn),
@@ -260,11 +349,17 @@ pub fn analyse(
         model_frequency_hz: m1.zip(k1_given).map(|(m, k)| (k / m).sqrt() / (2.0 * PI)),
         fracture,
         fit,
+        envelope,
+        agreement,
     })
 }
 
 fn validate(o: &RingdownOptions) -> Result<(), PrecalError> {
-    for (name, v) in [("m1", o.m1), ("k1", o.k1)] {
+    for (name, v) in [
+        ("m1", o.m1),
+        ("k1", o.k1),
+        ("envelope_band_hz", o.envelope_band_hz),
+    ] {
         if let Some(v) = v.filter(|v| !(v.is_finite() && *v > 0.0)) {
             return Err(PrecalError::InvalidOption {
                 name,
