@@ -117,7 +117,12 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         let opened = rigfit::gpu::open_evaluator(c.problem.clone(), backend, precision)
             .context("opening the GPU evaluator")?;
         if let Some(note) = &opened.note {
-            out.note(&format!("note: {note}; {GPU_HINT}"));
+            // A driver helps only where the model has kernels to run.
+            if c.problem.model.gpu().is_some() {
+                out.note(&format!("note: {note}; {GPU_HINT}"));
+            } else {
+                out.note(&format!("note: {note}"));
+            }
         }
         opened.evaluator
     };

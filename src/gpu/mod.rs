@@ -196,7 +196,7 @@ pub fn open_evaluator(
     }
     if backend == Backend::Auto && problem.model.gpu().is_none() {
         let note = format!(
-            "model `{}` has no GPU kernels; using the CPU",
+            "model `{}` has no GPU kernels (a rig described as data runs on the CPU path); using the CPU",
             problem.model.id()
         );
         return Ok(cpu(problem, Some(note)));
