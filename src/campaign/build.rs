@@ -212,7 +212,7 @@ fn model_of(
             invalid(file, "model", expected, crate::text::echo(id))
         }),
         (None, Some(v)) => {
-            let (desc, src) = rig::resolve(v, dir, file).map_err(|e| rig_error(e, file))?;
+            let (desc, src) = rig::resolve(v, dir, file).map_err(rig_error)?;
             if let rig::RigSource::File(path) = &src {
                 // An input like the data: a job never writes over it.
                 *rig_file = Some(path.clone());
@@ -222,7 +222,7 @@ fn model_of(
                     e.path = format!("rig.{}", e.path);
                     e.file = file.display().to_string();
                 }
-                rig_error(e, file)
+                rig_error(e)
             })?;
             Ok(rig)
         }
@@ -241,7 +241,7 @@ fn model_of(
     }
 }
 
-fn rig_error(e: rig::RigError, _campaign: &Path) -> CampaignError {
+fn rig_error(e: rig::RigError) -> CampaignError {
     CampaignError::Invalid {
         file: e.file.into(),
         path: e.path,

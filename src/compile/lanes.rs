@@ -58,6 +58,8 @@ pub struct LaneRunner<'p> {
     k: [Vec<V>; 4],
     tmp: Vec<V>,
     start: Vec<V>,
+    /// One lane's state, for a step its stepper redoes.
+    lane_y: Vec<f64>,
 }
 
 impl<'p> LaneRunner<'p> {
@@ -95,6 +97,7 @@ impl<'p> LaneRunner<'p> {
             k: [z.clone(), z.clone(), z.clone(), z.clone()],
             tmp: z.clone(),
             start: z,
+            lane_y: vec![0.0; n],
         }
     }
 
@@ -188,7 +191,7 @@ impl<'p> LaneRunner<'p> {
         self.rk4(t, h, y);
         let tape = self.tape;
         self.eval(&tape.event_ops, t + h, y);
-        let mut lane_y = vec![0.0; y.len()];
+        let mut lane_y = std::mem::take(&mut self.lane_y);
         for l in 0..self.steppers.len() {
             let hit = self.prog.transitions.iter().any(|tr| {
                 self.modes[tr.var as usize][l] == tr.from
@@ -209,6 +212,7 @@ impl<'p> LaneRunner<'p> {
                 self.modes[m][l] = *v;
             }
         }
+        self.lane_y = lane_y;
     }
 
     /// Runs every lane over `grid`, calling `observe(lane, sample)` at every
