@@ -54,6 +54,10 @@ pub enum Op {
     Expm1(Id),
     /// `ln a` (`a > 0`).
     Ln(Id),
+    /// `sin a` (radians).
+    Sin(Id),
+    /// `cos a` (radians).
+    Cos(Id),
     /// `1` if `a ≤ b`, else `0`.
     Le(Id, Id),
     /// `1` if `a == b`, else `0`.
@@ -89,6 +93,8 @@ fn key(op: &Op) -> Key {
         Op::Exp(a) => Key::Un(2, a),
         Op::Expm1(a) => Key::Un(3, a),
         Op::Ln(a) => Key::Un(4, a),
+        Op::Sin(a) => Key::Un(5, a),
+        Op::Cos(a) => Key::Un(6, a),
         Op::Select(c, a, b) => Key::Sel(c, a, b),
     }
 }
@@ -171,6 +177,8 @@ impl Graph {
             Op::Exp(a) => c(a)?.exp(),
             Op::Expm1(a) => c(a)?.exp_m1(),
             Op::Ln(a) => c(a)?.ln(),
+            Op::Sin(a) => c(a)?.sin(),
+            Op::Cos(a) => c(a)?.cos(),
             Op::Le(a, b) => f64::from(u8::from(c(a)? <= c(b)?)),
             Op::Eq(a, b) => f64::from(u8::from(c(a)? == c(b)?)),
             Op::Select(..) | Op::Const(_) | Op::In(_) => return None,
@@ -269,7 +277,13 @@ impl Graph {
 pub fn operands(op: &Op) -> Vec<Id> {
     match *op {
         Op::Const(_) | Op::In(_) => vec![],
-        Op::Neg(a) | Op::Abs(a) | Op::Exp(a) | Op::Expm1(a) | Op::Ln(a) => vec![a],
+        Op::Neg(a)
+        | Op::Abs(a)
+        | Op::Exp(a)
+        | Op::Expm1(a)
+        | Op::Ln(a)
+        | Op::Sin(a)
+        | Op::Cos(a) => vec![a],
         Op::Add(a, b)
         | Op::Sub(a, b)
         | Op::Mul(a, b)

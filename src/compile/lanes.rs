@@ -132,6 +132,8 @@ impl<'p> LaneRunner<'p> {
                 Op::Exp(a) => un(head, out, a, f64::exp),
                 Op::Expm1(a) => un(head, out, a, f64::exp_m1),
                 Op::Ln(a) => un(head, out, a, f64::ln),
+                Op::Sin(a) => un(head, out, a, f64::sin),
+                Op::Cos(a) => un(head, out, a, f64::cos),
                 Op::Select(c, a, b) => {
                     let (c, a, b) = (&head[c as usize], &head[a as usize], &head[b as usize]);
                     for l in 0..LANES {

@@ -115,6 +115,8 @@ impl<'p> Frame<'p> {
                 Op::Exp(p) => a(p).exp(),
                 Op::Expm1(p) => a(p).exp_m1(),
                 Op::Ln(p) => a(p).ln(),
+                Op::Sin(p) => a(p).sin(),
+                Op::Cos(p) => a(p).cos(),
                 Op::Le(p, q) => f64::from(u8::from(a(p) <= a(q))),
                 Op::Eq(p, q) => f64::from(u8::from(a(p) == a(q))),
                 Op::Select(c, p, q) => {
