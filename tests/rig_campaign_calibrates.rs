@@ -92,7 +92,7 @@ fn an_unknown_rig_and_both_model_and_rig_are_refused() {
     let (_tmp, c) = campaign_with(Value::String("tensile5".into()));
     let err = c.unwrap_err();
     assert!(
-        err.contains(": rig: expected a shipped rig (tensile4, duffing_base, stick_slip)"),
+        err.contains(": rig: expected a shipped rig (tensile4, duffing_base, stick_slip, "),
         "{err}"
     );
 }

@@ -175,6 +175,46 @@ fn every_bad_rig_is_refused_with_its_file_and_json_path() {
             "elements[2].spring: expected a valid rig description, found invalid type: sequence, expected a parameter name",
         ),
         ("no nodes", |v| v["nodes"] = json!([]), "nodes"),
+        (
+            "sine drive with an unknown quantity",
+            |v| v["drives"][0] = json!({"node": "actuator", "law": {"type": "sine", "quantity": "torque", "amplitude": 1.0, "frequency": 10.0}}),
+            "drives[0].law: expected a valid rig description, found unknown variant `torque`",
+        ),
+        (
+            "sine drive with an unknown parameter",
+            |v| v["drives"][0] = json!({"node": "actuator", "law": {"type": "sine", "quantity": "force", "amplitude": "f0", "frequency": 10.0}}),
+            "drives[0].law.amplitude",
+        ),
+        (
+            "chirp drive without a rate",
+            |v| v["drives"][0] = json!({"node": "actuator", "law": {"type": "chirp", "quantity": "force", "amplitude": 1.0, "f_start": 1.0}}),
+            "drives[0].law",
+        ),
+        (
+            "base-acceleration sine on one node",
+            |v| v["drives"][0] = json!({"node": "bar", "law": {"type": "sine", "quantity": "base_acceleration", "amplitude": 1.0, "frequency": 10.0}}),
+            "drives[0].node",
+        ),
+        (
+            "force sine on no node",
+            |v| v["drives"][0] = json!({"law": {"type": "sine", "quantity": "force", "amplitude": 1.0, "frequency": 10.0}}),
+            "drives[0].node",
+        ),
+        (
+            "half-sine pulse of zero length",
+            |v| v["drives"][0] = json!({"node": "actuator", "law": {"type": "half_sine", "quantity": "force", "amplitude": 1.0, "duration": 0.0}}),
+            "drives[0].law.duration",
+        ),
+        (
+            "a second prescribed displacement of one node",
+            |v| {
+                v["drives"]
+                    .as_array_mut()
+                    .unwrap()
+                    .push(json!({"node": "actuator", "law": {"type": "sine", "quantity": "displacement", "amplitude": 1e-3, "frequency": 5.0}}))
+            },
+            "drives[2].node",
+        ),
     ];
     assert!(cases.len() >= 20);
     assert!(compile(&base()).is_ok(), "the base rig compiles");

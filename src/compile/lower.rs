@@ -12,7 +12,7 @@ use super::program::{Direction, ModeVar, Program, Transition};
 use crate::model::PiecewiseLinear;
 use crate::rig::RigError;
 use crate::rig::desc::{
-    Coef, DamperLaw, DriveLaw, ElementDesc, FrictionLaw, GapKind, RigDesc, SpringLaw,
+    Coef, DamperLaw, DriveLaw, ElementDesc, FrictionLaw, GapKind, Quantity, RigDesc, SpringLaw,
 };
 
 /// The whole rig, checked: names, modes, one [`Program`] per drive mode.
@@ -41,6 +41,8 @@ struct Layout<'a> {
     contact_var: Vec<Option<u32>>,
     yield_var: Vec<Option<u32>>,
     friction_var: Vec<Option<(u32, u32)>>,
+    /// Mode variable of each drive's pulse (half-sine: before, on, after).
+    drive_var: Vec<Option<u32>>,
     modes: Vec<ModeVar>,
     states: Vec<String>,
 }
@@ -66,6 +68,7 @@ impl<'a> Layout<'a> {
             contact_var: vec![],
             yield_var: vec![],
             friction_var: vec![],
+            drive_var: vec![],
             modes: vec![],
             states: vec![],
         };
@@ -233,6 +236,18 @@ impl<'a> Layout<'a> {
             };
             me.friction_var.push(f);
         }
+        for (i, d) in desc.drives.iter().enumerate() {
+            let v = if matches!(d.law, DriveLaw::HalfSine { .. }) {
+                me.modes.push(ModeVar {
+                    name: format!("drives[{i}].pulse"),
+                    values: vec!["before", "on", "after"],
+                });
+                Some(me.modes.len() as u32 - 1)
+            } else {
+                None
+            };
+            me.drive_var.push(v);
+        }
         for (k, t) in touched.iter().enumerate() {
             if !t {
                 return Err(me.err(
@@ -377,6 +392,7 @@ fn lower_mode(lay: &Layout, mode: &str) -> Result<Program, RigError> {
         .collect();
     let mut external: Vec<Vec<Id>> = vec![vec![]; n];
     let mut base_accel: Vec<Id> = vec![];
+    let mut trans: Vec<Transition> = vec![];
 
     for (i, d) in desc.drives.iter().enumerate() {
         if d.mode != mode {
@@ -384,7 +400,7 @@ fn lower_mode(lay: &Layout, mode: &str) -> Result<Program, RigError> {
         }
         let path = format!("drives[{i}]");
         let node = match (&d.node, &d.law) {
-            (_, DriveLaw::BaseAccelerationTable { .. }) => None,
+            (_, law) if moves_the_base(law) => None,
             (Some(name), _) => match lay.nodes.get(name.as_str()) {
                 Some(&k) => Some(k),
                 None => {
@@ -470,11 +486,40 @@ fn lower_mode(lay: &Layout, mode: &str) -> Result<Program, RigError> {
                 tables.push(Some(table(lay, &format!("{path}.law"), tt, value)?));
                 base_accel.push(g.input(Input::Table(tables.len() as u32 - 1)));
             }
+            DriveLaw::Sine { quantity, .. }
+            | DriveLaw::Chirp { quantity, .. }
+            | DriveLaw::HalfSine { quantity, .. } => {
+                if *quantity == Quantity::BaseAcceleration && d.node.is_some() {
+                    return Err(lay.err(
+                        format!("{path}.node"),
+                        "no node (the base moves every node)",
+                        "a node",
+                    ));
+                }
+                let (s, ds, dds) = signal(lay, &mut g, &d.law, i, &path, t, &mut trans)?;
+                match (quantity, node) {
+                    (Quantity::Force, Some(k)) => external[k].push(s),
+                    (Quantity::Displacement, Some(k)) => {
+                        if motion[k].a.is_some() {
+                            return Err(lay.err(
+                                format!("{path}.node"),
+                                "one prescribed motion per node",
+                                "a second one",
+                            ));
+                        }
+                        motion[k] = Motion {
+                            x: s,
+                            v: ds,
+                            a: Some(dds),
+                        };
+                    }
+                    _ => base_accel.push(s),
+                }
+            }
         }
     }
 
     // Element forces.
-    let mut trans: Vec<Transition> = vec![];
     let mut forces: Vec<Id> = vec![];
     let mut internal: Vec<(u32, Id)> = vec![];
     let ground = Motion {
@@ -971,4 +1016,147 @@ fn poly(lay: &Layout, g: &mut Graph, coeffs: &[Coef], sp: &str, d: Id) -> Result
         .map(|(j, c)| lay.coef(g, c, &format!("{sp}.coeffs[{j}]")))
         .collect::<Result<Vec<_>, _>>()?;
     Ok(g.poly(d, &cs))
+}
+
+/// Whether a drive law moves the base (and so names no node).
+fn moves_the_base(law: &DriveLaw) -> bool {
+    match law {
+        DriveLaw::BaseAccelerationTable { .. } => true,
+        DriveLaw::Sine { quantity, .. }
+        | DriveLaw::Chirp { quantity, .. }
+        | DriveLaw::HalfSine { quantity, .. } => *quantity == Quantity::BaseAcceleration,
+        _ => false,
+    }
+}
+
+/// A sine, chirp or half-sine drive's signal and its first two time
+/// derivatives `(s, ṡ, s̈)`, from `Sin`/`Cos` of the phase; 0 where the drive is
+/// off. A half-sine's start and end are located transitions of its own mode
+/// variable, so the kinks in `ṡ` fall on step boundaries.
+fn signal(
+    lay: &Layout,
+    g: &mut Graph,
+    law: &DriveLaw,
+    i: usize,
+    path: &str,
+    t: Id,
+    trans: &mut Vec<Transition>,
+) -> Result<(Id, Id, Id), RigError> {
+    use super::ir::Op;
+    let lp = format!("{path}.law");
+    let zero = g.c(0.0);
+    let two_pi = g.c(std::f64::consts::TAU);
+    // (phase φ, φ̇, φ̈, amplitude, gate: 1 where the drive is on)
+    let (phi, dphi, ddphi, amp, on) = match law {
+        DriveLaw::Sine {
+            amplitude,
+            frequency,
+            phase,
+            ..
+        } => {
+            let a = lay.coef(g, amplitude, &format!("{lp}.amplitude"))?;
+            let f = lay.coef(g, frequency, &format!("{lp}.frequency"))?;
+            let p = match phase {
+                Some(p) => lay.coef(g, p, &format!("{lp}.phase"))?,
+                None => zero,
+            };
+            let w = g.mul(two_pi, f);
+            let wt = g.mul(w, t);
+            let phi = g.add(wt, p);
+            let before = g.le(t, zero);
+            let one = g.c(1.0);
+            let on = g.select(before, zero, one);
+            (phi, w, zero, a, on)
+        }
+        DriveLaw::Chirp {
+            amplitude,
+            f_start,
+            rate,
+            ..
+        } => {
+            let a = lay.coef(g, amplitude, &format!("{lp}.amplitude"))?;
+            let f0 = lay.coef(g, f_start, &format!("{lp}.f_start"))?;
+            let r = lay.coef(g, rate, &format!("{lp}.rate"))?;
+            // φ = 2π(f0·t + r·t²/2), φ̇ = 2π(f0 + r·t), φ̈ = 2π·r.
+            let half = g.c(0.5);
+            let rt = g.mul(r, t);
+            let hrt = g.mul(half, rt);
+            let inner = g.add(f0, hrt);
+            let cyc = g.mul(inner, t);
+            let phi = g.mul(two_pi, cyc);
+            let f_now = g.add(f0, rt);
+            let dphi = g.mul(two_pi, f_now);
+            let ddphi = g.mul(two_pi, r);
+            let before = g.le(t, zero);
+            let one = g.c(1.0);
+            let on = g.select(before, zero, one);
+            (phi, dphi, ddphi, a, on)
+        }
+        DriveLaw::HalfSine {
+            amplitude,
+            duration,
+            start,
+            ..
+        } => {
+            let a = lay.coef(g, amplitude, &format!("{lp}.amplitude"))?;
+            if let Coef::Number(d) = duration
+                && d.is_finite()
+                && *d <= 0.0
+            {
+                return Err(lay.err(
+                    format!("{lp}.duration"),
+                    "a pulse length > 0 (s)",
+                    d.to_string(),
+                ));
+            }
+            let tau = lay.coef(g, duration, &format!("{lp}.duration"))?;
+            let t0 = match start {
+                Some(s) => lay.coef(g, s, &format!("{lp}.start"))?,
+                None => zero,
+            };
+            let var = lay.drive_var[i].expect("allocated");
+            let since = g.sub(t, t0);
+            let left = g.sub(since, tau);
+            trans.push(Transition {
+                name: format!("{path} pulse starts"),
+                var,
+                from: 0,
+                to: 1,
+                g: since,
+                dir: Direction::Up,
+            });
+            trans.push(Transition {
+                name: format!("{path} pulse ends"),
+                var,
+                from: 1,
+                to: 2,
+                g: left,
+                dir: Direction::Up,
+            });
+            let pi = g.c(std::f64::consts::PI);
+            let w = g.div(pi, tau);
+            let phi = g.mul(w, since);
+            let m = g.input(Input::Mode(var));
+            let one = g.c(1.0);
+            let on = g.eq(m, one);
+            (phi, w, zero, a, on)
+        }
+        _ => unreachable!("only signal drives"),
+    };
+    let sin = g.push(Op::Sin(phi));
+    let cos = g.push(Op::Cos(phi));
+    // s = A·sin φ, ṡ = A·cos φ·φ̇, s̈ = A·(cos φ·φ̈ − sin φ·φ̇²).
+    let s = g.mul(amp, sin);
+    let c1 = g.mul(cos, dphi);
+    let ds = g.mul(amp, c1);
+    let d2 = g.mul(dphi, dphi);
+    let sd2 = g.mul(sin, d2);
+    let cdd = g.mul(cos, ddphi);
+    let acc = g.sub(cdd, sd2);
+    let dds = g.mul(amp, acc);
+    Ok((
+        g.select(on, s, zero),
+        g.select(on, ds, zero),
+        g.select(on, dds, zero),
+    ))
 }

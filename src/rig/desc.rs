@@ -317,6 +317,58 @@ pub enum DriveLaw {
         /// Accelerations (m/s²).
         value: Vec<f64>,
     },
+    /// `s(t) = amplitude·sin(2π·frequency·t + phase)` for `t ≥ 0`, 0 before.
+    Sine {
+        /// What `s` is (see [`Quantity`]).
+        quantity: Quantity,
+        /// In the quantity's unit (N, m or m/s²).
+        amplitude: Coef,
+        /// Hz.
+        frequency: Coef,
+        /// rad (default 0).
+        #[serde(default)]
+        phase: Option<Coef>,
+    },
+    /// A linear sweep `s(t) = amplitude·sin(2π(f_start·t + rate·t²/2))` for
+    /// `t ≥ 0`, 0 before: the frequency rises from `f_start` at `rate`.
+    Chirp {
+        /// What `s` is (see [`Quantity`]).
+        quantity: Quantity,
+        /// In the quantity's unit.
+        amplitude: Coef,
+        /// Hz at `t = 0`.
+        f_start: Coef,
+        /// Hz/s.
+        rate: Coef,
+    },
+    /// An impact: `s(t) = amplitude·sin(π(t − start)/duration)` for
+    /// `start ≤ t ≤ start + duration`, 0 otherwise; both ends are located
+    /// switches (the pulse's own mode variable).
+    HalfSine {
+        /// What `s` is (see [`Quantity`]).
+        quantity: Quantity,
+        /// Peak, in the quantity's unit.
+        amplitude: Coef,
+        /// Pulse length (s, > 0).
+        duration: Coef,
+        /// Pulse start (s, default 0).
+        #[serde(default)]
+        start: Option<Coef>,
+    },
+}
+
+/// What a sine, chirp or half-sine drive's signal `s(t)` is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Quantity {
+    /// A force on the node (N).
+    Force,
+    /// The node's prescribed displacement (m); its velocity and acceleration
+    /// are the signal's derivatives and its mass plays no part.
+    Displacement,
+    /// The base's acceleration (m/s²): no node; states are relative to the
+    /// base and every node feels `−m·s(t)`.
+    BaseAcceleration,
 }
 
 /// An output: a sum of terms.
