@@ -14,6 +14,7 @@ fn the_shipped_campaign_recovers_the_suspension_and_the_contact_at_the_noise_flo
         "friction_sdof_reference_params.json",
         64,
         30,
+        8,
     );
     for name in ["k", "c", "f_c", "k_c"] {
         assert!(r.determined(name), "{name} undetermined");

@@ -168,8 +168,9 @@ impl CompiledRig {
                     let bl = self.coef_lower(beta, lo);
                     let bh = b(beta);
                     // k·β·|e|^{β−1}: largest at the reach for β ≥ 1; for β < 1 it
-                    // grows without bound at 0, so take a micrometre.
-                    let x = if bl < 1.0 { 1e-6_f64.min(ex) } else { ex };
+                    // grows without bound at 0, so take it at SUBLINEAR_FLOOR of
+                    // the reach (see there).
+                    let x = if bl < 1.0 { SUBLINEAR_FLOOR * ex } else { ex };
                     (
                         b(k) * bh * x.powf(bl.min(bh) - 1.0).max(x.powf(bh - 1.0)),
                         name(k),
@@ -191,7 +192,7 @@ impl CompiledRig {
             Some(DamperLaw::PowerLaw { c, alpha }) => {
                 let a = b(alpha);
                 let x = if self.coef_lower(alpha, lo) < 1.0 {
-                    1e-6_f64.min(rx)
+                    SUBLINEAR_FLOOR * rx
                 } else {
                     rx
                 };
@@ -208,6 +209,13 @@ impl CompiledRig {
         (k, c, kname)
     }
 }
+
+/// Where the stability bound takes the slope of a power law with exponent
+/// below 1 (whose slope is unbounded at 0), as a fraction of the rig's reach.
+/// No step is stable right at 0; below this the force is too small to do harm:
+/// an overshooting RK4 step maps `|v|` to about `(h·c/m)·|v|^α`, which stays
+/// bounded (a dither of `(h·c/m)^{1/(1−α)}` about zero), never a divergence.
+pub const SUBLINEAR_FLOOR: f64 = 1e-3;
 
 fn poly_slope(coeffs: &[Coef], b: &impl Fn(&Coef) -> f64, e: f64) -> f64 {
     coeffs

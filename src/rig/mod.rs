@@ -12,13 +12,17 @@ use std::path::{Path, PathBuf};
 pub use desc::RigDesc;
 
 /// The shipped rigs: (id, file text).
-pub const SHIPPED: [(&str, &str); 4] = [
+pub const SHIPPED: [(&str, &str); 5] = [
     ("tensile4", include_str!("../../rigs/tensile4.json")),
     ("duffing_base", include_str!("../../rigs/duffing_base.json")),
     ("stick_slip", include_str!("../../rigs/stick_slip.json")),
     (
         "friction_sdof",
         include_str!("../../rigs/friction_sdof.json"),
+    ),
+    (
+        "inertial_sdof",
+        include_str!("../../rigs/inertial_sdof.json"),
     ),
 ];
 
