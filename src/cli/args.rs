@@ -146,6 +146,11 @@ pub struct RunArgs {
     /// experiments together).
     #[arg(long, default_value_t = rigfit::campaign::DEFAULT_MAX_STEPS, value_parser = positive)]
     pub max_steps: f64,
+    /// Refuse a job whose estimated memory exceeds this (bytes, or with K, M,
+    /// G, T in powers of 1024: 512M, 2G); default: the memory available now
+    /// (MemAvailable in /proc/meminfo).
+    #[arg(long, value_parser = memory_size)]
+    pub max_memory: Option<f64>,
 }
 
 /// `rigfit simulate`.
@@ -232,6 +237,16 @@ pub struct RingdownArgs {
     /// Write the campaign fragment (JSON) here.
     #[arg(long)]
     pub out: Option<PathBuf>,
+}
+
+/// A memory size: `2G`, `512M`, `1048576`.
+fn memory_size(s: &str) -> Result<f64, String> {
+    rigfit::job::memory::parse_bytes(s).ok_or_else(|| {
+        format!(
+            "expected a size > 0 in bytes or with K, M, G or T (512M, 2G), found {}",
+            rigfit::text::echo(s)
+        )
+    })
 }
 
 /// A finite number > 0.

@@ -12,6 +12,7 @@ use super::args::{BackendArg, PrecisionArg, RunArgs};
 use super::{EXIT_INTERRUPTED, Output};
 use rigfit::campaign::Campaign;
 use rigfit::eval::{Backend, CpuEvaluator, EvalError, PrecisionChoice};
+use rigfit::job::memory::{self, MemoryEstimate, human_bytes};
 use rigfit::job::{self, FolderMode, JobError, JobOptions, JobSummary, OutputFolder};
 use rigfit::search::SearchError;
 
@@ -59,6 +60,19 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     })?;
     c.require_genes()?;
     let length = c.check_run_length(a.max_steps)?;
+    let backend = match a.backend {
+        Some(BackendArg::Auto) => Backend::Auto,
+        Some(BackendArg::Gpu) => Backend::Gpu,
+        Some(BackendArg::Cpu) => Backend::Cpu,
+        None => c.solver.backend,
+    };
+    let precision = match a.precision {
+        Some(PrecisionArg::Auto) => PrecisionChoice::Auto,
+        Some(PrecisionArg::F32) => PrecisionChoice::F32,
+        Some(PrecisionArg::F64) => PrecisionChoice::F64,
+        None => c.solver.precision,
+    };
+    let memory = check_memory(&c, a, backend, precision)?;
     for w in &c.warnings {
         out.note(&format!("warning: {w}"));
     }
@@ -98,18 +112,6 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         },
     )?;
 
-    let backend = match a.backend {
-        Some(BackendArg::Auto) => Backend::Auto,
-        Some(BackendArg::Gpu) => Backend::Gpu,
-        Some(BackendArg::Cpu) => Backend::Cpu,
-        None => c.solver.backend,
-    };
-    let precision = match a.precision {
-        Some(PrecisionArg::Auto) => PrecisionChoice::Auto,
-        Some(PrecisionArg::F32) => PrecisionChoice::F32,
-        Some(PrecisionArg::F64) => PrecisionChoice::F64,
-        None => c.solver.precision,
-    };
     let mut evaluator: Box<dyn rigfit::eval::Evaluator> = if backend == Backend::Cpu {
         Box::new(cpu)
     } else {
@@ -128,14 +130,17 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     };
     let info = evaluator.info();
     out.note(&format!(
-        "{} on {} ({}, {}), {} RK4 steps per sample ({}), {:.3e} steps per candidate",
+        "{} on {} ({}, {}), {} RK4 steps per sample ({}), {:.3e} steps per candidate, \
+         memory {} of {}",
         rigfit::text::echo_bare(&c.name),
         info.backend,
         info.device,
         format!("{:?}", info.precision).to_lowercase(),
         c.solver.substeps,
         c.solver.note,
-        length.steps_per_candidate
+        length.steps_per_candidate,
+        human_bytes(memory.0.total),
+        memory.1
     ));
 
     let interrupt = Arc::new(AtomicBool::new(false));
@@ -182,6 +187,49 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         return Ok(ExitCode::from(EXIT_INTERRUPTED));
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Estimates the job's memory and refuses it, with the estimate and the
+/// limit, when it exceeds `--max-memory` or the memory available now. Returns
+/// the estimate and the limit's description.
+fn check_memory(
+    c: &Campaign,
+    a: &RunArgs,
+    backend: Backend,
+    precision: PrecisionChoice,
+) -> Result<(MemoryEstimate, String), super::BadInput> {
+    let gpu_real = match (backend, precision) {
+        (Backend::Cpu, _) => None,
+        _ if c.problem.model.gpu().is_none() => None,
+        (_, PrecisionChoice::F32) => Some(4),
+        _ => Some(8),
+    };
+    let estimate = MemoryEstimate::of(c, gpu_real);
+    let (limit, what) = match (a.max_memory, memory::available_memory()) {
+        (Some(m), _) => (m, format!("--max-memory {}", human_bytes(m))),
+        (None, Some(m)) => (m, format!("{} available", human_bytes(m))),
+        (None, None) => return Ok((estimate, "an unknown amount available".into())),
+    };
+    if estimate.total <= limit {
+        return Ok((estimate, what));
+    }
+    let whom = match a.population {
+        Some(n) => format!("--population {n}"),
+        None => format!("{}: search.population", a.campaign.display()),
+    };
+    let hint = if a.max_memory.is_some() {
+        "lower the population or raise --max-memory"
+    } else {
+        "lower the population, free memory, or set --max-memory to the memory the job may use"
+    };
+    Err(super::BadInput(format!(
+        "{whom}: expected a job that fits in {limit_text} ({source}), found {estimate}; {hint}",
+        limit_text = human_bytes(limit),
+        source = match a.max_memory {
+            Some(_) => "--max-memory",
+            None => "the memory available now, MemAvailable in /proc/meminfo",
+        },
+    )))
 }
 
 /// A campaign's own `output` must stay inside the campaign's folder or the

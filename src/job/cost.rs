@@ -12,6 +12,8 @@ pub struct CampaignCost<'a> {
     require_gpu: bool,
     threads: usize,
     fallback: Option<String>,
+    chunk: usize,
+    history_chunk: usize,
 }
 
 impl<'a> CampaignCost<'a> {
@@ -28,7 +30,18 @@ impl<'a> CampaignCost<'a> {
             require_gpu,
             threads,
             fallback: None,
+            chunk: super::memory::chunk_candidates(campaign),
+            history_chunk: super::memory::history_chunk(campaign),
         }
+    }
+
+    /// Evaluates at most `fitness` candidates and `histories` histories per
+    /// call of the evaluator (the defaults come from [`super::memory`]). The
+    /// results do not depend on it: every run is scored on its own.
+    pub fn with_chunks(mut self, fitness: usize, histories: usize) -> Self {
+        self.chunk = fitness.max(1);
+        self.history_chunk = histories.max(1);
+        self
     }
 
     /// Why the job moved to the CPU, if it did.
@@ -74,13 +87,19 @@ impl CampaignCost<'_> {
 }
 
 impl BatchCost for CampaignCost<'_> {
+    /// Chunk by chunk, so that the batches and the evaluator's buffers stay
+    /// the size of one chunk whatever the population.
     fn cost(&mut self, genomes: &[Vec<f64>]) -> Result<CostBatch, SearchError> {
-        let batch = self.campaign.batch(genomes);
-        let scores = self.with_fallback(|ev| ev.fitness(&batch))?;
-        Ok(CostBatch {
-            costs: self.campaign.combine(&scores),
-            diverged: scores.diverged,
-        })
+        let campaign = self.campaign;
+        let mut costs = Vec::with_capacity(genomes.len());
+        let mut diverged = 0;
+        for part in genomes.chunks(self.chunk) {
+            let batch = campaign.batch(part);
+            let scores = self.with_fallback(|ev| ev.fitness(&batch))?;
+            costs.extend(campaign.combine(&scores));
+            diverged += scores.diverged;
+        }
+        Ok(CostBatch { costs, diverged })
     }
 }
 
@@ -89,24 +108,28 @@ impl BatchCost for CampaignCost<'_> {
 /// joint fitness [`Campaign::combine`] gives (`W`: the sum of the weights).
 impl ResidualCost for CampaignCost<'_> {
     fn residuals(&mut self, genomes: &[Vec<f64>]) -> Result<Vec<Option<Vec<f64>>>, SearchError> {
-        let batch = self.campaign.batch(genomes);
-        let which: Vec<usize> = (0..genomes.len()).collect();
-        let histories = self.with_fallback(|ev| ev.histories(&batch, &which))?;
-        let exps = &self.campaign.problem.experiments;
+        let campaign = self.campaign;
+        let exps = &campaign.problem.experiments;
         let total: f64 = exps.iter().map(|x| x.weight).sum();
         let scale: Vec<f64> = exps
             .iter()
             .map(|x| (x.weight / (total * x.ss_tot())).sqrt())
             .collect();
-        Ok(histories
-            .iter()
-            .map(|per_exp| {
+        let mut out = Vec::with_capacity(genomes.len());
+        // Histories are the size of the record: a chunk at a time, each turned
+        // into residuals (the fit windows only) before the next.
+        for part in genomes.chunks(self.history_chunk) {
+            let batch = campaign.batch(part);
+            let which: Vec<usize> = (0..part.len()).collect();
+            let histories = self.with_fallback(|ev| ev.histories(&batch, &which))?;
+            out.extend(histories.iter().map(|per_exp| {
                 let mut r = Vec::new();
                 for ((exp, h), s) in exps.iter().zip(per_exp).zip(&scale) {
                     r.extend(window_residuals(exp, h)?.into_iter().map(|v| v * s));
                 }
                 Some(r)
-            })
-            .collect())
+            }));
+        }
+        Ok(out)
     }
 }

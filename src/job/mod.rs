@@ -6,6 +6,7 @@
 
 mod cost;
 mod folder;
+pub mod memory;
 mod outputs;
 
 use std::path::PathBuf;

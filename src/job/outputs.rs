@@ -148,6 +148,10 @@ pub struct JobSummary {
     pub diverged_runs: usize,
     /// Notes: search warnings, CPU fallback.
     pub warnings: Vec<String>,
+    /// Peak resident memory of the process up to writing this file (MiB),
+    /// where the system tells it (Linux).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub peak_memory_mib: Option<f64>,
 }
 
 /// Writes result.json, one CSV and one plot per experiment, history.csv and
@@ -253,6 +257,8 @@ pub fn write_outputs(
         parameters,
         diverged_runs: outcome.history.iter().map(|r| r.diverged_runs).sum(),
         warnings,
+        peak_memory_mib: super::memory::peak_resident_memory()
+            .map(|b| (b / super::memory::MIB * 10.0).round() / 10.0),
     };
     let json = serde_json::to_string_pretty(&summary).expect("summary serialises");
     write("result.json", json.as_bytes())?;

@@ -105,30 +105,52 @@ pub struct Checkpoint {
     pub state: SearchState,
 }
 
-#[derive(Serialize, Deserialize)]
+/// The file as read; [`Checkpoint::save_parts`] writes these fields in this
+/// order, with the fingerprint's digest (for people) after the version.
+#[derive(Deserialize)]
 struct FileForm {
     format: String,
     version: u32,
-    digest: String,
-    checkpoint: Value,
+    checkpoint: WithFloats,
 }
 
 impl Checkpoint {
     /// Writes the checkpoint to `path` atomically (see [`atomic_write`]).
     pub fn save(&self, path: &Path) -> Result<(), SearchError> {
+        Self::save_parts(&self.fingerprint, &self.state, path)
+    }
+
+    /// [`Self::save`] from borrowed parts, so a large population is not copied.
+    ///
+    /// Floats are written as their bit patterns straight into the file's bytes:
+    /// a JSON object per float costs hundreds of bytes in memory, which for a
+    /// population of 10⁶ came to gigabytes.
+    pub fn save_parts(
+        fingerprint: &Fingerprint,
+        state: &SearchState,
+        path: &Path,
+    ) -> Result<(), SearchError> {
+        #[derive(Serialize)]
+        struct Parts<'a> {
+            fingerprint: &'a Fingerprint,
+            state: &'a SearchState,
+        }
         let io = |source| SearchError::Io {
             action: "writing checkpoint",
             path: path.into(),
             source,
         };
-        let value = serde_json::to_value(self).map_err(|e| io(e.into()))?;
-        let file = FileForm {
-            format: FORMAT.into(),
-            version: VERSION,
-            digest: self.fingerprint.digest(),
-            checkpoint: floats_to_bits(value),
-        };
-        let bytes = serde_json::to_vec(&file).map_err(|e| io(e.into()))?;
+        let value = serde_json::to_value(Parts { fingerprint, state }).map_err(|e| io(e.into()))?;
+        let floats = state.population.len() * (state.best_genome.len() + 1);
+        let mut bytes = Vec::with_capacity(1024 + 28 * floats);
+        let head = serde_json::json!(FORMAT);
+        bytes.extend_from_slice(br#"{"format":"#);
+        serde_json::to_writer(&mut bytes, &head).map_err(|e| io(e.into()))?;
+        bytes.extend_from_slice(format!(r#","version":{VERSION},"digest":"#).as_bytes());
+        serde_json::to_writer(&mut bytes, &fingerprint.digest()).map_err(|e| io(e.into()))?;
+        bytes.extend_from_slice(br#","checkpoint":"#);
+        write_with_bits(&value, &mut bytes).map_err(|e| io(e.into()))?;
+        bytes.push(b'}');
         atomic_write(path, &bytes).map_err(io)
     }
 
@@ -150,8 +172,7 @@ impl Checkpoint {
                 file.format, file.version
             )));
         }
-        let value = bits_to_floats(file.checkpoint).map_err(bad)?;
-        serde_json::from_value(value).map_err(|e| bad(e.to_string()))
+        serde_json::from_value(file.checkpoint.0).map_err(|e| bad(e.to_string()))
     }
 
     /// Fails with [`SearchError::FingerprintMismatch`] naming every changed key
@@ -170,44 +191,107 @@ impl Checkpoint {
     }
 }
 
-fn floats_to_bits(v: Value) -> Value {
+/// Writes `v` as JSON with every float as `{"f64": "<bits>"}`; the same bytes
+/// as serialising the converted tree, without building it.
+fn write_with_bits(v: &Value, out: &mut Vec<u8>) -> serde_json::Result<()> {
     match v {
         Value::Number(n) if !n.is_i64() && !n.is_u64() => {
             let bits = n.as_f64().unwrap_or(f64::NAN).to_bits();
-            let mut m = Map::new();
-            m.insert("f64".into(), Value::String(format!("{bits:016x}")));
-            Value::Object(m)
+            out.extend_from_slice(format!(r#"{{"f64":"{bits:016x}"}}"#).as_bytes());
         }
-        Value::Array(a) => Value::Array(a.into_iter().map(floats_to_bits).collect()),
+        Value::Array(a) => {
+            out.push(b'[');
+            for (i, x) in a.iter().enumerate() {
+                if i > 0 {
+                    out.push(b',');
+                }
+                write_with_bits(x, out)?;
+            }
+            out.push(b']');
+        }
         Value::Object(m) => {
-            Value::Object(m.into_iter().map(|(k, v)| (k, floats_to_bits(v))).collect())
+            out.push(b'{');
+            for (i, (k, x)) in m.iter().enumerate() {
+                if i > 0 {
+                    out.push(b',');
+                }
+                serde_json::to_writer(&mut *out, k)?;
+                out.push(b':');
+                write_with_bits(x, out)?;
+            }
+            out.push(b'}');
         }
-        other => other,
+        other => serde_json::to_writer(&mut *out, other)?,
+    }
+    Ok(())
+}
+
+/// A JSON value whose `{"f64": "<bits>"}` objects were turned back into
+/// numbers while parsing, so no object is built per float.
+struct WithFloats(Value);
+
+impl<'de> Deserialize<'de> for WithFloats {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(FloatsVisitor).map(WithFloats)
     }
 }
 
-fn bits_to_floats(v: Value) -> Result<Value, String> {
-    match v {
-        Value::Object(m) if m.len() == 1 && m.contains_key("f64") => {
-            let hex = m["f64"].as_str().ok_or("`f64` entry is not a string")?;
-            let bits =
-                u64::from_str_radix(hex, 16).map_err(|e| format!("bad float bits `{hex}`: {e}"))?;
-            let x = f64::from_bits(bits);
-            Number::from_f64(x)
-                .map(Value::Number)
-                .ok_or_else(|| format!("non-finite float {x} in checkpoint"))
+struct FloatsVisitor;
+
+impl<'de> serde::de::Visitor<'de> for FloatsVisitor {
+    type Value = Value;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        f.write_str("a JSON value")
+    }
+    fn visit_bool<E>(self, v: bool) -> Result<Value, E> {
+        Ok(Value::Bool(v))
+    }
+    fn visit_i64<E>(self, v: i64) -> Result<Value, E> {
+        Ok(Value::from(v))
+    }
+    fn visit_u64<E>(self, v: u64) -> Result<Value, E> {
+        Ok(Value::from(v))
+    }
+    fn visit_f64<E>(self, v: f64) -> Result<Value, E> {
+        Ok(Number::from_f64(v).map_or(Value::Null, Value::Number))
+    }
+    fn visit_str<E>(self, v: &str) -> Result<Value, E> {
+        Ok(Value::String(v.to_owned()))
+    }
+    fn visit_string<E>(self, v: String) -> Result<Value, E> {
+        Ok(Value::String(v))
+    }
+    fn visit_unit<E>(self) -> Result<Value, E> {
+        Ok(Value::Null)
+    }
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<Value, A::Error> {
+        let mut items = Vec::with_capacity(seq.size_hint().unwrap_or(0));
+        while let Some(WithFloats(v)) = seq.next_element()? {
+            items.push(v);
         }
-        Value::Array(a) => a
-            .into_iter()
-            .map(bits_to_floats)
-            .collect::<Result<_, _>>()
-            .map(Value::Array),
-        Value::Object(m) => m
-            .into_iter()
-            .map(|(k, v)| bits_to_floats(v).map(|v| (k, v)))
-            .collect::<Result<_, _>>()
-            .map(Value::Object),
-        other => Ok(other),
+        Ok(Value::Array(items))
+    }
+    fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<Value, A::Error> {
+        use serde::de::Error;
+        let mut m = Map::new();
+        while let Some((k, WithFloats(v))) = map.next_entry::<String, WithFloats>()? {
+            m.insert(k, v);
+        }
+        if m.len() == 1
+            && let Some(v) = m.get("f64")
+        {
+            let hex = v
+                .as_str()
+                .ok_or_else(|| A::Error::custom("`f64` entry is not a string"))?;
+            let bits = u64::from_str_radix(hex, 16)
+                .map_err(|e| A::Error::custom(format!("bad float bits `{hex}`: {e}")))?;
+            let x = f64::from_bits(bits);
+            return Number::from_f64(x)
+                .map(Value::Number)
+                .ok_or_else(|| A::Error::custom(format!("non-finite float {x} in checkpoint")));
+        }
+        Ok(Value::Object(m))
     }
 }
 
@@ -226,13 +310,47 @@ mod tests {
             2.0,
         ];
         let v = serde_json::to_value(xs).unwrap();
-        let text = serde_json::to_string(&floats_to_bits(v)).unwrap();
-        let back: Vec<f64> =
-            serde_json::from_value(bits_to_floats(serde_json::from_str(&text).unwrap()).unwrap())
-                .unwrap();
+        let mut text = Vec::new();
+        write_with_bits(&v, &mut text).unwrap();
+        let parsed: WithFloats = serde_json::from_slice(&text).unwrap();
+        let back: Vec<f64> = serde_json::from_value(parsed.0).unwrap();
         for (a, b) in xs.iter().zip(&back) {
             assert_eq!(a.to_bits(), b.to_bits());
         }
+    }
+
+    /// The file's float form built as a tree, as earlier versions wrote it.
+    fn floats_as_objects(v: Value) -> Value {
+        match v {
+            Value::Number(n) if !n.is_i64() && !n.is_u64() => {
+                let bits = n.as_f64().unwrap().to_bits();
+                serde_json::json!({ "f64": format!("{bits:016x}") })
+            }
+            Value::Array(a) => Value::Array(a.into_iter().map(floats_as_objects).collect()),
+            Value::Object(m) => Value::Object(
+                m.into_iter()
+                    .map(|(k, v)| (k, floats_as_objects(v)))
+                    .collect(),
+            ),
+            other => other,
+        }
+    }
+
+    #[test]
+    fn streamed_floats_are_the_bytes_of_the_tree_form() {
+        let v = serde_json::json!({
+            "b": [[0.1, 2.0, -3.5e-300], [1e30]],
+            "a": {"n": 3, "s": "x\"y", "f": 0.25, "z": null, "t": true},
+            "u": 18446744073709551615u64
+        });
+        let mut streamed = Vec::new();
+        write_with_bits(&v, &mut streamed).unwrap();
+        assert_eq!(
+            String::from_utf8(streamed.clone()).unwrap(),
+            serde_json::to_string(&floats_as_objects(v.clone())).unwrap()
+        );
+        let back: WithFloats = serde_json::from_slice(&streamed).unwrap();
+        assert_eq!(back.0, v);
     }
 
     #[test]

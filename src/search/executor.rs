@@ -355,11 +355,7 @@ impl<C: BatchCost> Executor<C> {
 
     fn save(&self, fingerprint: &Fingerprint, state: &SearchState) -> Result<(), SearchError> {
         match &self.checkpoint_path {
-            Some(path) => Checkpoint {
-                fingerprint: fingerprint.clone(),
-                state: state.clone(),
-            }
-            .save(path),
+            Some(path) => Checkpoint::save_parts(fingerprint, state, path),
             None => Ok(()),
         }
     }

@@ -1,0 +1,307 @@
+//! A job's memory, estimated before any work, and the chunk size that keeps
+//! it bounded.
+//!
+//! The search must hold its population (population × genes); nothing else
+//! grows with it. The evaluation (per-experiment parameter vectors, scores,
+//! the GPU's run buffers) goes through the evaluator in chunks of at most
+//! [`chunk_candidates`] candidates, and the polish's histories in chunks of at
+//! most [`history_chunk`] runs, so a population of 10⁶ costs its genomes and
+//! no more. A job whose estimate exceeds the limit (the memory available now,
+//! or `--max-memory`) is refused before anything is written.
+
+use std::fmt;
+
+use serde::Serialize;
+
+use crate::campaign::Campaign;
+
+/// Memory one evaluation chunk may take (bytes). A constant, not a share of
+/// the memory available, so that the chunks (and with them the GPU kernels'
+/// batches) are the same on every machine.
+pub const CHUNK_BYTES: f64 = 64.0 * MIB;
+
+/// Memory the polish's histories may take at once (bytes).
+pub const HISTORY_CHUNK_BYTES: f64 = 64.0 * MIB;
+
+/// One mebibyte.
+pub const MIB: f64 = 1024.0 * 1024.0;
+
+/// The program, its threads and buffers before any candidate (measured: a
+/// population of 16 on the shipped example peaks at 16 MiB on the CPU path).
+const BASE_CPU: f64 = 40.0 * MIB;
+
+/// The GPU driver on top (measured: lavapipe with the compiled kernels peaks
+/// at about 220 MiB with a population of 16).
+const BASE_GPU: f64 = 320.0 * MIB;
+
+/// Bytes per record sample held beyond the record itself: the best
+/// candidate's history, the result CSV and the plots' text.
+const PER_SAMPLE: f64 = 400.0;
+
+/// What a job will hold at its peak, in bytes, by part.
+#[derive(Debug, Clone, Serialize)]
+pub struct MemoryEstimate {
+    /// Population of the search.
+    pub population: usize,
+    /// Genes per genome.
+    pub genes: usize,
+    /// The search's genomes and costs: the population, the children bred
+    /// from it, their values, and a checkpoint being written.
+    pub search: f64,
+    /// Candidates per evaluation chunk.
+    pub chunk: usize,
+    /// One evaluation chunk (batch, scores, GPU run buffers).
+    pub evaluation: f64,
+    /// The same evaluation unchunked: the whole population at once.
+    pub unchunked_evaluation: f64,
+    /// The polish's residuals and one chunk of histories.
+    pub histories: f64,
+    /// The program, the driver, the records and the outputs.
+    pub base: f64,
+    /// The sum.
+    pub total: f64,
+}
+
+impl MemoryEstimate {
+    /// The estimate of `campaign` on the GPU path (`gpu_real`: 4 or 8 bytes per
+    /// real) or, with `None`, on the CPU path.
+    pub fn of(campaign: &Campaign, gpu_real: Option<usize>) -> Self {
+        let n = campaign.search.population;
+        let g = campaign.genes.len();
+        let search = n as f64 * search_bytes_per_candidate(g);
+        let per_candidate = evaluation_bytes_per_candidate(campaign, gpu_real);
+        let chunk = chunk_candidates(campaign).min(n.max(1));
+        let evaluation = chunk as f64 * per_candidate;
+        let unchunked_evaluation = n as f64 * per_candidate;
+        let histories = histories_bytes(campaign, gpu_real);
+        let samples: usize = campaign
+            .problem
+            .experiments
+            .iter()
+            .map(|x| x.force.len())
+            .sum();
+        let base = if gpu_real.is_some() {
+            BASE_CPU + BASE_GPU
+        } else {
+            BASE_CPU
+        } + samples as f64 * PER_SAMPLE;
+        Self {
+            population: n,
+            genes: g,
+            search,
+            chunk,
+            evaluation,
+            unchunked_evaluation,
+            histories,
+            base,
+            total: search + evaluation + histories + base,
+        }
+    }
+}
+
+impl fmt::Display for MemoryEstimate {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "about {} (the search's {} genomes of {} genes: {}; evaluation in chunks of {} \
+             candidates: {}; histories: {}; program, driver and records: {})",
+            human_bytes(self.total),
+            self.population,
+            self.genes,
+            human_bytes(self.search),
+            self.chunk,
+            human_bytes(self.evaluation),
+            human_bytes(self.histories),
+            human_bytes(self.base)
+        )
+    }
+}
+
+/// Heap bytes of a `Vec<f64>` of `n` values: the vector itself and its block
+/// as the system allocator rounds it.
+fn vec_bytes(n: usize, each: usize) -> f64 {
+    let block = (n * each + 8).div_ceil(16) * 16;
+    (24 + block.max(32)) as f64
+}
+
+/// The search's bytes per candidate with `g` genes: the population, the
+/// children and their values (three genomes), costs and ranks, and a
+/// checkpoint in flight (a JSON tree of the genome and its text).
+fn search_bytes_per_candidate(g: usize) -> f64 {
+    let genome = vec_bytes(g, 8);
+    let checkpoint = 32.0 + vec_bytes(g, 32) + 32.0 + 28.0 * (g + 1) as f64;
+    3.0 * genome + 48.0 + checkpoint
+}
+
+/// The evaluation's bytes per candidate: per experiment, the model's
+/// parameters and the offset, the scores and their bookkeeping; on the GPU
+/// path also the packed run (host and device), its state, progress, fitness and
+/// read-back, with the buffers rounded up to a power of two runs.
+fn evaluation_bytes_per_candidate(campaign: &Campaign, gpu_real: Option<usize>) -> f64 {
+    let ne = campaign.problem.experiments.len() as f64;
+    let p = campaign.model.params().len();
+    let cpu = (p * 8 + 8 + 8 + 16 + 16 + 8) as f64;
+    let gpu = gpu_real.map_or(0.0, |real| {
+        let stride = crate::gpu::layout::run_stride(p) as usize;
+        let host = stride * 8 + stride * real;
+        let device = stride * real + crate::gpu::layout::STATE_STRIDE as usize * real + 16;
+        (host + 2 * (device + 2 * real)) as f64
+    });
+    ne * (cpu + gpu) + 8.0
+}
+
+/// Candidates per evaluation chunk: as many as fit in [`CHUNK_BYTES`] on the
+/// GPU path (the larger), a power of two, at least 1 024.
+pub fn chunk_candidates(campaign: &Campaign) -> usize {
+    let per = evaluation_bytes_per_candidate(campaign, Some(8));
+    let n = (CHUNK_BYTES / per).max(1024.0) as usize;
+    1 << n.ilog2()
+}
+
+/// Bytes of one run's history in every experiment: time, outputs and states
+/// per sample; on the GPU path also the raw history buffer, its read-back
+/// and its host copy.
+fn history_bytes_per_candidate(campaign: &Campaign, gpu_real: Option<usize>) -> f64 {
+    let m = campaign.model;
+    let values = 1 + m.output_names().len() + m.state_names().len();
+    let samples: usize = campaign
+        .problem
+        .experiments
+        .iter()
+        .map(|x| x.window.end)
+        .sum();
+    let gpu = gpu_real.map_or(0, |real| {
+        crate::gpu::layout::HIST_VALUES as usize * (2 * real + 8)
+    });
+    (samples * (values * 8 + gpu)) as f64
+}
+
+/// Runs per chunk of the polish's histories: as many as fit in
+/// [`HISTORY_CHUNK_BYTES`], at least one.
+pub fn history_chunk(campaign: &Campaign) -> usize {
+    let per = history_bytes_per_candidate(campaign, Some(8));
+    ((HISTORY_CHUNK_BYTES / per) as usize).max(1)
+}
+
+/// The polish's residuals (every point and stencil of one iteration, over
+/// every fit window) plus one chunk of histories.
+fn histories_bytes(campaign: &Campaign, gpu_real: Option<usize>) -> f64 {
+    let polish = &campaign.search.polish;
+    let g = campaign.genes.len();
+    let batch = if polish.enabled {
+        polish.starts.max(1) * (2 * g + 1)
+    } else {
+        1
+    };
+    let window: usize = campaign
+        .problem
+        .experiments
+        .iter()
+        .map(|x| x.window.len())
+        .sum();
+    let residuals = if polish.enabled {
+        (batch * window * 8) as f64
+    } else {
+        0.0
+    };
+    let chunk = history_chunk(campaign).min(batch);
+    residuals + chunk as f64 * history_bytes_per_candidate(campaign, gpu_real)
+}
+
+/// The memory available to a new job now (bytes): `MemAvailable` of
+/// `/proc/meminfo`; `None` where that cannot be read.
+pub fn available_memory() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    meminfo_field(&text, "MemAvailable")
+}
+
+/// The peak resident memory of this process so far (bytes), `VmHWM` of
+/// `/proc/self/status`; `None` where that cannot be read.
+pub fn peak_resident_memory() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/self/status").ok()?;
+    meminfo_field(&text, "VmHWM")
+}
+
+/// A `Name:   1234 kB` line's value in bytes.
+fn meminfo_field(text: &str, name: &str) -> Option<f64> {
+    let line = text.lines().find(|l| l.split(':').next() == Some(name))?;
+    let mut words = line.split(':').nth(1)?.split_whitespace();
+    let value: f64 = words.next()?.parse().ok()?;
+    match words.next() {
+        Some("kB") => Some(value * 1024.0),
+        None => Some(value),
+        Some(_) => None,
+    }
+}
+
+/// `512 KiB`, `3.4 MiB`, `1.20 TiB`.
+pub fn human_bytes(b: f64) -> String {
+    const UNITS: [&str; 6] = ["B", "KiB", "MiB", "GiB", "TiB", "PiB"];
+    let mut v = b;
+    let mut u = 0;
+    while v >= 1024.0 && u + 1 < UNITS.len() {
+        v /= 1024.0;
+        u += 1;
+    }
+    match u {
+        0 => format!("{v:.0} B"),
+        _ if v < 10.0 => format!("{v:.2} {}", UNITS[u]),
+        _ if v < 100.0 => format!("{v:.1} {}", UNITS[u]),
+        _ => format!("{v:.0} {}", UNITS[u]),
+    }
+}
+
+/// A size as the user writes it: bytes, or a number with `K`, `M`, `G`, `T`
+/// (powers of 1024; `KiB`, `MB`, … read the same).
+pub fn parse_bytes(s: &str) -> Option<f64> {
+    let t = s.trim();
+    let split = t
+        .find(|c: char| !(c.is_ascii_digit() || c == '.' || c == 'e' || c == 'E'))
+        .unwrap_or(t.len());
+    let (num, unit) = t.split_at(split);
+    let v: f64 = num.parse().ok()?;
+    let unit = unit.trim().to_ascii_lowercase();
+    let scale = match unit.trim_end_matches('b').trim_end_matches('i') {
+        "" => 1.0,
+        "k" => 1024.0,
+        "m" => MIB,
+        "g" => 1024.0 * MIB,
+        "t" => 1024.0 * 1024.0 * MIB,
+        _ => return None,
+    };
+    let bytes = v * scale;
+    (bytes.is_finite() && bytes > 0.0).then_some(bytes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes_parse_in_powers_of_1024() {
+        assert_eq!(parse_bytes("512M"), Some(512.0 * MIB));
+        assert_eq!(parse_bytes("2GiB"), Some(2048.0 * MIB));
+        assert_eq!(parse_bytes("1.5 gb"), Some(1536.0 * MIB));
+        assert_eq!(parse_bytes("4096"), Some(4096.0));
+        assert_eq!(parse_bytes("12X"), None);
+        assert_eq!(parse_bytes("0"), None);
+        assert_eq!(parse_bytes("-1G"), None);
+    }
+
+    #[test]
+    fn meminfo_lines_read_in_bytes() {
+        let text = "MemTotal:       24589016 kB\nMemAvailable:   22012340 kB\n";
+        assert_eq!(
+            meminfo_field(text, "MemAvailable"),
+            Some(22_012_340.0 * 1024.0)
+        );
+        assert_eq!(meminfo_field(text, "MemFree"), None);
+    }
+
+    #[test]
+    fn human_bytes_keep_three_digits() {
+        assert_eq!(human_bytes(512.0), "512 B");
+        assert_eq!(human_bytes(3.5 * MIB), "3.50 MiB");
+        assert_eq!(human_bytes(1.2e12), "1.09 TiB");
+    }
+}
