@@ -105,6 +105,7 @@ pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, Cam
         model,
         &experiments,
         |e| corners(&r.base[e], &genes, e, &r.sources),
+        |e| latest_offset(base_offsets[e], &genes, e),
         requested,
     )
     .map_err(|message| CampaignError::Unstable {
@@ -177,6 +178,15 @@ fn check_weights(file: &Path, experiments: &[ExperimentData]) -> Result<(), Camp
 }
 
 /// Lower and upper parameter vectors of experiment `e`.
+/// Experiment `e`'s latest clock offset (s): its own, or the upper bound of
+/// its offset gene.
+pub(crate) fn latest_offset(base: f64, genes: &[Gene], e: usize) -> f64 {
+    genes
+        .iter()
+        .filter(|g| g.experiment == Some(e) && g.target == GeneTarget::Offset)
+        .fold(base, |m, g| m.max(g.upper))
+}
+
 pub(crate) fn corners(
     base: &[f64],
     genes: &[Gene],

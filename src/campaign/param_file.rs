@@ -17,7 +17,7 @@ use crate::model::{ParamScope, param_index};
 #[derive(Debug, Deserialize)]
 struct ParamFile {
     #[serde(deserialize_with = "super::raw::unique_keys")]
-    params: BTreeMap<String, f64>,
+    params: BTreeMap<String, Option<f64>>,
 }
 
 /// What one key of the file sets.
@@ -42,6 +42,9 @@ pub(crate) fn apply(campaign: &mut Campaign, path: &Path) -> Result<(), Campaign
     let file: ParamFile = parse_json(&text, path)?;
     let model = c.model;
     for (key, &value) in &file.params {
+        // `null` is +∞, as in a campaign (a result.json writes it for a
+        // specimen that never breaks).
+        let value = value.unwrap_or(f64::INFINITY);
         let at = format!("params.{key}");
         let target = match key.split_once('.') {
             None => {
@@ -99,12 +102,19 @@ pub(crate) fn apply(campaign: &mut Campaign, path: &Path) -> Result<(), Campaign
     } else {
         RawSubsteps::Count(c.solver.substeps as u64)
     };
-    let (substeps, auto, note) = choose(model, &c.problem.experiments, |e| c.bounds(e), requested)
-        .map_err(|message| CampaignError::Unstable {
-            file: path.to_path_buf(),
-            path: "params".into(),
-            message,
-        })?;
+    let offset = |e: usize| super::build::latest_offset(c.base_offsets[e], &c.genes, e);
+    let (substeps, auto, note) = choose(
+        model,
+        &c.problem.experiments,
+        |e| c.bounds(e),
+        offset,
+        requested,
+    )
+    .map_err(|message| CampaignError::Unstable {
+        file: path.to_path_buf(),
+        path: "params".into(),
+        message,
+    })?;
     c.solver.substeps = substeps;
     c.solver.auto = auto;
     c.solver.note = note;

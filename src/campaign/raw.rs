@@ -238,6 +238,11 @@ impl<'de> Deserialize<'de> for RawParam {
             fn visit_u64<E: de::Error>(self, v: u64) -> Result<RawParam, E> {
                 Ok(RawParam::Fixed(v as f64))
             }
+            /// `null`: no value, i.e. +∞ ("never", for a threshold such as
+            /// `e_fracture`); a model refuses it where a finite value is needed.
+            fn visit_unit<E: de::Error>(self) -> Result<RawParam, E> {
+                Ok(RawParam::Fixed(f64::INFINITY))
+            }
             fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<RawParam, A::Error> {
                 RawRange::deserialize(MapAccessDeserializer::new(map)).map(RawParam::Free)
             }

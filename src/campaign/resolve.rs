@@ -316,7 +316,11 @@ pub(crate) fn check_physics(
                 file,
                 path,
                 format!("{name}: {expected}"),
-                v[i].to_string(),
+                if v[i].is_infinite() {
+                    "null".to_string()
+                } else {
+                    v[i].to_string()
+                },
             ));
         }
     }

@@ -4,7 +4,7 @@
 
 use serde::Serialize;
 
-use super::{Campaign, CampaignError, GeneTarget};
+use super::{Campaign, CampaignError};
 
 /// Default limit on the RK4 steps one candidate takes over all experiments.
 /// The shipped example takes 2 500; a record of 10⁶ samples at 20 steps per
@@ -52,11 +52,7 @@ impl Campaign {
             .iter()
             .enumerate()
             .map(|(e, x)| {
-                let offset = self
-                    .genes
-                    .iter()
-                    .filter(|g| g.experiment == Some(e) && g.target == GeneTarget::Offset)
-                    .fold(self.base_offsets[e], |m, g| m.max(g.upper));
+                let offset = super::build::latest_offset(self.base_offsets[e], &self.genes, e);
                 let t_first = x.t_first + offset;
                 let step = x.dt / p.substeps as f64;
                 let prologue = if t_first > 0.0 {

@@ -42,17 +42,22 @@ struct Worst {
 }
 
 /// Substeps for `requested`, or the one-line reason it cannot work.
-/// `bounds(e)` gives experiment `e`'s lower and upper parameter vectors.
+/// `bounds(e)` gives experiment `e`'s lower and upper parameter vectors,
+/// `offset(e)` its latest clock offset (s).
 pub(crate) fn choose(
     model: &dyn RigModel,
     exps: &[ExperimentData],
     bounds: impl Fn(usize) -> (Vec<f64>, Vec<f64>),
+    offset: impl Fn(usize) -> f64,
     requested: RawSubsteps,
 ) -> Result<(usize, bool, String), String> {
     let mut worst: Option<Worst> = None;
     for (e, x) in exps.iter().enumerate() {
         let (lo, hi) = bounds(e);
-        let (omega, name) = model.omega_bound(&lo, &hi, &x.drive);
+        // The run's last model time: what the drive can reach bounds what the
+        // model must stay stable for.
+        let t_end = x.t_first + x.window.end.saturating_sub(1) as f64 * x.dt + offset(e);
+        let (omega, name) = model.omega_bound_in_run(&lo, &hi, &x.drive, t_end);
         if !omega.is_finite() {
             return Err(format!(
                 "experiment '{}': the frequency bound is not finite (limited by '{name}'); \

@@ -100,6 +100,19 @@ pub trait RigModel: Send + Sync + std::fmt::Debug {
     /// it most. Used to choose or refuse the RK4 step.
     fn omega_bound(&self, lower: &[f64], upper: &[f64], drive: &Drive) -> (f64, &'static str);
 
+    /// [`Self::omega_bound`] for a run of model time `0..t_end` (s): a model
+    /// whose stiffness grows with a displacement may bound that displacement by
+    /// what the drive reaches in that time. The default ignores `t_end`.
+    fn omega_bound_in_run(
+        &self,
+        lower: &[f64],
+        upper: &[f64],
+        drive: &Drive,
+        _t_end: f64,
+    ) -> (f64, &'static str) {
+        self.omega_bound(lower, upper, drive)
+    }
+
     /// Whether the model can run under `drive` (a rig without a force-mode
     /// drive cannot take a force table).
     fn supports(&self, _drive: &Drive) -> bool {

@@ -210,7 +210,8 @@ impl System for TensileSystem<'_> {
     }
 
     fn pending_switch(&self, _t: f64, y: &[f64]) -> Option<(f64, f64)> {
-        (!self.broken).then(|| (y[1] - y[0] - self.prep.p[ix::E_FRACTURE], y[5] - y[4]))
+        let e_fracture = self.prep.p[ix::E_FRACTURE];
+        (!self.broken && e_fracture.is_finite()).then(|| (y[1] - y[0] - e_fracture, y[5] - y[4]))
     }
 
     fn fire_switch(&mut self, t: f64) {
@@ -241,7 +242,9 @@ impl RigModel for Tensile4 {
 
     fn check(&self, params: &[f64]) -> Result<(), (&'static str, String)> {
         for (i, info) in PARAMS.iter().enumerate() {
-            if !params[i].is_finite() {
+            // e_fracture = +∞ (omitted or null): the specimen never breaks.
+            let never = i == ix::E_FRACTURE && params[i] == f64::INFINITY;
+            if !params[i].is_finite() && !never {
                 return Err((info.name, "a finite number".into()));
             }
         }
@@ -341,20 +344,65 @@ impl RigModel for Tensile4 {
     }
 
     fn omega_bound(&self, lower: &[f64], upper: &[f64], drive: &Drive) -> (f64, &'static str) {
+        self.omega_bound_in_run(lower, upper, drive, f64::INFINITY)
+    }
+
+    /// The specimen's polynomial is scanned up to the largest elongation the
+    /// run can reach: `e_fracture` (beyond it the specimen carries nothing), and
+    /// under a velocity drive twice the actuator's travel `|v|·t_end` (every
+    /// spring in the chain stretches with it; twice, for the overshoot of a
+    /// suddenly loaded spring). A specimen that never breaks is then bounded
+    /// by the travel alone.
+    fn omega_bound_in_run(
+        &self,
+        lower: &[f64],
+        upper: &[f64],
+        drive: &Drive,
+        t_end: f64,
+    ) -> (f64, &'static str) {
         // Largest tangent stiffness of each element inside the bounds.
-        let e_max = upper[ix::E_FRACTURE].abs().max(lower[ix::E_FRACTURE].abs());
+        let e_fracture = upper[ix::E_FRACTURE].abs().max(lower[ix::E_FRACTURE].abs());
+        let travel = match drive {
+            Drive::Velocity => {
+                2.0 * upper[ix::VELOCITY].abs().max(lower[ix::VELOCITY].abs()) * t_end.max(0.0)
+            }
+            Drive::Force(_) => f64::INFINITY,
+        };
+        let (e_max, by_fracture) = if travel < e_fracture {
+            (travel, false)
+        } else {
+            (e_fracture, true)
+        };
         let mut poly_slope = 0.0;
+        let mut largest = (0.0, 0);
         for i in 1..=MAX_POLY_DEGREE {
             let ai = upper[ix::A0 + i].abs().max(lower[ix::A0 + i].abs());
-            poly_slope += i as f64 * ai * e_max.powi(i as i32 - 1);
+            let term = if ai == 0.0 {
+                0.0
+            } else {
+                i as f64 * ai * e_max.powi(i as i32 - 1)
+            };
+            poly_slope += term;
+            if term > largest.0 {
+                largest = (term, i);
+            }
         }
         let ks = upper[ix::K_LIN].max(poly_slope);
+        // Name what drives the polynomial's tangent: e_fracture when a higher
+        // term dominates at the elongation it allows (narrowing its range
+        // helps), else the dominant coefficient.
+        const A: [&str; MAX_POLY_DEGREE + 1] = ["a0", "a1", "a2", "a3", "a4", "a5"];
+        let poly_name = if by_fracture && largest.1 >= 2 {
+            "e_fracture"
+        } else {
+            A[largest.1]
+        };
         let spring = [
             (upper[ix::K1], "k1"),
             (
                 ks,
                 if ks > upper[ix::K_LIN] {
-                    "a1..a5"
+                    poly_name
                 } else {
                     "k_lin"
                 },

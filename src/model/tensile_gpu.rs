@@ -40,6 +40,9 @@ pub const SLOTS: [&str; 31] = [
     "V2_OVER_R",
 ];
 
+/// The packed `e_fracture` of a specimen that never breaks (m).
+pub const NEVER_BREAKS: f64 = 1e30;
+
 /// Packs a full tensile parameter vector into [`SLOTS`] order. The slack knee
 /// `d*` needs a logarithm, which is computed here in f64 (lavapipe's f64 `log`
 /// is wrong); masses are packed as reciprocals; `v/r` (the drive exponent's
@@ -62,7 +65,9 @@ pub fn pack(params: &[f64], out: &mut Vec<f64>) {
     ]);
     out.extend_from_slice(&p[ix::A0..ix::A0 + 6]);
     out.extend_from_slice(&[
-        p[ix::E_FRACTURE],
+        // The kernels compare against a finite number: +∞ (never breaks)
+        // becomes an elongation no run reaches, finite in f32 too.
+        p[ix::E_FRACTURE].min(NEVER_BREAKS),
         p[ix::C2],
         p[ix::K3],
         p[ix::C3],

@@ -114,9 +114,9 @@ pub static PARAMS: [ParamInfo; 27] = [
     p(
         "e_fracture",
         "m",
-        "elongation at which the specimen breaks",
+        "elongation at which the specimen breaks; omitted or null: it never breaks",
         E,
-        None,
+        Some(f64::INFINITY),
         Lin,
     ),
     p("c2", "N·s/m", "specimen damping", E, Some(0.0), Lin),
