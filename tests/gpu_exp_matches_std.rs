@@ -78,3 +78,76 @@ fn f32_exp_and_expm1_match_std_to_f32_rounding() {
         );
     }
 }
+
+/// ln, sin and cos of `shaders/shared/math.wgsl` (the compiled rigs' Ln, Sin and
+/// Cos operations): f64 to 1e-15 relative for ln over 600 decades and to 1e-15
+/// of 1 for sin and cos up to |x| = 1e5 rad; f32 (the built-in functions) to
+/// 1e-6 there.
+#[test]
+fn ln_sin_and_cos_match_std_on_the_gpu() {
+    let Some(ctx) = common::gpu() else { return };
+    let mut xs: Vec<f64> = (-3000..=3000)
+        .map(|e| 10f64.powf(e as f64 / 10.0))
+        .collect();
+    xs.retain(|x| x.is_finite() && *x > 0.0);
+    let trig: Vec<f64> = (-20_000..=20_000)
+        .map(|i| i as f64 * 5.0 + 0.123 * i as f64 / 20_000.0)
+        .chain((-2000..=2000).map(|i| i as f64 * std::f64::consts::FRAC_PI_4))
+        .collect();
+    for precision in [Precision::F64, Precision::F32] {
+        if precision == Precision::F64 && !ctx.has_f64() {
+            assert!(!rigfit::gpu::gpu_required(), "no SHADER_F64");
+            continue;
+        }
+        let (ln_tol, trig_tol, ln_range) = match precision {
+            Precision::F64 => (1e-15, 1e-15, 1e-300..1e300),
+            Precision::F32 => (1e-6, 1e-6, 1e-30..1e30),
+        };
+        let ln_points: Vec<f64> = xs
+            .iter()
+            .copied()
+            .filter(|x| ln_range.contains(x))
+            .collect();
+        let got = rigfit::gpu::probe_math(&ctx, precision, &ln_points).unwrap();
+        let mut worst: f64 = 0.0;
+        for (x, p) in ln_points.iter().zip(&got) {
+            let want = match precision {
+                Precision::F64 => x.ln(),
+                Precision::F32 => (*x as f32 as f64).ln(),
+            };
+            let err = (p.ln - want).abs() / want.abs().max(1.0);
+            worst = worst.max(err);
+            assert!(
+                err <= ln_tol,
+                "{precision:?} ln({x:e}) = {} vs {want}",
+                p.ln
+            );
+        }
+        println!("{precision:?} ln: largest error {worst:.2e}");
+        let trig: Vec<f64> = match precision {
+            Precision::F64 => trig.clone(),
+            // f32 arguments: the kernel sees x rounded to f32, and the built-in
+            // functions are accurate to a few ulp only within a few periods.
+            Precision::F32 => trig.iter().map(|x| x / 1e4).collect(),
+        };
+        let got = rigfit::gpu::probe_math(&ctx, precision, &trig).unwrap();
+        let mut worst: f64 = 0.0;
+        for (x, p) in trig.iter().zip(&got) {
+            let xr = match precision {
+                Precision::F64 => *x,
+                Precision::F32 => *x as f32 as f64,
+            };
+            let (es, ec) = ((p.sin - xr.sin()).abs(), (p.cos - xr.cos()).abs());
+            worst = worst.max(es).max(ec);
+            assert!(
+                es <= trig_tol && ec <= trig_tol,
+                "{precision:?} x = {x}: sin {} vs {}, cos {} vs {}",
+                p.sin,
+                xr.sin(),
+                p.cos,
+                xr.cos()
+            );
+        }
+        println!("{precision:?} sin, cos: largest error {worst:.2e}");
+    }
+}

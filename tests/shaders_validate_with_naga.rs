@@ -5,14 +5,33 @@
 use rigfit::eval::Precision;
 use rigfit::gpu::layout::{ExpInfo, Settings, run_stride, shared_constants};
 use rigfit::gpu::shaders::{self, Kernel};
-use rigfit::model::{GpuModel, registry};
+use rigfit::model::compiled::CompiledRig;
+use rigfit::model::{Drive, GpuModel, PiecewiseLinear, RigModel, registry};
 
-fn gpu_models() -> Vec<(&'static str, GpuModel)> {
-    let models: Vec<_> = registry()
+/// The hand-written models' kernels and every shipped rig's, for each of its
+/// drive modes.
+fn gpu_models() -> Vec<(String, GpuModel)> {
+    let mut models: Vec<(String, GpuModel)> = registry()
         .into_iter()
-        .filter_map(|m| m.gpu().map(|g| (m.id(), g)))
+        .filter_map(|m| m.gpu(&Drive::Velocity).map(|g| (m.id().to_string(), g)))
         .collect();
     assert!(!models.is_empty(), "no model has GPU kernels");
+    let force = Drive::Force(PiecewiseLinear {
+        t: vec![0.0, 1.0],
+        value: vec![0.0, 1.0],
+    });
+    for (id, _) in rigfit::rig::SHIPPED {
+        let desc = rigfit::rig::shipped(id).expect("shipped");
+        let rig = CompiledRig::leaked(desc, id).expect("compiles");
+        let mut any = false;
+        for drive in [&Drive::Velocity, &force] {
+            if let Some(g) = rig.gpu(drive) {
+                models.push((format!("rig {id} {:?}", rig.program_for(drive)), g));
+                any = true;
+            }
+        }
+        assert!(any, "rig {id} has no GPU kernels");
+    }
     models
 }
 
@@ -31,13 +50,15 @@ fn sources() -> Vec<(String, Precision, Kernel, String)> {
                 if kernel == Kernel::Fitness {
                     // Every per-run value baked (specialise.rs): literals of
                     // both signs, tiny and large, an integer and a negative zero.
-                    let stride = run_stride(model.slots.len()) as usize;
+                    let stride = run_stride(model.slots().len()) as usize;
                     let values = [1.5e-3, -2.25e7, 1e-30, 3.0e38, 4.0, -0.0, 0.1];
                     let baked: Vec<Option<f64>> = (0..stride)
                         .map(|i| Some(values[i % values.len()]))
                         .collect();
                     let src = shaders::source(&model, precision, kernel, false, &baked);
-                    assert_eq!(src.matches("case ").count(), stride);
+                    let param = shaders::param_fn(&baked, precision);
+                    assert_eq!(param.matches("case ").count(), stride);
+                    assert!(src.contains(&param), "{id}: param() not baked");
                     out.push((format!("{id} all baked"), precision, kernel, src));
                 }
             }
@@ -107,7 +128,9 @@ fn shared_constants_reach_the_shader_unchanged() {
         let m = shaders::reflect(&src, Precision::F32, Kernel::Fitness)
             .unwrap()
             .module;
-        for (name, value) in shared_constants(model.slots) {
+        for (name, value) in
+            shared_constants(&model.slots(), model.state_stride(), model.hist_values())
+        {
             let (_, c) = m
                 .constants
                 .iter()

@@ -120,7 +120,7 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
             .context("opening the GPU evaluator")?;
         if let Some(note) = &opened.note {
             // A driver helps only where the model has kernels to run.
-            if c.problem.model.gpu().is_some() {
+            if rigfit::gpu::gpu_model(&c.problem).is_ok() {
                 out.note(&format!("note: {note}; {GPU_HINT}"));
             } else {
                 out.note(&format!("note: {note}"));

@@ -1,8 +1,9 @@
 //! Fixed-step RK4 over a compiled rig with every switch located inside the step.
 //!
 //! A step from `(t, y)` in the current modes is taken whole; then every armed
-//! transition (its mode variable holds its `from` value) whose event function
-//! is past the switch at the step's end is located on the cubic Hermite
+//! transition (its mode variable holds its `from` value) that fires over the
+//! step ([`super::Transition::fires`]: past the switch at the step's end, and
+//! on the armed side at its start or going further past) is located on the cubic Hermite
 //! interpolant of the step (the state and its derivative at both ends, error
 //! O(h⁴)) by a fixed number of bisections. The earliest one fires: the step is
 //! redone from its start to the crossing, the mode changes, and the rest of the
@@ -43,6 +44,8 @@ pub struct EventStepper<'p> {
     start: Vec<f64>,
     f_end: Vec<f64>,
     interp: Vec<f64>,
+    /// Event-function values at the current step's start.
+    g_start: Vec<f64>,
 }
 
 impl<'p> EventStepper<'p> {
@@ -68,6 +71,7 @@ impl<'p> EventStepper<'p> {
             start: z.clone(),
             f_end: z.clone(),
             interp: z,
+            g_start: vec![0.0; prog.transitions.len()],
         }
     }
 
@@ -118,14 +122,16 @@ impl<'p> EventStepper<'p> {
         self.frame.eval(&self.tape.event_ops, pt);
     }
 
-    /// Armed transitions past their switch after evaluating the events.
+    /// Armed transitions that fire over the step, after evaluating the events
+    /// at its end (the start's are in `g_start`).
     fn triggered(&self) -> impl Iterator<Item = usize> + '_ {
         self.prog
             .transitions
             .iter()
             .enumerate()
-            .filter(|(_, tr)| {
-                self.modes[tr.var as usize] == tr.from && tr.violated(self.frame.get(tr.g))
+            .filter(|(i, tr)| {
+                self.modes[tr.var as usize] == tr.from
+                    && tr.fires(self.g_start[*i], self.frame.get(tr.g))
             })
             .map(|(i, _)| i)
     }
@@ -139,6 +145,10 @@ impl<'p> EventStepper<'p> {
         let (mut ta, mut rem) = (t, h);
         for _ in 0..=MAX_EVENTS_PER_STEP {
             self.start.copy_from_slice(y);
+            self.events_at(ta, y);
+            for (g0, tr) in self.g_start.iter_mut().zip(&self.prog.transitions) {
+                *g0 = self.frame.get(tr.g);
+            }
             self.rk4(ta, rem, y);
             self.events_at(ta + rem, y);
             if self.triggered().next().is_none() {

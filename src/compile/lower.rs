@@ -3,7 +3,8 @@
 //! JSON path of anything wrong.
 //!
 //! State layout: node displacements in node order, then node velocities, then
-//! the elements' internal states (friction sliders) in element order.
+//! the elements' internal states (the stretch of each friction element's
+//! tangential spring) in element order.
 
 use std::collections::HashMap;
 
@@ -229,7 +230,7 @@ impl<'a> Layout<'a> {
                     vec!["stuck", "slip_forward", "slip_backward"],
                 )
                 .unwrap();
-                me.states.push(format!("z_{}", e.name));
+                me.states.push(format!("s_{}", e.name));
                 Some((v, me.states.len() as u32 - 1))
             } else {
                 None
@@ -930,8 +931,11 @@ fn element_force(
         let fc = lay.coef(g, f_c, &format!("{fp}.f_c"))?;
         let kt = lay.coef(g, k_t, &format!("{fp}.k_t"))?;
         let (var, slot) = lay.friction_var[i].expect("allocated");
-        let z = g.input(Input::State(slot));
-        let stretch = g.sub(el, z);
+        // The state is the tangential spring's stretch s = e − z (z the slider's
+        // position), not z: while the element slips, s stands still, so the
+        // spring force stays at ±f_c to the last bit in f32 as in f64 (a slider
+        // position integrated beside the elongation drifts from it by rounding).
+        let stretch = g.input(Input::State(slot));
         let ff = g.mul(kt, stretch);
         let over = g.sub(ff, fc);
         let under = g.add(ff, fc);
@@ -972,11 +976,11 @@ fn element_force(
             rate,
             Direction::Up,
         );
-        // The slider follows the elongation while slipping, so the spring
-        // stays at ±f_c; it stands still while stuck.
+        // Stuck, the spring takes the whole elongation rate; slipping, the
+        // slider follows the elongation and the stretch stands still.
         let stuck = mode_is(g, var, 0.0);
-        let dz = g.select(stuck, zero, rate);
-        internal.push((slot, dz));
+        let ds = g.select(stuck, rate, zero);
+        internal.push((slot, ds));
         f = g.add(f, ff);
     }
 

@@ -1,9 +1,11 @@
 //! The rig compiler: a rig description lowered to one SSA graph of scalar
 //! operations per drive mode ([`ir`], [`lower`]), evaluated by the f64 CPU
-//! reference ([`tape`], [`events`]).
+//! reference ([`tape`], [`events`]) and written as WGSL for the ensemble
+//! kernels ([`wgsl`]), in the same order.
 //!
 //! ```text
-//! rigs/*.json ─► rig::RigDesc ─► lower ─► Program (Graph + roots + Transitions) ─► Tape ─► EventStepper
+//! rigs/*.json ─► rig::RigDesc ─► lower ─► Program (Graph + roots + Transitions) ─┬► Tape ─► EventStepper (f64 CPU)
+//!                                                                                └► GpuRig ─► WGSL (shared/rig_run.wgsl)
 //! ```
 
 pub mod events;
@@ -12,6 +14,7 @@ pub mod lanes;
 pub mod lower;
 pub mod program;
 pub mod tape;
+pub mod wgsl;
 
 pub use events::{EventStepper, Fired, MAX_EVENTS_PER_STEP};
 pub use ir::{Graph, Id, Input, Op};
@@ -19,3 +22,4 @@ pub use lanes::{LANES, LaneRunner};
 pub use lower::{Lowered, lower};
 pub use program::{Direction, ModeVar, Program, Transition};
 pub use tape::{Frame, Point, Tape};
+pub use wgsl::{EmitError, GpuRig};

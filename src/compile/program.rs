@@ -40,6 +40,22 @@ impl Transition {
             Direction::Down => g <= 0.0,
         }
     }
+
+    /// Whether an armed transition fires over a step whose event function
+    /// went from `g0` to `g1`: it ends past the switch, and either started on
+    /// the armed side or went further past. A transition armed by another
+    /// event exactly at its own switch (a slider that sticks with its spring at
+    /// ±f_c) therefore waits while the run moves back from the switch, rather
+    /// than firing on the sign of a rounding error; one the run pushes on
+    /// through fires at once.
+    pub fn fires(&self, g0: f64, g1: f64) -> bool {
+        self.violated(g1)
+            && (!self.violated(g0)
+                || match self.dir {
+                    Direction::Up => g1 > g0,
+                    Direction::Down => g1 < g0,
+                })
+    }
 }
 
 /// A discrete mode variable of the rig (contact, yield, fracture, stick-slip).

@@ -5,7 +5,7 @@ use crate::eval::{
 };
 use crate::model::{Drive, GpuModel};
 
-use super::layout::{BLOCK_SAMPLES, HIST_VALUES, STATE_STRIDE, Settings};
+use super::layout::{BLOCK_SAMPLES, Settings};
 use super::pack::{
     PackedProblem, from_real_bytes, pack_problem, pack_runs, real_size, to_real_bytes,
 };
@@ -52,6 +52,19 @@ const FITNESS_BINDINGS: [Binding; 7] = [
     Binding::ReadWrite,
 ];
 
+/// Bindings of the history kernel (`shared/bindings.wgsl`, then `history`,
+/// `selection`): explicit, as a rig without tables never reads `data`.
+const HISTORY_BINDINGS: [Binding; 8] = [
+    Binding::Uniform,
+    Binding::Read,
+    Binding::Read,
+    Binding::Read,
+    Binding::ReadWrite,
+    Binding::ReadWrite,
+    Binding::ReadWrite,
+    Binding::Read,
+];
+
 /// A fitness kernel with the values it has baked in.
 #[derive(Debug)]
 struct Specialised {
@@ -87,6 +100,7 @@ pub struct GpuEvaluator {
     specialised: Vec<Specialised>,
     /// The one that scored the last batch.
     last_specialised: Option<usize>,
+    history_layout: pipeline::Layout,
     history_kernel: Kernelled,
     settings: wgpu::Buffer,
     experiments: wgpu::Buffer,
@@ -103,10 +117,7 @@ impl GpuEvaluator {
         precision: Precision,
         options: GpuOptions,
     ) -> Result<Self, GpuError> {
-        let model = problem
-            .model
-            .gpu()
-            .ok_or(GpuError::UnsupportedModel(problem.model.id()))?;
+        let model = super::gpu_model(&problem)?;
         if precision == Precision::F64 && !ctx.has_f64() {
             return Err(GpuError::NoF64(ctx.describe()));
         }
@@ -122,14 +133,15 @@ impl GpuEvaluator {
             Kernel::Fitness,
             Some(&fitness_layout),
         )?;
+        let history_layout = pipeline::layout(&ctx, "history layout", &HISTORY_BINDINGS);
         let history_kernel = pipeline::build(
             &ctx,
             Some((&model, force, &[])),
             precision,
             Kernel::History,
-            None,
+            Some(&history_layout),
         )?;
-        let packed = pack_problem(&problem);
+        let packed = pack_problem(&problem, &model);
         let (settings, experiments, data) = pipeline::scoped(&ctx, "problem buffers", || {
             (
                 pipeline::buffer(
@@ -164,6 +176,7 @@ impl GpuEvaluator {
             fitness_kernel,
             specialised: Vec::new(),
             last_specialised: None,
+            history_layout,
             history_kernel,
             settings,
             experiments,
@@ -191,7 +204,7 @@ impl GpuEvaluator {
     }
 
     fn stride(&self) -> u64 {
-        super::layout::run_stride(self.model.slots.len()) as u64
+        super::layout::run_stride(self.model.slots().len()) as u64
     }
 
     /// Makes room for `runs` runs and uploads the batch's parameters; returns
@@ -237,7 +250,7 @@ impl GpuEvaluator {
             let state = pipeline::buffer(
                 ctx,
                 "run state",
-                n * STATE_STRIDE as u64 * real,
+                n * self.model.state_stride() as u64 * real,
                 U::STORAGE | U::COPY_DST,
             );
             let progress = pipeline::buffer(ctx, "run progress", n * 16, U::STORAGE | U::COPY_DST);
@@ -407,8 +420,9 @@ impl GpuEvaluator {
             _pad: [0; 3],
         };
         let real = real_size(self.precision);
-        let size =
-            (which.len() * self.packed.hist_stride as usize) as u64 * HIST_VALUES as u64 * real;
+        let size = (which.len() * self.packed.hist_stride as usize) as u64
+            * self.model.hist_values() as u64
+            * real;
         let selection: Vec<u32> = which.iter().map(|&i| i as u32).collect();
         let dispatches = self.dispatches(max_steps);
         let ctx = &self.ctx;
@@ -426,7 +440,7 @@ impl GpuEvaluator {
             let state = pipeline::buffer(
                 ctx,
                 "history state",
-                runs as u64 * STATE_STRIDE as u64 * real,
+                runs as u64 * self.model.state_stride() as u64 * real,
                 U::STORAGE | U::COPY_DST,
             );
             let progress = pipeline::buffer(
@@ -440,10 +454,10 @@ impl GpuEvaluator {
                 pipeline::buffer(ctx, "history read-back", size, U::MAP_READ | U::COPY_DST);
             let sel =
                 pipeline::storage_init(ctx, "selection", bytemuck::cast_slice(&selection), false);
-            let bind = pipeline::bind(
+            let bind = pipeline::bind_with(
                 ctx,
                 "history bind group",
-                &self.history_kernel,
+                &self.history_layout.group,
                 &[
                     &uniform,
                     &self.experiments,
@@ -524,9 +538,11 @@ impl Evaluator for GpuEvaluator {
             return Ok(Vec::new());
         }
         let raw = self.run_histories(batch, which).map_err(device_error)?;
-        let n_out = self.problem.model.output_names().len().min(2);
-        let n_state = self.problem.model.state_names().len().min(8);
-        let hv = HIST_VALUES as usize;
+        let (n_out, n_state) = self.model.hist_layout(
+            self.problem.model.output_names().len(),
+            self.problem.model.state_names().len(),
+        );
+        let hv = self.model.hist_values() as usize;
         Ok((0..which.len())
             .map(|j| {
                 self.packed
@@ -543,7 +559,7 @@ impl Evaluator for GpuEvaluator {
                                 .map(|o| (0..n).map(|k| rec(k, 1 + o)).collect())
                                 .collect(),
                             states: (0..n_state)
-                                .map(|s| (0..n).map(|k| rec(k, 3 + s)).collect())
+                                .map(|s| (0..n).map(|k| rec(k, 1 + n_out + s)).collect())
                                 .collect(),
                         }
                     })

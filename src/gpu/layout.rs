@@ -60,17 +60,22 @@ pub const DRIVE_FORCE: u32 = 1;
 
 /// Progress flag: the run has finished (or diverged).
 pub const FLAG_DONE: u32 = 1;
-/// Progress flag: the specimen has fractured.
+/// Progress flag: the specimen has fractured (hand-written kernels).
 pub const FLAG_BROKEN: u32 = 2;
+/// Progress flag: a step took more than `MAX_EVENTS_PER_STEP` located switches
+/// (compiled rigs); the run counts as diverged.
+pub const FLAG_CHATTER: u32 = 4;
 
 /// Samples per block of the sampled run loop (`shaders/shared/run.wgsl`): the
 /// loop's trip count is `BLOCK_SAMPLES · substeps` steps, and a chunk is a whole
 /// number of blocks.
 pub const BLOCK_SAMPLES: u32 = 32;
 
-/// Values per run in the state buffer: 8 states, the residual sum, one spare.
+/// Values per run in the hand-written kernels' state buffer: 8 states, the
+/// residual sum, one spare (a compiled rig's is `GpuRig::state_stride`).
 pub const STATE_STRIDE: u32 = 10;
-/// Values per sample in a history record: t, 2 outputs, 8 full states.
+/// Values per sample in a hand-written kernel's history record: t, 2 outputs,
+/// 8 full states (a compiled rig's is `GpuRig::hist_values`).
 pub const HIST_VALUES: u32 = 11;
 
 /// The grid header at the start of every run's parameter block, in order; the
@@ -84,8 +89,13 @@ pub fn run_stride(model_slots: usize) -> u32 {
     RUN_HEADER + model_slots as u32
 }
 
-/// Integer constants shared with WGSL, as `(name, value)`.
-pub fn shared_constants(model_slots: &[&str]) -> Vec<(String, u32)> {
+/// Integer constants shared with WGSL, as `(name, value)`, for a model with
+/// these slots, state stride and history record size.
+pub fn shared_constants(
+    model_slots: &[String],
+    state_stride: u32,
+    hist_values: u32,
+) -> Vec<(String, u32)> {
     let mut c: Vec<(String, u32)> = vec![
         (
             "CROSSING_ITERATIONS".into(),
@@ -94,10 +104,15 @@ pub fn shared_constants(model_slots: &[&str]) -> Vec<(String, u32)> {
         ("BLOCK_SAMPLES".into(), BLOCK_SAMPLES),
         ("FLAG_DONE".into(), FLAG_DONE),
         ("FLAG_BROKEN".into(), FLAG_BROKEN),
+        ("FLAG_CHATTER".into(), FLAG_CHATTER),
+        (
+            "MAX_EVENTS".into(),
+            crate::compile::MAX_EVENTS_PER_STEP as u32,
+        ),
         ("DRIVE_VELOCITY".into(), DRIVE_VELOCITY),
         ("DRIVE_FORCE".into(), DRIVE_FORCE),
-        ("STATE_STRIDE".into(), STATE_STRIDE),
-        ("HIST_VALUES".into(), HIST_VALUES),
+        ("STATE_STRIDE".into(), state_stride),
+        ("HIST_VALUES".into(), hist_values),
         ("RUN_STRIDE".into(), run_stride(model_slots.len())),
     ];
     for (i, name) in RUN_SLOTS.iter().enumerate() {

@@ -73,9 +73,10 @@ pub mod specialise;
 pub use context::{AdapterSummary, GpuContext, instance, list_adapters};
 pub use evaluator::{GpuEvaluator, GpuOptions};
 pub use pack::{from_real_bytes, to_real_bytes};
-pub use probe::probe_exp;
+pub use probe::{Probed, probe_exp, probe_math};
 
 use crate::eval::{Backend, CpuEvaluator, Evaluator, Precision, PrecisionChoice, Problem, Scores};
+use crate::model::GpuModel;
 
 /// f32 force histories agree with the f64 CPU reference within this fraction of
 /// the history's largest |F| (measured in `tests/gpu_cpu_parity.rs`).
@@ -102,6 +103,12 @@ pub enum GpuError {
     /// The model has no GPU kernels.
     #[error("model `{0}` has no GPU implementation")]
     UnsupportedModel(&'static str),
+    /// The problem's experiments need different kernels of a rig (velocity
+    /// and force drives of a compiled rig in one job).
+    #[error(
+        "rig `{0}` runs its drive modes in separate GPU kernels; one job on the GPU takes experiments of one drive mode (use the CPU backend to mix them)"
+    )]
+    MixedDrives(&'static str),
     /// A shader failed to parse or validate.
     #[error("shader {kernel} is invalid:\n{message}")]
     Shader {
@@ -126,6 +133,25 @@ pub enum GpuError {
         /// Most runs one dispatch covers.
         max: usize,
     },
+}
+
+/// The kernels that run `problem`: its model's GPU plug-in, the same for every
+/// experiment.
+pub fn gpu_model(problem: &Problem) -> Result<GpuModel, GpuError> {
+    let id = problem.model.id();
+    let mut found: Option<GpuModel> = None;
+    for exp in &problem.experiments {
+        let g = problem
+            .model
+            .gpu(&exp.drive)
+            .ok_or(GpuError::UnsupportedModel(id))?;
+        match &found {
+            Some(f) if !f.same(&g) => return Err(GpuError::MixedDrives(id)),
+            Some(_) => {}
+            None => found = Some(g),
+        }
+    }
+    found.ok_or(GpuError::UnsupportedModel(id))
 }
 
 /// Whether `RIGFIT_REQUIRE_GPU` is set to something other than `0`/empty.
@@ -194,12 +220,10 @@ pub fn open_evaluator(
     if backend == Backend::Cpu {
         return Ok(cpu(problem, None));
     }
-    if backend == Backend::Auto && problem.model.gpu().is_none() {
-        let note = format!(
-            "model `{}` has no GPU kernels (a rig described as data runs on the CPU path); using the CPU",
-            problem.model.id()
-        );
-        return Ok(cpu(problem, Some(note)));
+    if backend == Backend::Auto
+        && let Err(e) = gpu_model(&problem)
+    {
+        return Ok(cpu(problem, Some(format!("{e}; using the CPU"))));
     }
     let ctx = match GpuContext::new() {
         Ok(ctx) => ctx,

@@ -23,9 +23,10 @@ pub struct PackedProblem {
     pub hist_stride: u32,
 }
 
-/// Packs a problem's experiments.
-pub fn pack_problem(problem: &Problem) -> PackedProblem {
-    let mut data = Vec::new();
+/// Packs a problem's experiments for `model`'s kernels (whose own tables come
+/// first in the data buffer).
+pub fn pack_problem(problem: &Problem, model: &GpuModel) -> PackedProblem {
+    let mut data = model.table_data().to_vec();
     let mut experiments = Vec::new();
     let mut hist_offset = 0u32;
     for exp in &problem.experiments {
@@ -82,7 +83,7 @@ pub fn pack_runs(
     out: &mut Vec<f64>,
 ) -> usize {
     out.clear();
-    let stride = run_stride(model.slots.len()) as usize;
+    let stride = run_stride(model.slots().len()) as usize;
     out.reserve(stride * batch.candidates * problem.experiments.len());
     let mut max_steps = 0;
     for i in 0..batch.candidates {
@@ -102,7 +103,7 @@ pub fn pack_runs(
                 packed.ss_tot[e],
             ]);
             out.resize(start + RUN_HEADER as usize, 0.0);
-            (model.pack)(batch.params_of(e, i), out);
+            model.pack(batch.params_of(e, i), out);
             debug_assert_eq!(out.len() - start, stride);
         }
     }

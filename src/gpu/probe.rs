@@ -1,5 +1,5 @@
-//! Runs `shaders/exp_probe.wgsl`: the kernel precision's exp and expm1 at given
-//! points, for tests against `f64::exp` and `f64::exp_m1`.
+//! Runs `shaders/exp_probe.wgsl`: the kernel precision's exp, expm1, ln, sin and
+//! cos at given points, for tests against the standard library's.
 
 use crate::eval::Precision;
 
@@ -8,14 +8,41 @@ use super::pipeline;
 use super::shaders::Kernel;
 use super::{GpuContext, GpuError};
 
+/// The kernels' functions at one point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Probed {
+    /// `exp_r(x)`.
+    pub exp: f64,
+    /// `expm1_r(x)`.
+    pub expm1: f64,
+    /// `ln_r(|x|)`.
+    pub ln: f64,
+    /// `sin_r(x)`.
+    pub sin: f64,
+    /// `cos_r(x)`.
+    pub cos: f64,
+}
+
 /// `(exp(x), expm1(x))` for each `x`, computed on the device at `precision`.
 pub fn probe_exp(
     ctx: &GpuContext,
     precision: Precision,
     xs: &[f64],
 ) -> Result<Vec<(f64, f64)>, GpuError> {
+    Ok(probe_math(ctx, precision, xs)?
+        .into_iter()
+        .map(|p| (p.exp, p.expm1))
+        .collect())
+}
+
+/// Every probed function at each `x`, computed on the device at `precision`.
+pub fn probe_math(
+    ctx: &GpuContext,
+    precision: Precision,
+    xs: &[f64],
+) -> Result<Vec<Probed>, GpuError> {
     let kernel = pipeline::build(ctx, None, precision, Kernel::ExpProbe, None)?;
-    let size = 2 * xs.len() as u64 * real_size(precision);
+    let size = 5 * xs.len() as u64 * real_size(precision);
     let groups = pipeline::workgroups(ctx, xs.len(), kernel.workgroup_x)?;
     use wgpu::BufferUsages as U;
     let readback = pipeline::scoped(ctx, "exp probe", || {
@@ -49,5 +76,13 @@ pub fn probe_exp(
         readback
     })?;
     let v = from_real_bytes(&pipeline::read_back(ctx, &readback, size)?, precision);
-    Ok(v.chunks(2).map(|c| (c[0], c[1])).collect())
+    Ok(v.chunks(5)
+        .map(|c| Probed {
+            exp: c[0],
+            expm1: c[1],
+            ln: c[2],
+            sin: c[3],
+            cos: c[4],
+        })
+        .collect())
 }

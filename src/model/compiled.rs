@@ -4,7 +4,7 @@
 use std::ops::ControlFlow;
 
 use super::{Drive, Linearised, ParamInfo, RigModel, Sample};
-use crate::compile::{EventStepper, LANES, LaneRunner, Lowered, Tape, lower};
+use crate::compile::{EventStepper, GpuRig, LANES, LaneRunner, Lowered, Tape, lower};
 use crate::integrate::{SampleGrid, walk_grid};
 use crate::rig::RigError;
 use crate::rig::desc::{Coef, DamperLaw, FrictionLaw, RigDesc, SpringLaw};
@@ -21,6 +21,8 @@ pub struct CompiledRig {
     /// The compiled programs, one per drive mode.
     pub lowered: Lowered,
     tapes: Vec<Tape>,
+    /// Each program prepared for the GPU kernels (`None`: it cannot run there).
+    gpu: Vec<Option<std::sync::Arc<GpuRig>>>,
 }
 
 fn leak(s: &str) -> &'static str {
@@ -50,6 +52,11 @@ impl CompiledRig {
             .map(|o| (leak(&o.name), leak(&o.unit)))
             .collect();
         let tapes = lowered.programs.iter().map(Tape::new).collect();
+        let gpu = lowered
+            .programs
+            .iter()
+            .map(|p| GpuRig::new(p).ok().map(std::sync::Arc::new))
+            .collect();
         Ok(Self {
             id: leak(&desc.id),
             params: Box::leak(params.into_boxed_slice()),
@@ -58,6 +65,7 @@ impl CompiledRig {
             desc,
             lowered,
             tapes,
+            gpu,
         })
     }
 
@@ -343,6 +351,11 @@ impl RigModel for CompiledRig {
 
     fn lanes(&self) -> usize {
         LANES
+    }
+
+    fn gpu(&self, drive: &Drive) -> Option<super::GpuModel> {
+        let i = self.program_for(drive)?;
+        self.gpu[i].clone().map(super::GpuModel::Compiled)
     }
 
     fn linearise(&self, params: &[f64], drive: &Drive) -> Linearised {

@@ -119,28 +119,100 @@ pub trait RigModel: Send + Sync + std::fmt::Debug {
         true
     }
 
-    /// How the model runs in the GPU ensemble kernels; `None` keeps it CPU-only.
-    fn gpu(&self) -> Option<GpuModel> {
+    /// How the model runs in the GPU ensemble kernels under `drive` (every
+    /// experiment of a GPU batch must get the same kernels); `None` keeps it
+    /// CPU-only.
+    fn gpu(&self, _drive: &Drive) -> Option<GpuModel> {
         None
     }
 }
 
 /// A model's plug-in for the GPU ensemble kernels (see `crate::gpu`).
-#[derive(Debug, Clone, Copy)]
-pub struct GpuModel {
-    /// WGSL source defining `Rig`, `rig_load`, `rig_actuator`, `rig_actuators`
-    /// (the `Actuation` of a whole step), the drive clock carried between steps
-    /// (`rig_clock`, `rig_clock_half`, `rig_clock_next`, `rig_actuators_clocked`;
-    /// a model without one returns constants), `rig_deriv`, `rig_switch`,
-    /// `rig_fire`, `rig_is_broken`, `rig_outputs` and `rig_full_state` (one of
-    /// the constants in `crate::gpu::shaders`).
-    pub wgsl: &'static str,
-    /// Names of the packed per-run values, in order; the shader stitcher emits a
-    /// `const P_<NAME>: u32` index for each.
-    pub slots: &'static [&'static str],
-    /// Packs one full parameter vector into `slots.len()` values (f64, converted
-    /// to the kernel's precision afterwards), appending to `out`.
-    pub pack: fn(params: &[f64], out: &mut Vec<f64>),
+#[derive(Debug, Clone)]
+pub enum GpuModel {
+    /// A hand-written model file for the fixed-size run loop
+    /// (`shaders/shared/rk4.wgsl`, `run.wgsl`): at most four degrees of freedom
+    /// and one located switch.
+    Handwritten {
+        /// WGSL source defining `Rig`, `rig_load`, `rig_actuator`, `rig_actuators`
+        /// (the `Actuation` of a whole step), the drive clock carried between
+        /// steps (`rig_clock`, `rig_clock_half`, `rig_clock_next`,
+        /// `rig_actuators_clocked`), `rig_deriv`, `rig_switch`, `rig_fire`,
+        /// `rig_is_broken`, `rig_outputs` and `rig_full_state` (one of the
+        /// constants in `crate::gpu::shaders`).
+        wgsl: &'static str,
+        /// Names of the packed per-run values, in order; the shader stitcher
+        /// emits a `const P_<NAME>: u32` index for each.
+        slots: &'static [&'static str],
+        /// Packs one full parameter vector into `slots.len()` values (f64,
+        /// converted to the kernel's precision afterwards), appending to `out`.
+        pack: fn(params: &[f64], out: &mut Vec<f64>),
+    },
+    /// A compiled rig description: generated functions for the event run loop
+    /// (`shaders/shared/rig_run.wgsl`), any state size, any number of switches.
+    Compiled(std::sync::Arc<crate::compile::GpuRig>),
+}
+
+impl GpuModel {
+    /// Names of the packed per-run values, in order.
+    pub fn slots(&self) -> Vec<String> {
+        match self {
+            GpuModel::Handwritten { slots, .. } => slots.iter().map(|s| s.to_string()).collect(),
+            GpuModel::Compiled(r) => r.slot_names(),
+        }
+    }
+
+    /// Appends one run's packed values for the full parameter vector `params`.
+    pub fn pack(&self, params: &[f64], out: &mut Vec<f64>) {
+        match self {
+            GpuModel::Handwritten { pack, .. } => pack(params, out),
+            GpuModel::Compiled(r) => r.pack(params, out),
+        }
+    }
+
+    /// Values per run in the kernels' state buffer.
+    pub fn state_stride(&self) -> u32 {
+        match self {
+            GpuModel::Handwritten { .. } => crate::gpu::layout::STATE_STRIDE,
+            GpuModel::Compiled(r) => r.state_stride(),
+        }
+    }
+
+    /// Values per history record (t, the outputs, the full state).
+    pub fn hist_values(&self) -> u32 {
+        match self {
+            GpuModel::Handwritten { .. } => crate::gpu::layout::HIST_VALUES,
+            GpuModel::Compiled(r) => r.hist_values(),
+        }
+    }
+
+    /// How many of the model's `outputs` and `states` a history record holds.
+    pub fn hist_layout(&self, outputs: usize, states: usize) -> (usize, usize) {
+        match self {
+            GpuModel::Handwritten { .. } => (outputs.min(2), states.min(8)),
+            GpuModel::Compiled(_) => (outputs, states),
+        }
+    }
+
+    /// Values the data buffer holds before the experiments' (a compiled rig's
+    /// inline tables).
+    pub fn table_data(&self) -> &[f64] {
+        match self {
+            GpuModel::Handwritten { .. } => &[],
+            GpuModel::Compiled(r) => r.table_data(),
+        }
+    }
+
+    /// Whether two plug-ins are the same kernels.
+    pub fn same(&self, other: &GpuModel) -> bool {
+        match (self, other) {
+            (GpuModel::Handwritten { wgsl: a, .. }, GpuModel::Handwritten { wgsl: b, .. }) => {
+                std::ptr::eq(*a, *b)
+            }
+            (GpuModel::Compiled(a), GpuModel::Compiled(b)) => std::sync::Arc::ptr_eq(a, b),
+            _ => false,
+        }
+    }
 }
 
 /// Every model rigfit knows, by id.

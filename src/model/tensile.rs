@@ -460,7 +460,7 @@ impl RigModel for Tensile4 {
         best
     }
 
-    fn gpu(&self) -> Option<super::GpuModel> {
+    fn gpu(&self, _drive: &Drive) -> Option<super::GpuModel> {
         Some(super::tensile_gpu::TENSILE4_GPU)
     }
 }

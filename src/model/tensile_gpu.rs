@@ -96,7 +96,7 @@ pub fn pack(params: &[f64], out: &mut Vec<f64>) {
 }
 
 /// The tensile4 plug-in for the GPU kernels.
-pub const TENSILE4_GPU: GpuModel = GpuModel {
+pub const TENSILE4_GPU: GpuModel = GpuModel::Handwritten {
     wgsl: crate::gpu::shaders::MODEL_TENSILE4,
     slots: &SLOTS,
     pack,

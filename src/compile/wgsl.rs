@@ -1,0 +1,485 @@
+//! The WGSL emitter: one [`Program`] written as the rig functions that the
+//! generic event run loop (`shaders/shared/rig_run.wgsl`) calls.
+//!
+//! Each function evaluates the operations its roots need, in graph order, the
+//! order [`super::tape::Frame`] evaluates them on the CPU. Operations that
+//! depend on per-run values only (the program's run constants: parameters,
+//! `1/m`, a law's logarithm) are evaluated once per run on the host by the CPU
+//! reference's own code ([`GpuRig::pack`]) and uploaded as the run's slots, so
+//! the kernels read them as values and never recompute them; where every run of
+//! a batch has the same value, the specialised kernel folds it to a constant.
+//!
+//! What the emitted source defines (names prefixed `rig_` or `St`/`Md`/`Kc`):
+//! - `struct St` (continuous state, fields `s0…`), `struct Md` (mode
+//!   variables, `m0…`), `struct Kc` (the run's constants and table offsets);
+//! - `rig_load(base, ex) -> Kc`, `rig_state_load(sb)`, `rig_state_store(sb, y, md)`,
+//!   `rig_modes_load(sb)`;
+//! - `st_axpy(y, a, k)` (`y + a·k`), `st_rk4(y, h6, k1, k2, k3, k4)`,
+//!   `st_hermite(y0, f0, y1, f1, c00, c10, c01, c11)`;
+//! - `rig_deriv(kc, t, y, md) -> St`, `rig_events(kc, t, y, md) -> Ev` (every
+//!   event function), `rig_hits(g0, g1, md) -> u32` (the armed transitions
+//!   that fire over a step from `g0` to `g1`, one bit each), `rig_event_past(kc,
+//!   i, t, y, md) -> bool`, `rig_fire(i, md)`;
+//! - `rig_output0(kc, t, y, md) -> real` (the scored output) and
+//!   `rig_report(kc, t, y, md) -> Rep` (every output, then the full state).
+
+use std::fmt::Write as _;
+
+use super::ir::{Id, Input, Op, operands};
+use super::program::{Direction, Program};
+use super::tape::{Frame, Tape};
+
+/// Most located switches one program may have on the GPU (`rig_hits` is a
+/// 32-bit mask).
+pub const MAX_TRANSITIONS: usize = 32;
+
+/// Why a program cannot run in the kernels.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum EmitError {
+    /// More transitions than [`MAX_TRANSITIONS`].
+    #[error("{0} located switches; the GPU kernels take at most {MAX_TRANSITIONS}")]
+    TooManyTransitions(usize),
+}
+
+/// A program prepared for the kernels: which run constants become slots, and the
+/// tables the data buffer must hold.
+#[derive(Debug, Clone)]
+pub struct GpuRig {
+    prog: Program,
+    tape: Tape,
+    /// Graph ids of the run constants the kernels read, in slot order.
+    pub slots: Vec<Id>,
+    /// Inline tables (index into `prog.tables`) with their offset in the data
+    /// buffer's prefix ([`GpuRig::table_data`]).
+    inline: Vec<(u32, u32, u32)>,
+    table_data: Vec<f64>,
+}
+
+/// Whether `id` is a run constant that a kernel reads as a slot (not a literal).
+fn is_slot(p: &Program, id: Id) -> bool {
+    p.run_constant[id as usize] && !matches!(p.graph.ops[id as usize], Op::Const(_))
+}
+
+impl GpuRig {
+    /// Prepares `prog` for the kernels.
+    pub fn new(prog: &Program) -> Result<Self, EmitError> {
+        if prog.transitions.len() > MAX_TRANSITIONS {
+            return Err(EmitError::TooManyTransitions(prog.transitions.len()));
+        }
+        let tape = Tape::new(prog);
+        // Run constants read by a per-step operation or used as a root.
+        let mut roots: Vec<Id> = prog.deriv.clone();
+        roots.extend(prog.event_roots());
+        roots.extend(&prog.outputs);
+        roots.extend(&prog.full_state);
+        let live = prog.graph.live(&roots);
+        let mut wanted = vec![false; prog.graph.ops.len()];
+        for (i, op) in prog.graph.ops.iter().enumerate() {
+            if live[i] && !prog.run_constant[i] {
+                for o in operands(op) {
+                    wanted[o as usize] = true;
+                }
+            }
+        }
+        for &r in &roots {
+            wanted[r as usize] = true;
+        }
+        let slots = (0..prog.graph.ops.len() as Id)
+            .filter(|&i| wanted[i as usize] && is_slot(prog, i))
+            .collect();
+        let mut inline = Vec::new();
+        let mut table_data = Vec::new();
+        for (k, t) in prog.tables.iter().enumerate() {
+            if let Some(t) = t {
+                inline.push((k as u32, table_data.len() as u32, t.t.len() as u32));
+                table_data.extend_from_slice(&t.t);
+                table_data.extend_from_slice(&t.value);
+            }
+        }
+        Ok(Self {
+            prog: prog.clone(),
+            tape,
+            slots,
+            inline,
+            table_data,
+        })
+    }
+
+    /// The program.
+    pub fn program(&self) -> &Program {
+        &self.prog
+    }
+
+    /// Continuous states.
+    pub fn states(&self) -> usize {
+        self.prog.deriv.len()
+    }
+
+    /// Mode variables.
+    pub fn modes(&self) -> usize {
+        self.prog.mode_count()
+    }
+
+    /// Values per run in the state buffer: the states, the modes, the residual sum.
+    pub fn state_stride(&self) -> u32 {
+        (self.states() + self.modes() + 1) as u32
+    }
+
+    /// Values per history record: t, every output, the full state.
+    pub fn hist_values(&self) -> u32 {
+        (1 + self.prog.outputs.len() + self.prog.full_state.len()) as u32
+    }
+
+    /// The inline tables, breakpoint times then values per table, which the data
+    /// buffer holds first.
+    pub fn table_data(&self) -> &[f64] {
+        &self.table_data
+    }
+
+    /// Slot names (`K<id>`), for the prelude's `P_*` indices.
+    pub fn slot_names(&self) -> Vec<String> {
+        self.slots.iter().map(|i| format!("K{i}")).collect()
+    }
+
+    /// Appends the run's slots for the full parameter vector `params`: the run
+    /// constants evaluated by the CPU reference's own code.
+    pub fn pack(&self, params: &[f64], out: &mut Vec<f64>) {
+        let frame = Frame::new(&self.prog, &self.tape, params, None);
+        out.extend(self.slots.iter().map(|&i| frame.get(i)));
+    }
+
+    /// The WGSL source of the rig functions; `literal` writes a constant in
+    /// the kernel's precision.
+    pub fn source(&self, literal: &dyn Fn(f64) -> String) -> String {
+        Emitter { rig: self, literal }.emit()
+    }
+}
+
+struct Emitter<'a> {
+    rig: &'a GpuRig,
+    literal: &'a dyn Fn(f64) -> String,
+}
+
+impl Emitter<'_> {
+    fn prog(&self) -> &Program {
+        &self.rig.prog
+    }
+
+    /// How operation `id` is referred to inside a per-step function.
+    fn name(&self, id: Id) -> String {
+        let p = self.prog();
+        match p.graph.ops[id as usize] {
+            Op::Const(c) => (self.literal)(c),
+            _ if p.run_constant[id as usize] => format!("kc.k{id}"),
+            _ => format!("v{id}"),
+        }
+    }
+
+    /// The `let` lines of every per-step operation `roots` need, in graph order.
+    fn body(&self, roots: &[Id]) -> String {
+        let p = self.prog();
+        let live = p.graph.live(roots);
+        let mut s = String::new();
+        for (i, op) in p.graph.ops.iter().enumerate() {
+            if !live[i] || p.run_constant[i] {
+                continue;
+            }
+            let n = |id: Id| self.name(id);
+            let e = match *op {
+                Op::Const(_) => continue,
+                Op::In(Input::Time) => "t".into(),
+                Op::In(Input::Slot(_)) => unreachable!("slots are run constants"),
+                Op::In(Input::State(k)) => format!("y.s{k}"),
+                Op::In(Input::Mode(m)) => format!("real(md.m{m})"),
+                Op::In(Input::Table(k)) => format!("table_at(kc.toff{k}, kc.tlen{k}, t)"),
+                Op::Add(a, b) => format!("{} + {}", n(a), n(b)),
+                Op::Sub(a, b) => format!("{} - {}", n(a), n(b)),
+                Op::Mul(a, b) => format!("{} * {}", n(a), n(b)),
+                Op::Div(a, b) => format!("{} / {}", n(a), n(b)),
+                Op::Neg(a) => format!("-{}", n(a)),
+                Op::Abs(a) => format!("abs({})", n(a)),
+                Op::Min(a, b) => format!("min({}, {})", n(a), n(b)),
+                Op::Max(a, b) => format!("max({}, {})", n(a), n(b)),
+                Op::Exp(a) => format!("exp_r({})", n(a)),
+                Op::Expm1(a) => format!("expm1_r({})", n(a)),
+                Op::Ln(a) => format!("ln_r({})", n(a)),
+                Op::Sin(a) => format!("sin_r({})", n(a)),
+                Op::Cos(a) => format!("cos_r({})", n(a)),
+                Op::Le(a, b) => format!("select(real(0.0), real(1.0), {} <= {})", n(a), n(b)),
+                Op::Eq(a, b) => format!("select(real(0.0), real(1.0), {} == {})", n(a), n(b)),
+                Op::Select(c, a, b) => {
+                    format!("select({}, {}, {} != real(0.0))", n(b), n(a), n(c))
+                }
+            };
+            let _ = writeln!(s, "    let v{i} = {e};");
+        }
+        s
+    }
+
+    fn fields(&self, prefix: &str, n: usize, ty: &str) -> String {
+        (0..n)
+            .map(|i| format!("    {prefix}{i}: {ty},\n"))
+            .collect()
+    }
+
+    fn emit(&self) -> String {
+        let p = self.prog();
+        let (ns, nm) = (self.rig.states(), self.rig.modes());
+        let mut s =
+            String::from("// Generated from the rig description by src/compile/wgsl.rs.\n\n");
+        let _ = writeln!(s, "const RIG_STATES: u32 = {ns}u;");
+        let _ = writeln!(s, "const RIG_MODES: u32 = {nm}u;");
+        let _ = writeln!(s, "const RIG_TRANSITIONS: u32 = {}u;", p.transitions.len());
+        let _ = writeln!(
+            s,
+            "const RIG_REPORT: u32 = {}u;\n",
+            self.rig.hist_values() - 1
+        );
+        let _ = write!(s, "struct St {{\n{}}}\n\n", self.fields("s", ns, "real"));
+        // WGSL has no empty structs: a rig without modes keeps one unused.
+        let _ = write!(
+            s,
+            "struct Md {{\n{}}}\n\n",
+            self.fields("m", nm.max(1), "u32")
+        );
+        let mut kc = String::new();
+        for &i in &self.rig.slots {
+            let _ = writeln!(kc, "    k{i}: real,");
+        }
+        for k in 0..p.tables.len() {
+            let _ = writeln!(kc, "    toff{k}: u32,\n    tlen{k}: u32,");
+        }
+        if kc.is_empty() {
+            kc.push_str("    unused: u32,\n");
+        }
+        let _ = write!(s, "struct Kc {{\n{kc}}}\n\n");
+        let _ = write!(
+            s,
+            "struct Rep {{\n    v: array<real, {}>,\n}}\n\n",
+            self.rig.hist_values() - 1
+        );
+        let _ = write!(
+            s,
+            "struct Ev {{\n    g: array<real, {}>,\n}}\n\n",
+            p.transitions.len().max(1)
+        );
+        s.push_str(&self.loaders());
+        s.push_str(&self.state_algebra());
+        s.push_str(&self.functions());
+        s
+    }
+
+    fn loaders(&self) -> String {
+        let p = self.prog();
+        let (ns, nm) = (self.rig.states(), self.rig.modes());
+        let mut s = String::from("fn rig_load(base: u32, ex: ExpInfo) -> Kc {\n    var kc: Kc;\n");
+        for &i in &self.rig.slots {
+            let _ = writeln!(s, "    kc.k{i} = param(base, P_K{i});");
+        }
+        for k in 0..p.tables.len() {
+            match self.rig.inline.iter().find(|t| t.0 == k as u32) {
+                Some(&(_, off, len)) => {
+                    let _ = writeln!(s, "    kc.toff{k} = {off}u;\n    kc.tlen{k} = {len}u;");
+                }
+                None => {
+                    let _ = writeln!(
+                        s,
+                        "    kc.toff{k} = ex.table_offset;\n    kc.tlen{k} = ex.table_len;"
+                    );
+                }
+            }
+        }
+        s.push_str("    return kc;\n}\n\n");
+        s.push_str("fn rig_state_load(sb: u32) -> St {\n    var y: St;\n");
+        for i in 0..ns {
+            let _ = writeln!(s, "    y.s{i} = state[sb + {i}u];");
+        }
+        s.push_str("    return y;\n}\n\n");
+        s.push_str("fn rig_modes_load(sb: u32) -> Md {\n    var md: Md;\n");
+        for j in 0..nm {
+            let _ = writeln!(s, "    md.m{j} = u32(state[sb + {}u]);", ns + j);
+        }
+        s.push_str("    return md;\n}\n\n");
+        s.push_str("fn rig_state_store(sb: u32, y: St, md: Md) {\n");
+        for i in 0..ns {
+            let _ = writeln!(s, "    state[sb + {i}u] = y.s{i};");
+        }
+        for j in 0..nm {
+            let _ = writeln!(s, "    state[sb + {}u] = real(md.m{j});", ns + j);
+        }
+        let _ = writeln!(s, "}}\n\nconst RIG_ACC: u32 = {}u;\n", ns + nm);
+        s
+    }
+
+    fn state_algebra(&self) -> String {
+        let ns = self.rig.states();
+        let each = |f: &dyn Fn(usize) -> String| -> String {
+            (0..ns)
+                .map(|i| format!("    r.s{i} = {};\n", f(i)))
+                .collect()
+        };
+        let mut s = String::new();
+        let _ = write!(
+            s,
+            "fn st_axpy(y: St, a: real, k: St) -> St {{\n    var r: St;\n{}    return r;\n}}\n\n",
+            each(&|i| format!("y.s{i} + a * k.s{i}"))
+        );
+        let _ = write!(
+            s,
+            "fn st_rk4(y: St, h6: real, k1: St, k2: St, k3: St, k4: St) -> St {{\n    var r: St;\n{}    return r;\n}}\n\n",
+            each(&|i| format!(
+                "y.s{i} + h6 * (((k1.s{i} + real(2.0) * k2.s{i}) + real(2.0) * k3.s{i}) + k4.s{i})"
+            ))
+        );
+        let _ = write!(
+            s,
+            "fn st_hermite(y0: St, f0: St, y1: St, f1: St, c00: real, c10: real, c01: real, c11: real) -> St {{\n    var r: St;\n{}    return r;\n}}\n\n",
+            each(&|i| format!("((c00 * y0.s{i} + c10 * f0.s{i}) + c01 * y1.s{i}) + c11 * f1.s{i}"))
+        );
+        s
+    }
+
+    fn functions(&self) -> String {
+        let p = self.prog();
+        let sig = "kc: Kc, t: real, y: St, md: Md";
+        let mut s = String::new();
+        // Derivative.
+        let _ = write!(
+            s,
+            "fn rig_deriv({sig}) -> St {{\n{}    var r: St;\n",
+            self.body(&p.deriv)
+        );
+        for (i, &d) in p.deriv.iter().enumerate() {
+            let _ = writeln!(s, "    r.s{i} = {};", self.name(d));
+        }
+        s.push_str("    return r;\n}\n\n");
+        // Events: every event function, then which armed transitions fire
+        // over a step (Transition::fires).
+        let _ = write!(
+            s,
+            "fn rig_events({sig}) -> Ev {{\n{}    var r: Ev;\n",
+            self.body(&p.event_roots())
+        );
+        for (i, tr) in p.transitions.iter().enumerate() {
+            let _ = writeln!(s, "    r.g[{i}] = {};", self.name(tr.g));
+        }
+        s.push_str("    return r;\n}\n\n");
+        s.push_str("fn rig_hits(g0: Ev, g1: Ev, md: Md) -> u32 {\n    var hits = 0u;\n");
+        for (i, tr) in p.transitions.iter().enumerate() {
+            let (past, further) = match tr.dir {
+                Direction::Up => (">=", ">"),
+                Direction::Down => ("<=", "<"),
+            };
+            let _ = writeln!(
+                s,
+                "    hits |= select(0u, {}u, md.m{} == {}u && g1.g[{i}] {past} real(0.0) && (!(g0.g[{i}] {past} real(0.0)) || g1.g[{i}] {further} g0.g[{i}]));",
+                1u64 << i,
+                tr.var,
+                tr.from
+            );
+        }
+        s.push_str("    return hits;\n}\n\n");
+        // Whether transition i is armed and past its switch (location).
+        let past = |i: usize| -> String {
+            let tr = &p.transitions[i];
+            let cmp = match tr.dir {
+                Direction::Up => ">=",
+                Direction::Down => "<=",
+            };
+            format!(
+                "md.m{} == {}u && {} {cmp} real(0.0)",
+                tr.var,
+                tr.from,
+                self.name(tr.g)
+            )
+        };
+        let _ = writeln!(
+            s,
+            "fn rig_event_past(kc: Kc, i: u32, t: real, y: St, md: Md) -> bool {{\n    switch i {{"
+        );
+        for i in 0..p.transitions.len() {
+            let _ = writeln!(
+                s,
+                "        case {i}u: {{\n{}    return {};\n        }}",
+                self.body(&[p.transitions[i].g]),
+                past(i)
+            );
+        }
+        s.push_str("        default: { return false; }\n    }\n}\n\n");
+        s.push_str("fn rig_fire(i: u32, md: ptr<function, Md>) {\n    switch i {\n");
+        for (i, tr) in p.transitions.iter().enumerate() {
+            let _ = writeln!(
+                s,
+                "        case {i}u: {{ (*md).m{} = {}u; }}",
+                tr.var, tr.to
+            );
+        }
+        s.push_str("        default: {}\n    }\n}\n\n");
+        // Outputs.
+        let out0 = p.outputs.first().copied();
+        match out0 {
+            Some(o) => {
+                let _ = write!(
+                    s,
+                    "fn rig_output0({sig}) -> real {{\n{}    return {};\n}}\n\n",
+                    self.body(&[o]),
+                    self.name(o)
+                );
+            }
+            None => {
+                let _ = write!(
+                    s,
+                    "fn rig_output0({sig}) -> real {{\n    return real(0.0);\n}}\n\n"
+                );
+            }
+        }
+        let mut roots = p.outputs.clone();
+        roots.extend(&p.full_state);
+        let _ = write!(
+            s,
+            "fn rig_report({sig}) -> Rep {{\n{}    var r: Rep;\n",
+            self.body(&roots)
+        );
+        for (j, &id) in roots.iter().enumerate() {
+            let _ = writeln!(s, "    r.v[{j}] = {};", self.name(id));
+        }
+        s.push_str("    return r;\n}\n");
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rig::SHIPPED;
+
+    #[test]
+    fn every_shipped_rig_emits_its_functions() {
+        for (id, _) in SHIPPED {
+            let desc = crate::rig::shipped(id).expect("a shipped rig");
+            let rig = crate::model::compiled::CompiledRig::new(desc, id).expect("compiles");
+            for prog in &rig.lowered.programs {
+                let g = GpuRig::new(prog).expect("emits");
+                let src = g.source(&|v| format!("real({v:e})"));
+                for f in [
+                    "fn rig_deriv",
+                    "fn rig_events",
+                    "fn rig_hits",
+                    "fn rig_fire",
+                    "fn rig_report",
+                ] {
+                    assert!(src.contains(f), "{id}: {f} missing");
+                }
+                let mut out = Vec::new();
+                let params: Vec<f64> = rig
+                    .desc
+                    .params
+                    .iter()
+                    .map(|p| p.default.unwrap_or(1.0))
+                    .collect();
+                g.pack(&params, &mut out);
+                assert_eq!(out.len(), g.slots.len());
+            }
+        }
+    }
+}
