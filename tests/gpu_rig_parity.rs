@@ -2,7 +2,8 @@
 //! every output and every state of every candidate's history, the fitness and
 //! divergence, for every shipped rig and for runs with many located switches
 //! (a stick-slip block under a slow sine, a mass in free play between two stops
-//! closing and opening every half cycle). f64 within
+//! closing and opening every half cycle), and every shipped campaign that names
+//! a rig, over candidates spread through its search box. f64 within
 //! [`F64_HISTORY_TOLERANCE`] of each series' largest magnitude; f32 within
 //! [`F32_HISTORY_TOLERANCE`].
 
@@ -11,12 +12,16 @@ use gpu_common as common;
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use std::path::Path;
+
+use rigfit::campaign::Campaign;
 use rigfit::eval::{
     Batch, Evaluator, ExperimentData, Precision, Problem, score_one, simulate_history,
 };
 use rigfit::gpu::{F32_HISTORY_TOLERANCE, F64_HISTORY_TOLERANCE, GpuContext};
 use rigfit::model::compiled::CompiledRig;
 use rigfit::model::{Drive, PiecewiseLinear, RigModel};
+use rigfit::search::GeneSpec;
 
 /// One rig, one drive, a seeded spread of candidates around `centre`.
 struct Case {
@@ -160,6 +165,12 @@ fn cases() -> Vec<Case> {
 
 const CANDIDATES: usize = 96;
 
+/// Samples of a shipped campaign's records over which f32 is held to its
+/// tolerance: f32 time carries the phase of a sine drive to ~1e-7 relative, and
+/// a resonant rig integrates that error (the inertial rig's velocity reaches
+/// 2.3e-4 of the largest acceleration by sample 1495 of its swept-sine record).
+const F32_CAMPAIGN_SAMPLES: usize = 1000;
+
 fn params_of(case: &Case) -> Vec<Vec<f64>> {
     let mut rng = ChaCha8Rng::seed_from_u64(7);
     (0..CANDIDATES)
@@ -213,8 +224,89 @@ fn events(case: &Case) -> usize {
     st.fired.len()
 }
 
-/// Largest relative history difference over every output and state; checks
-/// fitness and divergence on the way.
+/// Largest relative history difference over every output and state of
+/// `batch` on `problem`'s experiments (the first `span` samples, or all; in f32
+/// `F32_HISTORY_TOLERANCE`, in f64 `F64_HISTORY_TOLERANCE`); checks fitness and
+/// divergence on the way.
+fn compare_batch(
+    ctx: &GpuContext,
+    precision: Precision,
+    name: &str,
+    problem: &Problem,
+    batch: &Batch,
+    span: Option<usize>,
+) -> f64 {
+    let mut gpu = common::evaluator(ctx, problem, precision);
+    let scores = gpu.fitness(batch).unwrap();
+    let which: Vec<usize> = (0..batch.candidates).collect();
+    let hist = gpu.histories(batch, &which).unwrap();
+    let tol = match precision {
+        Precision::F64 => F64_HISTORY_TOLERANCE,
+        Precision::F32 => F32_HISTORY_TOLERANCE,
+    };
+    let mut worst = 0.0_f64;
+    let mut compared = 0;
+    for (e, exp) in problem.experiments.iter().enumerate() {
+        let samples = exp.window.end;
+        let span = match precision {
+            Precision::F64 => samples,
+            Precision::F32 => span.unwrap_or(samples).min(samples),
+        };
+        for (i, h) in hist.iter().enumerate() {
+            let (p, offset) = (batch.params_of(e, i), batch.offsets[e][i]);
+            let (cpu_score, diverged) = score_one(problem, e, p, offset);
+            let g_score = scores.get(i, e);
+            assert_eq!(
+                g_score >= rigfit::eval::DIVERGED,
+                diverged,
+                "{name} experiment {e} candidate {i}: GPU {g_score:e} vs CPU {cpu_score:e}"
+            );
+            if diverged {
+                continue;
+            }
+            compared += 1;
+            let cpu = simulate_history(problem, e, p, offset);
+            let g = &h[e];
+            let series = cpu
+                .outputs
+                .iter()
+                .zip(&g.outputs)
+                .chain(cpu.states.iter().zip(&g.states));
+            for (s, (c, gg)) in series.enumerate() {
+                assert_eq!(c.len(), gg.len());
+                let scale = c.iter().fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()));
+                for k in 0..c.len().min(span) {
+                    let err = (gg[k] - c[k]).abs() / scale;
+                    assert!(
+                        err <= tol,
+                        "{name} {precision:?} experiment {e} candidate {i} series {s} sample {k}: GPU {} vs CPU {} ({err:.2e} of {scale:.3e})",
+                        gg[k],
+                        c[k]
+                    );
+                    worst = worst.max(err);
+                }
+            }
+            if span < samples {
+                continue;
+            }
+            // 1 − R² from residuals of ~1 % of the record: its relative accuracy
+            // is the history's over the residual's size.
+            let f_tol = tol * 1e3 * (1.0 + cpu_score);
+            assert!(
+                (g_score - cpu_score).abs() <= f_tol * cpu_score.max(1e-3),
+                "{name} experiment {e} candidate {i}: fitness GPU {g_score:e} vs CPU {cpu_score:e}"
+            );
+        }
+    }
+    let runs = batch.candidates * problem.experiments.len();
+    assert!(
+        compared >= runs / 2,
+        "{name}: only {compared} of {runs} runs ran"
+    );
+    worst
+}
+
+/// [`compare_batch`] for a case.
 fn compare(ctx: &GpuContext, precision: Precision, case: &Case) -> f64 {
     let problem = problem(case);
     let params = params_of(case);
@@ -223,77 +315,71 @@ fn compare(ctx: &GpuContext, precision: Precision, case: &Case) -> f64 {
         params: vec![params.concat()],
         offsets: vec![vec![0.0; params.len()]],
     };
-    let mut gpu = common::evaluator(ctx, &problem, precision);
-    let scores = gpu.fitness(&batch).unwrap();
-    let which: Vec<usize> = (0..batch.candidates).collect();
-    let hist = gpu.histories(&batch, &which).unwrap();
-    let (tol, span) = match precision {
-        Precision::F64 => (F64_HISTORY_TOLERANCE, case.samples),
-        Precision::F32 => (
-            F32_HISTORY_TOLERANCE,
-            case.f32_samples.unwrap_or(case.samples),
-        ),
-    };
-    let mut worst = 0.0_f64;
-    let mut compared = 0;
-    for (i, p) in params.iter().enumerate() {
-        let (cpu_score, diverged) = score_one(&problem, 0, p, 0.0);
-        let g_score = scores.get(i, 0);
-        assert_eq!(
-            g_score >= rigfit::eval::DIVERGED,
-            diverged,
-            "{} candidate {i}: GPU {g_score:e} vs CPU {cpu_score:e}",
-            case.name
-        );
-        if diverged {
-            continue;
-        }
-        compared += 1;
-        let cpu = simulate_history(&problem, 0, p, 0.0);
-        let g = &hist[i][0];
-        let series = cpu
-            .outputs
-            .iter()
-            .zip(&g.outputs)
-            .chain(cpu.states.iter().zip(&g.states));
-        for (s, (c, gg)) in series.enumerate() {
-            assert_eq!(c.len(), gg.len());
-            let scale = c.iter().fold(f64::MIN_POSITIVE, |m, v| m.max(v.abs()));
-            for k in 0..c.len().min(span) {
-                let err = (gg[k] - c[k]).abs() / scale;
-                assert!(
-                    err <= tol,
-                    "{} {precision:?} candidate {i} series {s} sample {k}: GPU {} vs CPU {} ({err:.2e} of {scale:.3e})",
-                    case.name,
-                    gg[k],
-                    c[k]
-                );
-                worst = worst.max(err);
-            }
-        }
-        if span < case.samples {
-            continue;
-        }
-        // 1 − R² from residuals of ~1 % of the record: its relative accuracy is
-        // the history's over the residual's size.
-        let f_tol = tol * 1e3 * (1.0 + cpu_score);
-        assert!(
-            (g_score - cpu_score).abs() <= f_tol * cpu_score.max(1e-3),
-            "{} candidate {i}: fitness GPU {g_score:e} vs CPU {cpu_score:e}",
-            case.name
-        );
-    }
-    assert!(
-        compared >= CANDIDATES / 2,
-        "{}: only {compared} candidates ran",
-        case.name
-    );
-    worst
+    compare_batch(
+        ctx,
+        precision,
+        case.name,
+        &problem,
+        &batch,
+        case.f32_samples,
+    )
+}
+
+/// Every shipped campaign that names a rig (`campaigns/*.json` with `"rig"`).
+fn rig_campaigns() -> Vec<Campaign> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("campaigns");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    files.sort();
+    files
+        .into_iter()
+        .filter(|p| {
+            let v: serde_json::Value =
+                serde_json::from_str(&std::fs::read_to_string(p).unwrap()).unwrap();
+            v.get("rig").is_some()
+        })
+        .map(|p| Campaign::load(&p).unwrap())
+        .collect()
+}
+
+/// Genomes through a campaign's search box: the start point, then each gene
+/// moved by up to a fifth of its range (in its search scale), seeded.
+fn genomes(c: &Campaign, n: usize) -> Vec<Vec<f64>> {
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let start: Vec<f64> = c
+        .genes
+        .iter()
+        .map(|g| {
+            let spec = GeneSpec::new(g.name.clone(), g.lower, g.upper, g.scale);
+            g.init.unwrap_or_else(|| spec.at_fraction(0.5))
+        })
+        .collect();
+    (0..n)
+        .map(|i| {
+            c.genes
+                .iter()
+                .zip(&start)
+                .map(|(g, &v)| {
+                    if i == 0 {
+                        return v;
+                    }
+                    let spec = GeneSpec::new(g.name.clone(), g.lower, g.upper, g.scale);
+                    let (lo, hi) = spec.scaled_bounds();
+                    let x = spec.to_scaled(v) + 0.2 * (hi - lo) * rng.random_range(-1.0..=1.0);
+                    spec.to_value(x.clamp(lo, hi))
+                })
+                .collect()
+        })
+        .collect()
 }
 
 #[test]
 fn every_shipped_rig_has_a_parity_case() {
-    let covered: Vec<&str> = cases().iter().map(|c| c.rig.id()).collect();
+    let mut covered: Vec<&str> = cases().iter().map(|c| c.rig.id()).collect();
+    covered.extend(rig_campaigns().iter().map(|c| c.model.id()));
     for (id, _) in rigfit::rig::SHIPPED {
         assert!(covered.contains(&id), "rig {id} has no GPU parity case");
     }
@@ -318,6 +404,14 @@ fn compiled_rigs_match_the_cpu_reference_in_f64() {
         let worst = compare(&ctx, Precision::F64, &case);
         println!("{} f64: largest history difference {worst:.2e}", case.name);
     }
+    for c in rig_campaigns() {
+        let batch = c.batch(&genomes(&c, 48));
+        let worst = compare_batch(&ctx, Precision::F64, &c.name, &c.problem, &batch, None);
+        println!(
+            "campaign {} f64: largest history difference {worst:.2e}",
+            c.name
+        );
+    }
 }
 
 #[test]
@@ -326,5 +420,20 @@ fn compiled_rigs_match_the_cpu_reference_in_f32() {
     for case in cases() {
         let worst = compare(&ctx, Precision::F32, &case);
         println!("{} f32: largest history difference {worst:.2e}", case.name);
+    }
+    for c in rig_campaigns() {
+        let batch = c.batch(&genomes(&c, 48));
+        let worst = compare_batch(
+            &ctx,
+            Precision::F32,
+            &c.name,
+            &c.problem,
+            &batch,
+            Some(F32_CAMPAIGN_SAMPLES),
+        );
+        println!(
+            "campaign {} f32: largest history difference {worst:.2e}",
+            c.name
+        );
     }
 }

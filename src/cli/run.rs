@@ -200,7 +200,7 @@ fn check_memory(
 ) -> Result<(MemoryEstimate, String), super::BadInput> {
     let gpu_real = match (backend, precision) {
         (Backend::Cpu, _) => None,
-        _ if c.problem.model.gpu().is_none() => None,
+        _ if rigfit::gpu::gpu_model(&c.problem).is_err() => None,
         (_, PrecisionChoice::F32) => Some(4),
         _ => Some(8),
     };

@@ -142,9 +142,15 @@ fn evaluation_bytes_per_candidate(campaign: &Campaign, gpu_real: Option<usize>) 
     let p = campaign.model.params().len();
     let cpu = (p * 8 + 8 + 8 + 16 + 16 + 8) as f64;
     let gpu = gpu_real.map_or(0.0, |real| {
-        let stride = crate::gpu::layout::run_stride(p) as usize;
+        let kernels = crate::gpu::gpu_model(&campaign.problem).ok();
+        let slots = kernels.as_ref().map_or(p, |k| k.slots().len());
+        let state = kernels
+            .as_ref()
+            .map_or(crate::gpu::layout::STATE_STRIDE, |k| k.state_stride())
+            as usize;
+        let stride = crate::gpu::layout::run_stride(slots) as usize;
         let host = stride * 8 + stride * real;
-        let device = stride * real + crate::gpu::layout::STATE_STRIDE as usize * real + 16;
+        let device = stride * real + state * real + 16;
         (host + 2 * (device + 2 * real)) as f64
     });
     ne * (cpu + gpu) + 8.0
@@ -171,7 +177,9 @@ fn history_bytes_per_candidate(campaign: &Campaign, gpu_real: Option<usize>) -> 
         .map(|x| x.window.end)
         .sum();
     let gpu = gpu_real.map_or(0, |real| {
-        crate::gpu::layout::HIST_VALUES as usize * (2 * real + 8)
+        let values = crate::gpu::gpu_model(&campaign.problem)
+            .map_or(crate::gpu::layout::HIST_VALUES, |k| k.hist_values());
+        values as usize * (2 * real + 8)
     });
     (samples * (values * 8 + gpu)) as f64
 }
