@@ -4,7 +4,10 @@
 //! parameters drawn uniformly over their bounds (log-uniform on log scales,
 //! seeded): CPU on one thread, CPU on all threads, GPU f32 and f64 (specialised
 //! to the batch, as a calibration runs them) and the same without
-//! specialisation (`-generic`), at populations 1024, 4096 and 16384.
+//! specialisation (`-generic`), at populations 1024, 4096 and 16384; rows
+//! ending `-rig` run the same campaign with `"rig": "tensile4"`, the compiled
+//! rig description (`rigs/tensile4.json`) in the kernels the WGSL emitter
+//! writes, every switch located.
 //!
 //! `cargo bench --bench evaluator_throughput` prints a Markdown table first (the
 //! fastest of five timed evaluations per cell, after a warm-up), then runs the
@@ -32,13 +35,24 @@ const POPULATIONS: [usize; 3] = [1024, 4096, 16384];
 /// Timed evaluations per table cell; the table shows the fastest.
 const REPEATS: usize = 5;
 
-fn campaign() -> Campaign {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("campaigns/aa2024_t3_synthetic.json");
-    Campaign::load(&path).expect("the shipped example loads")
+/// The shipped example; with `rig`, through the compiled `rigs/tensile4.json`.
+fn campaign(rig: bool) -> Campaign {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("campaigns");
+    let path = dir.join("aa2024_t3_synthetic.json");
+    if !rig {
+        return Campaign::load(&path).expect("the shipped example loads");
+    }
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let obj = v.as_object_mut().unwrap();
+    obj.remove("model");
+    obj.insert("rig".into(), "tensile4".into());
+    Campaign::from_str(&v.to_string(), &dir, "aa2024_t3_synthetic.json (rig)")
+        .expect("the shipped example loads with the compiled rig")
 }
 
-fn problem() -> Problem {
-    let mut p = campaign().problem;
+fn problem(rig: bool) -> Problem {
+    let mut p = campaign(rig).problem;
     if let Some(n) = std::env::var("RIGFIT_BENCH_SAMPLES")
         .ok()
         .and_then(|v| v.parse::<usize>().ok())
@@ -60,8 +74,8 @@ fn problem() -> Problem {
 
 /// `n` candidates with every free parameter uniform over its bounds (in the
 /// logarithm for log-scale genes), from a fixed xorshift seed.
-fn batch(n: usize) -> Batch {
-    let c = campaign();
+fn batch(n: usize, rig: bool) -> Batch {
+    let c = campaign(rig);
     let mut s = 0x2545_f491_4f6c_dd1d_u64;
     let mut uniform = move || {
         s ^= s << 13;
@@ -84,15 +98,25 @@ fn steps(problem: &Problem) -> usize {
 
 type Factory = Box<dyn Fn() -> Box<dyn Evaluator>>;
 
-fn evaluators() -> Vec<(&'static str, Factory)> {
-    let mut v: Vec<(&'static str, Factory)> = vec![
+/// A table row: its name, its evaluator, whether it runs the compiled rig.
+type Row = (&'static str, Factory, bool);
+
+fn evaluators() -> Vec<Row> {
+    let mut v: Vec<Row> = vec![
         (
             "cpu-1-thread",
-            Box::new(|| Box::new(CpuEvaluator::new(problem(), 1))),
+            Box::new(|| Box::new(CpuEvaluator::new(problem(false), 1))),
+            false,
         ),
         (
             "cpu-all-threads",
-            Box::new(|| Box::new(CpuEvaluator::new(problem(), 0))),
+            Box::new(|| Box::new(CpuEvaluator::new(problem(false), 0))),
+            false,
+        ),
+        (
+            "cpu-all-threads-rig",
+            Box::new(|| Box::new(CpuEvaluator::new(problem(true), 0))),
+            true,
         ),
     ];
     match GpuContext::new() {
@@ -101,23 +125,27 @@ fn evaluators() -> Vec<(&'static str, Factory)> {
             if ctx.has_f64() {
                 precisions.push(("f64", Precision::F64));
             }
-            for (specialise, suffix) in [(true, ""), (false, "-generic")] {
-                for &(pname, precision) in &precisions {
-                    let name: &'static str = format!("gpu-{pname}{suffix}").leak();
-                    let c = ctx.clone();
-                    let options = GpuOptions {
-                        specialise,
-                        ..GpuOptions::default()
-                    };
-                    v.push((
-                        name,
-                        Box::new(move || {
-                            Box::new(
-                                GpuEvaluator::new(c.clone(), problem(), precision, options)
-                                    .unwrap(),
-                            )
-                        }),
-                    ));
+            for rig in [false, true] {
+                for (specialise, suffix) in [(true, ""), (false, "-generic")] {
+                    for &(pname, precision) in &precisions {
+                        let r = if rig { "-rig" } else { "" };
+                        let name: &'static str = format!("gpu-{pname}{suffix}{r}").leak();
+                        let c = ctx.clone();
+                        let options = GpuOptions {
+                            specialise,
+                            ..GpuOptions::default()
+                        };
+                        v.push((
+                            name,
+                            Box::new(move || {
+                                Box::new(
+                                    GpuEvaluator::new(c.clone(), problem(rig), precision, options)
+                                        .unwrap(),
+                                )
+                            }),
+                            rig,
+                        ));
+                    }
                 }
             }
         }
@@ -151,23 +179,23 @@ fn populations() -> Vec<usize> {
     }
 }
 
-fn print_table(evals: &[(&'static str, Factory)]) {
-    let steps = steps(&problem());
+fn print_table(evals: &[Row]) {
+    let steps = steps(&problem(false));
     println!(
         "\nShipped example, {} samples × {} substeps = {steps} RK4 steps per candidate",
-        problem().experiments[0].force.len(),
-        problem().substeps
+        problem(false).experiments[0].force.len(),
+        problem(false).substeps
     );
     let pops = populations();
     let per_cpu = std::env::var_os("RIGFIT_BENCH_CPU_TIME").is_some();
     let head: String = pops.iter().map(|n| format!(" {n} |")).collect();
     let rule: String = pops.iter().map(|_| "---|").collect();
     println!("\n| evaluator |{head}\n|---|{rule}");
-    for (name, make) in evals {
+    for (name, make, rig) in evals {
         let mut eval = make();
         let mut row = format!("| {name} |");
         for &n in &pops {
-            let b = batch(n);
+            let b = batch(n, *rig);
             eval.fitness(&b).unwrap();
             // The best of REPEATS timed evaluations: other work on the machine
             // only ever slows one down.
@@ -199,7 +227,7 @@ fn print_table(evals: &[(&'static str, Factory)]) {
 fn main() {
     let mut evals = evaluators();
     if let Some(rows) = env_list("RIGFIT_BENCH_ROWS") {
-        evals.retain(|(name, _)| rows.iter().any(|r| name.contains(r.as_str())));
+        evals.retain(|(name, ..)| rows.iter().any(|r| name.contains(r.as_str())));
     }
     print_table(&evals);
     if std::env::var_os("RIGFIT_BENCH_TABLE_ONLY").is_some() {
@@ -210,12 +238,12 @@ fn main() {
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(2))
         .configure_from_args();
-    let steps = steps(&problem());
+    let steps = steps(&problem(false));
     let mut group = c.benchmark_group("candidate_steps");
-    for (name, make) in &evals {
+    for (name, make, rig) in &evals {
         let mut eval = make();
         for n in POPULATIONS {
-            let b = batch(n);
+            let b = batch(n, *rig);
             group.throughput(Throughput::Elements((n * steps) as u64));
             group.bench_with_input(BenchmarkId::new(*name, n), &b, |bench, b| {
                 bench.iter(|| eval.fitness(b).unwrap())
