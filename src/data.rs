@@ -39,7 +39,7 @@ pub enum Column {
 impl fmt::Display for Column {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            Column::Name(n) => write!(f, "'{n}'"),
+            Column::Name(n) => write!(f, "'{}'", crate::text::echo_bare(n)),
             Column::Index(i) => write!(f, "#{i}"),
         }
     }

@@ -27,13 +27,16 @@ fn main() -> ExitCode {
         Ok(code) => code,
         Err(err) => {
             let code = cli::exit_code(&err);
-            let message = err.to_string();
+            // Every message is bounded, whatever a library quoted from the
+            // input (the sources cut their own echoes to 60 characters).
+            let bound = |s: String| rigfit::text::shorten_quotes(&s, 4 * rigfit::text::ECHO_CHARS);
+            let message = bound(err.to_string());
             let mut shown = message.clone();
             let mut causes = Vec::new();
             eprintln!("rigfit: error: {message}");
             for cause in err.chain().skip(1) {
                 // A message that already quotes its cause needs no second copy.
-                let text = cause.to_string();
+                let text = bound(cause.to_string());
                 if !shown.contains(&text) {
                     eprintln!("  caused by: {text}");
                     shown.push_str(&text);

@@ -176,7 +176,7 @@ pub(crate) fn parse_json<T: serde::de::DeserializeOwned>(
     }
     let de = &mut serde_json::Deserializer::from_str(text);
     let value = serde_path_to_error::deserialize(&mut *de).map_err(|e| {
-        let path = e.path().to_string();
+        let path = json_path(e.path());
         json_error(file, path, e.into_inner())
     })?;
     // Anything after the first value (a bad merge's second object) is an error,
@@ -185,11 +185,71 @@ pub(crate) fn parse_json<T: serde::de::DeserializeOwned>(
     Ok(value)
 }
 
+/// A JSON path as `experiments[0].params.k1`; a key that is not a short plain
+/// name is quoted, escaped and cut short (see [`crate::text::echo`]).
+fn json_path(path: &serde_path_to_error::Path) -> String {
+    use serde_path_to_error::Segment;
+    let mut out = String::new();
+    for segment in path.iter() {
+        match segment {
+            Segment::Seq { index } => out.push_str(&format!("[{index}]")),
+            Segment::Map { key } | Segment::Enum { variant: key } => {
+                if !out.is_empty() {
+                    out.push('.');
+                }
+                let plain = key.len() <= crate::text::ECHO_CHARS
+                    && !key.is_empty()
+                    && !key
+                        .chars()
+                        .any(|c| c.is_control() || c.is_whitespace() || matches!(c, '"' | '`'));
+                if plain {
+                    out.push_str(key);
+                } else {
+                    out.push_str(&crate::text::echo(key));
+                }
+            }
+            Segment::Unknown => {
+                if !out.is_empty() {
+                    out.push('.');
+                }
+                out.push('?');
+            }
+        }
+    }
+    if out.is_empty() { ".".into() } else { out }
+}
+
+/// serde's Rust type names in "expected …" said in JSON's words: `struct
+/// RawWindow` is an object, `usize` a whole number.
+fn plain_types(message: &str) -> String {
+    let Some((head, expected)) = message.rsplit_once("expected ") else {
+        return message.to_string();
+    };
+    let plain = match expected {
+        "usize" | "u64" | "u32" | "u16" | "u8" => "a whole number ≥ 0",
+        "isize" | "i64" | "i32" => "a whole number",
+        "f64" | "f32" => "a number",
+        "a boolean" | "bool" => "true or false",
+        s if s
+            .strip_prefix("struct ")
+            .is_some_and(|name| !name.contains(' ')) =>
+        {
+            "a JSON object {…}"
+        }
+        _ => return message.to_string(),
+    };
+    format!("{head}expected {plain}")
+}
+
 fn json_error(file: &Path, path: String, inner: serde_json::Error) -> CampaignError {
     let (line, column) = (inner.line(), inner.column());
     let full = inner.to_string();
     let suffix = format!(" at line {line} column {column}");
-    let mut message = full.strip_suffix(&suffix).unwrap_or(&full).to_string();
+    // serde quotes values and keys whole: cut them as every echo is cut.
+    let mut message = plain_types(&crate::text::shorten_quotes(
+        full.strip_suffix(&suffix).unwrap_or(&full),
+        crate::text::ECHO_CHARS,
+    ));
     if message == "trailing characters" {
         message = "expected the end of the file after the JSON object, found more text".into();
     }

@@ -128,7 +128,7 @@ pub fn resolve(
                     campaign.display().to_string(),
                     "rig",
                     format!("a shipped rig ({}) or a readable rig file", ids.join(", ")),
-                    format!("{s:?} ({e})"),
+                    format!("{} ({e})", crate::text::echo(s)),
                 )
             })?;
             let src = RigSource::File(path);
