@@ -417,14 +417,28 @@ impl RigModel for CompiledRig {
         }
     }
 
-    fn omega_bound(&self, lower: &[f64], upper: &[f64], _drive: &Drive) -> (f64, &'static str) {
-        // Gershgorin on each node's row of M⁻¹K and M⁻¹C, with every element's
-        // largest tangent stiffness and damping over the box and the reach.
+    fn omega_bound(&self, lower: &[f64], upper: &[f64], drive: &Drive) -> (f64, &'static str) {
+        // Gershgorin on each free node's row of M⁻¹K and M⁻¹C, with every
+        // element's largest tangent stiffness and damping over the box and the
+        // reach. A node whose motion the drive prescribes (its displacement
+        // slot's derivative is the constant 0) is not integrated: no row.
         let bounds: Vec<(f64, f64, String)> = (0..self.desc.elements.len())
             .map(|i| self.element_bound(i, lower, upper))
             .collect();
+        let prog = self.program_for(drive).map(|i| &self.lowered.programs[i]);
+        let prescribed = |k: usize| {
+            prog.is_some_and(|p| {
+                matches!(
+                    p.graph.ops[p.deriv[k] as usize],
+                    crate::compile::Op::Const(_)
+                )
+            })
+        };
         let mut best = (0.0, self.params.first().map_or("", |p| p.name));
-        for node in &self.desc.nodes {
+        for (k, node) in self.desc.nodes.iter().enumerate() {
+            if prescribed(k) {
+                continue;
+            }
             let m = self.coef_lower(&node.mass, lower);
             let (mut kr, mut cr) = (0.0, 0.0);
             let mut stiffest = (0.0, String::new());
