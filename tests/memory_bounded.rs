@@ -77,6 +77,20 @@ fn a_billion_candidates_are_refused_with_the_estimate_and_the_limit() {
             "the output folder was created"
         );
     }
+    // `check` tells, and leaves the refusal to `run`.
+    let o = rigfit().arg("check").arg(&c).output().unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(
+        text.contains("memory at population 1000000000: about"),
+        "{text}"
+    );
+    assert!(text.contains("(run will refuse it"), "{text}");
     let o = rigfit()
         .arg("run")
         .arg(&c)

@@ -13,6 +13,7 @@ use rigfit::campaign::Campaign;
 use rigfit::eval::{Problem, simulate_history};
 use rigfit::fixtures::gaussian;
 use rigfit::fsutil::atomic_write;
+use rigfit::job::memory::{self, MemoryEstimate, human_bytes};
 use rigfit::modes::ModeReport;
 
 fn load(path: &std::path::Path, params: Option<&std::path::Path>) -> Result<Campaign> {
@@ -189,10 +190,18 @@ pub fn modes(args: &ModesArgs, out: &Output) -> Result<()> {
 pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
     let c = load(&args.campaign, None)?;
     let length = c.check_run_length(args.max_steps)?;
+    // The memory `run` will check, on the CPU and (where the rig has kernels)
+    // on the GPU in f64, for the campaign's population.
+    let cpu_memory = MemoryEstimate::of(&c, None);
+    let gpu_memory = rigfit::gpu::gpu_model(&c.problem)
+        .is_ok()
+        .then(|| MemoryEstimate::of(&c, Some(8)));
+    let available = memory::available_memory();
     out.json(&serde_json::json!({
         "campaign": c.name, "model": c.model.id(), "experiments": c.problem.experiments.len(),
         "genes": c.genes.iter().map(|g| &g.name).collect::<Vec<_>>(),
         "substeps": c.solver.substeps, "warnings": c.warnings, "run_length": length,
+        "memory": {"cpu": cpu_memory, "gpu": gpu_memory, "available_bytes": available},
     }))?;
     out.say(|| {
         let mut s = format!(
@@ -223,6 +232,24 @@ pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
         );
         for g in &c.genes {
             let _ = write!(s, "\n  free {} in [{:e}, {:e}] {} ({:?})", g.name, g.lower, g.upper, g.unit, g.scale);
+        }
+        if c.search_given {
+            let _ = write!(
+                s,
+                "\n  memory at population {}: about {} on the CPU",
+                cpu_memory.population,
+                human_bytes(cpu_memory.total)
+            );
+            if let Some(g) = &gpu_memory {
+                let _ = write!(s, ", {} on the GPU (f64)", human_bytes(g.total));
+            }
+            if let Some(a) = available {
+                let largest = gpu_memory.as_ref().unwrap_or(&cpu_memory).total;
+                let _ = write!(s, "; {} available now", human_bytes(a));
+                if largest > a {
+                    s += " (run will refuse it: lower the population or pass --max-memory)";
+                }
+            }
         }
         s
     });
