@@ -99,6 +99,25 @@ fn cases() -> Vec<Case> {
     )
     .unwrap();
     let duffing = shipped("duffing_base");
+    let mut formula: serde_json::Value = serde_json::from_str(
+        rigfit::rig::SHIPPED
+            .iter()
+            .find(|(i, _)| *i == "duffing_base")
+            .unwrap()
+            .1,
+    )
+    .unwrap();
+    formula["elements"][0]["spring"] =
+        serde_json::json!({"law": "expression", "force": "k*x + k3*x^3 + 0.01*k*spow(x, 1.5)"});
+    formula["elements"][0]["damper"] = serde_json::json!({
+        "law": "expression",
+        "force": "c*v + 0.5*c*v*abs(v) + 0.1*c*tanh(v/0.01)"
+    });
+    let formula = CompiledRig::leaked(
+        serde_json::from_value(formula).unwrap(),
+        "duffing with expression laws (test)",
+    )
+    .unwrap();
     let stick = shipped("stick_slip");
     vec![
         Case {
@@ -120,6 +139,19 @@ fn cases() -> Vec<Case> {
         Case {
             name: "duffing_base (inline base-acceleration table)",
             rig: duffing,
+            drive: Drive::Velocity,
+            centre: vec![1.0, 4e4, 4e10, 20.0],
+            vary: vec![0, 1, 2, 3],
+            spread: 2.0,
+            dt: 2e-4,
+            samples: 500,
+            substeps: 2,
+            min_events: 0,
+            f32_samples: None,
+        },
+        Case {
+            name: "expression laws (spow, abs, tanh) on the Duffing rig",
+            rig: formula,
             drive: Drive::Velocity,
             centre: vec![1.0, 4e4, 4e10, 20.0],
             vary: vec![0, 1, 2, 3],
@@ -378,7 +410,8 @@ fn genomes(c: &Campaign, n: usize) -> Vec<Vec<f64>> {
 
 #[test]
 fn every_shipped_rig_has_a_parity_case() {
-    let mut covered: Vec<&str> = cases().iter().map(|c| c.rig.id()).collect();
+    let all = cases();
+    let mut covered: Vec<&str> = all.iter().map(|c| c.rig.id()).collect();
     covered.extend(rig_campaigns().iter().map(|c| c.model.id()));
     for (id, _) in rigfit::rig::SHIPPED {
         assert!(covered.contains(&id), "rig {id} has no GPU parity case");

@@ -215,6 +215,26 @@ fn every_bad_rig_is_refused_with_its_file_and_json_path() {
             },
             "drives[2].node",
         ),
+        (
+            "expression with an unknown name",
+            |v| v["elements"][2]["spring"] = json!({"law": "expression", "force": "k3*x + k4*x^3"}),
+            "elements[2].spring.force",
+        ),
+        (
+            "expression with bad syntax",
+            |v| v["elements"][2]["spring"] = json!({"law": "expression", "force": "k3*x + *x"}),
+            "elements[2].spring.force",
+        ),
+        (
+            "expression calling a function with the wrong arity",
+            |v| v["elements"][2]["spring"] = json!({"law": "expression", "force": "k3*max(x)"}),
+            "elements[2].spring.force",
+        ),
+        (
+            "damper expression reading the elongation",
+            |v| v["elements"][2]["damper"] = json!({"law": "expression", "force": "c3*x"}),
+            "elements[2].damper.force",
+        ),
     ];
     assert!(cases.len() >= 20);
     assert!(compile(&base()).is_ok(), "the base rig compiles");
@@ -226,5 +246,24 @@ fn every_bad_rig_is_refused_with_its_file_and_json_path() {
         assert!(err.starts_with("bad_rig.json: "), "{what}: {err}");
         assert!(err.contains(path), "{what}: expected path {path} in: {err}");
         assert!(!err.contains('\n'), "{what}: more than one line: {err}");
+        if what.starts_with("expression") || what.starts_with("damper expression") {
+            assert!(err.contains("column "), "{what}: no column in: {err}");
+        }
     }
+}
+
+#[test]
+fn expression_errors_name_the_column_and_what_is_wrong() {
+    let mut v = base();
+    v["elements"][2]["spring"] = json!({"law": "expression", "force": "k3*x + k4*x^3"});
+    let err = compile(&v).unwrap_err();
+    assert!(err.contains("column 8"), "{err}");
+    assert!(err.contains("unknown name 'k4'"), "{err}");
+    assert!(err.contains("did you mean"), "{err}");
+    v["elements"][2]["spring"] = json!({"law": "expression", "force": "k3*max(x)"});
+    let err = compile(&v).unwrap_err();
+    assert!(
+        err.contains("column 4") && err.contains("takes 2 arguments, found 1"),
+        "{err}"
+    );
 }

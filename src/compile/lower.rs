@@ -262,6 +262,54 @@ impl<'a> Layout<'a> {
     }
 
     /// Lowers a coefficient at `path`.
+    /// An expression law: `src` lowered with `var` (`x` or `v`) bound to its
+    /// value and every other name a parameter; errors name the column.
+    fn expression(
+        &self,
+        g: &mut Graph,
+        src: &str,
+        var: (&str, Id),
+        path: &str,
+    ) -> Result<Id, RigError> {
+        let expected = format!(
+            "a formula of {} and the rig's parameters (+ - * / ^, abs, sign, exp, ln, sqrt, sin, cos, tanh, min, max, spow)",
+            var.0
+        );
+        let short: String = src.chars().take(60).collect();
+        let at = |e: super::expr::ExprError| {
+            self.err(
+                path,
+                expected.clone(),
+                format!("{short:?}, column {}: {}", e.column, e.message),
+            )
+        };
+        let e = super::expr::parse(src).map_err(at)?;
+        let params = &self.params;
+        e.lower(g, &mut |g, name| {
+            if name == var.0 {
+                return Ok(var.1);
+            }
+            match params.get(name) {
+                Some(&i) => Ok(g.input(Input::Slot(i))),
+                None => {
+                    let mut names: Vec<&str> = params.keys().copied().collect();
+                    names.push(var.0);
+                    names.sort_unstable();
+                    let near = names
+                        .iter()
+                        .min_by_key(|n| strsim::levenshtein(n, name))
+                        .map(|n| format!(" (did you mean '{n}'?)"))
+                        .unwrap_or_default();
+                    Err(format!(
+                        "unknown name '{name}': not '{}' nor a parameter declared in \"params\"{near}",
+                        var.0
+                    ))
+                }
+            }
+        })
+        .map_err(at)
+    }
+
     fn coef(&self, g: &mut Graph, c: &Coef, path: &str) -> Result<Id, RigError> {
         match c {
             Coef::Number(v) if v.is_finite() => Ok(g.c(*v)),
@@ -856,6 +904,9 @@ fn element_force(
                     let p = g.signed_pow(d, beta);
                     g.mul(k, p)
                 }
+                SpringLaw::Expression { force } => {
+                    lay.expression(g, force, ("x", d), &format!("{sp}.force"))?
+                }
             };
             f = g.add(f, fs);
         }
@@ -897,6 +948,9 @@ fn element_force(
                     let neg = g.le(rate, zero);
                     let c = g.select(neg, cc, ct);
                     g.mul(c, rate)
+                }
+                DamperLaw::Expression { force } => {
+                    lay.expression(g, force, ("v", rate), &format!("{dp}.force"))?
                 }
             };
             f = g.add(f, fd);

@@ -9,6 +9,7 @@
 //! ```
 
 pub mod events;
+pub mod expr;
 pub mod ir;
 pub mod lanes;
 pub mod lower;

@@ -172,6 +172,10 @@ impl CompiledRig {
                     }
                 }
                 SpringLaw::ExpLinear { a, c, k, .. } => (b(k).max(b(a) + b(c)), name(k)),
+                SpringLaw::Expression { force } => (
+                    self.expression_tangent(force, "x", ex, lo, hi),
+                    format!("{}.spring.force", e.name),
+                ),
                 SpringLaw::PowerLaw { k, beta } => {
                     let bl = self.coef_lower(beta, lo);
                     let bh = b(beta);
@@ -213,6 +217,9 @@ impl CompiledRig {
                 c_tension,
                 c_compression,
             }) => b(c_tension).max(b(c_compression)),
+            Some(DamperLaw::Expression { force }) => {
+                self.expression_tangent(force, "v", rx, lo, hi)
+            }
         };
         (k, c, kname)
     }
@@ -224,6 +231,41 @@ impl CompiledRig {
 /// an overshooting RK4 step maps `|v|` to about `(h·c/m)·|v|^α`, which stays
 /// bounded (a dither of `(h·c/m)^{1/(1−α)}` about zero), never a divergence.
 pub const SUBLINEAR_FLOOR: f64 = 1e-3;
+
+impl CompiledRig {
+    /// Largest |dF/d`var`| of an expression law for `var` in `[−reach, reach]`,
+    /// with every parameter at its lower and then at its upper bound: central
+    /// differences at 401 points. A sampled estimate, not a rigorous bound.
+    fn expression_tangent(&self, src: &str, var: &str, reach: f64, lo: &[f64], hi: &[f64]) -> f64 {
+        let Ok(e) = crate::compile::expr::parse(src) else {
+            return 0.0;
+        };
+        let mut best: f64 = 0.0;
+        for bound in [lo, hi] {
+            let value = |x: f64| {
+                e.eval(&|n| {
+                    if n == var {
+                        return x;
+                    }
+                    self.desc
+                        .params
+                        .iter()
+                        .position(|p| p.name == n)
+                        .map_or(f64::NAN, |i| bound[i])
+                })
+            };
+            let dx = reach * 1e-4;
+            for j in 0..=400 {
+                let x = reach * (j as f64 / 200.0 - 1.0);
+                let d = (value(x + dx) - value(x - dx)) / (2.0 * dx);
+                if d.is_finite() {
+                    best = best.max(d.abs());
+                }
+            }
+        }
+        best
+    }
+}
 
 fn poly_slope(coeffs: &[Coef], b: &impl Fn(&Coef) -> f64, e: f64) -> f64 {
     coeffs

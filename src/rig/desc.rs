@@ -194,6 +194,12 @@ pub enum SpringLaw {
         /// Exponent β > 0.
         beta: Coef,
     },
+    /// A formula of the elongation `x` (m) and the rig's parameters, in N
+    /// (`"k*x + k3*x^3"`; see `crate::compile::expr` for the grammar).
+    Expression {
+        /// The formula.
+        force: String,
+    },
 }
 
 /// Damper laws `F_d(ė)`.
@@ -227,6 +233,12 @@ pub enum DamperLaw {
         c_tension: Coef,
         /// N·s/m.
         c_compression: Coef,
+    },
+    /// A formula of the rate `v` (m/s) and the rig's parameters, in N
+    /// (`"c*v*abs(v)"`; see `crate::compile::expr` for the grammar).
+    Expression {
+        /// The formula.
+        force: String,
     },
 }
 
