@@ -73,7 +73,7 @@ pub enum Command {
         rigfit fit-specimen campaigns/specimen_quasistatic_synthetic.csv --degree 3 --out specimen.json\n\n\
         Input: CSV of elongation (m) and force (N); '#' lines are comments.")]
     FitSpecimen(FitSpecimenArgs),
-    /// Frequency and damping of a free ringdown (e.g. the load cell after a fracture).
+    /// Frequency and damping of a free ringdown (a hammer impact, a release, the load cell after a fracture).
     #[command(after_help = "Example:\n  \
         rigfit ringdown campaigns/ringdown_synthetic.csv --m1 7.9 --k1 8.4e9 --out loadcell.json\n\n\
         Input: CSV of time (s) and force (N); '#' lines are comments.")]

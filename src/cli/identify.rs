@@ -57,6 +57,20 @@ pub enum Method {
         --f-min 3 --f-max 38 --out rig.json --svg paths.svg\n\n\
         Input: CSV with a time column (s), the measured motion (m) and the applied force (N).")]
     Nimiso(NimisoArgs),
+    /// Transmissibility, frequency-domain ARX coefficients and the stiffness and
+    /// damping of the element between two measured points (document 002, §2.1.2).
+    #[command(
+        after_help = "Example (the strut of the quarter car, unsprung to sprung mass):\n  \
+        rigfit identify arx car.csv --input unsprung_acceleration \\\n    \
+        --output sprung_acceleration --mass 350 --names k2,c2 --f-min 0.5 --f-max 30 \\\n    \
+        --out strut.json --svg strut.svg\n\n\
+        The tire (wheel pan to unsprung mass, carrying both masses):\n  \
+        rigfit identify arx car.csv --input wheel_pan_acceleration \\\n    \
+        --output unsprung_acceleration,sprung_acceleration --mass 40,350 --names k1,c1 ...\n\n\
+        Input: CSV with a time column (s), the reference channel and the response\n\
+        channels, all the same quantity (accelerations, velocities or displacements)."
+    )]
+    Arx(ArxArgs),
 }
 
 /// A restoring-force term on the command line.
@@ -108,7 +122,7 @@ pub enum ResponseArg {
 pub enum NonlinearArg {
     /// x³ (cubic stiffness, fragment name k3).
     Cubic,
-    /// sgn ẋ (Coulomb friction, fragment name Fc).
+    /// sgn ẋ (Coulomb friction, fragment name f_c).
     SignVelocity,
     /// |ẋ|·ẋ (quadratic damping, fragment name c2).
     QuadraticDamping,
@@ -235,6 +249,10 @@ pub struct IdimArgs {
     /// Keep every N-th row in the least squares.
     #[arg(long, default_value_t = 10)]
     pub decimation: usize,
+    /// Campaign name of the force offset (default: left out of the fragment, as
+    /// the shipped friction_sdof rig has none).
+    #[arg(long)]
+    pub offset_name: Option<String>,
     #[command(flatten)]
     pub common: Common,
 }
@@ -269,6 +287,57 @@ pub struct NimisoArgs {
     pub common: Common,
 }
 
+/// `rigfit identify arx`.
+#[derive(Debug, Args)]
+pub struct ArxArgs {
+    /// CSV record.
+    pub data: PathBuf,
+    /// Time column (s).
+    #[arg(long, default_value = "1")]
+    pub time: String,
+    /// Reference channel: the node on the driven side of the element.
+    #[arg(long, default_value = "2")]
+    pub input: String,
+    /// Response channels: the node across the element first, then every node it carries.
+    #[arg(long, value_delimiter = ',', default_values_t = ["3".to_string()])]
+    pub output: Vec<String>,
+    /// Masses (kg) of the response channels' nodes, in the same order.
+    #[arg(long, value_delimiter = ',', required = true)]
+    pub mass: Vec<f64>,
+    /// Campaign names of the element's stiffness and damping.
+    #[arg(long, value_delimiter = ',', default_values_t = ["k2".to_string(), "c2".to_string()])]
+    pub names: Vec<String>,
+    /// ARX form: Eq. 5 (neighbouring lines) or Eq. 6 (the cube at k/3 and 3k).
+    #[arg(long, value_enum, default_value_t = ArxFormArg::Linear)]
+    pub form: ArxFormArg,
+    /// Samples per segment (default: the largest power of two giving ≥ 8 segments).
+    #[arg(long)]
+    pub segment: Option<usize>,
+    /// Lower edge of the fitted band (Hz).
+    #[arg(long)]
+    pub f_min: f64,
+    /// Upper edge of the fitted band (Hz).
+    #[arg(long)]
+    pub f_max: f64,
+    /// Lines with a lower coherence are left out of the element fit.
+    #[arg(long, default_value_t = 0.9)]
+    pub min_coherence: f64,
+    /// Write the table (frequency, T, coherence, model, ARX coefficients) here.
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+    #[command(flatten)]
+    pub common: Common,
+}
+
+/// The ARX form on the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum ArxFormArg {
+    /// Eq. 5: Y(k) = B·U(k) + A₋₁·Y(k−1) + A₁·Y(k+1).
+    Linear,
+    /// Eq. 6: Y(k) = B·U(k) + A₋₁·Z(k/3) + A₁·Z(3k), Z the spectrum of y³.
+    Cubic,
+}
+
 /// Runs one identification method.
 pub fn identify(args: &IdentifyArgs, out: &Output) -> Result<()> {
     match &args.method {
@@ -276,6 +345,7 @@ pub fn identify(args: &IdentifyArgs, out: &Output) -> Result<()> {
         Method::Frf(a) => frf_cmd(a, out),
         Method::Idim(a) => idim_cmd(a, out),
         Method::Nimiso(a) => nimiso_cmd(a, out),
+        Method::Arx(a) => arx_cmd(a, out),
     }
 }
 
@@ -493,7 +563,7 @@ fn idim_cmd(a: &IdimArgs, out: &Output) -> Result<()> {
         &idim::figure(&r),
         1,
     )?;
-    let fragment = r.to_campaign_fragment(a.common.fixed);
+    let fragment = r.to_campaign_fragment(a.common.fixed, a.offset_name.as_deref());
     deliver(
         out,
         a.common.out.as_deref(),
@@ -527,7 +597,7 @@ fn nimiso_cmd(a: &NimisoArgs, out: &Output) -> Result<()> {
     let fs = 1.0 / sample_interval(t).map_err(bad)?;
     let (nonlinearity, name) = match a.nonlinear {
         NonlinearArg::Cubic => (Nonlinearity::Cubic, "k3"),
-        NonlinearArg::SignVelocity => (Nonlinearity::SignVelocity, "Fc"),
+        NonlinearArg::SignVelocity => (Nonlinearity::SignVelocity, "f_c"),
         NonlinearArg::QuadraticDamping => (Nonlinearity::QuadraticDamping, "c2"),
     };
     let opts = NimisoOptions {
@@ -569,6 +639,131 @@ fn nimiso_cmd(a: &NimisoArgs, out: &Output) -> Result<()> {
                 r.nonlinear_spread,
                 r.mean_coherence_linear,
                 r.mean_coherence_nonlinear
+            )
+        },
+    )
+}
+
+fn arx_cmd(a: &ArxArgs, out: &Output) -> Result<()> {
+    use rigfit::precal::identify::transmissibility::{self as tr, ArxForm};
+    let bad = |e| in_file(&a.data, e);
+    if a.names.len() != 2 {
+        anyhow::bail!(super::BadInput(format!(
+            "--names takes the stiffness and the damping name, found {}",
+            a.names.len()
+        )));
+    }
+    let table = Table::read(&a.data).map_err(bad)?;
+    let t = table.column(&a.time).map_err(bad)?;
+    let u = table.column(&a.input).map_err(bad)?;
+    let ys = a
+        .output
+        .iter()
+        .map(|c| table.column(c))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(bad)?;
+    let fs = 1.0 / sample_interval(t).map_err(bad)?;
+    let spec = tr::block_spectra(u, &ys, fs, a.segment).map_err(bad)?;
+    let (ts, coherences): (Vec<_>, Vec<_>) =
+        (0..ys.len()).map(|c| spec.transmissibility(c)).unzip();
+    let form = match a.form {
+        ArxFormArg::Linear => ArxForm::Linear,
+        ArxFormArg::Cubic => ArxForm::Cubic,
+    };
+    let lines = tr::arx(&spec, form, a.f_min, a.f_max).map_err(bad)?;
+    let fit = tr::element_fit(
+        &spec.freqs,
+        &ts,
+        &coherences[0],
+        &a.mass,
+        (a.f_min, a.f_max),
+        a.min_coherence,
+    )
+    .map_err(bad)?;
+    if let Some(path) = &a.csv {
+        let mut text = String::from(
+            "frequency_Hz,T_abs,T_phase_rad,coherence,model_abs,model_phase_rad,B_abs,A_minus_abs,A_plus_abs,explained\n",
+        );
+        for l in &lines {
+            let k = (l.frequency_hz / spec.settings.resolution_hz).round() as usize;
+            let beyond: Vec<_> = ts[1..].iter().map(|t| t[k]).collect();
+            let m = fit.model(l.frequency_hz, &beyond);
+            text += &format!(
+                "{},{},{},{},{},{},{},{},{},{}\n",
+                l.frequency_hz,
+                ts[0][k].norm(),
+                ts[0][k].arg(),
+                coherences[0][k],
+                m.norm(),
+                m.arg(),
+                l.b.0.hypot(l.b.1),
+                l.a_minus.0.hypot(l.a_minus.1),
+                l.a_plus.0.hypot(l.a_plus.1),
+                l.explained
+            );
+        }
+        rigfit::fsutil::atomic_write(path, text.as_bytes())
+            .with_context(|| format!("writing `{}`", path.display()))?;
+    }
+    write_svg(
+        a.common.svg.as_deref(),
+        &format!("transmissibility of {}", a.data.display()),
+        &tr::figure(
+            &spec.freqs,
+            &ts,
+            &coherences[0],
+            Some(&fit),
+            &lines,
+            (a.f_min, a.f_max),
+        ),
+        3,
+    )?;
+    let fragment = fit.to_campaign_fragment([&a.names[0], &a.names[1]], a.common.fixed);
+    let mean_feature = |pick: &dyn Fn(&tr::ArxLine) -> (f64, f64)| {
+        let v: Vec<f64> = lines
+            .iter()
+            .map(|l| {
+                let (re, im) = pick(l);
+                re.hypot(im)
+            })
+            .filter(|v| v.is_finite())
+            .collect();
+        v.iter().sum::<f64>() / v.len().max(1) as f64
+    };
+    deliver(
+        out,
+        a.common.out.as_deref(),
+        serde_json::json!({"welch": spec.settings, "element": fit, "arx": lines}),
+        &fragment,
+        || {
+            let w = &spec.settings;
+            format!(
+                "transmissibility of {} ({} → {}; {} samples at {:.1} Hz)\n  \
+                 segments: {} × {} samples, Hann, 50 % overlap, resolution {:.4} Hz\n  \
+                 element: {} = {:.5e} ± {:.2e} N/m, {} = {:.5e} ± {:.2e} N·s/m over {} lines \
+                 (relative error of T {:.4}, R² {:.5})\n  \
+                 ARX ({:?}) over {} lines: mean |A₋₁| = {:.4}, mean |A₁| = {:.4}\n",
+                a.data.display(),
+                a.input,
+                a.output.join(", "),
+                u.len(),
+                fs,
+                w.n_segments,
+                w.segment_len,
+                w.resolution_hz,
+                a.names[0],
+                fit.stiffness,
+                fit.stiffness_std_error,
+                a.names[1],
+                fit.damping,
+                fit.damping_std_error,
+                fit.lines,
+                fit.relative_error,
+                fit.r2,
+                form,
+                lines.len(),
+                mean_feature(&|l| l.a_minus),
+                mean_feature(&|l| l.a_plus)
             )
         },
     )

@@ -70,7 +70,7 @@ pub fn ringdown_cmd(args: &RingdownArgs, out: &Output) -> Result<()> {
                 "ringdown of {} (sampled at {:.0} Hz, free ringing from {:.6e} s)\n",
                 args.data.display(),
                 r.sample_rate_hz,
-                r.fracture.time
+                r.start.time
             );
             s += &format!(
                 "  PSD ({} window, {} samples × {} segments, resolution {:.1} Hz): peak {:.1} Hz\n",

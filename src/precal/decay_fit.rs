@@ -13,7 +13,7 @@ use super::{PrecalError, r_squared};
 
 const MAX_ITERATIONS: usize = 200;
 
-/// A fitted damped oscillation (times from the post-fracture start).
+/// A fitted damped oscillation (times from the start of the free ringing).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct DecayFit {
     /// Initial amplitude `A` (signal unit, N).
@@ -30,7 +30,7 @@ pub struct DecayFit {
     pub omega_n: f64,
     /// Damping ratio `ζ = σ/ω_n`.
     pub zeta: f64,
-    /// R² of the fit over the post-fracture samples.
+    /// R² of the fit over the samples of free ringing.
     pub r2: f64,
     /// Root-mean-square residual (N).
     pub rmse: f64,

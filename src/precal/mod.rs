@@ -3,8 +3,9 @@
 //!
 //! - [`specimen`]: the specimen law `S(e)` (elastic line up to `e_yield`, then a
 //!   polynomial) from quasi-static force–elongation data (`rigfit fit-specimen`);
-//! - [`ringdown`]: the load cell's free ringing after a brittle fracture gives its
-//!   natural frequency, damping ratio and `c1_post` (and `k1` when `m1` is known)
+//! - [`ringdown`]: a free decay (a hammer impact, a release, the load cell after
+//!   a brittle fracture) gives its natural frequency and three damping estimates
+//!   with their agreement, and `c1_post` (and `k1` when `m1` is known)
 //!   (`rigfit ringdown`);
 //! - [`psd`]: the Welch power spectral density used by the ring-down analysis;
 //! - [`csv_input`]: the small two-column CSV reader both commands use;
@@ -141,11 +142,12 @@ pub enum PrecalError {
         /// The median step (s).
         expected: f64,
     },
-    /// No fracture (a drop comparable to the signal's range) was found.
+    /// No start of free ringing (a drop comparable to the signal's range,
+    /// such as a fracture, a release or an impact's first swing) was found.
     #[error(
-        "no fracture found: the largest drop is {drop:.4e} N, less than half the force range {range:.4e} N"
+        "no start of free ringing found: the largest drop is {drop:.4e}, less than half the signal's range {range:.4e}; give the start time"
     )]
-    NoFracture {
+    NoRingStart {
         /// Largest drop found (N).
         drop: f64,
         /// Peak-to-peak force range (N).

@@ -1,17 +1,19 @@
-//! Ring-down analysis of the load cell after a brittle fracture
-//! (`rigfit ringdown`).
+//! Ring-down analysis of a free decay (`rigfit ringdown`): a structure
+//! ringing after a hammer impact or a release, such as the load cell of the
+//! tensile rig after a brittle fracture.
 //!
-//! Once the specimen has broken, the load cell is a single free mass on its
-//! spring: `m1·ÿ + c1_post·ẏ + k1·y = 0`, and the measured force
+//! Once released, the ringing mode is a single free mass on its spring (for
+//! the tensile rig, the load cell after the specimen has broken): `m1·ÿ + c1_post·ẏ + k1·y = 0`, and the measured force
 //! `F1 = k1·y + c1_post·ẏ` decays as `A·e^{−ζω_n t}·cos(ω_d t + φ)`, with
 //! `ω_n = sqrt(k1/m1)`, `ζ = c1_post / (2·sqrt(k1·m1))`, `ω_d = ω_n·sqrt(1 − ζ²)`.
 //!
 //! # Method
-//! 1. **Fracture**: unless a start time is given, the fracture is the start of
-//!    the largest drop (the largest fall from a running maximum to a later
-//!    sample). A drop below half the force range means no fracture; the analysis
-//!    uses the samples from the fracture peak on.
-//! 2. **Frequency**: Welch PSD of the post-fracture part (see [`super::psd`]:
+//! 1. **Start**: unless a start time is given, the free ringing starts at the
+//!    largest drop (the largest fall from a running maximum to a later sample:
+//!    a fracture, a release, the first swing after an impact). A drop below
+//!    half the signal's range means no start was found; the analysis uses the
+//!    samples from the peak before the drop on.
+//! 2. **Frequency**: Welch PSD of the free ringing (see [`super::psd`]:
 //!    Hann, 50 % overlap, segment length from the data, `Δf = fs/segment_len`,
 //!    log-parabolic peak interpolation).
 //! 3. **Logarithmic decrement**: positive peaks (local maxima over ±0.4 period,
@@ -51,7 +53,7 @@ use super::envelope::{EnvelopeDecay, envelope_decay};
 use super::psd::welch;
 use super::{DecayFit, PrecalError, check_inputs};
 
-/// Fewest post-fracture samples accepted.
+/// Fewest samples of free ringing accepted.
 pub const MIN_RING_SAMPLES: usize = 256;
 /// Fewest positive peaks accepted for the logarithmic decrement.
 pub const MIN_PEAKS: usize = 6;
@@ -66,7 +68,7 @@ pub struct RingdownOptions {
     pub m1: Option<f64>,
     /// Load-cell stiffness `k1` (N/m), if known.
     pub k1: Option<f64>,
-    /// Post-fracture start time (s); detected from the fracture drop when `None`.
+    /// Start of the free ringing (s); detected from the largest drop when `None`.
     pub start: Option<f64>,
     /// Welch segment length (samples); chosen from the data when `None`.
     pub segment_len: Option<usize>,
@@ -95,8 +97,8 @@ impl Default for RingdownOptions {
 
 /// Where the free ringing starts.
 #[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct Fracture {
-    /// Sample index of the post-fracture start.
+pub struct RingStart {
+    /// Sample index of the start.
     pub index: usize,
     /// Its time (s).
     pub time: f64,
@@ -130,9 +132,9 @@ pub struct PsdSummary {
 pub struct RingdownReport {
     /// Sample rate (Hz).
     pub sample_rate_hz: f64,
-    /// The post-fracture start.
-    pub fracture: Fracture,
-    /// Post-fracture samples analysed.
+    /// Where the free ringing starts.
+    pub start: RingStart,
+    /// Samples of free ringing analysed.
     pub n_samples: usize,
     /// PSD settings and peak.
     pub psd: PsdSummary,
@@ -235,12 +237,13 @@ impl RingdownReport {
     }
 }
 
-/// Analyses a force history `f` (N) at times `t` (s) containing a fracture.
+/// Analyses a signal `f` (a force in N for the tensile rig's load cell; any
+/// unit) at times `t` (s) that rings down freely from a start.
 ///
 /// # Errors
-/// Input errors, [`PrecalError::NonUniformTime`], [`PrecalError::NoFracture`],
+/// Input errors, [`PrecalError::NonUniformTime`], [`PrecalError::NoRingStart`],
 /// [`PrecalError::TooShortRingdown`] (fewer than [`MIN_RING_SAMPLES`] samples or
-/// [`MIN_PEAKS`] peaks after the fracture), [`PrecalError::InvalidOption`] and
+/// [`MIN_PEAKS`] peaks after the start), [`PrecalError::InvalidOption`] and
 /// [`PrecalError::Numerical`].
 pub fn analyse(
     t: &[f64],
@@ -258,22 +261,22 @@ pub fn analyse(
     }
     let dt = uniform_step(t)?;
     let fs = 1.0 / dt;
-    let fracture = match options.start {
+    let start = match options.start {
         Some(start) => {
             let index = t.partition_point(|&ti| ti < start).min(t.len() - 1);
-            Fracture {
+            RingStart {
                 index,
                 time: t[index],
                 force: f[index],
                 drop: None,
             }
         }
-        None => detect_fracture(t, f)?,
+        None => detect_start(t, f)?,
     };
-    let x = &f[fracture.index..];
+    let x = &f[start.index..];
     if x.len() < MIN_RING_SAMPLES {
         return Err(PrecalError::TooShortRingdown {
-            what: "post-fracture samples",
+            what: "samples of free ringing",
             needed: MIN_RING_SAMPLES,
             found: x.len(),
         });
@@ -347,7 +350,7 @@ pub fn analyse(
         k1: k1_given.or(m1.map(|m| m * wn * wn)),
         k1_from_frequency,
         model_frequency_hz: m1.zip(k1_given).map(|(m, k)| (k / m).sqrt() / (2.0 * PI)),
-        fracture,
+        start,
         fit,
         envelope,
         agreement,
@@ -396,7 +399,7 @@ fn uniform_step(t: &[f64]) -> Result<f64, PrecalError> {
 }
 
 /// Start of the largest drop from a running maximum.
-fn detect_fracture(t: &[f64], f: &[f64]) -> Result<Fracture, PrecalError> {
+fn detect_start(t: &[f64], f: &[f64]) -> Result<RingStart, PrecalError> {
     let (mut peak, mut best, mut best_drop) = (0, 0, 0.0);
     for (i, &v) in f.iter().enumerate() {
         if v > f[peak] {
@@ -414,12 +417,12 @@ fn detect_fracture(t: &[f64], f: &[f64]) -> Result<Fracture, PrecalError> {
         });
     let range = hi - lo;
     if best_drop <= 0.5 * range {
-        return Err(PrecalError::NoFracture {
+        return Err(PrecalError::NoRingStart {
             drop: best_drop,
             range,
         });
     }
-    Ok(Fracture {
+    Ok(RingStart {
         index: best,
         time: t[best],
         force: f[best],

@@ -272,6 +272,8 @@ impl DpeReport {
                     json!({"min": c.value - w, "max": c.value + w, "init": c.value})
                 }
                 Some(c) => json!(c.value),
+                // `inertial_sdof` has no Coulomb term: name it only when chosen.
+                None if term == Term::Coulomb => continue,
                 None => json!(0.0),
             };
             params.insert(term.param().into(), entry);

@@ -79,7 +79,7 @@ pub struct Estimate {
 pub struct IdimReport {
     /// Rows of the least squares (after decimation).
     pub rows: usize,
-    /// `M` (kg), `Fv` (N·s/m), `Fc` (N), `OFF` (N).
+    /// `M` (kg), `Fv` (N·s/m), `Fc` (N), `OFF` (N), named `m`, `c`, `f_c`, `off`.
     pub estimates: Vec<Estimate>,
     /// R² of the force.
     pub r2: f64,
@@ -98,7 +98,7 @@ pub struct IdimReport {
     pub time: Vec<f64>,
 }
 
-const PARAMS: [(&str, &str); 4] = [("m", "kg"), ("c", "N·s/m"), ("Fc", "N"), ("off", "N")];
+const PARAMS: [(&str, &str); 4] = [("m", "kg"), ("c", "N·s/m"), ("f_c", "N"), ("off", "N")];
 
 impl IdimReport {
     /// The estimate named `param`.
@@ -109,19 +109,26 @@ impl IdimReport {
             .map(|e| e.value)
     }
 
-    /// The campaign fragment (parameter names of a friction rig: `m`, `c`, `Fc`,
-    /// `off`): each free with `init` at the estimate and bounds of ±max(10
-    /// standard errors, 20 %), or plain numbers with `fixed`.
-    pub fn to_campaign_fragment(&self, fixed: bool) -> Value {
+    /// The campaign fragment in the names of the shipped `friction_sdof` rig
+    /// (`m`, `c`, `f_c`): each free with `init` at the estimate and bounds of
+    /// ±max(10 standard errors, 20 %), or plain numbers with `fixed`. That rig
+    /// has no force offset; the offset goes in under `offset_name` when given
+    /// (a rig with an offset parameter), and is left out otherwise.
+    pub fn to_campaign_fragment(&self, fixed: bool, offset_name: Option<&str>) -> Value {
         let mut params = serde_json::Map::new();
         for e in &self.estimates {
+            let name = match (e.param, offset_name) {
+                ("off", None) => continue,
+                ("off", Some(n)) => n,
+                (p, _) => p,
+            };
             let entry = if fixed {
                 json!(e.value)
             } else {
                 let w = (10.0 * e.std_error).max(0.2 * e.value.abs());
                 json!({"min": e.value - w, "max": e.value + w, "init": e.value})
             };
-            params.insert(e.param.into(), entry);
+            params.insert(name.into(), entry);
         }
         json!({ "params": params })
     }

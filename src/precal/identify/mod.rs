@@ -9,6 +9,9 @@
 //! - [`idim`]: inverse-model least squares for a driven mass with viscous and
 //!   Coulomb friction (the EMPS benchmark's IDIM-LS, document 004's friction
 //!   rig);
+//! - [`transmissibility`]: transmissibility, the frequency-domain ARX model,
+//!   the element stiffness and damping from a low-order transmissibility model,
+//!   and the experimental sensitivity functions (document 002, §2.1.2, §2.2);
 //! - [`columns`], [`signal`], [`lsq`]: the CSV reader, filters and differences,
 //!   and the least-squares solve they share; [`plot`]: their SVG figures.
 
@@ -22,3 +25,4 @@ pub mod nimiso;
 pub mod plot;
 pub mod rfs;
 pub mod signal;
+pub mod transmissibility;
