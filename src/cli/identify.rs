@@ -71,6 +71,15 @@ pub enum Method {
         channels, all the same quantity (accelerations, velocities or displacements)."
     )]
     Arx(ArxArgs),
+    /// The 2 × 2 impedance and receptance matrices of a point mass in x and y
+    /// from two impacts, with K, C and M fitted (document 003, the FRF method's
+    /// two-degree-of-freedom form).
+    #[command(after_help = "Example:\n  \
+        rigfit identify impedance hx.csv hy.csv --force force_N --x x_m --y y_m \\\n    \
+        --mass 3 --f-min 20 --f-max 400 --out bearing.json --svg impedance.svg\n\n\
+        Input: two CSV records of equal rate, the first struck in x, the second in y,\n\
+        each with a time column (s), the hammer force (N) and the x and y displacements (m).")]
+    Impedance(ImpedanceArgs),
 }
 
 /// A restoring-force term on the command line.
@@ -338,6 +347,38 @@ pub enum ArxFormArg {
     Cubic,
 }
 
+/// `rigfit identify impedance`.
+#[derive(Debug, Args)]
+pub struct ImpedanceArgs {
+    /// CSV record of the impact in x.
+    pub x_test: PathBuf,
+    /// CSV record of the impact in y.
+    pub y_test: PathBuf,
+    /// Time column (s).
+    #[arg(long, default_value = "1")]
+    pub time: String,
+    /// Hammer force column (N).
+    #[arg(long, default_value = "2")]
+    pub force: String,
+    /// x displacement column (m).
+    #[arg(long, default_value = "3")]
+    pub x: String,
+    /// y displacement column (m).
+    #[arg(long, default_value = "4")]
+    pub y: String,
+    /// The mass (kg), if known (default: fitted).
+    #[arg(long)]
+    pub mass: Option<f64>,
+    /// Lower edge of the fitted band (Hz).
+    #[arg(long)]
+    pub f_min: f64,
+    /// Upper edge of the fitted band (Hz).
+    #[arg(long)]
+    pub f_max: f64,
+    #[command(flatten)]
+    pub common: Common,
+}
+
 /// Runs one identification method.
 pub fn identify(args: &IdentifyArgs, out: &Output) -> Result<()> {
     match &args.method {
@@ -346,6 +387,7 @@ pub fn identify(args: &IdentifyArgs, out: &Output) -> Result<()> {
         Method::Idim(a) => idim_cmd(a, out),
         Method::Nimiso(a) => nimiso_cmd(a, out),
         Method::Arx(a) => arx_cmd(a, out),
+        Method::Impedance(a) => impedance_cmd(a, out),
     }
 }
 
@@ -765,6 +807,102 @@ fn arx_cmd(a: &ArxArgs, out: &Output) -> Result<()> {
                 mean_feature(&|l| l.a_minus),
                 mean_feature(&|l| l.a_plus)
             )
+        },
+    )
+}
+
+fn impedance_cmd(a: &ImpedanceArgs, out: &Output) -> Result<()> {
+    use rigfit::precal::identify::impedance::{self, ImpactRecord};
+    let read = |path: &Path| -> Result<(Table, f64)> {
+        let bad = |e| in_file(path, e);
+        let table = Table::read(path).map_err(bad)?;
+        let fs = 1.0 / sample_interval(table.column(&a.time).map_err(bad)?).map_err(bad)?;
+        Ok((table, fs))
+    };
+    let (tx, fsx) = read(&a.x_test)?;
+    let (ty, fsy) = read(&a.y_test)?;
+    if ((fsx - fsy) / fsx).abs() > 1e-6 {
+        anyhow::bail!(super::BadInput(format!(
+            "the two records have different sample rates ({fsx} Hz and {fsy} Hz)"
+        )));
+    }
+    let record = |t: &Table, path: &Path| -> Result<(Vec<f64>, Vec<f64>, Vec<f64>)> {
+        let bad = |e| in_file(path, e);
+        Ok((
+            t.column(&a.force).map_err(bad)?.to_vec(),
+            t.column(&a.x).map_err(bad)?.to_vec(),
+            t.column(&a.y).map_err(bad)?.to_vec(),
+        ))
+    };
+    let (f1, x1, y1) = record(&tx, &a.x_test)?;
+    let (f2, x2, y2) = record(&ty, &a.y_test)?;
+    let mats = impedance::matrices(
+        ImpactRecord {
+            force: &f1,
+            x: &x1,
+            y: &y1,
+        },
+        ImpactRecord {
+            force: &f2,
+            x: &x2,
+            y: &y2,
+        },
+        fsx,
+    )
+    .map_err(|e| in_file(&a.x_test, e))?;
+    let fit =
+        impedance::fit(&mats, (a.f_min, a.f_max), a.mass).map_err(|e| in_file(&a.x_test, e))?;
+    write_svg(
+        a.common.svg.as_deref(),
+        &format!(
+            "impedance from {} and {}",
+            a.x_test.display(),
+            a.y_test.display()
+        ),
+        &impedance::figure(&mats, &fit),
+        4,
+    )?;
+    let fragment = fit.to_campaign_fragment(a.common.fixed);
+    deliver(
+        out,
+        a.common.out.as_deref(),
+        serde_json::json!({"impedance": fit}),
+        &fragment,
+        || {
+            let (k, c) = (&fit.stiffness, &fit.damping);
+            let mut s = format!(
+                "impedance from {} (x impact) and {} (y impact), {} lines in {}…{} Hz\n  \
+                 M = {:.5e} kg{}\n  \
+                 K = [[{:.5e}, {:.5e}], [{:.5e}, {:.5e}]] N/m\n  \
+                 C = [[{:.5e}, {:.5e}], [{:.5e}, {:.5e}]] N·s/m\n  \
+                 R² of Re Z: xx {:.5}, yy {:.5}; of Im Z: xx {:.5}, xy {:.5}, yx {:.5}, yy {:.5}\n  \
+                 as bearing_2dof:",
+                a.x_test.display(),
+                a.y_test.display(),
+                fit.lines,
+                a.f_min,
+                a.f_max,
+                fit.mass,
+                if fit.mass_given { " (given)" } else { "" },
+                k[0][0],
+                k[0][1],
+                k[1][0],
+                k[1][1],
+                c[0][0],
+                c[0][1],
+                c[1][0],
+                c[1][1],
+                fit.r2_real[0][0],
+                fit.r2_real[1][1],
+                fit.r2_imag[0][0],
+                fit.r2_imag[0][1],
+                fit.r2_imag[1][0],
+                fit.r2_imag[1][1]
+            );
+            for (name, v) in fit.bearing_params() {
+                s += &format!(" {name} = {v:.5e}");
+            }
+            s + "\n"
         },
     )
 }

@@ -5,7 +5,9 @@
 //! - [`rfs`] and [`dpe`]: restoring-force surface and direct parameter
 //!   estimation of a base-excited SDOF rig (document 000, §3.2–3.3);
 //! - [`frf`] and [`modal`]: H1/H2 frequency-response estimates with coherence
-//!   and a rational-fraction modal fit (documents 003 and 002);
+//!   and a rational-fraction modal fit (documents 003 and 002); [`impedance`]:
+//!   their two-degree-of-freedom form, the 2 × 2 impedance and receptance
+//!   matrices of document 003 from two impacts;
 //! - [`idim`]: inverse-model least squares for a driven mass with viscous and
 //!   Coulomb friction (the EMPS benchmark's IDIM-LS, document 004's friction
 //!   rig);
@@ -19,6 +21,7 @@ pub mod columns;
 pub mod dpe;
 pub mod frf;
 pub mod idim;
+pub mod impedance;
 pub mod lsq;
 pub mod modal;
 pub mod nimiso;
