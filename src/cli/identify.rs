@@ -80,6 +80,16 @@ pub enum Method {
         Input: two CSV records of equal rate, the first struck in x, the second in y,\n\
         each with a time column (s), the hammer force (N) and the x and y displacements (m).")]
     Impedance(ImpedanceArgs),
+    /// The change of a quarter car's strut stiffness between two records, by the
+    /// experimental sensitivity functions (document 002, §2.2 and §3.4).
+    #[command(after_help = "Example:\n  \
+        rigfit identify sensitivity base.csv changed.csv --wheel-pan wheel_pan_acceleration \\\n    \
+        --unsprung unsprung_acceleration --sprung sprung_acceleration \\\n    \
+        --k1 1.751e5 --c1 1751 --f-min 5 --f-max 15 --name k2 --base-value 3e4 --svg dk.svg\n\n\
+        Input: two CSV records (before and after the change), each with a time column (s)\n\
+        and the wheel pan's, the unsprung mass's and the sprung mass's motion, all the same\n\
+        quantity. The tire force of Eq. 10 stands in for a load cell.")]
+    Sensitivity(SensitivityArgs),
 }
 
 /// A restoring-force term on the command line.
@@ -379,6 +389,51 @@ pub struct ImpedanceArgs {
     pub common: Common,
 }
 
+/// `rigfit identify sensitivity`.
+#[derive(Debug, Args)]
+pub struct SensitivityArgs {
+    /// CSV record before the change.
+    pub base: PathBuf,
+    /// CSV record after the change.
+    pub changed: PathBuf,
+    /// Time column (s).
+    #[arg(long, default_value = "1")]
+    pub time: String,
+    /// Wheel-pan (tire patch) column.
+    #[arg(long, default_value = "2")]
+    pub wheel_pan: String,
+    /// Unsprung-mass column.
+    #[arg(long, default_value = "3")]
+    pub unsprung: String,
+    /// Sprung-mass column.
+    #[arg(long, default_value = "4")]
+    pub sprung: String,
+    /// Tire stiffness K1 (N/m), for the input force of Eq. 10.
+    #[arg(long)]
+    pub k1: f64,
+    /// Tire damping C1 (N·s/m).
+    #[arg(long, default_value_t = 0.0)]
+    pub c1: f64,
+    /// Samples per segment (default: the largest power of two giving ≥ 8 segments).
+    #[arg(long)]
+    pub segment: Option<usize>,
+    /// Lower edge of the band ΔK is averaged over (Hz).
+    #[arg(long)]
+    pub f_min: f64,
+    /// Upper edge of that band (Hz).
+    #[arg(long)]
+    pub f_max: f64,
+    /// Campaign name of the strut stiffness, for the fragment.
+    #[arg(long, default_value = "k2")]
+    pub name: String,
+    /// The strut stiffness before the change (N/m): with it, the fragment holds
+    /// the value after the change.
+    #[arg(long)]
+    pub base_value: Option<f64>,
+    #[command(flatten)]
+    pub common: Common,
+}
+
 /// Runs one identification method.
 pub fn identify(args: &IdentifyArgs, out: &Output) -> Result<()> {
     match &args.method {
@@ -388,6 +443,7 @@ pub fn identify(args: &IdentifyArgs, out: &Output) -> Result<()> {
         Method::Nimiso(a) => nimiso_cmd(a, out),
         Method::Arx(a) => arx_cmd(a, out),
         Method::Impedance(a) => impedance_cmd(a, out),
+        Method::Sensitivity(a) => sensitivity_cmd(a, out),
     }
 }
 
@@ -903,6 +959,73 @@ fn impedance_cmd(a: &ImpedanceArgs, out: &Output) -> Result<()> {
                 s += &format!(" {name} = {v:.5e}");
             }
             s + "\n"
+        },
+    )
+}
+
+fn sensitivity_cmd(a: &SensitivityArgs, out: &Output) -> Result<()> {
+    use rigfit::precal::identify::transmissibility as tr;
+    let spectra = |path: &Path| -> Result<tr::BlockSpectra> {
+        let bad = |e| in_file(path, e);
+        let table = Table::read(path).map_err(bad)?;
+        let fs = 1.0 / sample_interval(table.column(&a.time).map_err(bad)?).map_err(bad)?;
+        let u = table.column(&a.wheel_pan).map_err(bad)?;
+        let y1 = table.column(&a.unsprung).map_err(bad)?;
+        let y2 = table.column(&a.sprung).map_err(bad)?;
+        tr::block_spectra(u, &[y1, y2], fs, a.segment).map_err(bad)
+    };
+    let (base, changed) = (spectra(&a.base)?, spectra(&a.changed)?);
+    let r = tr::strut_sensitivity(&base, &changed, a.k1, a.c1, (a.f_min, a.f_max))
+        .map_err(|e| in_file(&a.changed, e))?;
+    write_svg(
+        a.common.svg.as_deref(),
+        &format!(
+            "sensitivity: {} against {}",
+            a.changed.display(),
+            a.base.display()
+        ),
+        &tr::sensitivity_figure(&r, (a.f_min, a.f_max)),
+        2,
+    )?;
+    let mut params = serde_json::Map::new();
+    if let Some(k) = a.base_value {
+        let v = k + r.change.mean;
+        params.insert(
+            a.name.clone(),
+            if a.common.fixed {
+                serde_json::json!(v)
+            } else {
+                let w = (0.5 * v.abs()).max(10.0 * r.change.spread);
+                serde_json::json!({"min": (v - w).max(0.0), "max": v + w, "init": v})
+            },
+        );
+    }
+    let fragment = serde_json::json!({ "params": params });
+    deliver(
+        out,
+        a.common.out.as_deref(),
+        serde_json::json!({"welch": base.settings, "sensitivity": r}),
+        &fragment,
+        || {
+            let mut s = format!(
+                "strut stiffness change from {} to {} (Eq. 11 and 8a, tire force of Eq. 10)\n  \
+                 ΔK12 = {:.5e} N/m (spread {:.2e} over {} lines in {}…{} Hz)\n",
+                a.base.display(),
+                a.changed.display(),
+                r.change.mean,
+                r.change.spread,
+                r.change.per_line.len(),
+                a.f_min,
+                a.f_max
+            );
+            if let Some(k) = a.base_value {
+                s += &format!(
+                    "  {} = {:.5e} N/m after the change\n",
+                    a.name,
+                    k + r.change.mean
+                );
+            }
+            s
         },
     )
 }

@@ -674,3 +674,112 @@ pub fn figure(
         },
     ]
 }
+
+/// Section 3.4 on a quarter car: the change of the strut's stiffness `K_12`
+/// between a baseline and a changed record, each with the wheel pan, the
+/// unsprung and the sprung mass as channels 0, 1, 2 of its block spectra.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct StrutSensitivity {
+    /// Eq. 8a over the band.
+    pub change: StiffnessChange,
+    /// Line frequencies (Hz).
+    #[serde(skip)]
+    pub freqs: Vec<f64>,
+    /// The baseline's `∂H11/∂K12 = −(H11 − H21)²` (Eq. 11 with the strut for the
+    /// bolt), per line (m²/N²·N/m = m/N per N/m).
+    #[serde(skip)]
+    pub sensitivity: Vec<Complex64>,
+    /// `ΔH11` per line (m/N).
+    #[serde(skip)]
+    pub delta_h: Vec<Complex64>,
+}
+
+/// [`StrutSensitivity`] from block spectra whose reference is the wheel pan
+/// and whose responses are the unsprung and the sprung mass, with the tire's
+/// `k1` (N/m) and `c1` (N·s/m), over `band` (Hz).
+///
+/// # Errors
+/// [`PrecalError::InvalidOption`] for spectra with other lines or fewer than
+/// two responses; [`stiffness_change`]'s errors.
+pub fn strut_sensitivity(
+    base: &BlockSpectra,
+    changed: &BlockSpectra,
+    k1: f64,
+    c1: f64,
+    band: (f64, f64),
+) -> Result<StrutSensitivity, PrecalError> {
+    if base.freqs != changed.freqs || base.responses.len() < 2 || changed.responses.len() < 2 {
+        return Err(PrecalError::InvalidOption {
+            name: "records",
+            reason: "both records need the wheel pan, the unsprung and the sprung mass, at the same rate and segment length".into(),
+        });
+    }
+    let receptances = |spec: &BlockSpectra| -> Vec<Vec<Complex64>> {
+        let (t1, _) = spec.transmissibility(0);
+        let (t2, _) = spec.transmissibility(1);
+        (0..spec.freqs.len())
+            .map(|k| tire_receptances(&[t1[k], t2[k]], k1, c1, spec.freqs[k]))
+            .collect()
+    };
+    let (hb, hc) = (receptances(base), receptances(changed));
+    // Only H11 and H21 are measured; H12 = H21 by reciprocity.
+    let sensitivity: Vec<Complex64> = hb
+        .iter()
+        .map(|h| {
+            let rec = |a: usize, b: usize| if (a, b) == (1, 1) { h[0] } else { h[1] };
+            stiffness_sensitivity(&rec, 1, 1, 1, 2)
+        })
+        .collect();
+    let delta_h: Vec<Complex64> = hc.iter().zip(&hb).map(|(c, b)| c[0] - b[0]).collect();
+    let change = stiffness_change(&base.freqs, &delta_h, &sensitivity, band)?;
+    Ok(StrutSensitivity {
+        change,
+        freqs: base.freqs.clone(),
+        sensitivity,
+        delta_h,
+    })
+}
+
+/// Panels of Fig. 11: the sensitivity and the finite difference `ΔH11`
+/// (magnitudes), and the stiffness change per line with its band mean.
+pub fn sensitivity_figure(s: &StrutSensitivity, band: (f64, f64)) -> Vec<super::plot::Panel> {
+    use super::plot::{FIT, MEASURED, OTHER, Panel, Series, Style};
+    let ks: Vec<usize> = (1..s.freqs.len())
+        .filter(|&k| s.freqs[k] >= band.0 && s.freqs[k] <= band.1)
+        .collect();
+    let line = |label: &str, f: &dyn Fn(usize) -> f64, color| Series {
+        label: label.into(),
+        points: ks.iter().map(|&k| (s.freqs[k], f(k))).collect(),
+        style: Style::Line,
+        color,
+    };
+    vec![
+        Panel {
+            caption: "sensitivity and finite difference".into(),
+            x_desc: "frequency (Hz)".into(),
+            y_desc: "log10 magnitude".into(),
+            series: vec![
+                line(
+                    "|∂H11/∂K12| (m/N per N/m)",
+                    &|k| s.sensitivity[k].norm().log10(),
+                    FIT,
+                ),
+                line("|ΔH11| (m/N)", &|k| s.delta_h[k].norm().log10(), OTHER),
+            ],
+        },
+        Panel {
+            caption: "stiffness change ΔK12 = ΔH11 / (∂H11/∂K12)".into(),
+            x_desc: "frequency (Hz)".into(),
+            y_desc: "N/m".into(),
+            series: vec![
+                Series {
+                    label: "per line".into(),
+                    points: s.change.per_line.clone(),
+                    style: Style::Dots,
+                    color: MEASURED,
+                },
+                line("band mean", &|_| s.change.mean, FIT),
+            ],
+        },
+    ]
+}
