@@ -455,6 +455,14 @@ fn compiled_rigs_match_the_cpu_reference_in_f32() {
         println!("{} f32: largest history difference {worst:.2e}", case.name);
     }
     for c in rig_campaigns() {
+        if c.solver.precision == rigfit::eval::PrecisionChoice::F64 {
+            // A campaign that pins f64 says f32 cannot resolve its rig: the
+            // EMPS servo's force is k_servo·(qg − q) with k_servo 1.4e6 N/m, so
+            // f32 positions (4e-9 m at 0.06 m) put 5e-3 N into every force
+            // (2.2e-4 to 3.3e-4 of the contact force by sample 450).
+            println!("campaign {} pins f64: no f32 comparison", c.name);
+            continue;
+        }
         let batch = c.batch(&genomes(&c, 48));
         let worst = compare_batch(
             &ctx,

@@ -85,6 +85,7 @@ fn stick_slip_lanes_match_the_scalar_reference_through_many_events() {
     desc.drives[0].law = DriveLaw::ForceTable {
         t: Some(t),
         value: Some(f),
+        gain: None,
     };
     let r = CompiledRig::new(desc, "stick_slip").unwrap();
     let ps: Vec<Vec<f64>> = (0..5)

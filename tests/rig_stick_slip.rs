@@ -15,6 +15,7 @@ fn rig(t: Vec<f64>, f: Vec<f64>) -> CompiledRig {
     desc.drives[0].law = DriveLaw::ForceTable {
         t: Some(t),
         value: Some(f),
+        gain: None,
     };
     CompiledRig::new(desc, "rigs/stick_slip.json").unwrap()
 }

@@ -279,34 +279,6 @@ fn experiment(
             x.weight.to_string(),
         ));
     }
-    let drive = match &x.drive {
-        RawDrive::Velocity => Drive::Velocity,
-        RawDrive::Force(table) => {
-            let path = format!("{at}.drive.force");
-            if table.t.len() < 2 || table.t.len() != table.value.len() {
-                let found = format!("{} times and {} values", table.t.len(), table.value.len());
-                return Err(invalid(
-                    file,
-                    path,
-                    "at least 2 points, as many times as values",
-                    found,
-                ));
-            }
-            if let Some(k) = table.t.windows(2).position(|w| w[1] <= w[0]) {
-                let found = format!("{} s after {} s", table.t[k + 1], table.t[k]);
-                return Err(invalid(
-                    file,
-                    format!("{path}.t[{}]", k + 1),
-                    "strictly increasing times",
-                    found,
-                ));
-            }
-            Drive::Force(PiecewiseLinear {
-                t: table.t.clone(),
-                value: table.value.clone(),
-            })
-        }
-    };
     let d = &x.data;
     let data_at = format!("{at}.data");
     if !(d.time_scale > 0.0 && d.time_scale.is_finite()) {
@@ -350,6 +322,51 @@ fn experiment(
     let text = String::from_utf8_lossy(&bytes);
     let series = parse_csv(&text, &data_file, &spec).map_err(|s| data_err(data_at.clone(), s))?;
     warnings.extend(series.warning.clone());
+    let drive = match &x.drive {
+        RawDrive::Velocity => Drive::Velocity,
+        RawDrive::Force(table) => {
+            let path = format!("{at}.drive.force");
+            let (t, value) = match (&table.t, &table.value, &table.column) {
+                (Some(t), Some(v), None) => (t.clone(), v.clone()),
+                (None, None, Some(column)) => {
+                    let spec = CsvSpec {
+                        force: column.clone(),
+                        ..spec.clone()
+                    };
+                    let s = parse_csv(&text, &data_file, &spec)
+                        .map_err(|s| data_err(format!("{path}.column"), s))?;
+                    (s.t, s.force)
+                }
+                _ => {
+                    return Err(invalid(
+                        file,
+                        path,
+                        "\"t\" and \"value\", or \"column\" (a column of the data file)",
+                        "another combination",
+                    ));
+                }
+            };
+            if t.len() < 2 || t.len() != value.len() {
+                let found = format!("{} times and {} values", t.len(), value.len());
+                return Err(invalid(
+                    file,
+                    path,
+                    "at least 2 points, as many times as values",
+                    found,
+                ));
+            }
+            if let Some(k) = t.windows(2).position(|w| w[1] <= w[0]) {
+                let found = format!("{} s after {} s", t[k + 1], t[k]);
+                return Err(invalid(
+                    file,
+                    format!("{path}.t[{}]", k + 1),
+                    "strictly increasing times",
+                    found,
+                ));
+            }
+            Drive::Force(PiecewiseLinear { t, value })
+        }
+    };
     let window = window(file, &at, x, &series, warnings)?;
     let scored = &series.force[window.clone()];
     if scored.iter().all(|&f| f == scored[0]) {

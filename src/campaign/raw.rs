@@ -60,7 +60,8 @@ pub struct RawExperiment {
     pub name: String,
     /// `"data"`: the measured force history.
     pub data: RawData,
-    /// `"drive"`: `"velocity"` (default) or `{"force": {"t": [s…], "value": [N…]}}`.
+    /// `"drive"`: `"velocity"` (default), `{"force": {"t": [s…], "value": [N…]}}`
+    /// or `{"force": {"column": "vir_V"}}` (a column of the data file).
     #[serde(default)]
     pub drive: RawDrive,
     /// `"fit_window"`: record-time span scored by the fitness (default: the
@@ -147,14 +148,23 @@ pub enum RawDrive {
     Force(RawTable),
 }
 
-/// A piecewise-linear table.
+/// A piecewise-linear table: `t` and `value`, or a `column` of the
+/// experiment's data file.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RawTable {
     /// `"t"`: breakpoint times (s), strictly increasing, at least 2.
-    pub t: Vec<f64>,
-    /// `"value"`: force at each breakpoint (N).
-    pub value: Vec<f64>,
+    #[serde(default)]
+    pub t: Option<Vec<f64>>,
+    /// `"value"`: force at each breakpoint (N, or the unit the rig's drive
+    /// `gain` converts).
+    #[serde(default)]
+    pub value: Option<Vec<f64>>,
+    /// `"column"`: instead of `t` and `value`, this column of the
+    /// experiment's data file (header name or 0-based index), one breakpoint
+    /// per sample at the record's times (resampled with the record).
+    #[serde(default)]
+    pub column: Option<Column>,
 }
 
 /// The scored span, in record time.

@@ -500,7 +500,7 @@ fn lower_mode(lay: &Layout, mode: &str) -> Result<Program, RigError> {
                     a: Some(g.select(rest, zero, acc)),
                 };
             }
-            DriveLaw::ForceTable { t: tt, value } => {
+            DriveLaw::ForceTable { t: tt, value, gain } => {
                 let k = node.expect("checked");
                 let tab = match (tt, value) {
                     (Some(tt), Some(vv)) => Some(table(lay, &format!("{path}.law"), tt, vv)?),
@@ -521,7 +521,11 @@ fn lower_mode(lay: &Layout, mode: &str) -> Result<Program, RigError> {
                     }
                 };
                 tables.push(tab);
-                let f = g.input(Input::Table(tables.len() as u32 - 1));
+                let mut f = g.input(Input::Table(tables.len() as u32 - 1));
+                if let Some(gain) = gain {
+                    let gain = lay.coef(&mut g, gain, &format!("{path}.law.gain"))?;
+                    f = g.mul(gain, f);
+                }
                 external[k].push(f);
             }
             DriveLaw::BaseAccelerationTable { t: tt, value } => {

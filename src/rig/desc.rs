@@ -311,15 +311,21 @@ pub enum DriveLaw {
         /// Ramp length (m).
         ramp: Coef,
     },
-    /// A force on the node from a table (N), 0 for `t < 0`; without `t`/`value`
-    /// the experiment's force table (campaign `"drive": {"force": …}`).
+    /// A force on the node from a table, `gain·table(t)` (N), 0 for `t < 0`;
+    /// without `t`/`value` the experiment's table (campaign `"drive": {"force":
+    /// …}`, inline or a column of the data file).
     ForceTable {
         /// Times (s).
         #[serde(default)]
         t: Option<Vec<f64>>,
-        /// Forces (N).
+        /// Table values (N, or the table's unit where `gain` converts it).
         #[serde(default)]
         value: Option<Vec<f64>>,
+        /// Newtons per table unit (default 1): a motor constant (N/V) for a
+        /// table of voltages, a servo stiffness (N/m) for a table of
+        /// reference positions.
+        #[serde(default)]
+        gain: Option<Coef>,
     },
     /// Base acceleration `a(t)` (m/s²) from a table, 0 for `t < 0`: states are
     /// relative to the base and every node feels `−m·a(t)`.
