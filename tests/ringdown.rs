@@ -329,9 +329,12 @@ fn a_hammer_ringdown_of_the_bearing_rig_is_reported_in_a_ringdowns_words() {
         text += &format!("{:.10e},{x:.10e}\n", i as f64 / fs);
     }
     std::fs::write(&csv, text).unwrap();
+    let svg = dir.path().join("hammer.svg");
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_rigfit"))
         .arg("ringdown")
         .arg(&csv)
+        .arg("--svg")
+        .arg(&svg)
         .output()
         .unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -343,6 +346,13 @@ fn a_hammer_ringdown_of_the_bearing_rig_is_reported_in_a_ringdowns_words() {
     );
     assert!(!stdout.to_lowercase().contains("fractur"), "{stdout}");
     assert!(stdout.contains("free ringing from"), "{stdout}");
+    // The figure: the decay envelope, and the estimators' decay lines.
+    let figure = std::fs::read_to_string(&svg).unwrap();
+    assert!(
+        figure.contains("<svg") && figure.contains("envelope"),
+        "{figure}"
+    );
+    assert!(!figure.to_lowercase().contains("fractur"));
     let data = read_two_columns(&csv).unwrap();
     let r = analyse(&data.x, &data.y, &RingdownOptions::default()).unwrap();
     // The x mode: k_x + k_xy against the mass, with the y mode beside it.

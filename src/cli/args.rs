@@ -237,6 +237,10 @@ pub struct RingdownArgs {
     /// Write the campaign fragment (JSON) here.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Write the figure (SVG) here: the ringing with its fitted decay and envelope,
+    /// and the peaks' decay against each estimator's.
+    #[arg(long)]
+    pub svg: Option<PathBuf>,
 }
 
 /// A memory size: `2G`, `512M`, `1048576`.

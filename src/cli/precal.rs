@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use anyhow::Result;
+use anyhow::{Context, Result};
 
 use super::args::{FitSpecimenArgs, RingdownArgs};
 use super::{BadInput, Output, write_fragment};
@@ -59,6 +59,15 @@ pub fn ringdown_cmd(args: &RingdownArgs, out: &Output) -> Result<()> {
         ..RingdownOptions::default()
     };
     let r = ringdown::analyse(&data.x, &data.y, &opts).map_err(|e| in_file(&args.data, e))?;
+    if let Some(path) = &args.svg {
+        let svg = rigfit::precal::identify::plot::panels_svg(
+            &format!("ringdown of {}", args.data.display()),
+            &ringdown::figure(&r, &data.x, &data.y),
+            2,
+        )?;
+        rigfit::fsutil::atomic_write(path, svg.as_bytes())
+            .with_context(|| format!("writing `{}`", path.display()))?;
+    }
     let fragment = r.to_campaign_fragment();
     deliver(
         out,

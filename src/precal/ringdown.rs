@@ -161,6 +161,10 @@ pub struct RingdownReport {
     pub c1_post_decrement: Option<f64>,
     /// `c1_post` from the fitted ζ (N·s/m); this one goes into the fragment.
     pub c1_post: Option<f64>,
+    /// The peaks the decrement used: (time from the start (s), height above
+    /// the mean of the free ringing).
+    #[serde(skip)]
+    pub peaks: Vec<(f64, f64)>,
 }
 
 /// The three damping estimates side by side.
@@ -350,11 +354,122 @@ pub fn analyse(
         k1: k1_given.or(m1.map(|m| m * wn * wn)),
         k1_from_frequency,
         model_frequency_hz: m1.zip(k1_given).map(|(m, k)| (k / m).sqrt() / (2.0 * PI)),
+        peaks: peaks.iter().map(|&(i, a)| (i * dt, a)).collect(),
         start,
         fit,
         envelope,
         agreement,
     })
+}
+
+/// Panels of the ringdown figure: the free ringing with the fitted decay and
+/// its envelope `±A·e^{−σt}` and the decrement's peaks; and the peaks' heights
+/// on a log scale with the decay each estimator's ζ implies (`σ = ζ·ω_n` from
+/// the fit's amplitude), so a disagreement shows as diverging lines. `t` and
+/// `f` are the record [`analyse`] was given.
+pub fn figure(report: &RingdownReport, t: &[f64], f: &[f64]) -> Vec<super::identify::plot::Panel> {
+    use super::identify::plot::{FIT, MEASURED, OTHER, Panel, Series, Style, THIRD, thin};
+    let i0 = report.start.index;
+    let t0 = t[i0];
+    let x = &f[i0..];
+    let mean = x.iter().sum::<f64>() / x.len() as f64;
+    let fit = &report.fit;
+    // Up to a little past the last peak the decrement used (the rest is
+    // noise), with 40 points per cycle for the fitted curve.
+    let last_peak = report.peaks.last().map_or(0.0, |p| p.0);
+    let span = (t[t.len() - 1] - t0).min(1.3 * last_peak.max(10.0 * PI / fit.omega_d));
+    let n = ((span * fit.omega_d / (2.0 * PI) * 40.0) as usize).clamp(200, 4000);
+    let grid: Vec<f64> = (0..=n).map(|i| span * i as f64 / n as f64).collect();
+    let curve = |g: &dyn Fn(f64) -> f64| -> Vec<(f64, f64)> {
+        grid.iter().map(|&tt| (tt, g(tt))).collect()
+    };
+    let env = |tt: f64| fit.amplitude.abs() * (-fit.decay_rate * tt).exp();
+    let ringing = vec![
+        Series {
+            label: "record".into(),
+            points: thin(
+                x.iter()
+                    .enumerate()
+                    .take_while(|(i, _)| t[i0 + i] - t0 <= span)
+                    .map(|(i, v)| (t[i0 + i] - t0, *v))
+                    .collect(),
+                4000,
+            ),
+            style: Style::Dots,
+            color: MEASURED,
+        },
+        Series {
+            label: "fitted decay".into(),
+            points: curve(&|tt| {
+                fit.amplitude * (-fit.decay_rate * tt).exp() * (fit.omega_d * tt + fit.phase).cos()
+                    + fit.offset
+            }),
+            style: Style::Line,
+            color: FIT,
+        },
+        Series {
+            label: "envelope ±A·e^(−σt)".into(),
+            points: curve(&|tt| fit.offset + env(tt)),
+            style: Style::Line,
+            color: OTHER,
+        },
+        Series {
+            label: "".into(),
+            points: curve(&|tt| fit.offset - env(tt)),
+            style: Style::Line,
+            color: OTHER,
+        },
+        Series {
+            label: "decrement peaks".into(),
+            points: report.peaks.iter().map(|&(tt, a)| (tt, a + mean)).collect(),
+            style: Style::Dots,
+            color: THIRD,
+        },
+    ];
+    let wn = fit.omega_n;
+    let ln_a = fit.amplitude.abs().ln();
+    let line = |label: String, zeta: f64, color| Series {
+        label,
+        points: curve(&|tt| ln_a - zeta * wn * tt),
+        style: Style::Line,
+        color,
+    };
+    let g = &report.agreement;
+    let mut decay = vec![
+        Series {
+            label: "peaks".into(),
+            points: report.peaks.iter().map(|&(tt, a)| (tt, a.ln())).collect(),
+            style: Style::Dots,
+            color: MEASURED,
+        },
+        line(
+            format!("decrement ζ = {:.5}", g.zeta_decrement),
+            g.zeta_decrement,
+            THIRD,
+        ),
+        line(format!("fit ζ = {:.5}", g.zeta_fit), g.zeta_fit, FIT),
+    ];
+    if let Some(z) = g.zeta_envelope {
+        decay.push(line(format!("envelope ζ = {z:.5}"), z, OTHER));
+    }
+    vec![
+        Panel {
+            caption: "free ringing".into(),
+            x_desc: "time from the start (s)".into(),
+            y_desc: "signal".into(),
+            series: ringing,
+        },
+        Panel {
+            caption: format!(
+                "decay of the peaks: estimators {} (spread {:.1} %)",
+                if g.agree { "agree" } else { "DISAGREE" },
+                100.0 * g.relative_spread
+            ),
+            x_desc: "time from the start (s)".into(),
+            y_desc: "ln(peak height)".into(),
+            series: decay,
+        },
+    ]
 }
 
 fn validate(o: &RingdownOptions) -> Result<(), PrecalError> {

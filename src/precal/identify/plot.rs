@@ -17,7 +17,7 @@ pub enum Style {
 /// One series of a panel.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Series {
-    /// Legend text.
+    /// Legend text; empty for no legend entry.
     pub label: String,
     /// Points `(x, y)`; non-finite ones are skipped.
     pub points: Vec<(f64, f64)>,
@@ -138,9 +138,13 @@ pub fn panels_svg(title: &str, panels: &[Panel], columns: usize) -> Result<Strin
                         .draw_series(LineSeries::new(pts, color.stroke_width(2)))
                         .map_err(err)?,
                 };
-                drawn.label(s.label.as_str()).legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                });
+                // A series without a label (the second half of a pair) has no
+                // legend entry.
+                if !s.label.is_empty() {
+                    drawn.label(s.label.as_str()).legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                    });
+                }
             }
             chart
                 .configure_series_labels()
