@@ -1,4 +1,15 @@
 //! The GPU evaluator: pipelines and buffers built once, reused every generation.
+//!
+//! A fitness pass is submitted chunk by chunk (each chunk advances every run by
+//! [`GpuOptions::chunk_steps`] steps), at most two chunks in flight, and the
+//! cancel flag is read before each chunk is submitted: an interrupt ends the
+//! pass within two chunks. A batch larger than one dispatch covers (the
+//! device's workgroup count, or the largest storage binding) is split into
+//! parts, each bound to its own slice of the run buffers; every run computes
+//! the same bits as in an unsplit pass.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use crate::eval::{
     Batch, DIVERGED, EvalError, Evaluator, EvaluatorInfo, History, Precision, Problem, Scores,
@@ -30,6 +41,10 @@ pub struct GpuOptions {
     /// the fitness kernel (see `specialise.rs`); batches of fewer than
     /// [`specialise::MIN_RUNS`] runs always use the generic kernel.
     pub specialise: bool,
+    /// At most this many runs per dispatch, below what the device allows
+    /// (`None`: the device's limits alone). Tests set a small value so that
+    /// the split path runs on any adapter.
+    pub max_runs_per_pass: Option<usize>,
 }
 
 impl Default for GpuOptions {
@@ -37,6 +52,7 @@ impl Default for GpuOptions {
         Self {
             chunk_steps: 2048,
             specialise: true,
+            max_runs_per_pass: None,
         }
     }
 }
@@ -72,6 +88,15 @@ struct Specialised {
     kernel: Kernelled,
 }
 
+/// One dispatch's share of the run buffers: runs `first..first + per_pass`,
+/// with its own settings (its run count) and a bind group over its slices.
+#[derive(Debug)]
+struct Part {
+    first: usize,
+    settings: wgpu::Buffer,
+    bind: wgpu::BindGroup,
+}
+
 /// Buffers sized for a number of runs; grown when a batch needs more.
 #[derive(Debug)]
 struct RunBuffers {
@@ -81,7 +106,9 @@ struct RunBuffers {
     progress: wgpu::Buffer,
     fitness: wgpu::Buffer,
     readback: wgpu::Buffer,
-    bind: wgpu::BindGroup,
+    /// Runs per part (a multiple of the experiments per candidate).
+    per_pass: usize,
+    parts: Vec<Part>,
 }
 
 /// Scores candidates with the ensemble kernels of `shaders/`.
@@ -102,11 +129,11 @@ pub struct GpuEvaluator {
     last_specialised: Option<usize>,
     history_layout: pipeline::Layout,
     history_kernel: Kernelled,
-    settings: wgpu::Buffer,
     experiments: wgpu::Buffer,
     data: wgpu::Buffer,
     runs: Option<RunBuffers>,
     host: Vec<f64>,
+    cancel: Option<Arc<AtomicBool>>,
 }
 
 impl GpuEvaluator {
@@ -142,14 +169,8 @@ impl GpuEvaluator {
             Some(&history_layout),
         )?;
         let packed = pack_problem(&problem, &model);
-        let (settings, experiments, data) = pipeline::scoped(&ctx, "problem buffers", || {
+        let (experiments, data) = pipeline::scoped(&ctx, "problem buffers", || {
             (
-                pipeline::buffer(
-                    &ctx,
-                    "settings",
-                    size_of::<Settings>() as u64,
-                    wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                ),
                 pipeline::storage_init(
                     &ctx,
                     "experiments",
@@ -178,11 +199,11 @@ impl GpuEvaluator {
             last_specialised: None,
             history_layout,
             history_kernel,
-            settings,
             experiments,
             data,
             runs: None,
             host: Vec::new(),
+            cancel: None,
         })
     }
 
@@ -212,7 +233,11 @@ impl GpuEvaluator {
     fn upload(&mut self, batch: &Batch) -> Result<usize, GpuError> {
         let runs = batch.candidates * self.problem.experiments.len();
         if self.runs.as_ref().is_none_or(|r| r.capacity < runs) {
-            self.runs = Some(self.allocate(runs.next_power_of_two())?);
+            let most = self.most_runs();
+            if runs > most {
+                return Err(GpuError::TooLarge { runs, max: most });
+            }
+            self.runs = Some(self.allocate(runs.next_power_of_two().min(most))?);
         }
         let max_steps = pack_runs(
             &self.problem,
@@ -227,18 +252,54 @@ impl GpuEvaluator {
         Ok(max_steps)
     }
 
+    /// Bytes per run of each run buffer: parameters, state, progress, fitness.
+    fn run_bytes(&self) -> [u64; 4] {
+        let real = real_size(self.precision);
+        [
+            self.stride() * real,
+            self.model.state_stride() as u64 * real,
+            16,
+            real,
+        ]
+    }
+
+    /// Most runs one batch can hold: the device's largest buffer.
+    fn most_runs(&self) -> usize {
+        let widest = self.run_bytes().into_iter().max().unwrap_or(16);
+        (self.ctx.device.limits().max_buffer_size / widest) as usize
+    }
+
+    /// Runs per dispatch: what the device's workgroup count and largest
+    /// storage binding allow (and [`GpuOptions::max_runs_per_pass`]), rounded
+    /// down to a multiple of the experiments per candidate (so that a part
+    /// starts at a candidate's first run) and of the storage offset alignment
+    /// (so that every slice may be bound). 0 when no such number fits.
+    fn runs_per_pass(&self) -> usize {
+        let limits = self.ctx.device.limits();
+        let groups = limits.max_compute_workgroups_per_dimension as usize;
+        let widest = self.run_bytes().into_iter().max().unwrap_or(16);
+        let mut n = (groups * self.fitness_kernel.workgroup_x as usize)
+            .min((limits.max_storage_buffer_binding_size / widest) as usize);
+        if let Some(m) = self.options.max_runs_per_pass {
+            n = n.min(m);
+        }
+        let ne = self.problem.experiments.len().max(1);
+        let align = limits.min_storage_buffer_offset_alignment.max(1) as usize;
+        let unit = ne / gcd(ne, align) * align;
+        n / unit * unit
+    }
+
     fn allocate(&self, capacity: usize) -> Result<RunBuffers, GpuError> {
         let ctx = &self.ctx;
         let real = real_size(self.precision);
         let n = capacity as u64;
-        let largest = n * self.stride() * real;
-        let limit = ctx.device.limits().max_storage_buffer_binding_size;
-        if largest > limit {
-            return Err(GpuError::TooLarge {
-                runs: capacity,
-                max: (limit / (self.stride() * real)) as usize,
-            });
-        }
+        // With no aligned part size below the limits, one part: the pass
+        // then refuses what one dispatch cannot cover.
+        let per_pass = match self.runs_per_pass() {
+            0 => capacity,
+            p => p,
+        };
+        let parts = capacity.div_ceil(per_pass);
         use wgpu::BufferUsages as U;
         pipeline::scoped(ctx, "run buffers", || {
             let params = pipeline::buffer(
@@ -266,20 +327,60 @@ impl GpuEvaluator {
                 n * real,
                 U::MAP_READ | U::COPY_DST,
             );
-            let bind = pipeline::bind_with(
-                ctx,
-                "fitness bind group",
-                &self.fitness_layout.group,
-                &[
-                    &self.settings,
-                    &self.experiments,
-                    &params,
-                    &self.data,
-                    &state,
-                    &progress,
-                    &fitness,
-                ],
-            );
+            let bytes = self.run_bytes();
+            let parts = (0..parts)
+                .map(|k| {
+                    let first = k * per_pass;
+                    let count = per_pass.min(capacity - first) as u64;
+                    let settings = pipeline::buffer(
+                        ctx,
+                        "fitness settings",
+                        size_of::<Settings>() as u64,
+                        U::UNIFORM | U::COPY_DST,
+                    );
+                    fn slice(
+                        b: &wgpu::Buffer,
+                        first: u64,
+                        count: u64,
+                        bytes: u64,
+                    ) -> wgpu::BufferBinding<'_> {
+                        wgpu::BufferBinding {
+                            buffer: b,
+                            offset: first * bytes,
+                            size: wgpu::BufferSize::new(count * bytes),
+                        }
+                    }
+                    let f = first as u64;
+                    let whole = wgpu::Buffer::as_entire_buffer_binding;
+                    let bindings = [
+                        whole(&settings),
+                        whole(&self.experiments),
+                        slice(&params, f, count, bytes[0]),
+                        whole(&self.data),
+                        slice(&state, f, count, bytes[1]),
+                        slice(&progress, f, count, bytes[2]),
+                        slice(&fitness, f, count, bytes[3]),
+                    ];
+                    let entries: Vec<wgpu::BindGroupEntry<'_>> = bindings
+                        .into_iter()
+                        .enumerate()
+                        .map(|(i, b)| wgpu::BindGroupEntry {
+                            binding: i as u32,
+                            resource: wgpu::BindingResource::Buffer(b),
+                        })
+                        .collect();
+                    let bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                        label: Some("fitness bind group"),
+                        layout: &self.fitness_layout.group,
+                        entries: &entries,
+                    });
+                    Part {
+                        first,
+                        settings,
+                        bind,
+                    }
+                })
+                .collect();
             RunBuffers {
                 capacity,
                 params,
@@ -287,9 +388,32 @@ impl GpuEvaluator {
                 progress,
                 fitness,
                 readback,
-                bind,
+                per_pass,
+                parts,
             }
         })
+    }
+
+    /// Whether the flag given to [`Evaluator::set_cancel`] is raised.
+    fn cancelled(&self) -> bool {
+        self.cancel
+            .as_ref()
+            .is_some_and(|f| f.load(Ordering::Relaxed))
+    }
+
+    /// Blocks until `submission` (or everything submitted) has run.
+    fn wait(&self, submission: Option<wgpu::SubmissionIndex>) -> Result<(), GpuError> {
+        self.ctx
+            .device
+            .poll(wgpu::PollType::Wait {
+                submission_index: submission,
+                timeout: None,
+            })
+            .map(|_| ())
+            .map_err(|e| GpuError::Device {
+                during: "waiting for the GPU".into(),
+                message: e.to_string(),
+            })
     }
 
     /// Steps per dispatch: `options.chunk_steps` rounded up to whole blocks of
@@ -371,39 +495,94 @@ impl GpuEvaluator {
             Some(i) => &self.specialised[i].kernel,
             None => &self.fitness_kernel,
         };
-        let groups = pipeline::workgroups(&self.ctx, runs, kernel.workgroup_x)?;
-        let settings = Settings {
-            runs: runs as u32,
-            experiments: self.problem.experiments.len() as u32,
-            chunk_steps: self.chunk_steps(),
-            hist_stride: 0,
-            substeps: self.problem.substeps as u32,
-            _pad: [0; 3],
-        };
         let dispatches = self.dispatches(max_steps);
         let rb = self.runs.as_ref().expect("uploaded");
+        // The parts this batch uses, with their run counts and workgroups.
+        let mut parts = Vec::new();
+        for part in rb.parts.iter().take_while(|p| p.first < runs) {
+            let count = rb.per_pass.min(runs - part.first);
+            let groups = pipeline::workgroups(&self.ctx, count, kernel.workgroup_x)?;
+            parts.push((part, count, groups));
+        }
         let size = runs as u64 * real_size(self.precision);
         // A run that never reached its last sample would leave this sentinel.
         let unfinished = to_real_bytes(&vec![UNFINISHED; runs], self.precision);
         pipeline::scoped(&self.ctx, "fitness pass", || {
-            self.ctx
-                .queue
-                .write_buffer(&self.settings, 0, bytemuck::bytes_of(&settings));
+            for &(part, count, _) in &parts {
+                let settings = Settings {
+                    runs: count as u32,
+                    experiments: self.problem.experiments.len() as u32,
+                    chunk_steps: self.chunk_steps(),
+                    hist_stride: 0,
+                    substeps: self.problem.substeps as u32,
+                    _pad: [0; 3],
+                };
+                self.ctx
+                    .queue
+                    .write_buffer(&part.settings, 0, bytemuck::bytes_of(&settings));
+            }
             self.ctx.queue.write_buffer(&rb.fitness, 0, &unfinished);
             let mut enc = self
                 .ctx
                 .device
                 .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                    label: Some("fitness"),
+                    label: Some("fitness reset"),
                 });
             enc.clear_buffer(&rb.state, 0, None);
             enc.clear_buffer(&rb.progress, 0, None);
-            Self::encode_pass(&mut enc, kernel, &rb.bind, groups, dispatches);
+            self.ctx.queue.submit([enc.finish()]);
+        })?;
+        // One submit per chunk, the next queued while one runs, so that the
+        // device never waits for the host and an interrupt waits for at most
+        // the chunk running and the one queued.
+        let mut queued: Option<wgpu::SubmissionIndex> = None;
+        for _ in 0..dispatches {
+            if self.cancelled() {
+                self.wait(None)?;
+                return Err(GpuError::Cancelled);
+            }
+            let submitted = pipeline::scoped(&self.ctx, "fitness chunk", || {
+                let mut enc =
+                    self.ctx
+                        .device
+                        .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                            label: Some("fitness chunk"),
+                        });
+                {
+                    let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                        label: Some("rk4 chunk"),
+                        timestamp_writes: None,
+                    });
+                    pass.set_pipeline(&kernel.pipeline);
+                    for &(part, _, groups) in &parts {
+                        pass.set_bind_group(0, &part.bind, &[]);
+                        pass.dispatch_workgroups(groups, 1, 1);
+                    }
+                }
+                self.ctx.queue.submit([enc.finish()])
+            })?;
+            if let Some(previous) = queued.replace(submitted) {
+                self.wait(Some(previous))?;
+            }
+        }
+        pipeline::scoped(&self.ctx, "fitness read-back", || {
+            let mut enc = self
+                .ctx
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("fitness copy"),
+                });
             enc.copy_buffer_to_buffer(&rb.fitness, 0, &rb.readback, 0, size);
             self.ctx.queue.submit([enc.finish()]);
         })?;
         let bytes = pipeline::read_back(&self.ctx, &rb.readback, size)?;
         Ok(from_real_bytes(&bytes, self.precision))
+    }
+
+    /// The runs per dispatch of the batches scored so far (for tests and
+    /// reports): `None` before the first batch.
+    pub fn runs_per_pass_in_use(&self) -> Option<usize> {
+        self.runs.as_ref().map(|r| r.per_pass)
     }
 
     fn run_histories(&mut self, batch: &Batch, which: &[usize]) -> Result<Vec<f64>, GpuError> {
@@ -487,7 +666,14 @@ impl GpuEvaluator {
 }
 
 fn device_error(e: GpuError) -> EvalError {
-    EvalError::Device(e.to_string())
+    match e {
+        GpuError::Cancelled => EvalError::Cancelled,
+        e => EvalError::Device(e.to_string()),
+    }
+}
+
+fn gcd(a: usize, b: usize) -> usize {
+    if b == 0 { a } else { gcd(b, a % b) }
 }
 
 impl Evaluator for GpuEvaluator {
@@ -566,5 +752,9 @@ impl Evaluator for GpuEvaluator {
                     .collect()
             })
             .collect())
+    }
+
+    fn set_cancel(&mut self, flag: Arc<AtomicBool>) {
+        self.cancel = Some(flag);
     }
 }

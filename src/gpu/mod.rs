@@ -9,8 +9,10 @@
 //! `|F1| > blowup_limit` and `SS_res / SS_tot` over the fit window, accumulated on
 //! the device against the measured history. A second kernel writes full histories
 //! of chosen candidates ([`with_best`] adds the best one). Long runs are split
-//! into chunks of [`GpuOptions::chunk_steps`] steps, all dispatched in one
-//! submit; the [`GpuContext`] (device) and the evaluator's pipelines and buffers
+//! into chunks of [`GpuOptions::chunk_steps`] steps, one submit each with the
+//! next queued behind it, the cancel flag read between them (an interrupt
+//! stops a pass within two chunks); a batch past one dispatch's workgroup
+//! limit is split into several dispatches over slices of the buffers; the [`GpuContext`] (device) and the evaluator's pipelines and buffers
 //! are built once per job and reused every generation. The fitness kernel is
 //! specialised to the batch ([`specialise`]): values shared by every run are
 //! compiled in as constants (the same results to rounding).
@@ -125,6 +127,9 @@ pub enum GpuError {
         /// wgpu's message.
         message: String,
     },
+    /// The cancel flag was raised while a pass was in flight.
+    #[error("evaluation cancelled by an interrupt")]
+    Cancelled,
     /// The batch needs more workgroups or buffer space than the device allows.
     #[error("{runs} runs exceed the device's limit of {max} runs per pass")]
     TooLarge {
