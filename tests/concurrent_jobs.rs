@@ -1,5 +1,8 @@
 //! Several jobs started together on one machine, each with its own output
-//! folder: all finish, and each leaves exactly what it leaves when run alone.
+//! folder: all finish, and each leaves exactly what it leaves when run alone,
+//! on the CPU and on the GPU (four processes sharing one adapter).
+
+mod gpu_common;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -15,8 +18,8 @@ fn repo() -> PathBuf {
 
 /// Campaign `i` of the test: the shipped example with a small population
 /// (a fraction of a second of work each), seed `i + 1`, a checkpoint every
-/// generation, on the CPU, writing to `out<i>`.
-fn campaign(dir: &Path, i: usize) -> PathBuf {
+/// generation, on `backend` (the GPU in f32), writing to `out<i>`.
+fn campaign(dir: &Path, i: usize, backend: &str) -> PathBuf {
     let text = std::fs::read_to_string(repo().join("campaigns/aa2024_t3_synthetic.json")).unwrap();
     let mut c: Value = serde_json::from_str(&text).unwrap();
     let record = repo().join("campaigns/aa2024_t3_v2_synthetic.csv");
@@ -27,7 +30,8 @@ fn campaign(dir: &Path, i: usize) -> PathBuf {
     c["search"]["seed"] = json!(i + 1);
     c["search"]["checkpoint_every"] = json!(1);
     c["search"]["polish"] = json!({"enabled": true, "starts": 1, "max_iterations": 2});
-    c["solver"]["backend"] = json!("cpu");
+    c["solver"]["backend"] = json!(backend);
+    c["solver"]["precision"] = json!("f32");
     c["output"] = json!(format!("out{i}"));
     let path = dir.join(format!("c{i}.json"));
     std::fs::write(&path, serde_json::to_string_pretty(&c).unwrap()).unwrap();
@@ -63,8 +67,22 @@ fn outcome(folder: &Path) -> (Vec<String>, Value, Vec<u8>) {
 
 #[test]
 fn four_jobs_started_together_finish_as_they_do_alone() {
+    together_as_alone("cpu");
+}
+
+#[test]
+fn four_gpu_jobs_started_together_finish_as_they_do_alone() {
+    if gpu_common::gpu().is_none() {
+        return;
+    }
+    together_as_alone("gpu");
+}
+
+fn together_as_alone(backend: &str) {
     let dir = tempfile::tempdir().unwrap();
-    let campaigns: Vec<PathBuf> = (0..JOBS).map(|i| campaign(dir.path(), i)).collect();
+    let campaigns: Vec<PathBuf> = (0..JOBS)
+        .map(|i| campaign(dir.path(), i, backend))
+        .collect();
 
     let mut alone = BTreeMap::new();
     for (i, c) in campaigns.iter().enumerate() {
@@ -76,7 +94,9 @@ fn four_jobs_started_together_finish_as_they_do_alone() {
             String::from_utf8_lossy(&o.stderr)
         );
         let folder = dir.path().join(format!("out{i}"));
-        alone.insert(i, outcome(&folder));
+        let done = outcome(&folder);
+        assert_eq!(done.1["backend"], json!(backend), "job {i}");
+        alone.insert(i, done);
         std::fs::rename(&folder, dir.path().join(format!("alone{i}"))).unwrap();
     }
     // Different seeds: the jobs really are different jobs.
