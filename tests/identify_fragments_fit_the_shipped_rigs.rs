@@ -251,7 +251,7 @@ fn nimiso_fragment_fits_the_friction_rig() {
 }
 
 #[test]
-fn idim_fragment_fits_the_friction_rig() {
+fn idim_fragment_fits_the_emps_rig() {
     let dir = tempfile::tempdir().unwrap();
     let data =
         Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/emps/emps_position_voltage.csv");
@@ -270,6 +270,5 @@ fn idim_fragment_fits_the_friction_rig() {
         ],
         dir.path(),
     );
-    assert!(fragment["params"].get("off").is_none());
-    accepted("friction_sdof_synthetic.json", &fragment);
+    accepted("emps_closed_loop.json", &fragment);
 }

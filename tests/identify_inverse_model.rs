@@ -71,14 +71,14 @@ fn synthetic_servo_mass_parameters_are_recovered() {
     let r = idim::estimate(&q, &tau, &IdimOptions::default()).unwrap();
     println!("{r:#?}");
     close("M", r.get("m").unwrap(), 95.0, 0.01);
-    close("Fv", r.get("c").unwrap(), 200.0, 0.01);
+    close("Fv", r.get("f_v").unwrap(), 200.0, 0.01);
     close("Fc", r.get("f_c").unwrap(), 20.0, 0.02);
     // OFF is told apart from Fc·sgn q̇ only by the motion's asymmetry, and the
     // filters smear each reversal: it is the least determined (0.3 N of 20 N).
     assert!(
-        (r.get("off").unwrap() + 3.0).abs() < 0.3,
+        (r.get("f_offset").unwrap() + 3.0).abs() < 0.3,
         "{:?}",
-        r.get("off")
+        r.get("f_offset")
     );
 }
 
@@ -98,9 +98,9 @@ fn emps_record_matches_the_benchmark_reference_within_one_percent() {
     let r = idim::estimate(q, &tau, &IdimOptions::default()).unwrap();
     println!("{r:#?}");
     close("M", r.get("m").unwrap(), 95.09, 0.01);
-    close("Fv", r.get("c").unwrap(), 203.1, 0.01);
+    close("Fv", r.get("f_v").unwrap(), 203.1, 0.01);
     close("Fc", r.get("f_c").unwrap(), 20.44, 0.01);
-    close("OFF", r.get("off").unwrap(), -3.19, 0.01);
+    close("OFF", r.get("f_offset").unwrap(), -3.19, 0.01);
 }
 
 #[test]

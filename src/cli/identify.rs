@@ -268,10 +268,6 @@ pub struct IdimArgs {
     /// Keep every N-th row in the least squares.
     #[arg(long, default_value_t = 10)]
     pub decimation: usize,
-    /// Campaign name of the force offset (default: left out of the fragment, as
-    /// the shipped friction_sdof rig has none).
-    #[arg(long)]
-    pub offset_name: Option<String>,
     #[command(flatten)]
     pub common: Common,
 }
@@ -661,7 +657,7 @@ fn idim_cmd(a: &IdimArgs, out: &Output) -> Result<()> {
         &idim::figure(&r),
         1,
     )?;
-    let fragment = r.to_campaign_fragment(a.common.fixed, a.offset_name.as_deref());
+    let fragment = r.to_campaign_fragment(a.common.fixed);
     deliver(
         out,
         a.common.out.as_deref(),

@@ -79,7 +79,7 @@ pub struct Estimate {
 pub struct IdimReport {
     /// Rows of the least squares (after decimation).
     pub rows: usize,
-    /// `M` (kg), `Fv` (N·s/m), `Fc` (N), `OFF` (N), named `m`, `c`, `f_c`, `off`.
+    /// `M` (kg), `Fv` (N·s/m), `Fc` (N), `OFF` (N), named `m`, `f_v`, `f_c`, `f_offset`.
     pub estimates: Vec<Estimate>,
     /// R² of the force.
     pub r2: f64,
@@ -98,7 +98,12 @@ pub struct IdimReport {
     pub time: Vec<f64>,
 }
 
-const PARAMS: [(&str, &str); 4] = [("m", "kg"), ("c", "N·s/m"), ("f_c", "N"), ("off", "N")];
+const PARAMS: [(&str, &str); 4] = [
+    ("m", "kg"),
+    ("f_v", "N·s/m"),
+    ("f_c", "N"),
+    ("f_offset", "N"),
+];
 
 impl IdimReport {
     /// The estimate named `param`.
@@ -109,19 +114,13 @@ impl IdimReport {
             .map(|e| e.value)
     }
 
-    /// The campaign fragment in the names of the shipped `friction_sdof` rig
-    /// (`m`, `c`, `f_c`): each free with `init` at the estimate and bounds of
-    /// ±max(10 standard errors, 20 %), or plain numbers with `fixed`. That rig
-    /// has no force offset; the offset goes in under `offset_name` when given
-    /// (a rig with an offset parameter), and is left out otherwise.
-    pub fn to_campaign_fragment(&self, fixed: bool, offset_name: Option<&str>) -> Value {
+    /// The campaign fragment in the names of the shipped `emps` rigs (`m`,
+    /// `f_v`, `f_c`, `f_offset`): each free with `init` at the estimate and
+    /// bounds of ±max(10 standard errors, 20 %), or plain numbers with `fixed`.
+    pub fn to_campaign_fragment(&self, fixed: bool) -> Value {
         let mut params = serde_json::Map::new();
         for e in &self.estimates {
-            let name = match (e.param, offset_name) {
-                ("off", None) => continue,
-                ("off", Some(n)) => n,
-                (p, _) => p,
-            };
+            let name = e.param;
             let entry = if fixed {
                 json!(e.value)
             } else {
