@@ -132,4 +132,9 @@ impl ResidualCost for CampaignCost<'_> {
         }
         Ok(out)
     }
+
+    fn blocks(&self) -> Vec<usize> {
+        let exps = &self.campaign.problem.experiments;
+        exps.iter().map(|x| x.window.len()).collect()
+    }
 }

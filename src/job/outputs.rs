@@ -95,8 +95,11 @@ pub struct PolishSummary {
     pub starts: Vec<StartReport>,
     /// Residuals behind the covariance (fit-window samples, all experiments).
     pub residuals: usize,
-    /// `s²`, the residual variance in the weighted residuals' units.
+    /// `s²`, the pooled residual variance in the weighted residuals' units.
     pub residual_variance: f64,
+    /// `s_e²` of each experiment's weighted residuals (experiment order): the
+    /// covariance gives each experiment its own.
+    pub experiment_variances: Vec<f64>,
     /// Free parameters, in the order of [`Self::correlation`].
     pub genes: Vec<String>,
     /// Correlation matrix of the free parameters; `null` where undetermined.
@@ -313,6 +316,7 @@ fn polish_summary(p: &PolishOutcome, ga_fitness: f64) -> PolishSummary {
         starts: p.starts.clone(),
         residuals: u.map_or(0, |u| u.residuals),
         residual_variance: u.map_or(f64::NAN, |u| u.residual_variance),
+        experiment_variances: u.map_or_else(Vec::new, |u| u.block_variances.clone()),
         genes: u.map_or_else(Vec::new, |u| {
             u.genes.iter().map(|g| g.name.clone()).collect()
         }),

@@ -59,4 +59,4 @@ pub use settings::{
     CrossoverSettings, GaSettings, InitKind, MutationSettings, PolishSettings, SettingsError,
 };
 pub use state::SearchState;
-pub use uncertainty::{GeneUncertainty, Uncertainty};
+pub use uncertainty::{GeneUncertainty, ResidualBlock, Uncertainty};

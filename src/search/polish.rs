@@ -25,7 +25,7 @@ use super::SearchError;
 use super::genes::{GeneSpec, clamp_into, genome_values};
 use super::report::SearchOutcome;
 use super::settings::PolishSettings;
-use super::uncertainty::Uncertainty;
+use super::uncertainty::{ResidualBlock, Uncertainty};
 
 /// Residual vectors of whole batches of genomes.
 pub trait ResidualCost {
@@ -33,11 +33,23 @@ pub trait ResidualCost {
     /// residuals, all of the same length, whose sum of squares is the cost the
     /// search minimises; `None` for a candidate that blew up.
     fn residuals(&mut self, genomes: &[Vec<f64>]) -> Result<Vec<Option<Vec<f64>>>, SearchError>;
+
+    /// Lengths of the consecutive blocks of a residual vector that carry noise
+    /// of their own size (a campaign: one block per experiment), so that the
+    /// covariance gives each block its own variance. Empty (the default): one
+    /// block.
+    fn blocks(&self) -> Vec<usize> {
+        Vec::new()
+    }
 }
 
 impl<C: ResidualCost + ?Sized> ResidualCost for &mut C {
     fn residuals(&mut self, genomes: &[Vec<f64>]) -> Result<Vec<Option<Vec<f64>>>, SearchError> {
         (**self).residuals(genomes)
+    }
+
+    fn blocks(&self) -> Vec<usize> {
+        (**self).blocks()
     }
 }
 
@@ -257,13 +269,7 @@ impl Polish {
                 evaluations,
                 wall_time_s,
                 stop,
-                uncertainty: Some(Uncertainty::at(
-                    &self.genes,
-                    &run.x,
-                    &run.lin.jtj,
-                    run.lin.cost,
-                    run.lin.residuals,
-                )),
+                uncertainty: Some(Uncertainty::at_blocks(&self.genes, &run.x, &run.lin.blocks)),
             },
             None => PolishOutcome {
                 best_genome: starts.first().cloned().unwrap_or_default(),
@@ -323,6 +329,7 @@ impl Polish {
             .map(|y| genome_values(&self.genes, y))
             .collect();
         let res = cost.residuals(&values)?;
+        let blocks = cost.blocks();
         if res.len() != values.len() {
             return Err(SearchError::CostLength {
                 expected: values.len(),
@@ -333,11 +340,11 @@ impl Polish {
         Ok(res
             .chunks(2 * n + 1)
             .zip(points)
-            .map(|(r, x)| self.linear(r, x))
+            .map(|(r, x)| self.linear(r, x, &blocks))
             .collect())
     }
 
-    fn linear(&self, r: &[Option<Vec<f64>>], x: &[f64]) -> Option<Linear> {
+    fn linear(&self, r: &[Option<Vec<f64>>], x: &[f64], blocks: &[usize]) -> Option<Linear> {
         let n = self.genes.len();
         let r0 = r[0].as_ref()?;
         let m = r0.len();
@@ -355,11 +362,33 @@ impl Polish {
             }
         }
         let rv = DVector::from_column_slice(r0);
+        // Blocks that do not tile the residuals (a cost that does not know
+        // them) count as one.
+        let lengths = if blocks.iter().sum::<usize>() == m && !blocks.is_empty() {
+            blocks.to_vec()
+        } else {
+            vec![m]
+        };
+        let mut start = 0;
+        let blocks = lengths
+            .into_iter()
+            .map(|len| {
+                let rows = jac.rows(start, len);
+                let ssr = r0[start..start + len].iter().map(|v| v * v).sum();
+                start += len;
+                ResidualBlock {
+                    jtj: rows.tr_mul(&rows),
+                    ssr,
+                    residuals: len,
+                }
+            })
+            .collect();
         Some(Linear {
             cost: r0.iter().map(|v| v * v).sum(),
             jtj: jac.tr_mul(&jac),
             jtr: jac.tr_mul(&rv),
             residuals: m,
+            blocks,
         })
     }
 
@@ -428,6 +457,9 @@ struct Linear {
     jtj: DMatrix<f64>,
     jtr: DVector<f64>,
     residuals: usize,
+    /// `JᵀJ` and the residuals' sum of squares block by block (for the
+    /// covariance).
+    blocks: Vec<ResidualBlock>,
 }
 
 /// One start's Levenberg–Marquardt state (Nielsen's damping update).
