@@ -114,31 +114,7 @@ fn rig_switch(rig: Rig, y: State) -> vec2<real> {
 
 // Force-drive table value at t (PiecewiseLinear::at; 0 for t < 0).
 fn drive_table(rig: Rig, t: real) -> real {
-    let n = rig.table_len;
-    let tt = rig.table_offset;
-    let vv = rig.table_offset + n;
-    if t < real(0.0) || n == 0u {
-        return real(0.0);
-    }
-    if t <= data[tt] {
-        return data[vv];
-    }
-    if t >= data[tt + n - 1u] {
-        return data[vv + n - 1u];
-    }
-    // Largest i with T[i] <= t, as partition_point(x <= t) − 1.
-    var lo = 0u;
-    var hi = n - 1u;
-    while hi - lo > 1u {
-        let mid = (lo + hi) / 2u;
-        if data[tt + mid] <= t {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    let w = (t - data[tt + lo]) / (data[tt + lo + 1u] - data[tt + lo]);
-    return data[vv + lo] + w * (data[vv + lo + 1u] - data[vv + lo]);
+    return table_at(rig.table_offset, rig.table_len, t);
 }
 
 // Velocity drive (y4, v4, a4) at tt > 0 from e = e^{−v·tt/r}: y4 = v·tt + r·(e − 1),

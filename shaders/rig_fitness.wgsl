@@ -16,10 +16,11 @@ fn observe(
     kc: Kc,
     y: St,
     md: Md,
+    ck: Ck,
     chattered: bool,
     acc: ptr<function, real>,
 ) -> bool {
-    let f = rig_output0(kc, t, y, md);
+    let f = rig_output0_c(kc, t, y, md, ck);
     if chattered || !(abs(f) <= limit) {
         *acc = real(-1.0);
         return true;

@@ -17,12 +17,13 @@ fn observe(
     kc: Kc,
     y: St,
     md: Md,
+    ck: Ck,
     chattered: bool,
     acc: ptr<function, real>,
 ) -> bool {
     let j = slot / settings.experiments;
     let o = ((j * settings.hist_stride) + ex.hist_offset + k) * HIST_VALUES;
-    let rep = rig_report(kc, t, y, md);
+    let rep = rig_report_c(kc, t, y, md, ck);
     history[o] = t;
     for (var i = 0u; i < RIG_REPORT; i += 1u) {
         history[o + 1u + i] = rep.v[i];

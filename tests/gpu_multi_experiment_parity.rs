@@ -88,25 +88,89 @@ fn multi_experiment_force_drive_fitness_and_histories_match_cpu() {
             let err = (a - b).abs() / b.abs().max(1e-3);
             assert!(err <= fit_tol, "{precision:?} run {j}: {a} vs {b}");
         }
-        let which = [0, 1, 2, 5];
-        let hist = gpu.histories(&batch, &which).unwrap();
-        for (h, &i) in hist.iter().zip(&which) {
-            for (e, he) in h.iter().enumerate() {
-                let c = simulate_history(&problem, e, batch.params_of(e, i), batch.offsets[e][i]);
-                assert_eq!(he.t.len(), c.t.len());
-                let scale = c.outputs[0]
-                    .iter()
-                    .fold(f64::MIN_POSITIVE, |m, f| m.max(f.abs()));
-                for (k, (x, y)) in he.outputs[0].iter().zip(&c.outputs[0]).enumerate() {
-                    assert!(
-                        (x - y).abs() <= hist_tol * scale,
-                        "{precision:?} candidate {i} experiment {e} sample {k}: {x} vs {y}"
-                    );
-                }
-                // The actuator state is reported as the drive prescribes it.
-                let (x, y) = (he.states[3].last().unwrap(), c.states[3].last().unwrap());
-                assert!((x - y).abs() <= 1e-5 * y.abs().max(1e-9), "y4: {x} vs {y}");
+        histories_match(
+            &mut gpu,
+            &problem,
+            &batch,
+            &[0, 1, 2, 5],
+            precision,
+            hist_tol,
+        );
+    }
+}
+
+/// GPU histories of candidates `which` within `hist_tol` of the largest force
+/// of the CPU reference's, with the actuator state as the drive prescribes it.
+fn histories_match(
+    gpu: &mut impl Evaluator,
+    problem: &Problem,
+    batch: &Batch,
+    which: &[usize],
+    precision: Precision,
+    hist_tol: f64,
+) {
+    let hist = gpu.histories(batch, which).unwrap();
+    for (h, &i) in hist.iter().zip(which) {
+        for (e, he) in h.iter().enumerate() {
+            let c = simulate_history(problem, e, batch.params_of(e, i), batch.offsets[e][i]);
+            assert_eq!(he.t.len(), c.t.len());
+            let scale = c.outputs[0]
+                .iter()
+                .fold(f64::MIN_POSITIVE, |m, f| m.max(f.abs()));
+            for (k, (x, y)) in he.outputs[0].iter().zip(&c.outputs[0]).enumerate() {
+                assert!(
+                    (x - y).abs() <= hist_tol * scale,
+                    "{precision:?} candidate {i} experiment {e} sample {k}: {x} vs {y}"
+                );
             }
+            let (x, y) = (he.states[3].last().unwrap(), c.states[3].last().unwrap());
+            assert!((x - y).abs() <= 1e-5 * y.abs().max(1e-9), "y4: {x} vs {y}");
         }
+    }
+}
+
+/// A force table of 1500 unevenly spaced breakpoints, read at every RK4 stage:
+/// the GPU's table search (shared/table.wgsl) must find the segment the CPU's
+/// `PiecewiseLinear::at` finds at every time, or the histories part.
+#[test]
+fn long_force_table_histories_match_cpu() {
+    let Some(ctx) = common::gpu() else { return };
+    let n = 1500;
+    let t: Vec<f64> = (0..n)
+        .map(|i| {
+            let i = i as f64;
+            4.0e-4 * (i + 0.3 * (i * 0.7).sin()) / n as f64
+        })
+        .collect();
+    let value: Vec<f64> = t
+        .iter()
+        .enumerate()
+        .map(|(i, &ti)| 2.0e5 * (ti / 3.0e-4).min(1.0) + 4.0e3 * (i as f64 * 1.3).sin())
+        .collect();
+    let exp = experiment(
+        "table",
+        Drive::Force(PiecewiseLinear { t, value }),
+        400,
+        1.0e-6,
+        0.0,
+    );
+    let problem = Problem {
+        model: &TENSILE4,
+        experiments: vec![exp],
+        substeps: 2,
+    };
+    let params = common::spread_params(8, 3);
+    let batch = Batch {
+        candidates: 8,
+        params: vec![params],
+        offsets: vec![vec![0.0; 8]],
+    };
+    let mut precisions = vec![(Precision::F32, F32_HISTORY_TOLERANCE)];
+    if ctx.has_f64() {
+        precisions.push((Precision::F64, F64_HISTORY_TOLERANCE));
+    }
+    for (precision, tol) in precisions {
+        let mut gpu = common::evaluator(&ctx, &problem, precision);
+        histories_match(&mut gpu, &problem, &batch, &[0, 3, 7], precision, tol);
     }
 }

@@ -21,7 +21,14 @@
 //!   that fire over a step from `g0` to `g1`, one bit each), `rig_event_past(kc,
 //!   i, t, y, md) -> bool`, `rig_fire(i, md)`;
 //! - `rig_output0(kc, t, y, md) -> real` (the scored output) and
-//!   `rig_report(kc, t, y, md) -> Rep` (every output, then the full state).
+//!   `rig_report(kc, t, y, md) -> Rep` (every output, then the full state);
+//! - the drive clocks: `struct Ck`, `rig_clock(kc, t)` and
+//!   `rig_clock_shift(c, q)`. An `exp` or `expm1` whose exponent is `c·t` (`c`
+//!   a run constant; the velocity drive's ramp `e^{−v·t/r}`) is read from `ck`,
+//!   which the run loop computes once per step and carries to the stage times
+//!   by `m + q + m·q`. `rig_deriv`, `rig_events`, `rig_output0` and
+//!   `rig_report` each have a `_c` form taking `ck`; the plain form computes
+//!   it at `t`, as the CPU reference computes the exponential.
 
 use std::fmt::Write as _;
 
@@ -151,18 +158,77 @@ impl GpuRig {
     /// The WGSL source of the rig functions; `literal` writes a constant in
     /// the kernel's precision.
     pub fn source(&self, literal: &dyn Fn(f64) -> String) -> String {
-        Emitter { rig: self, literal }.emit()
+        let mut e = Emitter {
+            rig: self,
+            literal,
+            clocks: vec![],
+        };
+        e.clocks = e.find_clocks();
+        e.emit()
     }
 }
 
 struct Emitter<'a> {
     rig: &'a GpuRig,
     literal: &'a dyn Fn(f64) -> String,
+    /// The drive clocks: exponents `c·t` (operand id, `c` as WGSL) whose
+    /// `exp`/`expm1` the run loop carries from stage to stage.
+    clocks: Vec<(Id, String)>,
 }
 
 impl Emitter<'_> {
     fn prog(&self) -> &Program {
         &self.rig.prog
+    }
+
+    /// `c` as WGSL where operation `id` is `c·t` with `c` a run constant
+    /// (the time itself, or products, quotients and negations of it by run
+    /// constants).
+    fn time_coef(&self, id: Id) -> Option<String> {
+        let p = self.prog();
+        let rc = |k: Id| p.run_constant[k as usize];
+        match p.graph.ops[id as usize] {
+            Op::In(Input::Time) => Some("real(1.0)".into()),
+            Op::Neg(a) => self.time_coef(a).map(|c| format!("-({c})")),
+            Op::Mul(a, b) if rc(a) => self
+                .time_coef(b)
+                .map(|c| format!("{} * ({c})", self.name(a))),
+            Op::Mul(a, b) if rc(b) => self
+                .time_coef(a)
+                .map(|c| format!("({c}) * {}", self.name(b))),
+            Op::Div(a, b) if rc(b) => self
+                .time_coef(a)
+                .map(|c| format!("({c}) / {}", self.name(b))),
+            _ => None,
+        }
+    }
+
+    /// Every distinct exponent `c·t` of a live `exp`/`expm1`, in graph order.
+    fn find_clocks(&self) -> Vec<(Id, String)> {
+        let p = self.prog();
+        let mut roots: Vec<Id> = p.deriv.clone();
+        roots.extend(p.event_roots());
+        roots.extend(&p.outputs);
+        roots.extend(&p.full_state);
+        let live = p.graph.live(&roots);
+        let mut clocks: Vec<(Id, String)> = Vec::new();
+        for (i, op) in p.graph.ops.iter().enumerate() {
+            let (Op::Exp(a) | Op::Expm1(a)) = *op else {
+                continue;
+            };
+            if !live[i] || p.run_constant[i] || clocks.iter().any(|c| c.0 == a) {
+                continue;
+            }
+            if let Some(c) = self.time_coef(a) {
+                clocks.push((a, c));
+            }
+        }
+        clocks
+    }
+
+    /// The clock of exponent `a`, if it is one.
+    fn clock_of(&self, a: Id) -> Option<usize> {
+        self.clocks.iter().position(|c| c.0 == a)
     }
 
     /// How operation `id` is referred to inside a per-step function.
@@ -200,8 +266,14 @@ impl Emitter<'_> {
                 Op::Abs(a) => format!("abs({})", n(a)),
                 Op::Min(a, b) => format!("min({}, {})", n(a), n(b)),
                 Op::Max(a, b) => format!("max({}, {})", n(a), n(b)),
-                Op::Exp(a) => format!("exp_r({})", n(a)),
-                Op::Expm1(a) => format!("expm1_r({})", n(a)),
+                Op::Exp(a) => match self.clock_of(a) {
+                    Some(j) => format!("ck.m{j} + real(1.0)"),
+                    None => format!("exp_r({})", n(a)),
+                },
+                Op::Expm1(a) => match self.clock_of(a) {
+                    Some(j) => format!("ck.m{j}"),
+                    None => format!("expm1_r({})", n(a)),
+                },
                 Op::Ln(a) => format!("ln_r({})", n(a)),
                 Op::Sin(a) => format!("sin_r({})", n(a)),
                 Op::Cos(a) => format!("cos_r({})", n(a)),
@@ -265,6 +337,7 @@ impl Emitter<'_> {
         );
         s.push_str(&self.loaders());
         s.push_str(&self.state_algebra());
+        s.push_str(&self.clock_functions());
         s.push_str(&self.functions());
         s
     }
@@ -341,12 +414,12 @@ impl Emitter<'_> {
 
     fn functions(&self) -> String {
         let p = self.prog();
-        let sig = "kc: Kc, t: real, y: St, md: Md";
+        let sig = "kc: Kc, t: real, y: St, md: Md, ck: Ck";
         let mut s = String::new();
         // Derivative.
         let _ = write!(
             s,
-            "fn rig_deriv({sig}) -> St {{\n{}    var r: St;\n",
+            "fn rig_deriv_c({sig}) -> St {{\n{}    var r: St;\n",
             self.body(&p.deriv)
         );
         for (i, &d) in p.deriv.iter().enumerate() {
@@ -357,7 +430,7 @@ impl Emitter<'_> {
         // over a step (Transition::fires).
         let _ = write!(
             s,
-            "fn rig_events({sig}) -> Ev {{\n{}    var r: Ev;\n",
+            "fn rig_events_c({sig}) -> Ev {{\n{}    var r: Ev;\n",
             self.body(&p.event_roots())
         );
         for (i, tr) in p.transitions.iter().enumerate() {
@@ -400,7 +473,7 @@ impl Emitter<'_> {
         for i in 0..p.transitions.len() {
             let _ = writeln!(
                 s,
-                "        case {i}u: {{\n{}    return {};\n        }}",
+                "        case {i}u: {{\n    let ck = rig_clock(kc, t);\n{}    return {};\n        }}",
                 self.body(&[p.transitions[i].g]),
                 past(i)
             );
@@ -421,7 +494,7 @@ impl Emitter<'_> {
             Some(o) => {
                 let _ = write!(
                     s,
-                    "fn rig_output0({sig}) -> real {{\n{}    return {};\n}}\n\n",
+                    "fn rig_output0_c({sig}) -> real {{\n{}    return {};\n}}\n\n",
                     self.body(&[o]),
                     self.name(o)
                 );
@@ -429,7 +502,7 @@ impl Emitter<'_> {
             None => {
                 let _ = write!(
                     s,
-                    "fn rig_output0({sig}) -> real {{\n    return real(0.0);\n}}\n\n"
+                    "fn rig_output0_c({sig}) -> real {{\n    return real(0.0);\n}}\n\n"
                 );
             }
         }
@@ -437,13 +510,54 @@ impl Emitter<'_> {
         roots.extend(&p.full_state);
         let _ = write!(
             s,
-            "fn rig_report({sig}) -> Rep {{\n{}    var r: Rep;\n",
+            "fn rig_report_c({sig}) -> Rep {{\n{}    var r: Rep;\n",
             self.body(&roots)
         );
         for (j, &id) in roots.iter().enumerate() {
             let _ = writeln!(s, "    r.v[{j}] = {};", self.name(id));
         }
-        s.push_str("    return r;\n}\n");
+        s.push_str("    return r;\n}\n\n");
+        // The same at a time whose clocks are not at hand.
+        for (f, ty) in [
+            ("rig_deriv", "St"),
+            ("rig_events", "Ev"),
+            ("rig_output0", "real"),
+            ("rig_report", "Rep"),
+        ] {
+            let _ = writeln!(
+                s,
+                "fn {f}(kc: Kc, t: real, y: St, md: Md) -> {ty} {{\n    return {f}_c(kc, t, y, md, rig_clock(kc, t));\n}}\n"
+            );
+        }
+        s
+    }
+
+    /// `struct Ck` (each clock's `expm1(c·t)`), `rig_clock(kc, t)` and
+    /// `rig_clock_shift(c, q)`, the clocks `δ` later from the clocks at `t`
+    /// and `q` (the clocks at `δ`): `e^{c(t+δ)} − 1 = m + q + m·q`, exact in
+    /// real arithmetic and without cancellation where both are small.
+    fn clock_functions(&self) -> String {
+        let mut s = String::from("struct Ck {\n");
+        if self.clocks.is_empty() {
+            s.push_str("    unused: real,\n");
+        }
+        for j in 0..self.clocks.len() {
+            let _ = writeln!(s, "    m{j}: real,");
+        }
+        s.push_str("}\n\nfn rig_clock(kc: Kc, t: real) -> Ck {\n    var c: Ck;\n");
+        if self.clocks.is_empty() {
+            s.push_str("    c.unused = t;\n");
+        }
+        for (j, (_, coef)) in self.clocks.iter().enumerate() {
+            let _ = writeln!(s, "    c.m{j} = expm1_r(({coef}) * t);");
+        }
+        s.push_str(
+            "    return c;\n}\n\nfn rig_clock_shift(c: Ck, q: Ck) -> Ck {\n    var r = c;\n",
+        );
+        for j in 0..self.clocks.len() {
+            let _ = writeln!(s, "    r.m{j} = (c.m{j} + q.m{j}) + c.m{j} * q.m{j};");
+        }
+        s.push_str("    return r;\n}\n\n");
         s
     }
 }

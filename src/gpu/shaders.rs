@@ -16,6 +16,8 @@ pub const SHARED_EXP: &str = include_str!("../../shaders/shared/exp.wgsl");
 pub const SHARED_RK4: &str = include_str!("../../shaders/shared/rk4.wgsl");
 /// The chunked run loop.
 pub const SHARED_RUN: &str = include_str!("../../shaders/shared/run.wgsl");
+/// Table lookup (the force drive, the rigs' tables).
+pub const SHARED_TABLE: &str = include_str!("../../shaders/shared/table.wgsl");
 /// ln, sin and cos for the compiled rigs.
 pub const SHARED_MATH: &str = include_str!("../../shaders/shared/math.wgsl");
 /// The run loop of the compiled rigs (any state size, located switches).
@@ -169,7 +171,7 @@ pub fn source(
         }
         (_, GpuModel::Handwritten { wgsl, .. }) => {
             parts.extend(
-                [SHARED_BINDINGS, SHARED_RK4, SHARED_RUN, wgsl]
+                [SHARED_BINDINGS, SHARED_TABLE, SHARED_RK4, SHARED_RUN, wgsl]
                     .iter()
                     .map(|s| s.to_string()),
             );
@@ -184,7 +186,7 @@ pub fn source(
         }
         (_, GpuModel::Compiled(rig)) => {
             parts.extend(
-                [SHARED_MATH, SHARED_BINDINGS, SHARED_RIG_RUN]
+                [SHARED_MATH, SHARED_BINDINGS, SHARED_TABLE, SHARED_RIG_RUN]
                     .iter()
                     .map(|s| s.to_string()),
             );
