@@ -434,6 +434,7 @@ impl Expr {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::compile::ir::eval_op;
 
     fn value(src: &str, x: f64) -> f64 {
         parse(src).unwrap().eval(&|n| match n {
@@ -482,33 +483,7 @@ mod tests {
         for xv in [-1.3, -0.2, 0.4, 1.7] {
             let mut vals = vec![0.0; g.ops.len()];
             for (i, op) in g.ops.iter().enumerate() {
-                let a = |k: Id| vals[k as usize];
-                vals[i] = match *op {
-                    Op::Const(c) => c,
-                    Op::In(_) => xv,
-                    Op::Add(p, q) => a(p) + a(q),
-                    Op::Sub(p, q) => a(p) - a(q),
-                    Op::Mul(p, q) => a(p) * a(q),
-                    Op::Div(p, q) => a(p) / a(q),
-                    Op::Neg(p) => -a(p),
-                    Op::Abs(p) => a(p).abs(),
-                    Op::Min(p, q) => a(p).min(a(q)),
-                    Op::Max(p, q) => a(p).max(a(q)),
-                    Op::Exp(p) => a(p).exp(),
-                    Op::Expm1(p) => a(p).exp_m1(),
-                    Op::Ln(p) => a(p).ln(),
-                    Op::Sin(p) => a(p).sin(),
-                    Op::Cos(p) => a(p).cos(),
-                    Op::Le(p, q) => f64::from(u8::from(a(p) <= a(q))),
-                    Op::Eq(p, q) => f64::from(u8::from(a(p) == a(q))),
-                    Op::Select(c, p, q) => {
-                        if a(c) != 0.0 {
-                            a(p)
-                        } else {
-                            a(q)
-                        }
-                    }
-                };
+                vals[i] = eval_op(*op, |k: Id| vals[k as usize], |_| xv);
             }
             let want = value(src, xv);
             let got = vals[root as usize];

@@ -296,6 +296,39 @@ pub fn operands(op: &Op) -> Vec<Id> {
     }
 }
 
+/// The value of `op`, its operands' values read through `a` and its input
+/// through `input`: the one scalar meaning of every operation. The CPU tape
+/// evaluates through it; the lanes (`lanes.rs`) and the WGSL emitter
+/// (`wgsl.rs`) write the same arithmetic in their own forms.
+pub fn eval_op(op: Op, a: impl Fn(Id) -> f64, input: impl FnOnce(Input) -> f64) -> f64 {
+    match op {
+        Op::Const(c) => c,
+        Op::In(i) => input(i),
+        Op::Add(p, q) => a(p) + a(q),
+        Op::Sub(p, q) => a(p) - a(q),
+        Op::Mul(p, q) => a(p) * a(q),
+        Op::Div(p, q) => a(p) / a(q),
+        Op::Neg(p) => -a(p),
+        Op::Abs(p) => a(p).abs(),
+        Op::Min(p, q) => a(p).min(a(q)),
+        Op::Max(p, q) => a(p).max(a(q)),
+        Op::Exp(p) => a(p).exp(),
+        Op::Expm1(p) => a(p).exp_m1(),
+        Op::Ln(p) => a(p).ln(),
+        Op::Sin(p) => a(p).sin(),
+        Op::Cos(p) => a(p).cos(),
+        Op::Le(p, q) => f64::from(u8::from(a(p) <= a(q))),
+        Op::Eq(p, q) => f64::from(u8::from(a(p) == a(q))),
+        Op::Select(c, p, q) => {
+            if a(c) != 0.0 {
+                a(p)
+            } else {
+                a(q)
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

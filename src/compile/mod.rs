@@ -14,6 +14,7 @@ pub mod ir;
 pub mod lanes;
 pub mod lower;
 pub mod program;
+pub mod tangent;
 pub mod tape;
 pub mod wgsl;
 

@@ -2,7 +2,7 @@
 //! one run at a time in f64, in graph order (the order the WGSL emitter writes
 //! them), with the per-run constants evaluated once per run.
 
-use super::ir::{Id, Input, Op, operands};
+use super::ir::{Id, Input, eval_op, operands};
 use super::program::Program;
 
 /// Which operations each evaluation needs, in graph order.
@@ -96,37 +96,17 @@ impl<'p> Frame<'p> {
         let g = &self.prog.graph;
         for &i in ops {
             let v = &self.vals;
-            let a = |k: Id| v[k as usize];
-            let x = match g.ops[i as usize] {
-                Op::Const(c) => c,
-                Op::In(Input::Time) => pt.t,
-                Op::In(Input::Slot(s)) => slots[s as usize],
-                Op::In(Input::State(s)) => pt.y[s as usize],
-                Op::In(Input::Mode(m)) => f64::from(pt.modes[m as usize]),
-                Op::In(Input::Table(k)) => table_value(self.prog, self.force, k, pt.t),
-                Op::Add(p, q) => a(p) + a(q),
-                Op::Sub(p, q) => a(p) - a(q),
-                Op::Mul(p, q) => a(p) * a(q),
-                Op::Div(p, q) => a(p) / a(q),
-                Op::Neg(p) => -a(p),
-                Op::Abs(p) => a(p).abs(),
-                Op::Min(p, q) => a(p).min(a(q)),
-                Op::Max(p, q) => a(p).max(a(q)),
-                Op::Exp(p) => a(p).exp(),
-                Op::Expm1(p) => a(p).exp_m1(),
-                Op::Ln(p) => a(p).ln(),
-                Op::Sin(p) => a(p).sin(),
-                Op::Cos(p) => a(p).cos(),
-                Op::Le(p, q) => f64::from(u8::from(a(p) <= a(q))),
-                Op::Eq(p, q) => f64::from(u8::from(a(p) == a(q))),
-                Op::Select(c, p, q) => {
-                    if a(c) != 0.0 {
-                        a(p)
-                    } else {
-                        a(q)
-                    }
-                }
-            };
+            let x = eval_op(
+                g.ops[i as usize],
+                |k| v[k as usize],
+                |input| match input {
+                    Input::Time => pt.t,
+                    Input::Slot(s) => slots[s as usize],
+                    Input::State(s) => pt.y[s as usize],
+                    Input::Mode(m) => f64::from(pt.modes[m as usize]),
+                    Input::Table(k) => table_value(self.prog, self.force, k, pt.t),
+                },
+            );
             self.vals[i as usize] = x;
         }
     }

@@ -402,12 +402,13 @@ impl RigModel for CompiledRig {
 
     fn linearise(&self, params: &[f64], drive: &Drive) -> Linearised {
         // About rest with every contact closed, nothing broken or yielded and
-        // every slider stuck, by central differences of the compiled derivative.
+        // every slider stuck, from the compiled derivative's own tangents.
         let mut st = self.stepper(params, drive).expect("a declared drive mode");
         for (v, m) in self.lowered.modes.iter().enumerate() {
             st.modes[v] = u32::from(m.name.ends_with(".contact"));
         }
-        let prog = &self.lowered.programs[self.program_for(drive).expect("declared")];
+        let pi = self.program_for(drive).expect("declared");
+        let prog = &self.lowered.programs[pi];
         let nodes = self.desc.nodes.len();
         let n = self.states.len();
         // A node is a degree of freedom unless the drive prescribes it (its
@@ -435,18 +436,19 @@ impl RigModel for CompiledRig {
             })
             .collect();
         let d = free.len();
+        let modes = st.modes.clone();
+        let jac = crate::compile::tangent::deriv_jacobian(
+            prog,
+            &self.tapes[pi],
+            &mut st.frame,
+            0.0,
+            &vec![0.0; n],
+            &modes,
+        );
         let mut kmat = vec![0.0; d * d];
-        let (mut plus, mut minus) = (vec![0.0; n], vec![0.0; n]);
-        let delta = 1e-9;
-        for (j, &kj) in free.iter().enumerate() {
-            let mut y = vec![0.0; n];
-            y[kj] = delta;
-            st.deriv(0.0, &y, &mut plus);
-            y[kj] = -delta;
-            st.deriv(0.0, &y, &mut minus);
-            for (i, &ki) in free.iter().enumerate() {
-                let da = (plus[nodes + ki] - minus[nodes + ki]) / (2.0 * delta);
-                kmat[i * d + j] = -mass[i] * da;
+        for (i, &ki) in free.iter().enumerate() {
+            for (j, &kj) in free.iter().enumerate() {
+                kmat[i * d + j] = -mass[i] * jac[(nodes + ki) * n + kj];
             }
         }
         Linearised {
