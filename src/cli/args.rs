@@ -65,7 +65,9 @@ pub enum Command {
     Modes(ModesArgs),
     /// List GPU adapters and whether they support f64 shaders.
     #[command(after_help = "Example:\n  rigfit devices\n\n\
-        Set RIGFIT_REQUIRE_GPU=1 to make a missing adapter an error everywhere.")]
+        Set RIGFIT_REQUIRE_GPU=1 to make a missing adapter an error everywhere;\n\
+        pick an adapter with `rigfit run --adapter I` (index, PCI bus id or a piece\n\
+        of the name) or RIGFIT_ADAPTER.")]
     Devices,
     /// Fit the specimen law (linear, then polynomial) to quasi-static data.
     #[command(name = "fit-specimen")]
@@ -151,6 +153,11 @@ pub struct RunArgs {
     /// (MemAvailable in /proc/meminfo).
     #[arg(long, value_parser = memory_size)]
     pub max_memory: Option<f64>,
+    /// GPU adapter: its index, PCI bus id or a piece of its name, as `rigfit
+    /// devices` lists them (default: RIGFIT_ADAPTER, else the first
+    /// high-performance adapter). Recorded in result.json.
+    #[arg(long)]
+    pub adapter: Option<String>,
 }
 
 /// `rigfit simulate`.

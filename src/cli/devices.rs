@@ -13,7 +13,7 @@ pub fn devices(out: &Output) -> Result<()> {
         .map(|a| {
             serde_json::json!({
                 "name": a.name, "backend": a.backend, "type": a.device_type,
-                "driver": a.driver, "shader_f64": a.shader_f64,
+                "driver": a.driver, "shader_f64": a.shader_f64, "pci_bus_id": a.pci_bus_id,
             })
         })
         .collect();
@@ -28,8 +28,13 @@ pub fn devices(out: &Output) -> Result<()> {
         let mut s =
             String::from("GPU adapters (precision auto picks f64 where shader_f64 is yes):\n");
         for (i, a) in adapters.iter().enumerate() {
+            let bus = if a.pci_bus_id.is_empty() {
+                String::new()
+            } else {
+                format!(", PCI {}", a.pci_bus_id)
+            };
             s += &format!(
-                "  [{i}] {} — {} {}, driver {}, shader_f64: {}\n",
+                "  [{i}] {} — {} {}{bus}, driver {}, shader_f64: {}\n",
                 a.name,
                 a.backend,
                 a.device_type,
@@ -37,6 +42,8 @@ pub fn devices(out: &Output) -> Result<()> {
                 if a.shader_f64 { "yes" } else { "no" }
             );
         }
+        s += "pick one with `rigfit run --adapter I` (index, PCI bus id or a piece of the name) \
+              or RIGFIT_ADAPTER\n";
         s.trim_end().to_string()
     });
     Ok(())

@@ -88,6 +88,20 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     // (a GPU job needs them if it falls back to the CPU).
     let cpu = CpuEvaluator::try_new(c.problem.clone(), a.threads)
         .map_err(|e| super::BadInput(format!("--threads {}: {e}", a.threads)))?;
+    if backend != Backend::Cpu
+        && let Some((selector, selected_by)) = rigfit::gpu::requested_adapter(a.adapter.as_deref())
+    {
+        // Before any work: a selector that names no adapter is bad input.
+        let adapters = rigfit::gpu::list_adapters();
+        if let Err(why) = rigfit::gpu::choose_adapter(&selector, &adapters) {
+            return Err(super::BadInput(format!(
+                "{}: {why}; the adapters are: {}",
+                rigfit::text::echo_bare(&selected_by),
+                rigfit::gpu::adapter_list(&adapters)
+            ))
+            .into());
+        }
+    }
     if a.out.is_none() {
         check_output_inside(&c, &a.campaign)?;
     }
@@ -116,8 +130,13 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         Box::new(cpu)
     } else {
         drop(cpu);
-        let opened = rigfit::gpu::open_evaluator(c.problem.clone(), backend, precision)
-            .context("opening the GPU evaluator")?;
+        let opened = rigfit::gpu::open_evaluator_on(
+            c.problem.clone(),
+            backend,
+            precision,
+            a.adapter.as_deref(),
+        )
+        .context("opening the GPU evaluator")?;
         if let Some(note) = &opened.note {
             // A driver helps only where the model has kernels to run.
             if rigfit::gpu::gpu_model(&c.problem).is_ok() {

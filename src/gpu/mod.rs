@@ -62,6 +62,9 @@
 //! environment variable **`RIGFIT_REQUIRE_GPU=1`** turns "no adapter" into an
 //! error even for `auto`; the GPU tests then fail instead of skipping (CI sets it).
 //! `WGPU_BACKEND` picks the wgpu backends (default: Vulkan, Metal, DX12).
+//! `--adapter` or **`RIGFIT_ADAPTER`** picks the adapter among them (index,
+//! PCI bus id or a piece of the name, as `rigfit devices` lists them); Vulkan
+//! does not honour `CUDA_VISIBLE_DEVICES`.
 
 mod context;
 mod evaluator;
@@ -72,7 +75,10 @@ mod probe;
 pub mod shaders;
 pub mod specialise;
 
-pub use context::{AdapterSummary, GpuContext, instance, list_adapters};
+pub use context::{
+    ADAPTER_ENV, AdapterChoice, AdapterSummary, GpuContext, adapter_list, choose_adapter, instance,
+    list_adapters, requested_adapter,
+};
 pub use evaluator::{GpuEvaluator, GpuOptions};
 pub use pack::{from_real_bytes, to_real_bytes};
 pub use probe::{Probed, probe_exp, probe_math};
@@ -96,6 +102,16 @@ pub enum GpuError {
     /// No adapter was found.
     #[error("no GPU adapter found ({0})")]
     NoAdapter(String),
+    /// `--adapter` or `RIGFIT_ADAPTER` names no single adapter.
+    #[error("{selected_by}: {why}; the adapters are: {adapters}")]
+    NoSuchAdapter {
+        /// The flag or variable and its value.
+        selected_by: String,
+        /// Why it matches none (or several).
+        why: String,
+        /// The adapters, as `rigfit devices` lists them.
+        adapters: String,
+    },
     /// The adapter refused a device.
     #[error("could not open a device: {0}")]
     RequestDevice(String),
@@ -218,6 +234,19 @@ pub fn open_evaluator(
     backend: Backend,
     precision: PrecisionChoice,
 ) -> Result<Opened, GpuError> {
+    open_evaluator_on(problem, backend, precision, None)
+}
+
+/// [`open_evaluator`] on the adapter `adapter` (`--adapter`) or else
+/// `RIGFIT_ADAPTER` names ([`GpuContext::select`]); a selector that names no
+/// adapter is an error even for `auto`. The evaluator's device description
+/// (result.json's `device`) names the adapter chosen and how.
+pub fn open_evaluator_on(
+    problem: Problem,
+    backend: Backend,
+    precision: PrecisionChoice,
+    adapter: Option<&str>,
+) -> Result<Opened, GpuError> {
     let cpu = |problem: Problem, note: Option<String>| Opened {
         evaluator: Box::new(CpuEvaluator::new(problem, 0)),
         note,
@@ -230,8 +259,9 @@ pub fn open_evaluator(
     {
         return Ok(cpu(problem, Some(format!("{e}; using the CPU"))));
     }
-    let ctx = match GpuContext::new() {
-        Ok(ctx) => ctx,
+    let ctx = match GpuContext::select(adapter) {
+        Ok(found) => found,
+        Err(e @ GpuError::NoSuchAdapter { .. }) => return Err(e),
         Err(e) if backend == Backend::Auto && !gpu_required() => {
             return Ok(cpu(problem, Some(format!("{e}; using the CPU"))));
         }
