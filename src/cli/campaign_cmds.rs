@@ -186,10 +186,36 @@ pub fn modes(args: &ModesArgs, out: &Output) -> Result<()> {
     Ok(())
 }
 
+/// Candidate-steps per second `check` assumes for the GPU path: lavapipe's
+/// f32 kernels on two cores measure about 1.2e8 (README, throughput); a
+/// discrete GPU runs one to two orders of magnitude more, so on one the
+/// estimate is an upper bound.
+const GPU_STEPS_PER_S_ASSUMED: f64 = 1e8;
+
+/// The search's wall time, estimated from its steps: population × generations
+/// candidates (an upper bound: elites are not evaluated again) at
+/// `CPU_STEPS_PER_S_PER_CORE` on every core, and at
+/// [`GPU_STEPS_PER_S_ASSUMED`] on the GPU.
+fn search_estimate(c: &rigfit::campaign::Campaign, steps_per_candidate: f64) -> serde_json::Value {
+    let candidates = (c.search.population * c.search.generations) as f64;
+    let steps = candidates * steps_per_candidate;
+    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    let cpu_rate = rigfit::campaign::CPU_STEPS_PER_S_PER_CORE * cores as f64;
+    serde_json::json!({
+        "candidates": candidates, "steps": steps,
+        "cpu_cores": cores, "cpu_steps_per_s_assumed": cpu_rate, "cpu_seconds": steps / cpu_rate,
+        "gpu_steps_per_s_assumed": GPU_STEPS_PER_S_ASSUMED,
+        "gpu_seconds": steps / GPU_STEPS_PER_S_ASSUMED,
+    })
+}
+
 /// Validates a campaign and its data.
 pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
     let c = load(&args.campaign, None)?;
     let length = c.check_run_length(args.max_steps)?;
+    let search = c
+        .search_given
+        .then(|| search_estimate(&c, length.steps_per_candidate));
     // The memory `run` will check, on the CPU and (where the rig has kernels)
     // on the GPU in f64, for the campaign's population.
     let cpu_memory = MemoryEstimate::of(&c, None);
@@ -202,6 +228,7 @@ pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
         "genes": c.genes.iter().map(|g| &g.name).collect::<Vec<_>>(),
         "substeps": c.solver.substeps, "warnings": c.warnings, "run_length": length,
         "memory": {"cpu": cpu_memory, "gpu": gpu_memory, "available_bytes": available},
+        "search_estimate": search,
     }))?;
     out.say(|| {
         let mut s = format!(
@@ -232,6 +259,25 @@ pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
         );
         for g in &c.genes {
             let _ = write!(s, "\n  free {} in [{:e}, {:e}] {} ({:?})", g.name, g.lower, g.upper, g.unit, g.scale);
+        }
+        if let Some(e) = &search {
+            let f = |k: &str| e[k].as_f64().unwrap_or(0.0);
+            let _ = write!(
+                s,
+                "\n  the search: at most {:.3e} candidates ({} × {} generations), {:.3e} RK4 \
+                 steps: about {} on the CPU ({} cores at an assumed {:.0e} steps/s each), about \
+                 {} on the GPU (at an assumed {:.0e} candidate-steps/s, lavapipe's f32 rate; a \
+                 discrete GPU runs 10 to 100 times more)",
+                f("candidates"),
+                c.search.population,
+                c.search.generations,
+                f("steps"),
+                rigfit::campaign::human_duration(f("cpu_seconds")),
+                f("cpu_cores"),
+                rigfit::campaign::CPU_STEPS_PER_S_PER_CORE,
+                rigfit::campaign::human_duration(f("gpu_seconds")),
+                GPU_STEPS_PER_S_ASSUMED
+            );
         }
         if c.search_given {
             let _ = write!(
