@@ -10,6 +10,7 @@
 
 pub mod events;
 pub mod expr;
+pub mod interval;
 pub mod ir;
 pub mod lanes;
 pub mod lower;

@@ -267,6 +267,165 @@ impl CompiledRig {
     }
 }
 
+impl CompiledRig {
+    /// The per-law bound: Gershgorin on each free node's row of M⁻¹K and
+    /// M⁻¹C from each element law's largest tangent ([`Self::element_bound`]),
+    /// `c/m + √(k/m)` per row.
+    pub fn per_law_omega(
+        &self,
+        lower: &[f64],
+        upper: &[f64],
+        drive: &Drive,
+    ) -> (f64, &'static str) {
+        // Gershgorin on each free node's row of M⁻¹K and M⁻¹C, with every
+        // element's largest tangent stiffness and damping over the box and the
+        // reach. A node whose motion the drive prescribes (its displacement
+        // slot's derivative is the constant 0) is not integrated: no row.
+        let bounds: Vec<(f64, f64, String)> = (0..self.desc.elements.len())
+            .map(|i| self.element_bound(i, lower, upper))
+            .collect();
+        let prog = self.program_for(drive).map(|i| &self.lowered.programs[i]);
+        let prescribed = |k: usize| {
+            prog.is_some_and(|p| {
+                matches!(
+                    p.graph.ops[p.deriv[k] as usize],
+                    crate::compile::Op::Const(_)
+                )
+            })
+        };
+        let mut best = (0.0, self.params.first().map_or("", |p| p.name));
+        for (k, node) in self.desc.nodes.iter().enumerate() {
+            if prescribed(k) {
+                continue;
+            }
+            let m = self.coef_lower(&node.mass, lower);
+            let (mut kr, mut cr) = (0.0, 0.0);
+            let mut stiffest = (0.0, String::new());
+            for (e, b) in self.desc.elements.iter().zip(&bounds) {
+                if e.between.contains(&node.name) {
+                    let both = 1.0 + f64::from(u8::from(!e.between.iter().any(|x| x == "ground")));
+                    kr += both * b.0;
+                    cr += both * b.1;
+                    if b.0 >= stiffest.0 {
+                        stiffest = (b.0, b.2.clone());
+                    }
+                }
+            }
+            let lam = cr / m + (kr / m).sqrt();
+            if lam > best.0 || !lam.is_finite() {
+                best = (lam, leak(&stiffest.1));
+            }
+        }
+        best
+    }
+}
+
+impl CompiledRig {
+    /// The box of inputs the interval bound encloses the Jacobian over, for
+    /// parameters in `[lower, upper]` and a run of model time `0..t_end`:
+    /// every parameter slot over its range (fixed ones are points), time over
+    /// `[0, t_end]`, every mode variable over all its values, each node's
+    /// displacement and every internal state (slider, play) in `[−e, e]` and
+    /// each node's velocity in `[−r, r]`, with `(e, r)` the rig's reach as
+    /// [`Self::element_bound`] reads it (its `"reach"`, else the largest break
+    /// limit and 10 m/s). An element's elongation then lies in `[−2e, 2e]`
+    /// and its rate in `[−2r, 2r]`, which holds the `[−e, e]`, `[−r, r]`
+    /// the per-law bound assumes: the box is sound exactly where the reach
+    /// bounds each node's excursion from rest (as it does for the shipped
+    /// rigs whose nodes move by less than their elements stretch), and for
+    /// every law whose slope does not depend on the state (linear springs
+    /// and dampers, the friction's tangential stiffness) it is sound whatever
+    /// the run reaches. A prescribed node's position comes from the drive
+    /// over the time span, so its elements' elongations are as wide as the
+    /// drive goes in `t_end`; the experiment's force table (a force drive)
+    /// enters as the hull of its values.
+    pub fn input_box(
+        &self,
+        prog: &crate::compile::Program,
+        drive: &Drive,
+        lower: &[f64],
+        upper: &[f64],
+        t_end: f64,
+    ) -> crate::compile::interval::InputBox {
+        use crate::compile::interval::{Interval, all_modes};
+        let (e, r) = self.reach(lower, upper);
+        let nodes = self.desc.nodes.len();
+        let y = (0..prog.deriv.len())
+            .map(|k| {
+                let w = if (nodes..2 * nodes).contains(&k) {
+                    r
+                } else {
+                    e
+                };
+                Interval::new(-w, w)
+            })
+            .collect();
+        crate::compile::interval::InputBox {
+            slots: lower
+                .iter()
+                .zip(upper)
+                .map(|(&a, &b)| Interval::new(a, b))
+                .collect(),
+            t: Interval::new(0.0, t_end),
+            y,
+            modes: all_modes(prog),
+            force: match drive {
+                Drive::Force(tab) => Some(crate::compile::interval::table_hull(tab)),
+                Drive::Velocity => None,
+            },
+        }
+    }
+
+    /// The stability bound from the compiled graph: every entry of the
+    /// derivative's Jacobian enclosed by interval forward-mode tangents over
+    /// [`Self::input_box`], and the spectral radius of every matrix in that
+    /// enclosure bounded by [`crate::compile::interval::spectral_bound`]
+    /// (a row-scaled Gershgorin bound). The name is the parameter whose range
+    /// drives it most: the one that, fixed at its more favourable end, lowers
+    /// the bound most. Infinite where an entry is unbounded over the box (a
+    /// power law with exponent below 1, whose slope is unbounded at 0; a
+    /// drive whose reach grows without bound in `t_end`). `None` without a
+    /// program for `drive`.
+    pub fn interval_omega(
+        &self,
+        lower: &[f64],
+        upper: &[f64],
+        drive: &Drive,
+        t_end: f64,
+    ) -> Option<(f64, &'static str)> {
+        use crate::compile::interval::{Interval, deriv_jacobian_box, spectral_bound};
+        let prog = &self.lowered.programs[self.program_for(drive)?];
+        let n = prog.deriv.len();
+        let bx = self.input_box(prog, drive, lower, upper, t_end);
+        let bound = |bx: &crate::compile::interval::InputBox| {
+            spectral_bound(&deriv_jacobian_box(prog, bx), n)
+        };
+        let all = bound(&bx);
+        let mut driver: Option<(f64, usize)> = None;
+        if all.is_finite() {
+            for p in 0..lower.len().min(self.params.len()) {
+                if lower[p] >= upper[p] {
+                    continue;
+                }
+                let mut best = f64::INFINITY;
+                for v in [lower[p], upper[p]] {
+                    let mut b = bx.clone();
+                    b.slots[p] = Interval::point(v);
+                    best = best.min(bound(&b));
+                }
+                if best < all && driver.is_none_or(|d| best < d.0) {
+                    driver = Some((best, p));
+                }
+            }
+        }
+        let name = match driver {
+            Some((_, p)) => self.params[p].name,
+            None => self.per_law_omega(lower, upper, drive).1,
+        };
+        Some((all, name))
+    }
+}
+
 fn poly_slope(coeffs: &[Coef], b: &impl Fn(&Coef) -> f64, e: f64) -> f64 {
     coeffs
         .iter()
@@ -462,45 +621,22 @@ impl RigModel for CompiledRig {
     }
 
     fn omega_bound(&self, lower: &[f64], upper: &[f64], drive: &Drive) -> (f64, &'static str) {
-        // Gershgorin on each free node's row of M⁻¹K and M⁻¹C, with every
-        // element's largest tangent stiffness and damping over the box and the
-        // reach. A node whose motion the drive prescribes (its displacement
-        // slot's derivative is the constant 0) is not integrated: no row.
-        let bounds: Vec<(f64, f64, String)> = (0..self.desc.elements.len())
-            .map(|i| self.element_bound(i, lower, upper))
-            .collect();
-        let prog = self.program_for(drive).map(|i| &self.lowered.programs[i]);
-        let prescribed = |k: usize| {
-            prog.is_some_and(|p| {
-                matches!(
-                    p.graph.ops[p.deriv[k] as usize],
-                    crate::compile::Op::Const(_)
-                )
-            })
-        };
-        let mut best = (0.0, self.params.first().map_or("", |p| p.name));
-        for (k, node) in self.desc.nodes.iter().enumerate() {
-            if prescribed(k) {
-                continue;
-            }
-            let m = self.coef_lower(&node.mass, lower);
-            let (mut kr, mut cr) = (0.0, 0.0);
-            let mut stiffest = (0.0, String::new());
-            for (e, b) in self.desc.elements.iter().zip(&bounds) {
-                if e.between.contains(&node.name) {
-                    let both = 1.0 + f64::from(u8::from(!e.between.iter().any(|x| x == "ground")));
-                    kr += both * b.0;
-                    cr += both * b.1;
-                    if b.0 >= stiffest.0 {
-                        stiffest = (b.0, b.2.clone());
-                    }
-                }
-            }
-            let lam = cr / m + (kr / m).sqrt();
-            if lam > best.0 || !lam.is_finite() {
-                best = (lam, leak(&stiffest.1));
-            }
+        self.omega_bound_in_run(lower, upper, drive, f64::INFINITY)
+    }
+
+    fn omega_bound_in_run(
+        &self,
+        lower: &[f64],
+        upper: &[f64],
+        drive: &Drive,
+        t_end: f64,
+    ) -> (f64, &'static str) {
+        // The graph's interval bound where it is finite and no looser than the
+        // per-law one; the per-law one otherwise (see `interval_omega`).
+        let old = self.per_law_omega(lower, upper, drive);
+        match self.interval_omega(lower, upper, drive, t_end) {
+            Some(new) if new.0.is_finite() && new.0 <= old.0 => new,
+            _ => old,
         }
-        best
     }
 }
