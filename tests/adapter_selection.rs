@@ -69,6 +69,11 @@ fn a_selector_that_names_no_adapter_is_refused_with_the_list() {
         &out,
         &format!("{ADAPTER_ENV}={n}: there is no adapter [{n}]"),
     );
+    // A long selector is echoed cut short, with its length.
+    let long = "x".repeat(5000);
+    let o = run(&c, &out, Some(&long), None);
+    let err = refused(&o, &out, "(5000 bytes)");
+    assert!(err.len() < 1000, "{} bytes of error", err.len());
     // The flag wins over the variable.
     let o = run(&c, &out, Some(&n.to_string()), Some("0"));
     refused(&o, &out, &format!("--adapter {n}"));

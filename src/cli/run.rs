@@ -95,8 +95,7 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         let adapters = rigfit::gpu::list_adapters();
         if let Err(why) = rigfit::gpu::choose_adapter(&selector, &adapters) {
             return Err(super::BadInput(format!(
-                "{}: {why}; the adapters are: {}",
-                rigfit::text::echo_bare(&selected_by),
+                "{selected_by}: {why}; the adapters are: {}",
                 rigfit::gpu::adapter_list(&adapters)
             ))
             .into());

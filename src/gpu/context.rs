@@ -2,6 +2,7 @@
 //! evaluator and test that runs on it.
 
 use super::GpuError;
+use crate::text::echo_bare;
 
 /// One adapter as `rigfit devices` prints it.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -41,15 +42,15 @@ pub struct AdapterChoice {
 }
 
 /// The adapter selector in force: `flag` (from `--adapter`) or else
-/// `RIGFIT_ADAPTER`, as `(selector, how it was given)`; `None` for the default
-/// adapter.
+/// `RIGFIT_ADAPTER`, as `(selector, how it was given)` (the value cut short
+/// and escaped for messages); `None` for the default adapter.
 pub fn requested_adapter(flag: Option<&str>) -> Option<(String, String)> {
     match flag {
-        Some(f) => Some((f.to_string(), format!("--adapter {f}"))),
+        Some(f) => Some((f.to_string(), format!("--adapter {}", echo_bare(f)))),
         None => std::env::var(ADAPTER_ENV)
             .ok()
             .filter(|v| !v.trim().is_empty())
-            .map(|v| (v.clone(), format!("{ADAPTER_ENV}={v}"))),
+            .map(|v| (v.clone(), format!("{ADAPTER_ENV}={}", echo_bare(&v)))),
     }
 }
 
