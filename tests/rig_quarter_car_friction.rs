@@ -1,21 +1,20 @@
-//! The quarter car of seed document 002 with the strut seal's Coulomb friction
-//! (`tests/data/quarter_car_friction/`: the shipped `quarter_car` rig plus a
-//! `stick_slip` element in the strut): the campaign recovers the strut, the seal's slip
+//! `rigs/quarter_car_friction.json` (seed document 002's quarter car with the
+//! strut seal's Coulomb friction, a `stick_slip` element in the strut): the
+//! shipped campaign recovers the strut, the seal's slip
 //! force and its tangential stiffness from a synthetic sprung-mass
 //! acceleration record down to the noise floor, and no candidate of the search
 //! chatters (the firing rule of `Transition::fires` holds a seal that sticks
-//! at the slip limit at a turning point). Not a shipped rig: the GPU leaves
-//! the CPU reference at such a stick decision (README, `quarter_car`).
+//! at the slip limit at a turning point).
 
 mod seed_rigs_common;
 
 use seed_rigs_common::recover;
 
 #[test]
-fn the_campaign_recovers_the_strut_and_its_seal_without_chattering() {
+fn the_shipped_campaign_recovers_the_strut_and_its_seal_without_chattering() {
     let r = recover(
-        "../tests/data/quarter_car_friction/campaign.json",
-        "../tests/data/quarter_car_friction/reference_params.json",
+        "quarter_car_friction_synthetic.json",
+        "quarter_car_friction_reference_params.json",
         64,
         30,
         2,

@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 pub use desc::RigDesc;
 
 /// The shipped rigs: (id, file text).
-pub const SHIPPED: [(&str, &str); 9] = [
+pub const SHIPPED: [(&str, &str); 10] = [
     ("tensile4", include_str!("../../rigs/tensile4.json")),
     ("duffing_base", include_str!("../../rigs/duffing_base.json")),
     ("stick_slip", include_str!("../../rigs/stick_slip.json")),
@@ -26,6 +26,10 @@ pub const SHIPPED: [(&str, &str); 9] = [
     ),
     ("bearing_2dof", include_str!("../../rigs/bearing_2dof.json")),
     ("quarter_car", include_str!("../../rigs/quarter_car.json")),
+    (
+        "quarter_car_friction",
+        include_str!("../../rigs/quarter_car_friction.json"),
+    ),
     ("emps", include_str!("../../rigs/emps.json")),
     (
         "emps_open_loop",
