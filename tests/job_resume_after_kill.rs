@@ -187,3 +187,54 @@ fn sigterm_cancels_the_generation_in_flight() {
     assert!(!out.join("checkpoint.json").exists());
     assert!(!out.join("result.json").exists());
 }
+
+#[test]
+fn killed_during_the_polish_and_resumed_ends_bit_identical() {
+    let dir = tempfile::tempdir().unwrap();
+    let c = campaign(dir.path());
+    // A short GA and a long polish: the kill lands after the GA's last
+    // checkpoint, while the polish runs.
+    let mut v: Value = serde_json::from_str(&std::fs::read_to_string(&c).unwrap()).unwrap();
+    v["search"] = serde_json::json!({
+        "population": 32, "generations": 4, "seed": 11, "checkpoint_every": 1,
+        "polish": {"starts": 8, "max_iterations": 30}
+    });
+    std::fs::write(&c, v.to_string()).unwrap();
+    let straight = dir.path().join("straight");
+    finish(start(&c, &straight, false));
+    let (_, fitness) = result(&straight);
+    let r: Value =
+        serde_json::from_str(&std::fs::read_to_string(straight.join("result.json")).unwrap())
+            .unwrap();
+    assert!(
+        r["polish"]["iterations"].as_u64().unwrap() > 1,
+        "{}",
+        r["polish"]
+    );
+
+    let killed = dir.path().join("killed");
+    let mut child = start(&c, &killed, false);
+    wait_for_generation(&mut child, &killed, 3);
+    // The last generation takes about 0.2 s on one thread, the polish about 4 s
+    // (30 iterations of 8 starts): the kill falls in the polish.
+    std::thread::sleep(Duration::from_millis(1000));
+    child.kill().unwrap();
+    let _ = child.wait();
+    let ck: Value =
+        serde_json::from_str(&std::fs::read_to_string(killed.join("checkpoint.json")).unwrap())
+            .unwrap();
+    // The GA's last generation was not finished or not checkpointed: resume
+    // runs it again, then the whole polish.
+    assert_eq!(ck["checkpoint"]["state"]["generation"], 3);
+    assert!(!killed.join("result.json").exists());
+    finish(start(&c, &killed, true));
+
+    assert_eq!(result(&straight), result(&killed));
+    assert_eq!(result(&killed).1, fitness);
+    let k: Value =
+        serde_json::from_str(&std::fs::read_to_string(killed.join("result.json")).unwrap())
+            .unwrap();
+    assert_eq!(k["parameters"], r["parameters"]);
+    assert!(r["parameters"].as_array().is_some_and(|p| !p.is_empty()));
+    assert_eq!(k["polish"]["correlation"], r["polish"]["correlation"]);
+}
