@@ -502,33 +502,10 @@ fn lower_mode(lay: &Layout, mode: &str) -> Result<Program, RigError> {
             }
             DriveLaw::ForceTable { t: tt, value, gain } => {
                 let k = node.expect("checked");
-                let tab = match (tt, value) {
-                    (Some(tt), Some(vv)) => Some(table(lay, &format!("{path}.law"), tt, vv)?),
-                    (None, None) if mode == "force" => None,
-                    (None, None) => {
-                        return Err(lay.err(
-                            format!("{path}.law"),
-                            "\"t\" and \"value\" (only a \"force\"-mode drive reads the experiment's table)",
-                            "neither",
-                        ));
-                    }
-                    _ => {
-                        return Err(lay.err(
-                            format!("{path}.law"),
-                            "both \"t\" and \"value\"",
-                            "one of them",
-                        ));
-                    }
-                };
-                tables.push(tab);
-                let mut f = g.input(Input::Table(tables.len() as u32 - 1));
-                if let Some(gain) = gain {
-                    let gain = lay.coef(&mut g, gain, &format!("{path}.law.gain"))?;
-                    f = g.mul(gain, f);
-                }
+                let f = table_drive(lay, &mut g, &mut tables, &path, mode, tt, value, gain)?;
                 external[k].push(f);
             }
-            DriveLaw::BaseAccelerationTable { t: tt, value } => {
+            DriveLaw::BaseAccelerationTable { t: tt, value, gain } => {
                 if d.node.is_some() {
                     return Err(lay.err(
                         format!("{path}.node"),
@@ -536,8 +513,8 @@ fn lower_mode(lay: &Layout, mode: &str) -> Result<Program, RigError> {
                         "a node",
                     ));
                 }
-                tables.push(Some(table(lay, &format!("{path}.law"), tt, value)?));
-                base_accel.push(g.input(Input::Table(tables.len() as u32 - 1)));
+                let a = table_drive(lay, &mut g, &mut tables, &path, mode, tt, value, gain)?;
+                base_accel.push(a);
             }
             DriveLaw::Sine { quantity, .. }
             | DriveLaw::Chirp { quantity, .. }
@@ -1078,6 +1055,47 @@ fn poly(lay: &Layout, g: &mut Graph, coeffs: &[Coef], sp: &str, d: Id) -> Result
         .map(|(j, c)| lay.coef(g, c, &format!("{sp}.coeffs[{j}]")))
         .collect::<Result<Vec<_>, _>>()?;
     Ok(g.poly(d, &cs))
+}
+
+/// A table drive's signal `gain·table(t)`: its own table (`t`, `value`), or
+/// in a `"force"`-mode program without them the experiment's table (pushed to
+/// `tables` as `None`).
+#[allow(clippy::too_many_arguments)]
+fn table_drive(
+    lay: &Layout,
+    g: &mut Graph,
+    tables: &mut Vec<Option<PiecewiseLinear>>,
+    path: &str,
+    mode: &str,
+    tt: &Option<Vec<f64>>,
+    value: &Option<Vec<f64>>,
+    gain: &Option<Coef>,
+) -> Result<Id, RigError> {
+    let tab = match (tt, value) {
+        (Some(tt), Some(vv)) => Some(table(lay, &format!("{path}.law"), tt, vv)?),
+        (None, None) if mode == "force" => None,
+        (None, None) => {
+            return Err(lay.err(
+                format!("{path}.law"),
+                "\"t\" and \"value\" (only a \"force\"-mode drive reads the experiment's table)",
+                "neither",
+            ));
+        }
+        _ => {
+            return Err(lay.err(
+                format!("{path}.law"),
+                "both \"t\" and \"value\"",
+                "one of them",
+            ));
+        }
+    };
+    tables.push(tab);
+    let mut f = g.input(Input::Table(tables.len() as u32 - 1));
+    if let Some(gain) = gain {
+        let gain = lay.coef(g, gain, &format!("{path}.law.gain"))?;
+        f = g.mul(gain, f);
+    }
+    Ok(f)
 }
 
 /// Whether a drive law moves the base (and so names no node).

@@ -327,13 +327,22 @@ pub enum DriveLaw {
         #[serde(default)]
         gain: Option<Coef>,
     },
-    /// Base acceleration `a(t)` (m/s²) from a table, 0 for `t < 0`: states are
-    /// relative to the base and every node feels `−m·a(t)`.
+    /// Base acceleration `a(t) = gain·table(t)` (m/s²), 0 for `t < 0`: states
+    /// are relative to the base and every node feels `−m·a(t)`. Without
+    /// `t`/`value` (a `"force"`-mode drive) the experiment's table: a measured
+    /// acceleration column of the data file (campaign `"drive": {"force":
+    /// {"column": …}}`), used as it is, with no integration.
     BaseAccelerationTable {
         /// Times (s).
-        t: Vec<f64>,
-        /// Accelerations (m/s²).
-        value: Vec<f64>,
+        #[serde(default)]
+        t: Option<Vec<f64>>,
+        /// Accelerations (m/s², or the table's unit where `gain` converts it).
+        #[serde(default)]
+        value: Option<Vec<f64>>,
+        /// m/s² per table unit (default 1): an accelerometer's sensitivity for
+        /// a table of volts, 9.81 for a table in g.
+        #[serde(default)]
+        gain: Option<Coef>,
     },
     /// `s(t) = amplitude·sin(2π·frequency·t + phase)` for `t ≥ 0`, 0 before.
     Sine {
