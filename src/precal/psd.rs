@@ -77,6 +77,66 @@ pub fn auto_segment_len(n: usize) -> usize {
     len
 }
 
+/// The Hann window of `len` samples (periodic form, as every estimator here
+/// uses it).
+pub fn hann(len: usize) -> Vec<f64> {
+    (0..len)
+        .map(|i| 0.5 - 0.5 * (2.0 * PI * i as f64 / len as f64).cos())
+        .collect()
+}
+
+/// A record of `n` samples cut for an averaged spectral estimate: segments of
+/// `len` samples at 50 % overlap (`step = len/2`), `count` of them, and the
+/// Hann window.
+#[derive(Debug, Clone)]
+pub struct Segments {
+    /// Samples per segment.
+    pub len: usize,
+    /// Samples between segment starts.
+    pub step: usize,
+    /// Whole segments in the record.
+    pub count: usize,
+    /// The Hann window.
+    pub window: Vec<f64>,
+}
+
+/// Cuts `n` samples into at least two overlapping segments of `segment_len`
+/// samples (chosen from the data when `None`; at least `min_len`).
+///
+/// # Errors
+/// [`PrecalError::InvalidOption`] for a segment shorter than `min_len`;
+/// [`PrecalError::TooFewPoints`] (`what` names the samples) when two segments
+/// do not fit.
+pub fn averaged_segments(
+    n: usize,
+    segment_len: Option<usize>,
+    min_len: usize,
+    what: &'static str,
+) -> Result<Segments, PrecalError> {
+    let len = segment_len.unwrap_or_else(|| auto_segment_len(n));
+    if len < min_len {
+        return Err(PrecalError::InvalidOption {
+            name: "segment length",
+            reason: format!("{len} samples is too short"),
+        });
+    }
+    let step = len / 2;
+    let count = if n >= len { (n - len) / step + 1 } else { 0 };
+    if count < 2 {
+        return Err(PrecalError::TooFewPoints {
+            what,
+            needed: len + step,
+            found: n,
+        });
+    }
+    Ok(Segments {
+        len,
+        step,
+        count,
+        window: hann(len),
+    })
+}
+
 /// Welch PSD of `x` sampled at `fs` (Hz); `segment_len` `None` picks it from the
 /// data.
 ///
@@ -107,9 +167,7 @@ pub fn welch(x: &[f64], fs: f64, segment_len: Option<usize>) -> Result<Psd, Prec
     }
     let step = len / 2;
     let n_segments = (x.len() - len) / step + 1;
-    let window: Vec<f64> = (0..len)
-        .map(|i| 0.5 - 0.5 * (2.0 * PI * i as f64 / len as f64).cos())
-        .collect();
+    let window = hann(len);
     let w2: f64 = window.iter().map(|w| w * w).sum();
     let fft = FftPlanner::new().plan_fft_forward(len);
     let bins = len / 2 + 1;

@@ -19,13 +19,11 @@
 //! segments; a lightly damped mode needs a resolution `fs/segment_len` well
 //! below its half-power bandwidth `2ζf_n`.
 
-use std::f64::consts::PI;
-
 use rustfft::FftPlanner;
 use rustfft::num_complex::Complex64;
 use serde::Serialize;
 
-use super::super::psd::auto_segment_len;
+use super::super::psd::{Segments, averaged_segments};
 use super::super::{PrecalError, check_inputs};
 
 /// Frequency-response estimates on the one-sided bins `k·fs/segment_len`.
@@ -83,29 +81,12 @@ pub fn estimate(
             reason: format!("{fs} Hz is not positive"),
         });
     }
-    let len = segment_len.unwrap_or_else(|| auto_segment_len(u.len()));
-    if len < 8 {
-        return Err(PrecalError::InvalidOption {
-            name: "segment length",
-            reason: format!("{len} samples is too short"),
-        });
-    }
-    let step = len / 2;
-    let n_segments = if u.len() >= len {
-        (u.len() - len) / step + 1
-    } else {
-        0
-    };
-    if n_segments < 2 {
-        return Err(PrecalError::TooFewPoints {
-            what: "samples for two averaged segments",
-            needed: len + step,
-            found: u.len(),
-        });
-    }
-    let window: Vec<f64> = (0..len)
-        .map(|i| 0.5 - 0.5 * (2.0 * PI * i as f64 / len as f64).cos())
-        .collect();
+    let Segments {
+        len,
+        step,
+        count: n_segments,
+        window,
+    } = averaged_segments(u.len(), segment_len, 8, "samples for two averaged segments")?;
     let w2: f64 = window.iter().map(|w| w * w).sum();
     let fft = FftPlanner::new().plan_fft_forward(len);
     let bins = len / 2 + 1;
@@ -181,6 +162,7 @@ pub fn estimate(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::PI;
 
     /// A first-order digital filter `y[n] = b·u[n] + a·y[n−1]` has the exact
     /// response `b / (1 − a·e^{−iω})`; white input makes H1 and H2 match it.

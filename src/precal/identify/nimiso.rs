@@ -30,7 +30,7 @@ use rustfft::FftPlanner;
 use rustfft::num_complex::Complex64;
 use serde::Serialize;
 
-use super::super::psd::auto_segment_len;
+use super::super::psd::{Segments, averaged_segments};
 use super::super::{PrecalError, check_inputs};
 use super::frf::WelchSettings;
 use super::lsq::least_squares;
@@ -149,31 +149,17 @@ pub fn analyse(
     }
     let vel = derivative(x, 1.0 / fs);
     let v = opts.nonlinearity.input(x, &vel);
-    let len = opts
-        .segment_len
-        .unwrap_or_else(|| auto_segment_len(x.len()));
-    if len < 8 {
-        return Err(PrecalError::InvalidOption {
-            name: "segment length",
-            reason: format!("{len} samples is too short"),
-        });
-    }
-    let step = len / 2;
-    let n_segments = if x.len() >= len {
-        (x.len() - len) / step + 1
-    } else {
-        0
-    };
-    if n_segments < 2 {
-        return Err(PrecalError::TooFewPoints {
-            what: "samples for two averaged segments",
-            needed: len + step,
-            found: x.len(),
-        });
-    }
-    let window: Vec<f64> = (0..len)
-        .map(|i| 0.5 - 0.5 * (2.0 * PI * i as f64 / len as f64).cos())
-        .collect();
+    let Segments {
+        len,
+        step,
+        count: n_segments,
+        window,
+    } = averaged_segments(
+        x.len(),
+        opts.segment_len,
+        8,
+        "samples for two averaged segments",
+    )?;
     let fft = FftPlanner::new().plan_fft_forward(len);
     let bins = len / 2 + 1;
     let signals = [x, &v, y];

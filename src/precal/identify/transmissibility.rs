@@ -66,7 +66,7 @@ use rustfft::num_complex::Complex64;
 use serde::Serialize;
 
 use super::super::PrecalError;
-use super::super::psd::auto_segment_len;
+use super::super::psd::{Segments, averaged_segments};
 use super::frf::WelchSettings;
 use super::lsq::least_squares;
 
@@ -119,29 +119,12 @@ pub fn block_spectra(
             reason: format!("{fs} Hz is not positive"),
         });
     }
-    let len = segment_len.unwrap_or_else(|| auto_segment_len(reference.len()));
-    if len < 16 {
-        return Err(PrecalError::InvalidOption {
-            name: "segment length",
-            reason: format!("{len} samples is too short"),
-        });
-    }
-    let step = len / 2;
-    let n_segments = if reference.len() >= len {
-        (reference.len() - len) / step + 1
-    } else {
-        0
-    };
-    if n_segments < 2 {
-        return Err(PrecalError::TooFewPoints {
-            what: "samples for two segments",
-            needed: len + step,
-            found: reference.len(),
-        });
-    }
-    let window: Vec<f64> = (0..len)
-        .map(|i| 0.5 - 0.5 * (2.0 * PI * i as f64 / len as f64).cos())
-        .collect();
+    let Segments {
+        len,
+        step,
+        count: n_segments,
+        window,
+    } = averaged_segments(reference.len(), segment_len, 16, "samples for two segments")?;
     let fft = FftPlanner::new().plan_fft_forward(len);
     let bins = len / 2 + 1;
     let dft = |x: &[f64], s: usize, cube: bool| -> Vec<Complex64> {
