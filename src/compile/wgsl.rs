@@ -20,15 +20,16 @@
 //!   event function), `rig_hits(g0, g1, md) -> u32` (the armed transitions
 //!   that fire over a step from `g0` to `g1`, one bit each), `rig_event_past(kc,
 //!   i, t, y, md) -> bool`, `rig_fire(i, md)`;
-//! - `rig_output0(kc, t, y, md) -> real` (the scored output) and
-//!   `rig_report(kc, t, y, md) -> Rep` (every output, then the full state);
+//! - `rig_output0_c(kc, t, y, md, ck) -> real` (the scored output) and
+//!   `rig_report_c(kc, t, y, md, ck) -> Rep` (every output, then the full state);
 //! - the drive clocks: `struct Ck`, `rig_clock(kc, t)` and
 //!   `rig_clock_shift(c, q)`. An `exp` or `expm1` whose exponent is `c·t` (`c`
 //!   a run constant; the velocity drive's ramp `e^{−v·t/r}`) is read from `ck`,
 //!   which the run loop computes once per step and carries to the stage times
-//!   by `m + q + m·q`. `rig_deriv`, `rig_events`, `rig_output0` and
-//!   `rig_report` each have a `_c` form taking `ck`; the plain form computes
-//!   it at `t`, as the CPU reference computes the exponential.
+//!   by `m + q + m·q`. The derivative, the events and the outputs are emitted
+//!   as `rig_deriv_c`, `rig_events_c`, `rig_output0_c` and `rig_report_c`,
+//!   taking `ck`; `rig_deriv` and `rig_events` (for the located-switch path)
+//!   compute it at `t`, as the CPU reference computes the exponential.
 
 use std::fmt::Write as _;
 
@@ -518,12 +519,7 @@ impl Emitter<'_> {
         }
         s.push_str("    return r;\n}\n\n");
         // The same at a time whose clocks are not at hand.
-        for (f, ty) in [
-            ("rig_deriv", "St"),
-            ("rig_events", "Ev"),
-            ("rig_output0", "real"),
-            ("rig_report", "Rep"),
-        ] {
+        for (f, ty) in [("rig_deriv", "St"), ("rig_events", "Ev")] {
             let _ = writeln!(
                 s,
                 "fn {f}(kc: Kc, t: real, y: St, md: Md) -> {ty} {{\n    return {f}_c(kc, t, y, md, rig_clock(kc, t));\n}}\n"
