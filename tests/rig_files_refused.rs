@@ -235,6 +235,62 @@ fn every_bad_rig_is_refused_with_its_file_and_json_path() {
             |v| v["elements"][2]["damper"] = json!({"law": "expression", "force": "c3*x"}),
             "elements[2].damper.force",
         ),
+        (
+            "backlash behind a gap",
+            |v| v["elements"][3]["backlash"] = json!({"half_width": 1e-3}),
+            "elements[3].backlash",
+        ),
+        (
+            "backlash with friction",
+            |v| {
+                v["elements"][2]["friction"] =
+                    json!({"law": "stick_slip", "f_c": 10.0, "k_t": "k3"});
+                v["elements"][2]["backlash"] = json!({"half_width": 1e-3});
+            },
+            "elements[2].backlash",
+        ),
+        (
+            "backlash without a damper",
+            |v| {
+                v["elements"][2]["damper"] = Value::Null;
+                v["elements"][2]["backlash"] = json!({"half_width": 1e-3});
+            },
+            "elements[2].backlash",
+        ),
+        (
+            "backlash without a spring",
+            |v| {
+                v["elements"][2]["spring"] = Value::Null;
+                v["elements"][2]["backlash"] = json!({"half_width": 1e-3});
+            },
+            "elements[2].backlash",
+        ),
+        (
+            "backlash with a damper that is not viscous",
+            |v| {
+                v["elements"][2]["damper"] = json!({"law": "power_law", "c": "c3", "alpha": 2.0});
+                v["elements"][2]["backlash"] = json!({"half_width": 1e-3});
+            },
+            "elements[2].damper",
+        ),
+        (
+            "backlash with zero damping",
+            |v| {
+                v["elements"][2]["damper"]["c"] = json!(0.0);
+                v["elements"][2]["backlash"] = json!({"half_width": 1e-3});
+            },
+            "elements[2].damper.c",
+        ),
+        (
+            "backlash with a negative half-width",
+            |v| v["elements"][2]["backlash"] = json!({"half_width": -1e-3}),
+            "elements[2].backlash.half_width",
+        ),
+        (
+            "backlash with an unknown key",
+            |v| v["elements"][2]["backlash"] = json!({"half_width": 1e-3, "size": 1e-3}),
+            "elements[2].backlash",
+        ),
     ];
     assert!(cases.len() >= 20);
     assert!(compile(&base()).is_ok(), "the base rig compiles");

@@ -4,7 +4,8 @@
 //!
 //! State layout: node displacements in node order, then node velocities, then
 //! the elements' internal states (the stretch of each friction element's
-//! tangential spring) in element order.
+//! tangential spring, the play position of each backlash element) in element
+//! order.
 
 use std::collections::HashMap;
 
@@ -13,7 +14,8 @@ use super::program::{Direction, ModeVar, Program, Transition};
 use crate::model::PiecewiseLinear;
 use crate::rig::RigError;
 use crate::rig::desc::{
-    Coef, DamperLaw, DriveLaw, ElementDesc, FrictionLaw, GapKind, Quantity, RigDesc, SpringLaw,
+    BacklashDesc, Coef, DamperLaw, DriveLaw, ElementDesc, FrictionLaw, GapKind, Quantity, RigDesc,
+    SpringLaw,
 };
 
 /// The whole rig, checked: names, modes, one [`Program`] per drive mode.
@@ -42,6 +44,8 @@ struct Layout<'a> {
     contact_var: Vec<Option<u32>>,
     yield_var: Vec<Option<u32>>,
     friction_var: Vec<Option<(u32, u32)>>,
+    /// Mode variable and play-state slot of each backlash element.
+    backlash_var: Vec<Option<(u32, u32)>>,
     /// Mode variable of each drive's pulse (half-sine: before, on, after).
     drive_var: Vec<Option<u32>>,
     modes: Vec<ModeVar>,
@@ -69,6 +73,7 @@ impl<'a> Layout<'a> {
             contact_var: vec![],
             yield_var: vec![],
             friction_var: vec![],
+            backlash_var: vec![],
             drive_var: vec![],
             modes: vec![],
             states: vec![],
@@ -236,6 +241,15 @@ impl<'a> Layout<'a> {
                 None
             };
             me.friction_var.push(f);
+            let p = if let Some(bd) = &e.backlash {
+                me.check_backlash(e, bd, &path)?;
+                let v = var(&mut me, "backlash", vec!["play", "tension", "compression"]).unwrap();
+                me.states.push(format!("p_{}", e.name));
+                Some((v, me.states.len() as u32 - 1))
+            } else {
+                None
+            };
+            me.backlash_var.push(p);
         }
         for (i, d) in desc.drives.iter().enumerate() {
             let v = if matches!(d.law, DriveLaw::HalfSine { .. }) {
@@ -259,6 +273,63 @@ impl<'a> Layout<'a> {
             }
         }
         Ok(me)
+    }
+
+    /// What a backlash element needs: a spring and a viscous damper (the play
+    /// moves with `ṗ = ė + F_s/c`, singular for `c = 0`), no gap and no
+    /// friction, a half-width ≥ 0. Literal coefficients are checked here; a
+    /// damping parameter is checked per run (`CompiledRig::check`).
+    fn check_backlash(
+        &self,
+        e: &ElementDesc,
+        bd: &BacklashDesc,
+        path: &str,
+    ) -> Result<(), RigError> {
+        let at = format!("{path}.backlash");
+        if e.gap.is_some() {
+            return Err(self.err(
+                at,
+                "no gap on a backlash element (the play is its gap)",
+                "both",
+            ));
+        }
+        if e.friction.is_some() {
+            return Err(self.err(at, "no friction on a backlash element", "both"));
+        }
+        if e.spring.is_none() || e.damper.is_none() {
+            let found = if e.spring.is_none() {
+                "no spring"
+            } else {
+                "no damper"
+            };
+            return Err(self.err(
+                at,
+                "a backlash element with both a spring and a viscous damper",
+                found,
+            ));
+        }
+        let Some(DamperLaw::Viscous { c }) = &e.damper else {
+            return Err(self.err(
+                format!("{path}.damper"),
+                "a viscous damper on a backlash element (the play's motion divides by c)",
+                "another damper law",
+            ));
+        };
+        if let Some(v) = literals(c).into_iter().find(|v| *v <= 0.0) {
+            return Err(self.err(
+                format!("{path}.damper.c"),
+                "a damping > 0 (N·s/m) on a backlash element (the play's motion divides by c)",
+                v.to_string(),
+            ));
+        }
+        if let Some(v) = literals(&bd.half_width).into_iter().find(|v| *v < 0.0) {
+            return Err(self.err(
+                format!("{at}.half_width"),
+                "a half-width ≥ 0 (m)",
+                v.to_string(),
+            ));
+        }
+        Ok(())
     }
 
     /// Lowers a coefficient at `path`.
@@ -356,6 +427,19 @@ impl<'a> Layout<'a> {
                 let broken = g.eq(m, one);
                 Ok(g.select(broken, after, before))
             }
+        }
+    }
+}
+
+/// The numbers written into a coefficient (both sides of a switch).
+fn literals(c: &Coef) -> Vec<f64> {
+    match c {
+        Coef::Number(v) => vec![*v],
+        Coef::Param(_) => vec![],
+        Coef::Switch(s) => {
+            let mut v = literals(&s.before);
+            v.extend(literals(&s.after));
+            v
         }
     }
 }
@@ -939,19 +1023,85 @@ fn element_force(
         Ok(f)
     };
 
-    let mut f = match gap {
-        None => law_force(g, trans, el)?,
-        Some((GapKind::Tension, var, d_t, _)) => {
+    let mut f = match (gap, &e.backlash) {
+        (None, None) => law_force(g, trans, el)?,
+        (None, Some(bd)) => {
+            // The play position p is the state; the laws see the stretch
+            // d = e − q, with q = p in play and the stop ±b in contact, taken
+            // from the stored mode (never from the sign of p − b). In play
+            // F_s(d) + c·ė is c·ṗ, the rate at which the play moves; in contact
+            // it is the element's force.
+            let b = lay.coef(g, &bd.half_width, &format!("{path}.backlash.half_width"))?;
+            let (var, slot) = lay.backlash_var[i].expect("allocated");
+            let Some(DamperLaw::Viscous { c }) = &e.damper else {
+                unreachable!("checked in Layout::new")
+            };
+            let c = lay.coef(g, c, &format!("{path}.damper.c"))?;
+            let p = g.input(Input::State(slot));
+            let play = mode_is(g, var, 0.0);
+            let ten = mode_is(g, var, 1.0);
+            let com = mode_is(g, var, 2.0);
+            let nb = g.neg(b);
+            let stop = g.select(com, nb, p);
+            let q = g.select(ten, b, stop);
+            let d = g.sub(el, q);
+            let lf = law_force(g, trans, d)?;
+            let n = &e.name;
+            let to_ten = g.sub(p, b);
+            let to_com = g.add(p, b);
+            push(
+                trans,
+                format!("{n} takes up its play in tension"),
+                var,
+                0,
+                1,
+                to_ten,
+                Direction::Up,
+            );
+            push(
+                trans,
+                format!("{n} takes up its play in compression"),
+                var,
+                0,
+                2,
+                to_com,
+                Direction::Down,
+            );
+            push(
+                trans,
+                format!("{n} leaves tension contact"),
+                var,
+                1,
+                0,
+                lf,
+                Direction::Down,
+            );
+            push(
+                trans,
+                format!("{n} leaves compression contact"),
+                var,
+                2,
+                0,
+                lf,
+                Direction::Up,
+            );
+            let rate_p = g.div(lf, c);
+            let dp = g.select(play, rate_p, zero);
+            internal.push((slot, dp));
+            g.select(play, zero, lf)
+        }
+        (Some(_), Some(_)) => unreachable!("refused in Layout::new"),
+        (Some((GapKind::Tension, var, d_t, _)), None) => {
             let closed = mode_is(g, var, 1.0);
             let lf = law_force(g, trans, d_t)?;
             g.select(closed, lf, zero)
         }
-        Some((GapKind::Compression, var, _, d_c)) => {
+        (Some((GapKind::Compression, var, _, d_c)), None) => {
             let closed = mode_is(g, var, 1.0);
             let lf = law_force(g, trans, d_c)?;
             g.select(closed, lf, zero)
         }
-        Some((GapKind::FreePlay, var, d_t, d_c)) => {
+        (Some((GapKind::FreePlay, var, d_t, d_c)), None) => {
             let ten = mode_is(g, var, 1.0);
             let com = mode_is(g, var, 2.0);
             let ft = law_force(g, trans, d_t)?;

@@ -316,6 +316,22 @@ impl CompiledRig {
                 best = (lam, leak(&stiffest.1));
             }
         }
+        // A backlash element's play relaxes at the rate F_s'/c (its row of
+        // the Jacobian in play: ṗ = ė + F_s(e − p)/c), a real eigenvalue of
+        // at most the largest tangent stiffness over the smallest damping.
+        for (e, b) in self.desc.elements.iter().zip(&bounds) {
+            if let (Some(_), Some(DamperLaw::Viscous { c })) = (&e.backlash, &e.damper) {
+                let lam = b.0 / self.coef_lower(c, lower);
+                let lam = if lam >= 0.0 { lam } else { f64::INFINITY };
+                if lam > best.0 || !lam.is_finite() {
+                    let name = match c {
+                        Coef::Param(n) => n.clone(),
+                        _ => b.2.clone(),
+                    };
+                    best = (lam, leak(&name));
+                }
+            }
+        }
         best
     }
 }
@@ -474,6 +490,26 @@ impl RigModel for CompiledRig {
                 }
             }
         }
+        for e in &self.desc.elements {
+            if let (Some(_), Some(DamperLaw::Viscous { c: Coef::Param(n) })) =
+                (&e.backlash, &e.damper)
+            {
+                let i = self
+                    .params
+                    .iter()
+                    .position(|p| p.name == n)
+                    .expect("checked");
+                if params[i] <= 0.0 {
+                    return Err((
+                        self.params[i].name,
+                        format!(
+                            "a damping > 0 (backlash element {:?}: its play moves with ṗ = ė + F_s/c)",
+                            e.name
+                        ),
+                    ));
+                }
+            }
+        }
         Ok(())
     }
 
@@ -560,11 +596,12 @@ impl RigModel for CompiledRig {
     }
 
     fn linearise(&self, params: &[f64], drive: &Drive) -> Linearised {
-        // About rest with every contact closed, nothing broken or yielded and
-        // every slider stuck, from the compiled derivative's own tangents.
+        // About rest with every contact closed (a backlash element's play
+        // taken up in tension), nothing broken or yielded and every slider
+        // stuck, from the compiled derivative's own tangents.
         let mut st = self.stepper(params, drive).expect("a declared drive mode");
         for (v, m) in self.lowered.modes.iter().enumerate() {
-            st.modes[v] = u32::from(m.name.ends_with(".contact"));
+            st.modes[v] = u32::from(m.name.ends_with(".contact") || m.name.ends_with(".backlash"));
         }
         let pi = self.program_for(drive).expect("declared");
         let prog = &self.lowered.programs[pi];

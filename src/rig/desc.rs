@@ -147,6 +147,10 @@ pub struct ElementDesc {
     /// The element carries force only in contact (see [`GapDesc`]).
     #[serde(default)]
     pub gap: Option<GapDesc>,
+    /// The spring and (viscous) damper sit in series with a play of their own,
+    /// whose position is an internal state (see [`BacklashDesc`]).
+    #[serde(default)]
+    pub backlash: Option<BacklashDesc>,
     /// The element breaks for good when its elongation reaches this (m).
     #[serde(default)]
     pub breaks_at: Option<Coef>,
@@ -255,6 +259,21 @@ pub enum FrictionLaw {
         /// Tangential (pre-sliding) stiffness (N/m).
         k_t: Coef,
     },
+}
+
+/// Backlash with its own play state (the "physical backlash model"): the
+/// element's spring `F_s` and viscous damper `c` act in series with a play of
+/// half-width `b`, whose position `p` (`|p| ≤ b`) is an internal state. The
+/// element's force is `F = F_s(e − p) + c·(ė − ṗ)`. In play `F = 0`, so
+/// `ṗ = ė + F_s(e − p)/c`; in contact `p` stands at `±b`, `ṗ = 0` and
+/// `F = F_s(e ∓ b) + c·ė`. Play → contact when `p` reaches `±b`, contact →
+/// play when `F` changes sign (located events). Needs a spring and a viscous
+/// damper with `c > 0`; no gap, no friction on the same element.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BacklashDesc {
+    /// Half-width of the play, `b` (m, ≥ 0).
+    pub half_width: Coef,
 }
 
 /// A gap: one-sided contact (force only once `e > size`, from `e − size`) or
