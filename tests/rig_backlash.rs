@@ -301,3 +301,30 @@ fn the_stability_bound_counts_the_plays_relaxation_rate() {
     println!("guard's bound {w} rad/s");
     assert!(w >= 1e4 / 6.0 * (1.0 - 1e-12), "{w}");
 }
+
+#[test]
+fn modes_see_the_element_in_contact_and_the_interval_bound_its_play() {
+    // `modes` linearises with every contact closed: the play taken up, the
+    // mass on k alone rings at √(k/m).
+    let r = rig();
+    let lin = r.linearise(&params(20.0, 5.0), &Drive::Velocity);
+    assert_eq!(lin.dofs, ["mass"]);
+    assert!(
+        (lin.stiffness[0] - K).abs() < 1e-9 * K,
+        "{:?}",
+        lin.stiffness
+    );
+    let report = rigfit::modes::ModeReport::new(&lin).unwrap();
+    let w = report.modes[0].omega;
+    println!("linearised: {w} rad/s");
+    assert!((w - (K / M).sqrt()).abs() < 1e-9 * w);
+    // The graph's interval bound encloses the play's rate k/c (its Jacobian
+    // in play has the eigenvalue −k/c).
+    let lo = [0.8, 0.8e4, 48.0, 0.8e-3, 16.0, 4.0];
+    let hi = [1.25, 1.25e4, 75.0, 1.25e-3, 25.0, 6.25];
+    let (wi, _) = r.interval_omega(&lo, &hi, &Drive::Velocity, 2.0).unwrap();
+    let (wp, _) = r.per_law_omega(&lo, &hi, &Drive::Velocity);
+    println!("interval bound {wi:.1} rad/s, per-law bound {wp:.1} rad/s");
+    assert!(wi.is_finite() && wi >= 1.25e4 / 48.0, "{wi}");
+    assert!(wp >= 1.25e4 / 48.0 * (1.0 - 1e-12), "{wp}");
+}
