@@ -2,7 +2,8 @@
 //! every output and every state of every candidate's history, the fitness and
 //! divergence, for every shipped rig and for runs with many located switches
 //! (a stick-slip block under a slow sine, a mass in free play between two stops
-//! closing and opening every half cycle), and every shipped campaign that names
+//! closing and opening every half cycle, a backlash element taking up and
+//! leaving its play state every half cycle), and every shipped campaign that names
 //! a rig, over candidates spread through its search box. f64 within
 //! [`F64_HISTORY_TOLERANCE`] of each series' largest magnitude; f32 within
 //! [`F32_HISTORY_TOLERANCE`].
@@ -119,6 +120,16 @@ fn cases() -> Vec<Case> {
     )
     .unwrap();
     let stick = shipped("stick_slip");
+    let backlash_file = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/backlash_sdof.json");
+    let backlash = CompiledRig::leaked(
+        rigfit::rig::parse(
+            &std::fs::read_to_string(backlash_file).unwrap(),
+            &rigfit::rig::RigSource::File(backlash_file.into()),
+        )
+        .unwrap(),
+        backlash_file,
+    )
+    .unwrap();
     vec![
         Case {
             name: "tensile4 (slack engagement, yield, fracture)",
@@ -191,6 +202,20 @@ fn cases() -> Vec<Case> {
             // and some candidates exceed it later (4e-4 by sample 2730); f64
             // holds 1e-9 throughout.
             f32_samples: Some(2000),
+        },
+        Case {
+            name: "backlash taking up and leaving its play every half cycle",
+            rig: backlash,
+            drive: sine_table(20.0, 5.0, 1.0, 1001),
+            // m, k, c, b (f0 and freq drive the velocity mode only).
+            centre: vec![1.0, 1e4, 60.0, 1e-3, 20.0, 5.0],
+            vary: vec![0, 1, 2, 3],
+            spread: 1.3,
+            dt: 1e-3,
+            samples: 1000,
+            substeps: 4,
+            min_events: 16,
+            f32_samples: None,
         },
     ]
 }
