@@ -328,3 +328,38 @@ fn modes_see_the_element_in_contact_and_the_interval_bound_its_play() {
     assert!(wi.is_finite() && wi >= 1.25e4 / 48.0, "{wi}");
     assert!(wp >= 1.25e4 / 48.0 * (1.0 - 1e-12), "{wp}");
 }
+
+/// A campaign naming the rig file, with `c` as given, in `dir` (a grid record).
+fn campaign(dir: &std::path::Path, c: serde_json::Value) -> Result<(), String> {
+    std::fs::write(dir.join("grid.csv"), "t_s,force_N\n0,0\n0.001,1\n").unwrap();
+    let json = serde_json::json!({
+        "name": "backlash",
+        "rig": FILE,
+        "params": {"m": 1.0, "k": 1e4, "c": c, "b": 1e-3, "f0": 20.0, "freq": 5.0},
+        "experiments": [{"name": "s5", "data": {"file": "grid.csv", "time_column": "t_s", "force_column": "force_N"}}],
+        "solver": {"substeps": "auto", "backend": "cpu"},
+        "search": {"population": 16, "generations": 2, "seed": 1},
+        "output": "out"
+    });
+    rigfit::campaign::Campaign::from_str(&json.to_string(), dir, "c.json")
+        .map(|_| ())
+        .map_err(|e| e.to_string())
+}
+
+#[test]
+fn a_campaign_loads_the_rig_file_and_refuses_a_damping_range_through_zero() {
+    let tmp = tempfile::tempdir().unwrap();
+    campaign(tmp.path(), serde_json::json!(60.0)).unwrap();
+    campaign(tmp.path(), serde_json::json!({"min": 20.0, "max": 200.0})).unwrap();
+    for c in [
+        serde_json::json!(0.0),
+        serde_json::json!({"min": 0.0, "max": 200.0, "scale": "linear"}),
+    ] {
+        let err = campaign(tmp.path(), c).unwrap_err();
+        println!("{err}");
+        assert!(
+            err.contains("params.c") && err.contains("damping > 0"),
+            "{err}"
+        );
+    }
+}
