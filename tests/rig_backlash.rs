@@ -363,3 +363,78 @@ fn a_campaign_loads_the_rig_file_and_refuses_a_damping_range_through_zero() {
         );
     }
 }
+
+#[test]
+fn a_play_of_zero_width_is_the_plain_spring_and_damper() {
+    let with = rig();
+    let mut d = desc();
+    d.elements[0].backlash = None;
+    let plain = CompiledRig::new(d, FILE).unwrap();
+    let grid = SampleGrid {
+        t0: 0.0,
+        dt: 1e-3,
+        samples: 1000,
+        substeps: 4,
+    };
+    let mut p = params(20.0, 5.0);
+    p[3] = 0.0;
+    let force = |r: &CompiledRig| {
+        let mut h = vec![];
+        r.simulate(&p, &Drive::Velocity, &grid, &mut |s| {
+            h.push(s.outputs[0]);
+            ControlFlow::Continue(())
+        });
+        h
+    };
+    let (a, b) = (force(&with), force(&plain));
+    let e = rel_rms(
+        &a.iter().flat_map(|&x| [x, 1.0]).collect::<Vec<_>>(),
+        &b.iter().flat_map(|&x| [x, 1.0]).collect::<Vec<_>>(),
+    );
+    let run = run(&with, &p, 4000, 2.5e-4);
+    println!(
+        "b = 0: {} events, force differs by {e:.2e} (relative RMS)",
+        run.fired.len()
+    );
+    assert!(!run.chattered);
+    assert!(e < 1e-8, "{e:e}");
+}
+
+#[test]
+fn the_cpu_lane_ensemble_gives_the_reference_bits() {
+    let r = rig();
+    let grid = SampleGrid {
+        t0: 0.0,
+        dt: 1e-3,
+        samples: 600,
+        substeps: 2,
+    };
+    // 20 candidates (a full group of lanes and a part one), b and c spread.
+    let ps: Vec<Vec<f64>> = (0..20)
+        .map(|i| {
+            let mut p = params(20.0, 5.0);
+            p[2] *= 1.0 + 0.05 * i as f64;
+            p[3] *= 0.5 + 0.1 * i as f64;
+            p
+        })
+        .collect();
+    let refs: Vec<&[f64]> = ps.iter().map(|p| p.as_slice()).collect();
+    let mut many = vec![vec![]; ps.len()];
+    r.simulate_many(&refs, &Drive::Velocity, &grid, &mut |j, s| {
+        many[j].extend_from_slice(s.outputs);
+        many[j].extend_from_slice(s.state);
+        ControlFlow::Continue(())
+    });
+    for (j, p) in ps.iter().enumerate() {
+        let mut one = vec![];
+        r.simulate(p, &Drive::Velocity, &grid, &mut |s| {
+            one.extend_from_slice(s.outputs);
+            one.extend_from_slice(s.state);
+            ControlFlow::Continue(())
+        });
+        assert_eq!(one.len(), many[j].len());
+        for (a, b) in one.iter().zip(&many[j]) {
+            assert_eq!(a.to_bits(), b.to_bits(), "candidate {j}");
+        }
+    }
+}
