@@ -3,6 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use super::error::{invalid, parse_json};
+use super::initial;
 use super::names::{check_campaign_name, check_experiment_names};
 use super::raw::{RawCampaign, RawDrive, RawExperiment, RawParam};
 use super::resolve::{check_map, check_physics, check_value, resolve};
@@ -20,7 +21,8 @@ pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, Cam
     let raw: RawCampaign = parse_json(text, file)?;
     check_campaign_name(file, &raw.name)?;
     let mut rig_file = None;
-    let model = model_of(&raw, dir, file, &mut rig_file)?;
+    let mut compiled = None;
+    let model = model_of(&raw, dir, file, &mut rig_file, &mut compiled)?;
     if let Some(search) = &raw.search {
         search
             .validate()
@@ -47,7 +49,7 @@ pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, Cam
                 file,
                 &format!("experiments[{e}].params"),
                 model,
-                &x.params,
+                &initial::as_params(file, dir, e, x)?,
                 true,
             )
         })
@@ -93,6 +95,9 @@ pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, Cam
                 format!("a drive mode that rig '{}' declares", model.id()),
                 "a force table (the rig has no \"force\"-mode drive)",
             ));
+        }
+        if let Some(rig) = compiled {
+            initial::check_prescribed(file, rig, e, x, &exp.drive)?;
         }
         digest = bytes_hash;
         experiments.push(exp);
@@ -210,30 +215,42 @@ fn model_of(
     dir: &Path,
     file: &Path,
     rig_file: &mut Option<PathBuf>,
+    compiled: &mut Option<&'static CompiledRig>,
 ) -> Result<&'static dyn RigModel, CampaignError> {
     match (&raw.model, &raw.rig) {
-        (Some(id), None) => by_id(id).ok_or_else(|| {
-            let known: Vec<&str> = registry().iter().map(|m| m.id()).collect();
-            let expected = format!(
-                "a known model ({}), or a \"rig\" instead (shipped rigs: {})",
-                known.join(", "),
-                rig::SHIPPED.map(|(i, _)| i).join(", ")
-            );
-            invalid(file, "model", expected, crate::text::echo(id))
-        }),
+        (Some(id), None) => {
+            initial::refuse_builtin(file, &raw.experiments, id)?;
+            by_id(id).ok_or_else(|| {
+                let known: Vec<&str> = registry().iter().map(|m| m.id()).collect();
+                let expected = format!(
+                    "a known model ({}), or a \"rig\" instead (shipped rigs: {})",
+                    known.join(", "),
+                    rig::SHIPPED.map(|(i, _)| i).join(", ")
+                );
+                invalid(file, "model", expected, crate::text::echo(id))
+            })
+        }
         (None, Some(v)) => {
             let (desc, src) = rig::resolve(v, dir, file).map_err(rig_error)?;
             if let rig::RigSource::File(path) = &src {
                 // An input like the data: a job never writes over it.
                 *rig_file = Some(path.clone());
             }
-            let rig = CompiledRig::leaked(desc, &src.label()).map_err(|mut e| {
+            let at_campaign = |mut e: rig::RigError| {
                 if matches!(src, rig::RigSource::Inline(..)) {
                     e.path = format!("rig.{}", e.path);
                     e.file = file.display().to_string();
                 }
                 rig_error(e)
-            })?;
+            };
+            let mut desc = desc;
+            if raw.experiments.iter().any(|x| !x.initial.is_empty()) {
+                let states =
+                    crate::compile::lower::state_names(&desc, &src.label()).map_err(at_campaign)?;
+                initial::declare(file, &raw.experiments, &mut desc, &states)?;
+            }
+            let rig = CompiledRig::leaked(desc, &src.label()).map_err(at_campaign)?;
+            *compiled = Some(rig);
             Ok(rig)
         }
         (Some(_), Some(_)) => Err(invalid(

@@ -34,6 +34,7 @@
 
 mod build;
 mod error;
+mod initial;
 mod names;
 mod param_file;
 pub mod raw;

@@ -80,6 +80,65 @@ pub struct RawExperiment {
     /// alone. A name given twice is refused.
     #[serde(default, deserialize_with = "unique_keys")]
     pub params: BTreeMap<String, RawParam>,
+    /// `"initial"`: the state the run starts from, by the rig's state names
+    /// (`x_<node>` m, `v_<node>` m/s, `s_<friction element>` m); states left
+    /// out start at 0. A compiled rig (`"rig"`) only.
+    #[serde(default, deserialize_with = "unique_keys")]
+    pub initial: BTreeMap<String, RawInitial>,
+}
+
+/// One state's initial value: a number (fixed), `{"min", "max", "init"?}`
+/// (free: this experiment's own gene) or `{"column", …}` (from the data file).
+#[derive(Debug, Clone, PartialEq)]
+pub enum RawInitial {
+    /// A value, or a range to search, as a parameter.
+    Param(RawParam),
+    /// Taken from the experiment's data file.
+    Data(RawInitialData),
+}
+
+/// An initial value taken from a column of the experiment's data file: the
+/// value at the first sample (or the slope there, for a velocity) of a
+/// least-squares polynomial of degree `min(2, samples − 1)` through the
+/// record's first `samples` samples.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawInitialData {
+    /// `"column"`: header name or 0-based index.
+    pub column: Column,
+    /// `"scale"`: multiplier to the state's unit (m; 1e-3 for mm). Default 1.
+    #[serde(default = "one")]
+    pub scale: f64,
+    /// `"samples"`: how many of the first samples the fit takes (default 1
+    /// for a value: the first sample itself; 3 for a slope: the one-sided
+    /// second-order difference `(−3x₀ + 4x₁ − x₂)/(2·dt)`).
+    #[serde(default)]
+    pub samples: Option<usize>,
+    /// `"slope"`: take the fit's slope (a velocity from a displacement
+    /// column) rather than its value. Default: true for a `v_` state.
+    #[serde(default)]
+    pub slope: Option<bool>,
+}
+
+impl<'de> Deserialize<'de> for RawInitial {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let v = serde_json::Value::deserialize(d)?;
+        let has_column = v.as_object().is_some_and(|m| m.contains_key("column"));
+        if has_column {
+            RawInitialData::deserialize(v)
+                .map(RawInitial::Data)
+                .map_err(de::Error::custom)
+        } else {
+            RawParam::deserialize(v)
+                .map(RawInitial::Param)
+                .map_err(|e| {
+                    de::Error::custom(format!(
+                        "{e}; an initial state is a number (fixed), {{\"min\", \"max\", \"init\"?}} \
+                         (free) or {{\"column\", \"scale\"?, \"samples\"?, \"slope\"?}} (from the data)"
+                    ))
+                })
+        }
+    }
 }
 
 /// A JSON object as a map, refusing a key given twice: serde's own maps keep

@@ -35,6 +35,8 @@ pub struct EventStepper<'p> {
     pub frame: Frame<'p>,
     /// Mode variables.
     pub modes: Vec<u32>,
+    /// The state the run starts from ([`super::initial`]).
+    pub y0: Vec<f64>,
     /// Switches fired so far, in time order.
     pub fired: Vec<Fired>,
     /// Whether a step took more than [`MAX_EVENTS_PER_STEP`] events.
@@ -49,8 +51,9 @@ pub struct EventStepper<'p> {
 }
 
 impl<'p> EventStepper<'p> {
-    /// A run of `prog` with the full parameter vector `params`, at rest in its
-    /// modes' value 0.
+    /// A run of `prog` with the full parameter vector `params`, in the modes
+    /// its initial state `y0` implies ([`super::initial`]; at rest in the
+    /// modes' value 0 without initial-state parameters).
     pub fn new(
         prog: &'p Program,
         tape: &'p Tape,
@@ -59,11 +62,14 @@ impl<'p> EventStepper<'p> {
     ) -> Self {
         let n = prog.deriv.len();
         let z = vec![0.0; n];
+        let mut frame = Frame::new(prog, tape, params, force);
+        let (y0, modes) = super::initial::initial_state(prog, tape, &mut frame);
         Self {
             prog,
             tape,
-            frame: Frame::new(prog, tape, params, force),
-            modes: vec![0; prog.mode_count()],
+            frame,
+            modes,
+            y0,
             fired: vec![],
             chattered: false,
             k: [z.clone(), z.clone(), z.clone(), z.clone()],

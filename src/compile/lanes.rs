@@ -87,13 +87,19 @@ impl<'p> LaneRunner<'p> {
         }
         let n = prog.deriv.len();
         let z = vec![[0.0; LANES]; n];
+        let mut modes = vec![[0; LANES]; prog.mode_count()];
+        for (l, s) in steppers.iter().enumerate() {
+            for (m, &v) in s.modes.iter().enumerate() {
+                modes[m][l] = v;
+            }
+        }
         Self {
             prog,
             tape,
             force,
             vals,
             steppers,
-            modes: vec![[0; LANES]; prog.mode_count()],
+            modes,
             k: [z.clone(), z.clone(), z.clone(), z.clone()],
             tmp: z.clone(),
             start: z,
@@ -230,7 +236,13 @@ impl<'p> LaneRunner<'p> {
         let mut live = vec![true; lanes];
         let mut outs = vec![0.0; n_out];
         let mut full = vec![0.0; n];
-        let mut ctx = (self, vec![[0.0; LANES]; n]);
+        let mut y0 = vec![[0.0; LANES]; n];
+        for (l, st) in self.steppers.iter().enumerate() {
+            for (s, &v) in st.y0.iter().enumerate() {
+                y0[s][l] = v;
+            }
+        }
+        let mut ctx = (self, y0);
         walk_grid(
             grid,
             &mut ctx,

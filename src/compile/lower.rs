@@ -453,6 +453,17 @@ struct Motion {
     a: Option<Id>,
 }
 
+/// The parameter that holds state `state`'s initial value (`initial_v_mass`).
+pub fn initial_param(state: &str) -> String {
+    format!("initial_{state}")
+}
+
+/// The state names of `desc` (`x_<node>`, `v_<node>`, `s_<friction element>`),
+/// in state order, with the description checked as far as the layout needs.
+pub fn state_names(desc: &RigDesc, file: &str) -> Result<Vec<String>, RigError> {
+    Ok(Layout::new(desc, file.to_string())?.states)
+}
+
 /// Lowers `desc` (read from `file`) for every drive mode it declares.
 pub fn lower(desc: &RigDesc, file: &str) -> Result<Lowered, RigError> {
     let lay = Layout::new(desc, file.to_string())?;
@@ -765,6 +776,16 @@ fn lower_mode(lay: &Layout, mode: &str) -> Result<Program, RigError> {
         outputs.push(sum);
     }
 
+    // A state starts from the rig's `initial_<state>` parameter where it has
+    // one (a campaign's `"initial"` declares it), else at rest.
+    let initial = lay
+        .states
+        .iter()
+        .map(|s| match lay.params.get(initial_param(s).as_str()) {
+            Some(&i) => g.input(Input::Slot(i)),
+            None => zero,
+        })
+        .collect();
     let mut p = Program {
         mode: mode.to_string(),
         graph: g,
@@ -774,6 +795,7 @@ fn lower_mode(lay: &Layout, mode: &str) -> Result<Program, RigError> {
         transitions: trans,
         run_constant: vec![],
         tables,
+        initial,
     };
     p.mark_run_constants();
     Ok(p)

@@ -10,6 +10,7 @@
 
 pub mod events;
 pub mod expr;
+pub mod initial;
 pub mod interval;
 pub mod ir;
 pub mod lanes;
@@ -20,6 +21,7 @@ pub mod tape;
 pub mod wgsl;
 
 pub use events::{EventStepper, Fired, MAX_EVENTS_PER_STEP};
+pub use initial::initial_state;
 pub use ir::{Graph, Id, Input, Op};
 pub use lanes::{LANES, LaneRunner};
 pub use lower::{Lowered, lower};

@@ -86,6 +86,10 @@ pub struct Program {
     pub run_constant: Vec<bool>,
     /// Tables read by `Input::Table(i)`; `None` is the experiment's force table.
     pub tables: Vec<Option<PiecewiseLinear>>,
+    /// The run's initial value of every state: a run constant (the literal 0,
+    /// or the slot of the rig's `initial_<state>` parameter). See
+    /// [`super::initial`] for the modes it starts in.
+    pub initial: Vec<Id>,
 }
 
 impl Program {
@@ -111,6 +115,13 @@ impl Program {
             .map(|t| t.var as usize + 1)
             .max()
             .unwrap_or(0)
+    }
+
+    /// Whether some state starts from a parameter rather than at rest.
+    pub fn has_initial(&self) -> bool {
+        self.initial
+            .iter()
+            .any(|&i| !matches!(self.graph.ops[i as usize], Op::Const(_)))
     }
 
     /// Event-function roots, one per transition.

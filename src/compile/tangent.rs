@@ -118,6 +118,7 @@ mod tests {
             transitions: vec![],
             run_constant: vec![],
             tables: vec![],
+            initial: vec![],
         };
         prog.mark_run_constants();
         let tape = Tape::new(&prog);

@@ -32,6 +32,7 @@ impl Tape {
         all.extend(p.event_roots());
         all.extend(&p.outputs);
         all.extend(&p.full_state);
+        all.extend(&p.initial);
         let mut report = p.outputs.clone();
         report.extend(&p.full_state);
         Self {

@@ -13,7 +13,9 @@
 //! - `struct St` (continuous state, fields `s0…`), `struct Md` (mode
 //!   variables, `m0…`), `struct Kc` (the run's constants and table offsets);
 //! - `rig_load(base, ex) -> Kc`, `rig_state_load(sb)`, `rig_state_store(sb, y, md)`,
-//!   `rig_modes_load(sb)`;
+//!   `rig_modes_load(sb)`, `rig_initial(base, &y, &md)` (the run's initial
+//!   state and modes, packed per run where the program has initial-state
+//!   parameters);
 //! - `st_axpy(y, a, k)` (`y + a·k`), `st_rk4(y, h6, k1, k2, k3, k4)`,
 //!   `st_hermite(y0, f0, y1, f1, c00, c10, c01, c11)`;
 //! - `rig_deriv(kc, t, y, md) -> St`, `rig_events(kc, t, y, md) -> Ev` (every
@@ -144,16 +146,31 @@ impl GpuRig {
         &self.table_data
     }
 
-    /// Slot names (`K<id>`), for the prelude's `P_*` indices.
+    /// Slot names (`K<id>`), for the prelude's `P_*` indices; a program with
+    /// initial-state parameters adds the run's initial state (`Y0_<i>`) and
+    /// initial modes (`M0_<j>`).
     pub fn slot_names(&self) -> Vec<String> {
-        self.slots.iter().map(|i| format!("K{i}")).collect()
+        let mut names: Vec<String> = self.slots.iter().map(|i| format!("K{i}")).collect();
+        if self.prog.has_initial() {
+            names.extend((0..self.states()).map(|i| format!("Y0_{i}")));
+            names.extend((0..self.modes()).map(|j| format!("M0_{j}")));
+        }
+        names
     }
 
     /// Appends the run's slots for the full parameter vector `params`: the run
-    /// constants evaluated by the CPU reference's own code.
+    /// constants evaluated by the CPU reference's own code, then (with
+    /// initial-state parameters) the initial state and modes as the reference
+    /// chooses them ([`super::initial`]; the event functions do not read the
+    /// experiment's table, which the host does not pass here).
     pub fn pack(&self, params: &[f64], out: &mut Vec<f64>) {
-        let frame = Frame::new(&self.prog, &self.tape, params, None);
+        let mut frame = Frame::new(&self.prog, &self.tape, params, None);
         out.extend(self.slots.iter().map(|&i| frame.get(i)));
+        if self.prog.has_initial() {
+            let (y0, modes) = super::initial::initial_state(&self.prog, &self.tape, &mut frame);
+            out.extend(y0);
+            out.extend(modes.into_iter().map(f64::from));
+        }
     }
 
     /// The WGSL source of the rig functions; `literal` writes a constant in
@@ -374,6 +391,19 @@ impl Emitter<'_> {
             let _ = writeln!(s, "    md.m{j} = u32(state[sb + {}u]);", ns + j);
         }
         s.push_str("    return md;\n}\n\n");
+        // The run's start (`advance`, before its first step): the packed
+        // initial state and modes, or nothing (the cleared state buffer is
+        // rest in modes 0).
+        s.push_str("fn rig_initial(base: u32, y: ptr<function, St>, md: ptr<function, Md>) {\n");
+        if p.has_initial() {
+            for i in 0..ns {
+                let _ = writeln!(s, "    (*y).s{i} = param(base, P_Y0_{i});");
+            }
+            for j in 0..nm {
+                let _ = writeln!(s, "    (*md).m{j} = u32(param(base, P_M0_{j}));");
+            }
+        }
+        s.push_str("}\n\n");
         s.push_str("fn rig_state_store(sb: u32, y: St, md: Md) {\n");
         for i in 0..ns {
             let _ = writeln!(s, "    state[sb + {i}u] = y.s{i};");

@@ -539,7 +539,7 @@ impl RigModel for CompiledRig {
             }
             return;
         };
-        let mut y = vec![0.0; n];
+        let mut y = st.y0.clone();
         let mut outs = vec![0.0; n_out];
         let mut full = vec![0.0; n];
         let mut ctx = (&mut st, &mut y);
