@@ -81,7 +81,8 @@ pub struct RawExperiment {
     #[serde(default, deserialize_with = "unique_keys")]
     pub params: BTreeMap<String, RawParam>,
     /// `"initial"`: the state the run starts from, by the rig's state names
-    /// (`x_<node>` m, `v_<node>` m/s, `s_<friction element>` m); states left
+    /// (`x_<node>` m, `v_<node>` m/s, `s_<friction element>` m, `p_<backlash
+    /// element>` m); states left
     /// out start at 0. A compiled rig (`"rig"`) only.
     #[serde(default, deserialize_with = "unique_keys")]
     pub initial: BTreeMap<String, RawInitial>,

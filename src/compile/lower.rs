@@ -458,8 +458,8 @@ pub fn initial_param(state: &str) -> String {
     format!("initial_{state}")
 }
 
-/// The state names of `desc` (`x_<node>`, `v_<node>`, `s_<friction element>`),
-/// in state order, with the description checked as far as the layout needs.
+/// The state names of `desc` (`x_<node>`, `v_<node>`, `s_<friction element>`,
+/// `p_<backlash element>`), in state order, with the description checked as far as the layout needs.
 pub fn state_names(desc: &RigDesc, file: &str) -> Result<Vec<String>, RigError> {
     Ok(Layout::new(desc, file.to_string())?.states)
 }
