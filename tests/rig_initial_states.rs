@@ -446,3 +446,37 @@ fn bad_initial_states_are_refused_with_exit_2_and_the_path() {
         &["experiments[0].initial", "a compiled rig"],
     );
 }
+
+#[test]
+fn a_friction_element_starts_stuck_or_slipping_as_its_stretch_implies() {
+    // A mass on a spring and a Coulomb contact (f_c = 2 N, k_t = 1e4 N/m) to
+    // ground, its tangential stretch and velocity given.
+    let desc: rigfit::rig::desc::RigDesc = serde_json::from_value(json!({
+        "id": "slider",
+        "params": [
+            {"name": "initial_s_contact", "unit": "m", "scope": "experiment", "default": 0.0},
+            {"name": "initial_v_mass", "unit": "m/s", "scope": "experiment", "default": 0.0}
+        ],
+        "nodes": [{"name": "mass", "mass": 1.0}],
+        "elements": [
+            {"name": "spring", "between": ["ground", "mass"], "spring": {"law": "linear", "k": 100.0}},
+            {"name": "contact", "between": ["ground", "mass"],
+             "friction": {"law": "stick_slip", "f_c": 2.0, "k_t": 1e4}}
+        ],
+        "outputs": [{"name": "friction", "unit": "N", "sum": [{"force": "contact"}]}]
+    }))
+    .unwrap();
+    let rig = rigfit::model::compiled::CompiledRig::new(desc, "inline").unwrap();
+    let drive = rigfit::model::Drive::Velocity;
+    let modes = |s: f64, v: f64| rig.stepper(&[s, v], &drive).unwrap().modes;
+    // Inside ±f_c/k_t = ±0.2 mm: stuck, whatever the velocity; at the limit
+    // exactly: still stuck; past it: slipping in the spring's direction.
+    assert_eq!(modes(0.0, 0.5), vec![0]);
+    assert_eq!(modes(1e-4, -0.5), vec![0]);
+    assert_eq!(modes(2e-4, 0.0), vec![0]);
+    assert_eq!(modes(3e-4, 0.1), vec![1]);
+    assert_eq!(modes(-3e-4, -0.1), vec![2]);
+    // Past +f_c while the element shortens (past the stick switch as well):
+    // each mode variable switches once, so it starts slipping forward.
+    assert_eq!(modes(3e-4, -0.1), vec![1]);
+}

@@ -7,7 +7,10 @@
 //! evaluated at `t = 0` and the initial state, and an armed transition whose
 //! function is strictly past its switch (`g > 0` for [`Direction::Up`], `g < 0`
 //! for [`Direction::Down`]) fires, one at a time, the functions evaluated again
-//! after each, until none fires (at most [`MAX_INITIAL_FIRINGS`]). A gap
+//! after each, until none fires. Each mode variable switches at most once
+//! (from its value 0), so an inconsistent start (a tangential spring past
+//! `+f_c` while the element shortens, past both the slip and the stick
+//! switch) takes the first switch in program order instead of alternating. A gap
 //! already closed starts in contact, a friction element whose tangential
 //! spring is already past `±f_c` starts slipping, an element already past its
 //! yield limit or its `breaks_at` starts yielded or broken. A function exactly
@@ -16,12 +19,8 @@
 //! computes this once per run on the host; the GPU kernels read the result as
 //! the run's packed values ([`super::GpuRig::pack`]).
 
-use super::events::MAX_EVENTS_PER_STEP;
 use super::program::{Direction, Program};
 use super::tape::{Frame, Point, Tape};
-
-/// Most transitions fired while choosing the initial modes.
-pub const MAX_INITIAL_FIRINGS: usize = MAX_EVENTS_PER_STEP;
 
 /// The run's initial state (the values of [`Program::initial`], evaluated in
 /// `frame`, whose run constants are filled) and initial modes.
@@ -34,7 +33,8 @@ pub fn initial_state(prog: &Program, tape: &Tape, frame: &mut Frame<'_>) -> (Vec
     if !prog.has_initial() {
         return (y, modes);
     }
-    for _ in 0..MAX_INITIAL_FIRINGS {
+    let mut switched = vec![false; modes.len()];
+    loop {
         let pt = Point {
             t: 0.0,
             y: &y,
@@ -43,14 +43,18 @@ pub fn initial_state(prog: &Program, tape: &Tape, frame: &mut Frame<'_>) -> (Vec
         frame.eval(&tape.event_ops, pt);
         let fire = prog.transitions.iter().find(|tr| {
             let g = frame.get(tr.g);
-            modes[tr.var as usize] == tr.from
+            !switched[tr.var as usize]
+                && modes[tr.var as usize] == tr.from
                 && match tr.dir {
                     Direction::Up => g > 0.0,
                     Direction::Down => g < 0.0,
                 }
         });
         match fire {
-            Some(tr) => modes[tr.var as usize] = tr.to,
+            Some(tr) => {
+                modes[tr.var as usize] = tr.to;
+                switched[tr.var as usize] = true;
+            }
             None => break,
         }
     }
