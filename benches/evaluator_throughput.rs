@@ -22,6 +22,9 @@
 //! Timings drop by half or more while other builds share the cores (compare
 //! variants alternately, several times). The README has the measured table.
 
+#[path = "common/cpu_time.rs"]
+mod cpu_time;
+use cpu_time::process_cpu_seconds;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
@@ -159,17 +162,6 @@ fn env_list(name: &str) -> Option<Vec<String>> {
     std::env::var(name)
         .ok()
         .map(|v| v.split(',').map(|s| s.trim().to_string()).collect())
-}
-
-/// CPU seconds used so far by this process, all threads (lavapipe's included),
-/// from `/proc/self/stat`; `None` where that is not available.
-fn process_cpu_seconds() -> Option<f64> {
-    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
-    // Fields after the command name, which ends at the last ')'.
-    let rest = &stat[stat.rfind(')')? + 2..];
-    let f: Vec<&str> = rest.split_whitespace().collect();
-    let ticks: f64 = f.get(11)?.parse::<f64>().ok()? + f.get(12)?.parse::<f64>().ok()?;
-    Some(ticks / 100.0)
 }
 
 fn populations() -> Vec<usize> {

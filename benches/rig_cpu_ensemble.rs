@@ -2,11 +2,17 @@
 //! cores): the hand-written tensile model, the compiled `rigs/tensile4.json`
 //! one run at a time, and the compiled rig's lane-batched ensemble, on the
 //! shipped example's grid. `cargo bench --bench rig_cpu_ensemble`
-//! (`RIGFIT_BENCH_POPULATION`, default 4096).
+//! (`RIGFIT_BENCH_POPULATION`, default 4096; `RIGFIT_BENCH_ROWS=hand,lanes`
+//! picks rows from `hand`, `scalar`, `lanes`). Each rate is printed per second
+//! of wall time and per CPU-second of the process (on a shared machine the
+//! second is the steadier).
 
 use std::ops::ControlFlow;
 use std::time::Instant;
 
+#[path = "common/cpu_time.rs"]
+mod cpu_time;
+use cpu_time::process_cpu_seconds;
 use rayon::prelude::*;
 use rigfit::integrate::SampleGrid;
 use rigfit::model::compiled::CompiledRig;
@@ -28,25 +34,44 @@ fn population() -> Vec<Vec<f64>> {
         .collect()
 }
 
-fn measure(name: &str, runs: usize, steps: usize, f: impl Fn()) -> f64 {
-    let mut best = f64::INFINITY;
+fn rows() -> Vec<String> {
+    std::env::var("RIGFIT_BENCH_ROWS")
+        .map(|v| v.split(',').map(|s| s.trim().to_string()).collect())
+        .unwrap_or_else(|_| vec!["hand".into(), "scalar".into(), "lanes".into()])
+}
+
+/// Best of three: (candidate-steps per wall second, per CPU-second).
+fn measure(name: &str, runs: usize, steps: usize, f: impl Fn()) -> (f64, f64) {
+    let (mut best, mut best_cpu) = (f64::INFINITY, f64::INFINITY);
     for _ in 0..3 {
-        let t = Instant::now();
+        let (t, c) = (Instant::now(), process_cpu_seconds());
         f();
         best = best.min(t.elapsed().as_secs_f64());
+        if let (Some(a), Some(z)) = (c, process_cpu_seconds()) {
+            best_cpu = best_cpu.min(z - a);
+        }
     }
-    let rate = (runs * steps) as f64 / best;
-    println!("{name:<40} {rate:.3e} candidate-steps/s ({best:.3} s)");
-    rate
+    let work = (runs * steps) as f64;
+    println!(
+        "{name:<40} {:.3e} candidate-steps/s ({best:.3} s), {:.3e} per CPU-second",
+        work / best,
+        work / best_cpu
+    );
+    (work / best, work / best_cpu)
 }
 
 fn main() {
     let ps = population();
+    // `RIGFIT_BENCH_SUBSTEPS` > 1 keeps the steps and reports every k-th.
+    let substeps: usize = std::env::var("RIGFIT_BENCH_SUBSTEPS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1);
     let grid = SampleGrid {
         t0: 0.0,
-        dt: 1e-6,
-        samples: 2501,
-        substeps: 1,
+        dt: 1e-6 * substeps as f64,
+        samples: 2500 / substeps + 1,
+        substeps,
     };
     let steps = grid.total_steps();
     let rig = CompiledRig::new(rigfit::rig::shipped("tensile4").unwrap(), "tensile4").unwrap();
@@ -64,29 +89,45 @@ fn main() {
         ps.len(),
         rayon::current_num_threads()
     );
-    let hand = measure("hand-written tensile4, scalar", ps.len(), steps, || {
-        let _: f64 = ps.par_iter().map(|p| one(&tensile::TENSILE4, p)).sum();
-    });
-    let scalar = measure("compiled tensile4, scalar tape", ps.len(), steps, || {
-        let _: f64 = ps.par_iter().map(|p| one(&rig, p)).sum();
-    });
-    let lanes = measure("compiled tensile4, lane ensemble", ps.len(), steps, || {
-        let _: f64 = ps
-            .par_chunks(rigfit::compile::LANES)
-            .map(|c| {
-                let refs: Vec<&[f64]> = c.iter().map(|p| p.as_slice()).collect();
-                let mut s = 0.0;
-                rig.simulate_many(&refs, &drive, &grid, &mut |_, x| {
-                    s += x.outputs[0];
-                    ControlFlow::Continue(())
-                });
-                s
-            })
-            .sum();
-    });
-    println!(
-        "lane ensemble / scalar tape: {:.2}×; lane ensemble / hand-written: {:.2}×",
-        lanes / scalar,
-        lanes / hand
-    );
+    let rows = rows();
+    let want = |r: &str| rows.iter().any(|x| x == r);
+    let mut rates = vec![];
+    if want("hand") {
+        let r = measure("hand-written tensile4, scalar", ps.len(), steps, || {
+            let _: f64 = ps.par_iter().map(|p| one(&tensile::TENSILE4, p)).sum();
+        });
+        rates.push(("hand-written", r));
+    }
+    if want("scalar") {
+        let r = measure("compiled tensile4, scalar tape", ps.len(), steps, || {
+            let _: f64 = ps.par_iter().map(|p| one(&rig, p)).sum();
+        });
+        rates.push(("scalar tape", r));
+    }
+    if want("lanes") {
+        let r = measure("compiled tensile4, lane ensemble", ps.len(), steps, || {
+            let _: f64 = ps
+                .par_chunks(rigfit::compile::LANES)
+                .map(|c| {
+                    let refs: Vec<&[f64]> = c.iter().map(|p| p.as_slice()).collect();
+                    let mut s = 0.0;
+                    rig.simulate_many(&refs, &drive, &grid, &mut |_, x| {
+                        s += x.outputs[0];
+                        ControlFlow::Continue(())
+                    });
+                    s
+                })
+                .sum();
+        });
+        rates.push(("lane ensemble", r));
+    }
+    for (i, (a, ra)) in rates.iter().enumerate() {
+        for (b, rb) in &rates[i + 1..] {
+            println!(
+                "{b} / {a}: {:.2}× per wall second, {:.2}× per CPU-second",
+                rb.0 / ra.0,
+                rb.1 / ra.1
+            );
+        }
+    }
 }

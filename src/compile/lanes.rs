@@ -1,6 +1,9 @@
-//! The CPU ensemble of a compiled rig: [`LANES`] runs of one experiment (one
-//! sample grid) advanced together, every operation of the tape applied to all
-//! lanes in one tight loop (structure of arrays), so the compiler vectorises it.
+//! The CPU ensemble of a compiled rig: up to [`LANES`] runs of one experiment
+//! (one sample grid) advanced together. The tape's operations are translated
+//! once into a register program ([`super::lane_code`]); every instruction is
+//! applied to all runs in blocks of [`W`] lanes (structure of arrays), so the
+//! compiler turns each into a few vector instructions, and `exp`/`expm1` are
+//! [`super::math`]'s branch-free forms, which vectorise too.
 //!
 //! Plain steps, event checks and reports run over the lanes. A lane whose step
 //! ends past a switch is handed to its own [`EventStepper`], which redoes that
@@ -8,41 +11,256 @@
 //! operations in the same order as the scalar reference, so every lane's history
 //! is bit-identical to [`EventStepper`]'s (`tests/rig_cpu_ensemble.rs`).
 
-#![expect(
-    clippy::needless_range_loop,
-    reason = "lane loops index several arrays in step, the shape the vectoriser wants"
-)]
-
 use std::ops::ControlFlow;
 
 use super::events::EventStepper;
-use super::ir::{Id, Input, Op};
-use super::program::Program;
+use super::lane_code::{Ins, LaneCode, List};
+use super::program::{Direction, Program};
 use super::tape::{Tape, table_value};
 use crate::integrate::{SampleGrid, walk_grid};
 use crate::model::{PiecewiseLinear, Sample};
 
-/// Runs advanced together.
-pub const LANES: usize = 16;
+/// Lanes in one vector block.
+pub const W: usize = 8;
+/// Blocks in a register.
+const BLOCKS: usize = 8;
+/// Runs advanced together, at most.
+pub const LANES: usize = W * BLOCKS;
 
-type V = [f64; LANES];
+type Blk = [f64; W];
+/// One value of every lane, aligned to a cache line so no vector load or
+/// store straddles two.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(C, align(64))]
+pub(crate) struct Reg([Blk; BLOCKS]);
 
-/// `out = f(a, b)` lane by lane; generic, so `f` inlines and the loop
-/// vectorises.
-#[inline(always)]
-fn bin(head: &[V], out: &mut V, a: Id, b: Id, f: impl Fn(f64, f64) -> f64) {
-    let (a, b) = (&head[a as usize], &head[b as usize]);
-    for l in 0..LANES {
-        out[l] = f(a[l], b[l]);
+impl std::ops::Index<usize> for Reg {
+    type Output = Blk;
+    #[inline(always)]
+    fn index(&self, b: usize) -> &Blk {
+        &self.0[b]
     }
 }
 
-/// `out = f(a)` lane by lane.
+impl std::ops::IndexMut<usize> for Reg {
+    #[inline(always)]
+    fn index_mut(&mut self, b: usize) -> &mut Blk {
+        &mut self.0[b]
+    }
+}
+
+impl Reg {
+    /// Every lane `v`.
+    const fn splat(v: f64) -> Self {
+        Self([[v; W]; BLOCKS])
+    }
+}
+
+const ZERO: Reg = Reg::splat(0.0);
+
+/// `d = f(a, b)`, block by block (operands copied in, so `d` may be `a`).
 #[inline(always)]
-fn un(head: &[V], out: &mut V, a: Id, f: impl Fn(f64) -> f64) {
-    let a = &head[a as usize];
-    for l in 0..LANES {
-        out[l] = f(a[l]);
+fn bin(r: &mut [Reg], nb: usize, d: u16, a: u16, b: u16, f: impl Fn(f64, f64) -> f64) {
+    for k in 0..nb {
+        let (x, y) = (r[a as usize][k], r[b as usize][k]);
+        let mut o = [0.0; W];
+        for l in 0..W {
+            o[l] = f(x[l], y[l]);
+        }
+        r[d as usize][k] = o;
+    }
+}
+
+/// `d = f(a)`, block by block.
+#[inline(always)]
+fn un(r: &mut [Reg], nb: usize, d: u16, a: u16, f: impl Fn(f64) -> f64) {
+    for k in 0..nb {
+        let x = r[a as usize][k];
+        let mut o = [0.0; W];
+        for l in 0..W {
+            o[l] = f(x[l]);
+        }
+        r[d as usize][k] = o;
+    }
+}
+
+/// Runs `code` over the first `nb` blocks of `r`.
+#[inline(always)]
+fn exec(code: &[Ins], r: &mut [Reg], nb: usize) {
+    use super::math::{exp, expm1};
+    for &ins in code {
+        match ins {
+            Ins::Add(d, a, b) => bin(r, nb, d, a, b, |x, y| x + y),
+            Ins::Sub(d, a, b) => bin(r, nb, d, a, b, |x, y| x - y),
+            Ins::Mul(d, a, b) => bin(r, nb, d, a, b, |x, y| x * y),
+            Ins::Div(d, a, b) => bin(r, nb, d, a, b, |x, y| x / y),
+            Ins::Min(d, a, b) => bin(r, nb, d, a, b, f64::min),
+            Ins::Max(d, a, b) => bin(r, nb, d, a, b, f64::max),
+            Ins::Le(d, a, b) => bin(r, nb, d, a, b, |x, y| if x <= y { 1.0 } else { 0.0 }),
+            Ins::Eq(d, a, b) => bin(r, nb, d, a, b, |x, y| if x == y { 1.0 } else { 0.0 }),
+            Ins::Neg(d, a) => un(r, nb, d, a, |x| -x),
+            Ins::Abs(d, a) => un(r, nb, d, a, f64::abs),
+            Ins::Exp(d, a) => un(r, nb, d, a, exp),
+            Ins::Expm1(d, a) => un(r, nb, d, a, expm1),
+            Ins::Ln(d, a) => un(r, nb, d, a, f64::ln),
+            Ins::Sin(d, a) => un(r, nb, d, a, f64::sin),
+            Ins::Cos(d, a) => un(r, nb, d, a, f64::cos),
+            Ins::Select(d, c, a, b) => {
+                for k in 0..nb {
+                    let (s, x, y) = (r[c as usize][k], r[a as usize][k], r[b as usize][k]);
+                    let mut o = [0.0; W];
+                    for l in 0..W {
+                        o[l] = if s[l] != 0.0 { x[l] } else { y[l] };
+                    }
+                    r[d as usize][k] = o;
+                }
+            }
+        }
+    }
+}
+
+/// `dst = y + c·k`, lane by lane, over every state (an RK4 stage's input).
+#[inline(always)]
+fn stage(r: &mut [Reg], nb: usize, y: &[Reg], c: f64, k: &[Reg]) {
+    for i in 0..y.len() {
+        for b in 0..nb {
+            let (yb, kb) = (y[i][b], k[i][b]);
+            let mut o = [0.0; W];
+            for l in 0..W {
+                o[l] = yb[l] + c * kb[l];
+            }
+            r[i][b] = o;
+        }
+    }
+}
+
+/// `y += c·(k₀ + 2k₁ + 2k₂ + k₃)`, lane by lane (RK4's last line).
+#[inline(always)]
+fn combine(y: &mut [Reg], nb: usize, c: f64, k: &[Vec<Reg>; 4]) {
+    for i in 0..y.len() {
+        for b in 0..nb {
+            let (k0, k1, k2, k3) = (k[0][i][b], k[1][i][b], k[2][i][b], k[3][i][b]);
+            let yb = &mut y[i][b];
+            for l in 0..W {
+                yb[l] += c * (k0[l] + 2.0 * k1[l] + 2.0 * k2[l] + k3[l]);
+            }
+        }
+    }
+}
+
+/// The vector instructions the lane loops are compiled for, picked at run
+/// time: the same source built three times, for AVX-512, AVX2 and the
+/// baseline. None of them fuses a multiply and an add (Rust never contracts
+/// floating-point expressions), so all three round exactly as the scalar
+/// reference does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Isa {
+    /// The target's baseline (SSE2 on x86-64).
+    Base,
+    /// 256-bit vectors.
+    Avx2,
+    /// 512-bit vectors.
+    Avx512,
+}
+
+#[cfg(target_arch = "x86_64")]
+mod wide {
+    use super::{Ins, Reg, combine, exec, stage};
+
+    #[target_feature(enable = "avx512f")]
+    pub fn exec_512(code: &[Ins], r: &mut [Reg], nb: usize) {
+        exec(code, r, nb);
+    }
+    #[target_feature(enable = "avx2")]
+    pub fn exec_256(code: &[Ins], r: &mut [Reg], nb: usize) {
+        exec(code, r, nb);
+    }
+    #[target_feature(enable = "avx512f")]
+    pub fn stage_512(r: &mut [Reg], nb: usize, y: &[Reg], c: f64, k: &[Reg]) {
+        stage(r, nb, y, c, k);
+    }
+    #[target_feature(enable = "avx2")]
+    pub fn stage_256(r: &mut [Reg], nb: usize, y: &[Reg], c: f64, k: &[Reg]) {
+        stage(r, nb, y, c, k);
+    }
+    #[target_feature(enable = "avx512f")]
+    pub fn combine_512(y: &mut [Reg], nb: usize, c: f64, k: &[Vec<Reg>; 4]) {
+        combine(y, nb, c, k);
+    }
+    #[target_feature(enable = "avx2")]
+    pub fn combine_256(y: &mut [Reg], nb: usize, c: f64, k: &[Vec<Reg>; 4]) {
+        combine(y, nb, c, k);
+    }
+}
+
+impl Isa {
+    /// The widest this processor runs, or the one `RIGFIT_LANES_ISA`
+    /// (`base`, `avx2`, `avx512`) names if the processor has it.
+    pub fn detect() -> Self {
+        let best = Self::widest();
+        match std::env::var("RIGFIT_LANES_ISA").as_deref() {
+            Ok("base") => Self::Base,
+            Ok("avx2") if best != Self::Base => Self::Avx2,
+            _ => best,
+        }
+    }
+
+    fn widest() -> Self {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                return Self::Avx512;
+            }
+            if std::arch::is_x86_feature_detected!("avx2") {
+                return Self::Avx2;
+            }
+        }
+        Self::Base
+    }
+
+    #[expect(
+        unsafe_code,
+        reason = "calls the loops built for a feature `detect` found"
+    )]
+    fn exec(self, code: &[Ins], r: &mut [Reg], nb: usize) {
+        match self {
+            // SAFETY: `detect` returns these only where the processor has them.
+            #[cfg(target_arch = "x86_64")]
+            Self::Avx512 => unsafe { wide::exec_512(code, r, nb) },
+            #[cfg(target_arch = "x86_64")]
+            Self::Avx2 => unsafe { wide::exec_256(code, r, nb) },
+            _ => exec(code, r, nb),
+        }
+    }
+
+    #[expect(
+        unsafe_code,
+        reason = "calls the loops built for a feature `detect` found"
+    )]
+    fn stage(self, r: &mut [Reg], nb: usize, y: &[Reg], c: f64, k: &[Reg]) {
+        match self {
+            // SAFETY: as in `exec`.
+            #[cfg(target_arch = "x86_64")]
+            Self::Avx512 => unsafe { wide::stage_512(r, nb, y, c, k) },
+            #[cfg(target_arch = "x86_64")]
+            Self::Avx2 => unsafe { wide::stage_256(r, nb, y, c, k) },
+            _ => stage(r, nb, y, c, k),
+        }
+    }
+
+    #[expect(
+        unsafe_code,
+        reason = "calls the loops built for a feature `detect` found"
+    )]
+    fn combine(self, y: &mut [Reg], nb: usize, c: f64, k: &[Vec<Reg>; 4]) {
+        match self {
+            // SAFETY: as in `exec`.
+            #[cfg(target_arch = "x86_64")]
+            Self::Avx512 => unsafe { wide::combine_512(y, nb, c, k) },
+            #[cfg(target_arch = "x86_64")]
+            Self::Avx2 => unsafe { wide::combine_256(y, nb, c, k) },
+            _ => combine(y, nb, c, k),
+        }
     }
 }
 
@@ -50,23 +268,29 @@ fn un(head: &[V], out: &mut V, a: Id, f: impl Fn(f64) -> f64) {
 #[derive(Debug)]
 pub struct LaneRunner<'p> {
     prog: &'p Program,
-    tape: &'p Tape,
+    code: &'p LaneCode,
     force: Option<&'p PiecewiseLinear>,
-    vals: Vec<V>,
+    /// Active blocks.
+    nb: usize,
+    isa: Isa,
+    regs: Vec<Reg>,
     steppers: Vec<EventStepper<'p>>,
-    modes: Vec<[u32; LANES]>,
-    k: [Vec<V>; 4],
-    tmp: Vec<V>,
-    start: Vec<V>,
+    y: Vec<Reg>,
+    start: Vec<Reg>,
+    k: [Vec<Reg>; 4],
+    /// Lanes whose step ended past an armed switch.
+    hit: [[bool; W]; BLOCKS],
     /// One lane's state, for a step its stepper redoes.
     lane_y: Vec<f64>,
 }
 
 impl<'p> LaneRunner<'p> {
-    /// Runs of `prog` for each parameter vector of `params` (at most [`LANES`]).
+    /// Runs of `prog` (translated to `code`) for each parameter vector of
+    /// `params` (at most [`LANES`]).
     pub fn new(
         prog: &'p Program,
         tape: &'p Tape,
+        code: &'p LaneCode,
         params: &[&[f64]],
         force: Option<&'p PiecewiseLinear>,
     ) -> Self {
@@ -75,149 +299,128 @@ impl<'p> LaneRunner<'p> {
             .iter()
             .map(|p| EventStepper::new(prog, tape, p, force))
             .collect();
-        let mut vals = vec![[0.0; LANES]; prog.graph.ops.len()];
-        for &i in &tape.run_ops {
-            for (l, s) in steppers.iter().enumerate() {
-                vals[i as usize][l] = s.frame.get(i);
-            }
-            // Idle lanes repeat lane 0, so they compute something finite.
-            for l in steppers.len()..LANES {
-                vals[i as usize][l] = vals[i as usize][0];
+        let nb = params.len().div_ceil(W);
+        let mut regs = vec![ZERO; code.registers];
+        for &(id, reg) in &code.constants {
+            for l in 0..nb * W {
+                // Idle lanes repeat lane 0, so they compute something finite.
+                let s = steppers.get(l).unwrap_or(&steppers[0]);
+                regs[reg as usize][l / W][l % W] = s.frame.get(id);
             }
         }
         let n = prog.deriv.len();
-        let z = vec![[0.0; LANES]; n];
-        let mut modes = vec![[0; LANES]; prog.mode_count()];
-        for (l, s) in steppers.iter().enumerate() {
+        // The initial state and modes each run's stepper found.
+        let mut y = vec![ZERO; n];
+        for l in 0..nb * W {
+            let s = steppers.get(l).unwrap_or(&steppers[0]);
+            for (i, &v) in s.y0.iter().enumerate() {
+                y[i][l / W][l % W] = v;
+            }
             for (m, &v) in s.modes.iter().enumerate() {
-                modes[m][l] = v;
+                regs[code.modes[m] as usize][l / W][l % W] = f64::from(v);
             }
         }
         Self {
             prog,
-            tape,
+            code,
             force,
-            vals,
+            nb,
+            isa: Isa::detect(),
+            regs,
             steppers,
-            modes,
-            k: [z.clone(), z.clone(), z.clone(), z.clone()],
-            tmp: z.clone(),
-            start: z,
+            y,
+            start: vec![ZERO; n],
+            k: std::array::from_fn(|_| vec![ZERO; n]),
+            hit: [[false; W]; BLOCKS],
             lane_y: vec![0.0; n],
         }
     }
 
-    fn eval(&mut self, ops: &[Id], t: f64, y: &[V]) {
-        let g = &self.prog.graph;
-        for &i in ops {
-            let (head, tail) = self.vals.split_at_mut(i as usize);
-            let out = &mut tail[0];
-            match g.ops[i as usize] {
-                Op::Const(c) => *out = [c; LANES],
-                Op::In(Input::Time) => *out = [t; LANES],
-                Op::In(Input::Slot(_)) => {}
-                Op::In(Input::State(s)) => *out = y[s as usize],
-                Op::In(Input::Mode(m)) => {
-                    for l in 0..LANES {
-                        out[l] = f64::from(self.modes[m as usize][l]);
-                    }
-                }
-                Op::In(Input::Table(k)) => {
-                    *out = [table_value(self.prog, self.force, k, t); LANES];
-                }
-                Op::Add(a, b) => bin(head, out, a, b, |x, y| x + y),
-                Op::Sub(a, b) => bin(head, out, a, b, |x, y| x - y),
-                Op::Mul(a, b) => bin(head, out, a, b, |x, y| x * y),
-                Op::Div(a, b) => bin(head, out, a, b, |x, y| x / y),
-                Op::Min(a, b) => bin(head, out, a, b, f64::min),
-                Op::Max(a, b) => bin(head, out, a, b, f64::max),
-                Op::Le(a, b) => bin(head, out, a, b, |x, y| f64::from(u8::from(x <= y))),
-                Op::Eq(a, b) => bin(head, out, a, b, |x, y| f64::from(u8::from(x == y))),
-                Op::Neg(a) => un(head, out, a, |x| -x),
-                Op::Abs(a) => un(head, out, a, f64::abs),
-                Op::Exp(a) => un(head, out, a, f64::exp),
-                Op::Expm1(a) => un(head, out, a, f64::exp_m1),
-                Op::Ln(a) => un(head, out, a, f64::ln),
-                Op::Sin(a) => un(head, out, a, f64::sin),
-                Op::Cos(a) => un(head, out, a, f64::cos),
-                Op::Select(c, a, b) => {
-                    let (c, a, b) = (&head[c as usize], &head[a as usize], &head[b as usize]);
-                    for l in 0..LANES {
-                        out[l] = if c[l] != 0.0 { a[l] } else { b[l] };
-                    }
-                }
-            }
+    /// Fills the time and table registers for `list` at `t`, then runs it.
+    fn eval(&mut self, list: &List, t: f64) {
+        let nb = self.nb;
+        if list.uses_time {
+            self.regs[self.code.time as usize].0[..nb].fill([t; W]);
         }
+        for &(table, reg) in &list.tables {
+            let v = table_value(self.prog, self.force, table, t);
+            self.regs[reg as usize].0[..nb].fill([v; W]);
+        }
+        self.isa.exec(&list.code, &mut self.regs, nb);
     }
 
-    fn deriv(&mut self, t: f64, y: &[V], out: usize) {
-        let tape = self.tape;
-        self.eval(&tape.deriv_ops, t, y);
-        for (s, &id) in self.prog.deriv.iter().enumerate() {
-            self.k[out][s] = self.vals[id as usize];
+    /// The derivative at the state registers' values into `k[out]`.
+    fn deriv(&mut self, t: f64, out: usize) {
+        let code = self.code;
+        self.eval(&code.deriv, t);
+        for (s, &reg) in code.deriv.roots.iter().enumerate() {
+            self.k[out][s] = self.regs[reg as usize];
         }
     }
 
     /// One RK4 step of every lane, written as `EventStepper`'s so the lanes
     /// round alike.
-    fn rk4(&mut self, t: f64, h: f64, y: &mut [V]) {
-        let n = y.len();
-        self.deriv(t, y, 0);
-        let mut tmp = std::mem::take(&mut self.tmp);
-        for i in 0..n {
-            for l in 0..LANES {
-                tmp[i][l] = y[i][l] + 0.5 * h * self.k[0][i][l];
-            }
-        }
-        self.deriv(t + 0.5 * h, &tmp, 1);
-        for i in 0..n {
-            for l in 0..LANES {
-                tmp[i][l] = y[i][l] + 0.5 * h * self.k[1][i][l];
-            }
-        }
-        self.deriv(t + 0.5 * h, &tmp, 2);
-        for i in 0..n {
-            for l in 0..LANES {
-                tmp[i][l] = y[i][l] + h * self.k[2][i][l];
-            }
-        }
-        self.deriv(t + h, &tmp, 3);
-        self.tmp = tmp;
-        let k = &self.k;
-        for i in 0..n {
-            for l in 0..LANES {
-                y[i][l] +=
-                    h / 6.0 * (k[0][i][l] + 2.0 * k[1][i][l] + 2.0 * k[2][i][l] + k[3][i][l]);
-            }
-        }
+    fn rk4(&mut self, t: f64, h: f64) {
+        let (n, nb) = (self.y.len(), self.nb);
+        self.regs[..n].copy_from_slice(&self.y);
+        self.deriv(t, 0);
+        self.isa
+            .stage(&mut self.regs, nb, &self.y, 0.5 * h, &self.k[0]);
+        self.deriv(t + 0.5 * h, 1);
+        self.isa
+            .stage(&mut self.regs, nb, &self.y, 0.5 * h, &self.k[1]);
+        self.deriv(t + 0.5 * h, 2);
+        self.isa.stage(&mut self.regs, nb, &self.y, h, &self.k[2]);
+        self.deriv(t + h, 3);
+        self.isa.combine(&mut self.y, nb, h / 6.0, &self.k);
     }
 
-    /// One step of every lane from `(t, y)`; lanes past a switch are redone by
+    /// One step of every lane from `t`; lanes past a switch are redone by
     /// their own stepper with the switch located.
-    fn step(&mut self, t: f64, h: f64, y: &mut [V]) {
-        self.start.copy_from_slice(y);
-        self.rk4(t, h, y);
-        let tape = self.tape;
-        self.eval(&tape.event_ops, t + h, y);
+    fn step(&mut self, t: f64, h: f64) {
+        let (n, nb) = (self.y.len(), self.nb);
+        self.start.copy_from_slice(&self.y);
+        self.rk4(t, h);
+        self.regs[..n].copy_from_slice(&self.y);
+        let code = self.code;
+        self.eval(&code.events, t + h);
+        self.hit = [[false; W]; BLOCKS];
+        for (tr, &g) in self.prog.transitions.iter().zip(&code.events.roots) {
+            let (g, mode) = (
+                &self.regs[g as usize],
+                &self.regs[code.modes[tr.var as usize] as usize],
+            );
+            let from = f64::from(tr.from);
+            for b in 0..nb {
+                let (gb, mb, hb) = (&g[b], &mode[b], &mut self.hit[b]);
+                for l in 0..W {
+                    let past = match tr.dir {
+                        Direction::Up => gb[l] >= 0.0,
+                        Direction::Down => gb[l] <= 0.0,
+                    };
+                    hb[l] |= past & (mb[l] == from);
+                }
+            }
+        }
+        if !self.hit[..nb].iter().flatten().any(|&h| h) {
+            return;
+        }
         let mut lane_y = std::mem::take(&mut self.lane_y);
         for l in 0..self.steppers.len() {
-            let hit = self.prog.transitions.iter().any(|tr| {
-                self.modes[tr.var as usize][l] == tr.from
-                    && tr.violated(self.vals[tr.g as usize][l])
-            });
-            if !hit || self.steppers[l].chattered {
+            if !self.hit[l / W][l % W] || self.steppers[l].chattered {
                 continue;
             }
+            let (b, j) = (l / W, l % W);
             for (s, v) in lane_y.iter_mut().enumerate() {
-                *v = self.start[s][l];
+                *v = self.start[s][b][j];
             }
             let st = &mut self.steppers[l];
             st.step(t, h, &mut lane_y);
             for (s, v) in lane_y.iter().enumerate() {
-                y[s][l] = *v;
+                self.y[s][b][j] = *v;
             }
-            for (m, v) in st.modes.iter().enumerate() {
-                self.modes[m][l] = *v;
+            for (m, &v) in st.modes.iter().enumerate() {
+                self.regs[self.code.modes[m] as usize][b][j] = f64::from(v);
             }
         }
         self.lane_y = lane_y;
@@ -231,38 +434,34 @@ impl<'p> LaneRunner<'p> {
         observe: &mut dyn FnMut(usize, &Sample<'_>) -> ControlFlow<()>,
     ) {
         let lanes = self.steppers.len();
-        let n = self.prog.deriv.len();
-        let n_out = self.prog.outputs.len();
+        let code = self.code;
         let mut live = vec![true; lanes];
-        let mut outs = vec![0.0; n_out];
-        let mut full = vec![0.0; n];
-        let mut y0 = vec![[0.0; LANES]; n];
-        for (l, st) in self.steppers.iter().enumerate() {
-            for (s, &v) in st.y0.iter().enumerate() {
-                y0[s][l] = v;
-            }
-        }
-        let mut ctx = (self, y0);
+        let mut outs = vec![0.0; self.prog.outputs.len()];
+        let mut full = vec![0.0; self.prog.full_state.len()];
         walk_grid(
             grid,
-            &mut ctx,
-            |(me, y), t, h| me.step(t, h, y),
-            |(me, y), k, t| {
-                let tape = me.tape;
-                me.eval(&tape.report_ops, t, y);
+            self,
+            |me, t, h| me.step(t, h),
+            |me, k, t| {
+                let n = me.y.len();
+                me.regs[..n].copy_from_slice(&me.y);
+                me.eval(&code.report, t);
+                let (outputs, state) = code.report.roots.split_at(outs.len());
                 for l in 0..lanes {
                     if !live[l] {
                         continue;
                     }
-                    for (o, &id) in outs.iter_mut().zip(&me.prog.outputs) {
-                        *o = if me.steppers[l].chattered {
+                    let (b, j) = (l / W, l % W);
+                    let chattered = me.steppers[l].chattered;
+                    for (o, &reg) in outs.iter_mut().zip(outputs) {
+                        *o = if chattered {
                             f64::NAN
                         } else {
-                            me.vals[id as usize][l]
+                            me.regs[reg as usize][b][j]
                         };
                     }
-                    for (o, &id) in full.iter_mut().zip(&me.prog.full_state) {
-                        *o = me.vals[id as usize][l];
+                    for (o, &reg) in full.iter_mut().zip(state) {
+                        *o = me.regs[reg as usize][b][j];
                     }
                     let s = Sample {
                         index: k,
@@ -274,7 +473,7 @@ impl<'p> LaneRunner<'p> {
                         live[l] = false;
                     }
                 }
-                if live.iter().any(|&x| x) {
+                if live.contains(&true) {
                     ControlFlow::Continue(())
                 } else {
                     ControlFlow::Break(())

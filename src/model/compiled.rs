@@ -4,7 +4,7 @@
 use std::ops::ControlFlow;
 
 use super::{Drive, Linearised, ParamInfo, RigModel, Sample};
-use crate::compile::{EventStepper, GpuRig, LANES, LaneRunner, Lowered, Tape, lower};
+use crate::compile::{EventStepper, GpuRig, LANES, LaneCode, LaneRunner, Lowered, Tape, lower};
 use crate::integrate::{SampleGrid, walk_grid};
 use crate::rig::RigError;
 use crate::rig::desc::{Coef, DamperLaw, FrictionLaw, RigDesc, SpringLaw};
@@ -21,6 +21,8 @@ pub struct CompiledRig {
     /// The compiled programs, one per drive mode.
     pub lowered: Lowered,
     tapes: Vec<Tape>,
+    /// Each tape in the lane ensemble's register form.
+    lane_code: Vec<LaneCode>,
     /// Each program prepared for the GPU kernels (`None`: it cannot run there).
     gpu: Vec<Option<std::sync::Arc<GpuRig>>>,
 }
@@ -51,7 +53,13 @@ impl CompiledRig {
             .iter()
             .map(|o| (leak(&o.name), leak(&o.unit)))
             .collect();
-        let tapes = lowered.programs.iter().map(Tape::new).collect();
+        let tapes: Vec<Tape> = lowered.programs.iter().map(Tape::new).collect();
+        let lane_code = lowered
+            .programs
+            .iter()
+            .zip(&tapes)
+            .map(|(p, t)| LaneCode::new(p, t))
+            .collect();
         let gpu = lowered
             .programs
             .iter()
@@ -65,6 +73,7 @@ impl CompiledRig {
             desc,
             lowered,
             tapes,
+            lane_code,
             gpu,
         })
     }
@@ -580,8 +589,13 @@ impl RigModel for CompiledRig {
             Drive::Velocity => None,
         };
         for (c, chunk) in params.chunks(LANES).enumerate() {
-            let mut runner =
-                LaneRunner::new(&self.lowered.programs[i], &self.tapes[i], chunk, force);
+            let mut runner = LaneRunner::new(
+                &self.lowered.programs[i],
+                &self.tapes[i],
+                &self.lane_code[i],
+                chunk,
+                force,
+            );
             runner.run(grid, &mut |l, s| observe(c * LANES + l, s));
         }
     }

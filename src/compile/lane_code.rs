@@ -1,0 +1,223 @@
+//! A program's tape translated for the lane ensemble ([`super::lanes`]): each
+//! list (derivative, events, report) becomes register instructions, with the
+//! operations in the tape's order and their values in a few reused registers,
+//! so a batch's working set stays in the first-level cache.
+//!
+//! Register file: the states first (`0..n`, where RK4 writes each stage's
+//! input), then time, the mode variables, the tables, the per-run constants the
+//! lists read (filled once per batch), then temporaries, reused once their last
+//! reader has run.
+
+use super::ir::{Id, Input, Op, operands};
+use super::program::Program;
+use super::tape::Tape;
+
+/// Register index.
+pub type Reg = u16;
+
+/// One instruction: destination first, then operands.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[expect(missing_docs, reason = "each is its `Op` namesake")]
+pub enum Ins {
+    Add(Reg, Reg, Reg),
+    Sub(Reg, Reg, Reg),
+    Mul(Reg, Reg, Reg),
+    Div(Reg, Reg, Reg),
+    Min(Reg, Reg, Reg),
+    Max(Reg, Reg, Reg),
+    Le(Reg, Reg, Reg),
+    Eq(Reg, Reg, Reg),
+    Neg(Reg, Reg),
+    Abs(Reg, Reg),
+    Exp(Reg, Reg),
+    Expm1(Reg, Reg),
+    Ln(Reg, Reg),
+    Sin(Reg, Reg),
+    Cos(Reg, Reg),
+    Select(Reg, Reg, Reg, Reg),
+}
+
+/// One list's instructions.
+#[derive(Debug, Clone, Default)]
+pub struct List {
+    /// In tape order.
+    pub code: Vec<Ins>,
+    /// Where each root's value is once the list has run.
+    pub roots: Vec<Reg>,
+    /// Whether it reads the time register.
+    pub uses_time: bool,
+    /// Tables it reads: (table index, register).
+    pub tables: Vec<(u32, Reg)>,
+}
+
+/// A program's lists in register form.
+#[derive(Debug, Clone)]
+pub struct LaneCode {
+    /// The derivative; roots are `Program::deriv`.
+    pub deriv: List,
+    /// The event functions; roots are each transition's `g`.
+    pub events: List,
+    /// Outputs then full state.
+    pub report: List,
+    /// The time register.
+    pub time: Reg,
+    /// Each mode variable's register.
+    pub modes: Vec<Reg>,
+    /// Per-run constants the lists read: (operation, register).
+    pub constants: Vec<(Id, Reg)>,
+    /// Registers in all.
+    pub registers: usize,
+}
+
+impl LaneCode {
+    /// Translates `tape`'s lists of `prog`.
+    pub fn new(prog: &Program, tape: &Tape) -> Self {
+        let ops = &prog.graph.ops;
+        let n = prog.deriv.len();
+        let mut fixed: Vec<Option<Reg>> = vec![None; ops.len()];
+        let time = n as Reg;
+        let modes: Vec<Reg> = (0..prog.mode_count()).map(|m| (n + 1 + m) as Reg).collect();
+        let tables0 = n + 1 + modes.len();
+        for (i, op) in ops.iter().enumerate() {
+            fixed[i] = match *op {
+                Op::In(Input::State(s)) => Some(s as Reg),
+                Op::In(Input::Time) => Some(time),
+                Op::In(Input::Mode(m)) => Some(modes[m as usize]),
+                Op::In(Input::Table(k)) => Some((tables0 + k as usize) as Reg),
+                _ => None,
+            };
+        }
+        // Per-run constants read by a list, or a list's root.
+        let mut next = tables0 + prog.tables.len();
+        let mut constants = vec![];
+        let lists: [(&[Id], Vec<Id>); 3] = [
+            (&tape.deriv_ops, prog.deriv.clone()),
+            (
+                &tape.event_ops,
+                prog.transitions.iter().map(|t| t.g).collect(),
+            ),
+            (
+                &tape.report_ops,
+                prog.outputs
+                    .iter()
+                    .chain(&prog.full_state)
+                    .copied()
+                    .collect(),
+            ),
+        ];
+        for (list, roots) in &lists {
+            let read = list.iter().flat_map(|&i| operands(&ops[i as usize]));
+            for id in read.chain(roots.iter().copied()) {
+                let i = id as usize;
+                if prog.run_constant[i] && fixed[i].is_none() {
+                    fixed[i] = Some(next as Reg);
+                    constants.push((id, next as Reg));
+                    next += 1;
+                }
+            }
+        }
+        let mut registers = next;
+        let [deriv, events, report] = lists.map(|(list, roots)| {
+            let (l, top) = translate(prog, list, &roots, &fixed, next);
+            registers = registers.max(top);
+            l
+        });
+        assert!(registers <= usize::from(Reg::MAX), "too many registers");
+        Self {
+            deriv,
+            events,
+            report,
+            time,
+            modes,
+            constants,
+            registers,
+        }
+    }
+}
+
+/// Translates `list` (operations in order) with roots `roots`; temporaries
+/// from `first` on. Returns the list and one past its highest register.
+fn translate(
+    prog: &Program,
+    list: &[Id],
+    roots: &[Id],
+    fixed: &[Option<Reg>],
+    first: usize,
+) -> (List, usize) {
+    let ops = &prog.graph.ops;
+    let computed: Vec<Id> = list
+        .iter()
+        .copied()
+        .filter(|&i| fixed[i as usize].is_none())
+        .collect();
+    // Position of each value's last reader (roots live to the end).
+    let mut last: Vec<Option<usize>> = vec![None; ops.len()];
+    for (j, &i) in computed.iter().enumerate() {
+        for o in operands(&ops[i as usize]) {
+            last[o as usize] = Some(j);
+        }
+    }
+    let mut root = vec![false; ops.len()];
+    for &r in roots {
+        root[r as usize] = true;
+    }
+    let mut reg: Vec<Option<Reg>> = fixed.to_vec();
+    let mut free: Vec<Reg> = vec![];
+    let mut top = first;
+    let mut out = List::default();
+    for &i in list {
+        match ops[i as usize] {
+            Op::In(Input::Time) => out.uses_time = true,
+            Op::In(Input::Table(k)) => out.tables.push((k, fixed[i as usize].expect("fixed"))),
+            _ => {}
+        }
+    }
+    for (j, &i) in computed.iter().enumerate() {
+        let op = ops[i as usize];
+        let r = |o: Id| reg[o as usize].expect("an operand before its reader");
+        // Operands read for the last time free their registers first, so the
+        // result may take one of them (instructions copy operands in).
+        let mut opnds = operands(&op);
+        opnds.sort_unstable();
+        opnds.dedup();
+        for &o in &opnds {
+            if last[o as usize] == Some(j) && !root[o as usize] && fixed[o as usize].is_none() {
+                free.push(r(o));
+            }
+        }
+        let d = free.pop().unwrap_or_else(|| {
+            top += 1;
+            (top - 1) as Reg
+        });
+        let ins = match op {
+            Op::Add(a, b) => Ins::Add(d, r(a), r(b)),
+            Op::Sub(a, b) => Ins::Sub(d, r(a), r(b)),
+            Op::Mul(a, b) => Ins::Mul(d, r(a), r(b)),
+            Op::Div(a, b) => Ins::Div(d, r(a), r(b)),
+            Op::Min(a, b) => Ins::Min(d, r(a), r(b)),
+            Op::Max(a, b) => Ins::Max(d, r(a), r(b)),
+            Op::Le(a, b) => Ins::Le(d, r(a), r(b)),
+            Op::Eq(a, b) => Ins::Eq(d, r(a), r(b)),
+            Op::Neg(a) => Ins::Neg(d, r(a)),
+            Op::Abs(a) => Ins::Abs(d, r(a)),
+            Op::Exp(a) => Ins::Exp(d, r(a)),
+            Op::Expm1(a) => Ins::Expm1(d, r(a)),
+            Op::Ln(a) => Ins::Ln(d, r(a)),
+            Op::Sin(a) => Ins::Sin(d, r(a)),
+            Op::Cos(a) => Ins::Cos(d, r(a)),
+            Op::Select(c, a, b) => Ins::Select(d, r(c), r(a), r(b)),
+            Op::Const(_) | Op::In(_) => unreachable!("constants and inputs are fixed registers"),
+        };
+        reg[i as usize] = Some(d);
+        // A value nobody reads (not a root) frees its register at once.
+        if last[i as usize].is_none() && !root[i as usize] {
+            free.push(d);
+        }
+        out.code.push(ins);
+    }
+    out.roots = roots
+        .iter()
+        .map(|&r| reg[r as usize].expect("a root the list computes"))
+        .collect();
+    (out, top)
+}
