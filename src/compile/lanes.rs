@@ -11,6 +11,11 @@
 //! operations in the same order as the scalar reference, so every lane's history
 //! is bit-identical to [`EventStepper`]'s (`tests/rig_cpu_ensemble.rs`).
 
+#![expect(
+    clippy::needless_range_loop,
+    reason = "lane loops index several arrays in step, the shape the vectoriser wants"
+)]
+
 use std::ops::ControlFlow;
 
 use super::events::EventStepper;

@@ -12,8 +12,8 @@
 //! ties). Held within 2 ulp of the C library over the whole range by the tests
 //! below.
 
-const INV_LN2: f64 = 1.442_695_040_888_963_4;
-const LN2_HI: f64 = 6.931_471_803_691_238_2e-1;
+const INV_LN2: f64 = std::f64::consts::LOG2_E;
+const LN2_HI: f64 = f64::from_bits(0x3fe6_2e42_fee0_0000);
 const LN2_LO: f64 = 1.908_214_929_270_587_7e-10;
 /// 1.5·2⁵²: `(v + SHIFT) − SHIFT` rounds `|v| < 2⁵¹` to the nearest integer,
 /// and the low bits of `v + SHIFT` hold it.
