@@ -97,7 +97,7 @@ fn readme_run_command_leaves_a_complete_result_folder() {
     let mut lines = csv.lines();
     assert_eq!(
         lines.next().unwrap(),
-        "t_record_s,t_model_s,measured_force_N,model_load_cell_force_N,model_specimen_force_N,residual_N,in_fit_window"
+        "t_record_s,t_model_s,measured_load_cell_force_N,model_load_cell_force_N,model_specimen_force_N,residual_N,in_fit_window"
     );
     let rows: Vec<Vec<f64>> = lines
         .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())

@@ -47,7 +47,7 @@ pub enum Command {
         rigfit run campaigns/aa2024_t3_synthetic.json --backend cpu --out results/cpu\n  \
         rigfit run campaigns/aa2024_t3_synthetic.json --resume\n\n\
         The output folder receives result.json, one CSV per experiment (measured,\n\
-        model and cleaned specimen force), history.csv, fit_<experiment>.svg and\n\
+        every model output, residual), history.csv, fit_<experiment>.svg and\n\
         fitness.svg. A checkpoint is kept there while the job runs; Ctrl-C writes\n\
         one and stops cleanly, and --resume continues bit-identically.")]
     Run(RunArgs),

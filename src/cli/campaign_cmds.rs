@@ -166,19 +166,17 @@ pub fn modes(args: &ModesArgs, out: &Output) -> Result<()> {
         let report = ModeReport::new(&lin).context("modal analysis")?;
         reports.push((exp.name.clone(), report));
     }
+    let about = c.model.linearisation_point();
     out.json(&serde_json::json!(
         reports
             .iter()
-            .map(|(n, r)| serde_json::json!({"experiment": n, "modes": r}))
+            .map(|(n, r)| serde_json::json!({"experiment": n, "linearised": about, "modes": r}))
             .collect::<Vec<_>>()
     ))?;
     out.say(|| {
         let mut s = String::new();
         for (name, r) in &reports {
-            let _ = writeln!(
-                s,
-                "experiment {name}: linearised rig (slack adapter engaged, specimen elastic)"
-            );
+            let _ = writeln!(s, "experiment {name}: {about}");
             let _ = writeln!(s, "{r}");
         }
         s.trim_end().to_string()

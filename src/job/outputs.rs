@@ -20,7 +20,7 @@ use crate::search::{
 pub struct ExperimentFit {
     /// Experiment name.
     pub name: String,
-    /// R² of the model load-cell force over the fit window (the job's evaluator).
+    /// R² of the model's output 0 over the fit window (the job's evaluator).
     pub r2: f64,
     /// `1 − R²` (the fitness).
     pub one_minus_r2: f64,
@@ -28,7 +28,7 @@ pub struct ExperimentFit {
     pub r2_cpu_reference: f64,
     /// Weight in the joint fitness.
     pub weight: f64,
-    /// CSV with measured, model and cleaned force.
+    /// CSV with the measurement, every model output and the residual.
     pub csv: String,
     /// SVG plot of the fit.
     pub plot: String,
@@ -185,6 +185,7 @@ pub fn write_outputs(
     let batch: Batch = campaign.batch(std::slice::from_ref(best));
     let histories = evaluator.histories(&batch, &[0])?.remove(0);
     let full = campaign.full_params(best);
+    let outputs = campaign.model.output_names();
 
     let mut experiments = Vec::new();
     for (e, (exp, hist)) in campaign
@@ -200,17 +201,20 @@ pub fn write_outputs(
         let stem = file_stem(&exp.name);
         let csv = format!("{stem}.csv");
         let plot = format!("fit_{stem}.svg");
-        write(&csv, experiment_csv(exp, hist, *offset).as_bytes())?;
+        write(&csv, experiment_csv(exp, hist, *offset, outputs).as_bytes())?;
         let n = hist.t.len().min(exp.force.len());
         let t_rec: Vec<f64> = (0..n).map(|k| exp.t_first + k as f64 * exp.dt).collect();
         let title = format!("{}: {} — R² = {:.5}", campaign.name, exp.name, r2);
-        let svg = plots::fit_svg(
-            &title,
-            &t_rec,
-            &exp.force[..n],
-            &hist.outputs[0][..n],
-            &hist.outputs[1][..n],
-        )?;
+        let series: Vec<plots::Series<'_>> = outputs
+            .iter()
+            .zip(&hist.outputs)
+            .map(|(&(name, unit), h)| plots::Series {
+                name,
+                unit,
+                values: &h[..n.min(h.len())],
+            })
+            .collect();
+        let svg = plots::fit_svg(&title, &t_rec, &exp.force[..n], &series)?;
         write(&plot, svg.as_bytes())?;
         experiments.push(ExperimentFit {
             name: exp.name.clone(),
@@ -283,21 +287,39 @@ pub fn r_squared(exp: &crate::eval::ExperimentData, hist: &History) -> f64 {
     1.0 - ss_res / ss_tot
 }
 
-fn experiment_csv(exp: &crate::eval::ExperimentData, hist: &History, offset: f64) -> String {
-    let mut s = String::from(
-        "t_record_s,t_model_s,measured_force_N,model_load_cell_force_N,model_specimen_force_N,residual_N,in_fit_window\n",
-    );
+/// The experiment's CSV: record and model time, the measurement, every model
+/// output (named `model_<name>_<unit>` from the rig), the residual of output 0
+/// and whether the sample is in the fit window.
+fn experiment_csv(
+    exp: &crate::eval::ExperimentData,
+    hist: &History,
+    offset: f64,
+    outputs: &[(&str, &str)],
+) -> String {
+    let (name0, unit0) = outputs[0];
+    let mut s = format!("t_record_s,t_model_s,measured_{name0}_{unit0}");
+    for (name, unit) in outputs {
+        let _ = write!(s, ",model_{name}_{unit}");
+    }
+    let _ = writeln!(s, ",residual_{unit0},in_fit_window");
     let n = hist.t.len().min(exp.force.len());
+    let value = |o: usize, k: usize| {
+        hist.outputs
+            .get(o)
+            .and_then(|h| h.get(k))
+            .copied()
+            .unwrap_or(f64::NAN)
+    };
     for k in 0..n {
         let t_rec = exp.t_first + k as f64 * exp.dt;
-        let model = hist.outputs[0][k];
+        let _ = write!(s, "{t_rec:.9e},{:.9e},{:.6e}", t_rec + offset, exp.force[k]);
+        for o in 0..outputs.len() {
+            let _ = write!(s, ",{:.6e}", value(o, k));
+        }
         let _ = writeln!(
             s,
-            "{t_rec:.9e},{:.9e},{:.6e},{model:.6e},{:.6e},{:.6e},{}",
-            t_rec + offset,
-            exp.force[k],
-            hist.outputs[1][k],
-            model - exp.force[k],
+            ",{:.6e},{}",
+            value(0, k) - exp.force[k],
             u8::from(exp.window.contains(&k)),
         );
     }

@@ -7,7 +7,7 @@ use super::{Drive, Linearised, ParamInfo, RigModel, Sample};
 use crate::compile::{EventStepper, GpuRig, LANES, LaneCode, LaneRunner, Lowered, Tape, lower};
 use crate::integrate::{SampleGrid, walk_grid};
 use crate::rig::RigError;
-use crate::rig::desc::{Coef, DamperLaw, FrictionLaw, RigDesc, SpringLaw};
+use crate::rig::desc::{Coef, DamperLaw, FrictionLaw, GapKind, RigDesc, SpringLaw};
 
 /// A compiled rig. Built once per job; its names live for the whole process.
 #[derive(Debug)]
@@ -607,6 +607,42 @@ impl RigModel for CompiledRig {
     fn gpu(&self, drive: &Drive) -> Option<super::GpuModel> {
         let i = self.program_for(drive)?;
         self.gpu[i].clone().map(super::GpuModel::Compiled)
+    }
+
+    fn linearisation_point(&self) -> String {
+        // The same mode choice as `linearise`, said only for the kinds of
+        // switching element the rig has.
+        let has = |suffix: &str| self.lowered.modes.iter().any(|m| m.name.ends_with(suffix));
+        let mut said = Vec::new();
+        if has(".contact") {
+            let free_play = self
+                .desc
+                .elements
+                .iter()
+                .any(|e| e.gap.as_ref().is_some_and(|g| g.kind == GapKind::FreePlay));
+            said.push(if free_play {
+                "every contact closed (free play in tension)"
+            } else {
+                "every contact closed"
+            });
+        }
+        match (has(".fracture"), has(".yield")) {
+            (true, true) => said.push("nothing broken or yielded"),
+            (true, false) => said.push("nothing broken"),
+            (false, true) => said.push("nothing yielded"),
+            (false, false) => {}
+        }
+        if has(".friction") {
+            said.push("every slider stuck");
+        }
+        if has(".backlash") {
+            said.push("backlash taken up in tension");
+        }
+        let mut s = format!("rig {} linearised about rest", self.id);
+        if !said.is_empty() {
+            s += &format!(": {}", said.join(", "));
+        }
+        s
     }
 
     fn linearise(&self, params: &[f64], drive: &Drive) -> Linearised {

@@ -95,6 +95,12 @@ pub trait RigModel: Send + Sync + std::fmt::Debug {
     /// The rig linearised about its engaged, unbroken configuration.
     fn linearise(&self, params: &[f64], drive: &Drive) -> Linearised;
 
+    /// What [`RigModel::linearise`] linearises about, in words, for the header
+    /// of `rigfit modes`.
+    fn linearisation_point(&self) -> String {
+        format!("rig {} linearised about rest", self.id())
+    }
+
     /// Upper bound on the highest natural frequency (rad/s) of any parameter
     /// vector inside `[lower, upper]`, with the name of the parameter that limits
     /// it most. Used to choose or refuse the RK4 step.

@@ -306,6 +306,10 @@ impl RigModel for Tensile4 {
         });
     }
 
+    fn linearisation_point(&self) -> String {
+        "linearised rig (slack adapter engaged, specimen elastic)".into()
+    }
+
     fn linearise(&self, params: &[f64], drive: &Drive) -> Linearised {
         let p = params;
         let (k1, ks, k3, k4) = (p[ix::K1], p[ix::K_LIN], p[ix::K3], p[ix::K4_LIN]);
