@@ -63,7 +63,8 @@ fn si_prefix(peak: f64, unit: &str) -> (f64, &'static str) {
         (6, "M"),
         (9, "G"),
     ];
-    if !(peak.is_finite() && peak > 0.0) || !unit.starts_with(|c: char| c.is_ascii_alphabetic()) {
+    let lettered = unit.starts_with(|c: char| c.is_ascii_alphabetic());
+    if !(peak.is_finite() && peak > 0.0 && lettered) {
         return (1.0, "");
     }
     let exp = ((peak.log10() / 3.0).floor() as i32 * 3).clamp(-9, 9);
