@@ -4,6 +4,7 @@
 
 use std::ops::ControlFlow;
 
+use rigfit::compile::{Isa, LANES, LaneCode, LaneRunner, Tape};
 use rigfit::fixtures::REFERENCE_DT;
 use rigfit::integrate::SampleGrid;
 use rigfit::model::compiled::CompiledRig;
@@ -101,4 +102,53 @@ fn stick_slip_lanes_match_the_scalar_reference_through_many_events() {
         histories_many(&r, &ps, &Drive::Velocity, &grid),
         histories_one(&r, &ps, &Drive::Velocity, &grid)
     );
+}
+
+#[test]
+fn full_and_partial_groups_on_every_vector_width_match_the_scalar_reference() {
+    let desc = rigfit::rig::shipped("tensile4").unwrap();
+    let r = CompiledRig::new(desc.clone(), "tensile4").unwrap();
+    let lowered = rigfit::compile::lower(&desc, "tensile4").unwrap();
+    let prog = &lowered.programs[0];
+    assert_eq!(prog.mode, "velocity");
+    let tape = Tape::new(prog);
+    let code = LaneCode::new(prog, &tape);
+    // A full group whose lanes differ in two parameters (the rest, and every
+    // value computed from them alone, shared), then a partial group of
+    // identical runs (every per-run value shared).
+    let mut ps: Vec<Vec<f64>> = (0..LANES)
+        .map(|i| {
+            let mut p = tensile::REFERENCE.to_vec();
+            let f = 1.0 + 0.3 * i as f64 / LANES as f64;
+            p[tensile::ix::K1] *= f;
+            p[tensile::ix::GAP] *= f;
+            p
+        })
+        .collect();
+    ps.extend(std::iter::repeat_n(tensile::REFERENCE.to_vec(), 11));
+    let grid = SampleGrid {
+        t0: 0.0,
+        dt: REFERENCE_DT,
+        samples: 1200,
+        substeps: 1,
+    };
+    let one = histories_one(&r, &ps, &Drive::Velocity, &grid);
+    let isas = Isa::available();
+    assert!(isas.contains(&Isa::Base));
+    for isa in isas {
+        let mut many = vec![vec![]; ps.len()];
+        for (c, chunk) in ps.chunks(LANES).enumerate() {
+            let refs: Vec<&[f64]> = chunk.iter().map(|p| p.as_slice()).collect();
+            LaneRunner::new(prog, &tape, &code, &refs, None)
+                .with_isa(isa)
+                .run(&grid, &mut |l, s| {
+                    many[c * LANES + l]
+                        .extend(s.outputs.iter().chain(s.state).map(|v| v.to_bits()));
+                    ControlFlow::Continue(())
+                });
+        }
+        for (i, (a, b)) in many.iter().zip(&one).enumerate() {
+            assert!(a == b, "{isa:?}: candidate {i} differs");
+        }
+    }
 }

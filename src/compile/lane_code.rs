@@ -37,6 +37,53 @@ pub enum Ins {
     Select(Reg, Reg, Reg, Reg),
 }
 
+impl Ins {
+    /// The register it writes.
+    pub fn dest(self) -> Reg {
+        match self {
+            Self::Add(d, ..)
+            | Self::Sub(d, ..)
+            | Self::Mul(d, ..)
+            | Self::Div(d, ..)
+            | Self::Min(d, ..)
+            | Self::Max(d, ..)
+            | Self::Le(d, ..)
+            | Self::Eq(d, ..)
+            | Self::Neg(d, _)
+            | Self::Abs(d, _)
+            | Self::Exp(d, _)
+            | Self::Expm1(d, _)
+            | Self::Ln(d, _)
+            | Self::Sin(d, _)
+            | Self::Cos(d, _)
+            | Self::Select(d, ..) => d,
+        }
+    }
+
+    /// The registers it reads.
+    pub fn operands(self) -> impl Iterator<Item = Reg> {
+        let (a, b, c) = match self {
+            Self::Add(_, a, b)
+            | Self::Sub(_, a, b)
+            | Self::Mul(_, a, b)
+            | Self::Div(_, a, b)
+            | Self::Min(_, a, b)
+            | Self::Max(_, a, b)
+            | Self::Le(_, a, b)
+            | Self::Eq(_, a, b) => (a, Some(b), None),
+            Self::Neg(_, a)
+            | Self::Abs(_, a)
+            | Self::Exp(_, a)
+            | Self::Expm1(_, a)
+            | Self::Ln(_, a)
+            | Self::Sin(_, a)
+            | Self::Cos(_, a) => (a, None, None),
+            Self::Select(_, c, a, b) => (c, Some(a), Some(b)),
+        };
+        std::iter::once(a).chain(b).chain(c)
+    }
+}
+
 /// One list's instructions.
 #[derive(Debug, Clone, Default)]
 pub struct List {
@@ -67,6 +114,22 @@ pub struct LaneCode {
     pub constants: Vec<(Id, Reg)>,
     /// Registers in all.
     pub registers: usize,
+}
+
+impl List {
+    /// Which instructions give every lane the same value, given which
+    /// registers hold one value for every lane before the list runs
+    /// (`uniform`, updated as the list writes).
+    pub fn uniform(&self, uniform: &mut [bool]) -> Vec<bool> {
+        self.code
+            .iter()
+            .map(|ins| {
+                let u = ins.operands().all(|r| uniform[r as usize]);
+                uniform[ins.dest() as usize] = u;
+                u
+            })
+            .collect()
+    }
 }
 
 impl LaneCode {

@@ -91,9 +91,11 @@ fn un(r: &mut [Reg], nb: usize, d: u16, a: u16, f: impl Fn(f64) -> f64) {
 
 /// Runs `code` over the first `nb` blocks of `r`.
 #[inline(always)]
-fn exec(code: &[Ins], r: &mut [Reg], nb: usize) {
+fn exec(code: &[Ins], uniform: &[bool], r: &mut [Reg], nb: usize) {
     use super::math::{exp, expm1};
-    for &ins in code {
+    for (&ins, &u) in code.iter().zip(uniform) {
+        // A value every lane shares is computed in one block and copied.
+        let nb = if u { 1 } else { nb };
         match ins {
             Ins::Add(d, a, b) => bin(r, nb, d, a, b, |x, y| x + y),
             Ins::Sub(d, a, b) => bin(r, nb, d, a, b, |x, y| x - y),
@@ -120,6 +122,11 @@ fn exec(code: &[Ins], r: &mut [Reg], nb: usize) {
                     r[d as usize][k] = o;
                 }
             }
+        }
+        if u {
+            let d = ins.dest() as usize;
+            let b0 = r[d][0];
+            r[d].0[1..].fill(b0);
         }
     }
 }
@@ -173,12 +180,12 @@ mod wide {
     use super::{Ins, Reg, combine, exec, stage};
 
     #[target_feature(enable = "avx512f")]
-    pub fn exec_512(code: &[Ins], r: &mut [Reg], nb: usize) {
-        exec(code, r, nb);
+    pub fn exec_512(code: &[Ins], uniform: &[bool], r: &mut [Reg], nb: usize) {
+        exec(code, uniform, r, nb);
     }
     #[target_feature(enable = "avx2")]
-    pub fn exec_256(code: &[Ins], r: &mut [Reg], nb: usize) {
-        exec(code, r, nb);
+    pub fn exec_256(code: &[Ins], uniform: &[bool], r: &mut [Reg], nb: usize) {
+        exec(code, uniform, r, nb);
     }
     #[target_feature(enable = "avx512f")]
     pub fn stage_512(r: &mut [Reg], nb: usize, y: &[Reg], c: f64, k: &[Reg]) {
@@ -210,6 +217,15 @@ impl Isa {
         }
     }
 
+    /// Every one this processor runs, narrowest first.
+    pub fn available() -> Vec<Self> {
+        let w = Self::widest();
+        [Self::Base, Self::Avx2, Self::Avx512]
+            .into_iter()
+            .filter(|&i| i == Self::Base || i == Self::Avx2 && w != Self::Base || i == w)
+            .collect()
+    }
+
     fn widest() -> Self {
         #[cfg(target_arch = "x86_64")]
         {
@@ -227,14 +243,14 @@ impl Isa {
         unsafe_code,
         reason = "calls the loops built for a feature `detect` found"
     )]
-    fn exec(self, code: &[Ins], r: &mut [Reg], nb: usize) {
+    fn exec(self, code: &[Ins], uniform: &[bool], r: &mut [Reg], nb: usize) {
         match self {
             // SAFETY: `detect` returns these only where the processor has them.
             #[cfg(target_arch = "x86_64")]
-            Self::Avx512 => unsafe { wide::exec_512(code, r, nb) },
+            Self::Avx512 => unsafe { wide::exec_512(code, uniform, r, nb) },
             #[cfg(target_arch = "x86_64")]
-            Self::Avx2 => unsafe { wide::exec_256(code, r, nb) },
-            _ => exec(code, r, nb),
+            Self::Avx2 => unsafe { wide::exec_256(code, uniform, r, nb) },
+            _ => exec(code, uniform, r, nb),
         }
     }
 
@@ -278,6 +294,9 @@ pub struct LaneRunner<'p> {
     /// Active blocks.
     nb: usize,
     isa: Isa,
+    /// Per list (derivative, events, report): which instructions every lane
+    /// shares.
+    uniform: [Vec<bool>; 3],
     regs: Vec<Reg>,
     steppers: Vec<EventStepper<'p>>,
     y: Vec<Reg>,
@@ -313,6 +332,22 @@ impl<'p> LaneRunner<'p> {
                 regs[reg as usize][l / W][l % W] = s.frame.get(id);
             }
         }
+        // Registers every active lane shares: time, tables and the per-run
+        // constants whose values agree (fixed parameters, literals).
+        let mut shared = vec![false; code.registers];
+        shared[code.time as usize] = true;
+        for l in [&code.deriv, &code.events, &code.report] {
+            for &(_, reg) in &l.tables {
+                shared[reg as usize] = true;
+            }
+        }
+        for &(_, reg) in &code.constants {
+            let r = &regs[reg as usize];
+            let v0 = r[0][0];
+            shared[reg as usize] = (0..nb * W).all(|l| r[l / W][l % W].to_bits() == v0.to_bits());
+        }
+        let uniform =
+            [&code.deriv, &code.events, &code.report].map(|l| l.uniform(&mut shared.clone()));
         let n = prog.deriv.len();
         // The initial state and modes each run's stepper found.
         let mut y = vec![ZERO; n];
@@ -331,6 +366,7 @@ impl<'p> LaneRunner<'p> {
             force,
             nb,
             isa: Isa::detect(),
+            uniform,
             regs,
             steppers,
             y,
@@ -341,8 +377,20 @@ impl<'p> LaneRunner<'p> {
         }
     }
 
-    /// Fills the time and table registers for `list` at `t`, then runs it.
-    fn eval(&mut self, list: &List, t: f64) {
+    /// The same runs on vector instructions `isa` (one of
+    /// [`Isa::available`]) instead of the widest.
+    pub fn with_isa(mut self, isa: Isa) -> Self {
+        assert!(
+            Isa::available().contains(&isa),
+            "{isa:?} is not available here"
+        );
+        self.isa = isa;
+        self
+    }
+
+    /// Fills the time and table registers for `list` (whose uniform flags
+    /// are `self.uniform[which]`) at `t`, then runs it.
+    fn eval(&mut self, list: &List, which: usize, t: f64) {
         let nb = self.nb;
         if list.uses_time {
             self.regs[self.code.time as usize].0[..nb].fill([t; W]);
@@ -351,13 +399,14 @@ impl<'p> LaneRunner<'p> {
             let v = table_value(self.prog, self.force, table, t);
             self.regs[reg as usize].0[..nb].fill([v; W]);
         }
-        self.isa.exec(&list.code, &mut self.regs, nb);
+        self.isa
+            .exec(&list.code, &self.uniform[which], &mut self.regs, nb);
     }
 
     /// The derivative at the state registers' values into `k[out]`.
     fn deriv(&mut self, t: f64, out: usize) {
         let code = self.code;
-        self.eval(&code.deriv, t);
+        self.eval(&code.deriv, 0, t);
         for (s, &reg) in code.deriv.roots.iter().enumerate() {
             self.k[out][s] = self.regs[reg as usize];
         }
@@ -388,7 +437,7 @@ impl<'p> LaneRunner<'p> {
         self.rk4(t, h);
         self.regs[..n].copy_from_slice(&self.y);
         let code = self.code;
-        self.eval(&code.events, t + h);
+        self.eval(&code.events, 1, t + h);
         self.hit = [[false; W]; BLOCKS];
         for (tr, &g) in self.prog.transitions.iter().zip(&code.events.roots) {
             let (g, mode) = (
@@ -450,7 +499,7 @@ impl<'p> LaneRunner<'p> {
             |me, k, t| {
                 let n = me.y.len();
                 me.regs[..n].copy_from_slice(&me.y);
-                me.eval(&code.report, t);
+                me.eval(&code.report, 2, t);
                 let (outputs, state) = code.report.roots.split_at(outs.len());
                 for l in 0..lanes {
                     if !live[l] {

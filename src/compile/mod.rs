@@ -26,7 +26,7 @@ pub use events::{EventStepper, Fired, MAX_EVENTS_PER_STEP};
 pub use initial::initial_state;
 pub use ir::{Graph, Id, Input, Op};
 pub use lane_code::LaneCode;
-pub use lanes::{LANES, LaneRunner};
+pub use lanes::{Isa, LANES, LaneRunner};
 pub use lower::{Lowered, lower};
 pub use program::{Direction, ModeVar, Program, Transition};
 pub use tape::{Frame, Point, Tape};

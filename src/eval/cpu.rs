@@ -75,7 +75,13 @@ impl Evaluator for CpuEvaluator {
         };
         // Groups of consecutive candidates of one experiment with one offset
         // (one sample grid), as many as the model advances together.
-        let lanes = problem.model.lanes().max(1);
+        // At most a thread's share, in whole vector blocks, so a small batch
+        // (a polish's Jacobian) still spreads over every thread.
+        let share = batch
+            .candidates
+            .div_ceil(self.pool.current_num_threads().max(1))
+            .next_multiple_of(8);
+        let lanes = problem.model.lanes().min(share).max(1);
         let mut groups: Vec<(usize, usize, usize)> = Vec::new();
         for e in 0..ne {
             let mut i = 0;
