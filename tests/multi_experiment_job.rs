@@ -2,9 +2,6 @@
 //! parameters shared, the specimen's fracture elongation and one clock offset
 //! per experiment, and the joint fitness the weighted mean of the two 1 − R².
 
-use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
-
 use rigfit::campaign::Campaign;
 use rigfit::eval::CpuEvaluator;
 use rigfit::fixtures::reference_like;
@@ -66,14 +63,7 @@ fn two_speeds_fit_jointly_with_shared_rig_and_own_specimen_parameters() {
     );
 
     let out = dir.path().join("out");
-    let opts = JobOptions {
-        out: out.clone(),
-        resume: false,
-        quiet: true,
-        interrupt: Arc::new(AtomicBool::new(false)),
-        require_gpu: false,
-        threads: 0,
-    };
+    let opts = JobOptions::quiet(out.clone());
     let s = job::run(&c, Box::new(CpuEvaluator::new(c.problem.clone(), 0)), &opts).unwrap();
 
     assert_eq!(s.experiments.len(), 2);

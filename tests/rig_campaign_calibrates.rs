@@ -4,8 +4,6 @@
 //! 3 % of the values that made it.
 
 use std::path::Path;
-use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
 
 use rigfit::campaign::Campaign;
 use rigfit::eval::CpuEvaluator;
@@ -39,14 +37,7 @@ fn a_shipped_rig_by_id_calibrates_the_shipped_record() {
     c.search.generations = 150;
     c.search.target_fitness = Some(6e-5);
     let out = tempfile::tempdir().unwrap();
-    let opts = JobOptions {
-        out: out.path().to_path_buf(),
-        resume: false,
-        quiet: true,
-        interrupt: Arc::new(AtomicBool::new(false)),
-        require_gpu: false,
-        threads: 0,
-    };
+    let opts = JobOptions::quiet(out.path());
     let ev = Box::new(CpuEvaluator::new(c.problem.clone(), 0));
     let s = job::run(&c, ev, &opts).unwrap();
     let r2 = s.experiments[0].r2;

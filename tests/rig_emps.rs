@@ -6,8 +6,6 @@
 //! "EMPS"); the reference position reaches the rig as a column of the data file.
 
 use std::path::Path;
-use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
 
 use rigfit::campaign::Campaign;
 use rigfit::eval::CpuEvaluator;
@@ -37,14 +35,7 @@ fn campaign(population: usize, generations: usize) -> Campaign {
 fn the_closed_loop_fit_recovers_the_inverse_models_friction_and_offset() {
     let c = campaign(32, 12);
     let out = tempfile::tempdir().unwrap();
-    let opts = JobOptions {
-        out: out.path().to_path_buf(),
-        resume: false,
-        quiet: true,
-        interrupt: Arc::new(AtomicBool::new(false)),
-        require_gpu: false,
-        threads: 0,
-    };
+    let opts = JobOptions::quiet(out.path());
     let ev = Box::new(CpuEvaluator::new(c.problem.clone(), 0));
     let s = job::run(&c, ev, &opts).unwrap();
     let value = |n: &str| s.parameters.iter().find(|p| p.name == n).unwrap().value;

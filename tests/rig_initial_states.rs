@@ -7,8 +7,6 @@ mod gpu_common;
 use std::ops::ControlFlow;
 use std::path::Path;
 use std::process::Command;
-use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
 
 use rigfit::campaign::Campaign;
 use rigfit::eval::{Batch, CpuEvaluator, Evaluator, Precision, simulate_history};
@@ -243,14 +241,7 @@ fn a_free_initial_velocity_is_recovered_within_its_interval() {
     let names: Vec<&str> = c.genes.iter().map(|g| g.name.as_str()).collect();
     assert_eq!(names, ["k", "e1.initial_v_mass"]);
     let out = tempfile::tempdir().unwrap();
-    let opts = JobOptions {
-        out: out.path().to_path_buf(),
-        resume: false,
-        quiet: true,
-        interrupt: Arc::new(AtomicBool::new(false)),
-        require_gpu: false,
-        threads: 0,
-    };
+    let opts = JobOptions::quiet(out.path());
     let started = std::time::Instant::now();
     let s = job::run(&c, Box::new(CpuEvaluator::new(c.problem.clone(), 0)), &opts).unwrap();
     let p = s

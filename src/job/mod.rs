@@ -47,6 +47,21 @@ pub struct JobOptions {
     pub threads: usize,
 }
 
+impl JobOptions {
+    /// A fresh job into `out` with no progress bar, no interrupt, a CPU
+    /// fallback on all cores (what tests and library callers mostly want).
+    pub fn quiet(out: impl Into<PathBuf>) -> Self {
+        Self {
+            out: out.into(),
+            resume: false,
+            quiet: true,
+            interrupt: Arc::new(AtomicBool::new(false)),
+            require_gpu: false,
+            threads: 0,
+        }
+    }
+}
+
 /// Errors of a job.
 #[derive(Debug, thiserror::Error)]
 pub enum JobError {

@@ -7,8 +7,6 @@
 
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
 
 use rigfit::campaign::Campaign;
 use rigfit::eval::{CpuEvaluator, Evaluator};
@@ -121,14 +119,7 @@ pub fn recover(
             .unwrap(),
     )[0];
     let out = tempfile::tempdir().unwrap();
-    let opts = JobOptions {
-        out: out.path().to_path_buf(),
-        resume: false,
-        quiet: true,
-        interrupt: Arc::new(AtomicBool::new(false)),
-        require_gpu: false,
-        threads: 0,
-    };
+    let opts = JobOptions::quiet(out.path());
     let ev = Box::new(CpuEvaluator::new(c.problem.clone(), 0));
     let summary = job::run(&c, ev, &opts).unwrap();
     let genes: Vec<(String, f64, f64)> = c
