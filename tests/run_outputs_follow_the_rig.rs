@@ -241,3 +241,49 @@ fn modes_header_names_the_rig_and_its_linearisation_point() {
     assert!(header.contains("slider stuck"), "{header}");
     assert!(!header.contains("backlash"), "{header}");
 }
+
+#[test]
+fn simulate_reports_the_peak_of_the_rigs_own_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = campaign(dir.path(), &rig(1));
+    let sim = dir.path().join("sim.csv");
+    let o = rigfit()
+        .args(["--json", "simulate"])
+        .arg(&path)
+        .arg("--out")
+        .arg(&sim)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "rigfit simulate failed: {}", stderr(&o));
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["peak"]["output"], "displacement");
+    assert_eq!(v["peak"]["unit"], "m");
+    // The largest |x| in the written history.
+    let csv = std::fs::read_to_string(&sim).unwrap();
+    let peak = csv
+        .lines()
+        .skip(1)
+        .map(|l| numbers(l)[1].abs())
+        .fold(0.0_f64, f64::max);
+    let got = v["peak"]["abs_max"].as_f64().unwrap();
+    assert!(
+        peak > 0.0 && (got - peak).abs() <= 1e-9 * peak,
+        "{got} vs {peak}"
+    );
+    // The summary line names the output too, never a load cell.
+    let o = rigfit()
+        .arg("simulate")
+        .arg(&path)
+        .arg("--out")
+        .arg(&sim)
+        .arg("--overwrite")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "rigfit simulate failed: {}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains("largest |displacement|") && text.contains(" m → "),
+        "{text}"
+    );
+    assert!(!text.contains("load"), "{text}");
+}

@@ -177,7 +177,8 @@ pub struct SimulateArgs {
     /// Experiment to simulate, by name (default: the first).
     #[arg(long)]
     pub experiment: Option<String>,
-    /// Write a synthetic measurement with Gaussian noise of this standard deviation (N).
+    /// Write a synthetic measurement with Gaussian noise of this standard deviation
+    /// (in the unit of the rig's output 0, the fitted one: N for the tensile rig).
     #[arg(long)]
     pub noise: Option<f64>,
     /// Seed of the noise.

@@ -67,10 +67,12 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
             let _ = writeln!(
                 s,
                 "# SYNTHETIC measurement: made by `rigfit simulate` from campaign {} (experiment {}),\n\
-                 # model {}, Gaussian noise sigma = {sigma} N, seed {}. Not a measured record.",
+                 # model {}, Gaussian noise sigma = {sigma} {} on output {}, seed {}. Not a measured record.",
                 c.name,
                 exp.name,
                 c.model.id(),
+                c.model.output_names()[0].1,
+                c.model.output_names()[0].0,
                 args.seed
             );
             s += "t_s,force_N\n";
@@ -99,18 +101,19 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
     }
     atomic_write(&args.out, s.as_bytes())
         .with_context(|| format!("writing `{}`", args.out.display()))?;
+    // Output 0 is the fitted one, in the rig's own name and unit.
+    let (name, unit) = c.model.output_names()[0];
     let peak = h.outputs[0].iter().fold(0.0_f64, |m, f| m.max(f.abs()));
     out.json(&serde_json::json!({
         "out": args.out, "experiment": exp.name, "samples": h.t.len(),
-        "peak_load_cell_force_N": peak,
+        "peak": {"output": name, "unit": unit, "abs_max": peak},
     }))?;
     out.say(|| {
         format!(
-            "simulated {} ({} samples, {} RK4 steps per sample): peak load-cell force {:.1} N → {}",
+            "simulated {} ({} samples, {} RK4 steps per sample): largest |{name}| {peak:.4e} {unit} → {}",
             exp.name,
             h.t.len(),
             problem.substeps,
-            peak,
             args.out.display()
         )
     });
