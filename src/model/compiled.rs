@@ -32,6 +32,14 @@ fn leak(s: &str) -> &'static str {
 }
 
 impl CompiledRig {
+    /// Index of parameter `name`, which validation has checked exists.
+    fn param_index(&self, name: &str) -> usize {
+        self.params
+            .iter()
+            .position(|p| p.name == name)
+            .expect("a parameter validation checked")
+    }
+
     /// Compiles `desc` (read from `file`, for messages).
     pub fn new(desc: RigDesc, file: &str) -> Result<Self, RigError> {
         let lowered = lower(&desc, file)?;
@@ -489,11 +497,7 @@ impl RigModel for CompiledRig {
         }
         for node in &self.desc.nodes {
             if let Coef::Param(n) = &node.mass {
-                let i = self
-                    .params
-                    .iter()
-                    .position(|p| p.name == n)
-                    .expect("checked");
+                let i = self.param_index(n);
                 if params[i] <= 0.0 {
                     return Err((self.params[i].name, "a mass > 0".into()));
                 }
@@ -503,11 +507,7 @@ impl RigModel for CompiledRig {
             if let (Some(_), Some(DamperLaw::Viscous { c: Coef::Param(n) })) =
                 (&e.backlash, &e.damper)
             {
-                let i = self
-                    .params
-                    .iter()
-                    .position(|p| p.name == n)
-                    .expect("checked");
+                let i = self.param_index(n);
                 if params[i] <= 0.0 {
                     return Err((
                         self.params[i].name,
@@ -671,13 +671,7 @@ impl RigModel for CompiledRig {
             .iter()
             .map(|&k| match &self.desc.nodes[k].mass {
                 Coef::Number(v) => *v,
-                Coef::Param(p) => {
-                    params[self
-                        .params
-                        .iter()
-                        .position(|q| q.name == p)
-                        .expect("checked")]
-                }
+                Coef::Param(p) => params[self.param_index(p)],
                 Coef::Switch(_) => f64::NAN,
             })
             .collect();
