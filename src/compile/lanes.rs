@@ -207,14 +207,18 @@ mod wide {
 
 impl Isa {
     /// The widest this processor runs, or the one `RIGFIT_LANES_ISA`
-    /// (`base`, `avx2`, `avx512`) names if the processor has it.
+    /// (`base`, `avx2`, `avx512`) names if the processor has it; decided once
+    /// per process.
     pub fn detect() -> Self {
-        let best = Self::widest();
-        match std::env::var("RIGFIT_LANES_ISA").as_deref() {
-            Ok("base") => Self::Base,
-            Ok("avx2") if best != Self::Base => Self::Avx2,
-            _ => best,
-        }
+        static PICKED: std::sync::OnceLock<Isa> = std::sync::OnceLock::new();
+        *PICKED.get_or_init(|| {
+            let best = Self::widest();
+            match std::env::var("RIGFIT_LANES_ISA").as_deref() {
+                Ok("base") => Self::Base,
+                Ok("avx2") if best != Self::Base => Self::Avx2,
+                _ => best,
+            }
+        })
     }
 
     /// Every one this processor runs, narrowest first.
