@@ -296,6 +296,30 @@ pub fn operands(op: &Op) -> Vec<Id> {
     }
 }
 
+/// `op` with each operand id `o` replaced by `f(o)` (constants and inputs as
+/// they are).
+pub fn map_operands(op: Op, f: impl Fn(Id) -> Id) -> Op {
+    match op {
+        Op::Const(_) | Op::In(_) => op,
+        Op::Add(a, b) => Op::Add(f(a), f(b)),
+        Op::Sub(a, b) => Op::Sub(f(a), f(b)),
+        Op::Mul(a, b) => Op::Mul(f(a), f(b)),
+        Op::Div(a, b) => Op::Div(f(a), f(b)),
+        Op::Min(a, b) => Op::Min(f(a), f(b)),
+        Op::Max(a, b) => Op::Max(f(a), f(b)),
+        Op::Le(a, b) => Op::Le(f(a), f(b)),
+        Op::Eq(a, b) => Op::Eq(f(a), f(b)),
+        Op::Neg(a) => Op::Neg(f(a)),
+        Op::Abs(a) => Op::Abs(f(a)),
+        Op::Exp(a) => Op::Exp(f(a)),
+        Op::Expm1(a) => Op::Expm1(f(a)),
+        Op::Ln(a) => Op::Ln(f(a)),
+        Op::Sin(a) => Op::Sin(f(a)),
+        Op::Cos(a) => Op::Cos(f(a)),
+        Op::Select(c, a, b) => Op::Select(f(c), f(a), f(b)),
+    }
+}
+
 /// The value of `op`, its operands' values read through `a` and its input
 /// through `input`: the one scalar meaning of every operation. The CPU tape
 /// evaluates through it; the lanes (`lanes.rs`) and the WGSL emitter

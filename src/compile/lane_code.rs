@@ -8,80 +8,22 @@
 //! lists read (filled once per batch), then temporaries, reused once their last
 //! reader has run.
 
-use super::ir::{Id, Input, Op, operands};
+use super::ir::{Id, Input, Op, map_operands, operands};
 use super::program::Program;
 use super::tape::Tape;
 
 /// Register index.
 pub type Reg = u16;
 
-/// One instruction: destination first, then operands.
+/// One instruction: an operation of the graph whose operands are register
+/// indices, and the register it writes.
 #[derive(Debug, Clone, Copy, PartialEq)]
-#[expect(missing_docs, reason = "each is its `Op` namesake")]
-pub enum Ins {
-    Add(Reg, Reg, Reg),
-    Sub(Reg, Reg, Reg),
-    Mul(Reg, Reg, Reg),
-    Div(Reg, Reg, Reg),
-    Min(Reg, Reg, Reg),
-    Max(Reg, Reg, Reg),
-    Le(Reg, Reg, Reg),
-    Eq(Reg, Reg, Reg),
-    Neg(Reg, Reg),
-    Abs(Reg, Reg),
-    Exp(Reg, Reg),
-    Expm1(Reg, Reg),
-    Ln(Reg, Reg),
-    Sin(Reg, Reg),
-    Cos(Reg, Reg),
-    Select(Reg, Reg, Reg, Reg),
-}
-
-impl Ins {
-    /// The register it writes.
-    pub fn dest(self) -> Reg {
-        match self {
-            Self::Add(d, ..)
-            | Self::Sub(d, ..)
-            | Self::Mul(d, ..)
-            | Self::Div(d, ..)
-            | Self::Min(d, ..)
-            | Self::Max(d, ..)
-            | Self::Le(d, ..)
-            | Self::Eq(d, ..)
-            | Self::Neg(d, _)
-            | Self::Abs(d, _)
-            | Self::Exp(d, _)
-            | Self::Expm1(d, _)
-            | Self::Ln(d, _)
-            | Self::Sin(d, _)
-            | Self::Cos(d, _)
-            | Self::Select(d, ..) => d,
-        }
-    }
-
-    /// The registers it reads.
-    pub fn operands(self) -> impl Iterator<Item = Reg> {
-        let (a, b, c) = match self {
-            Self::Add(_, a, b)
-            | Self::Sub(_, a, b)
-            | Self::Mul(_, a, b)
-            | Self::Div(_, a, b)
-            | Self::Min(_, a, b)
-            | Self::Max(_, a, b)
-            | Self::Le(_, a, b)
-            | Self::Eq(_, a, b) => (a, Some(b), None),
-            Self::Neg(_, a)
-            | Self::Abs(_, a)
-            | Self::Exp(_, a)
-            | Self::Expm1(_, a)
-            | Self::Ln(_, a)
-            | Self::Sin(_, a)
-            | Self::Cos(_, a) => (a, None, None),
-            Self::Select(_, c, a, b) => (c, Some(a), Some(b)),
-        };
-        std::iter::once(a).chain(b).chain(c)
-    }
+pub struct Ins {
+    /// The register written.
+    pub dest: Reg,
+    /// What is computed, operands as registers (never a constant or an input:
+    /// those are registers filled before the list runs).
+    pub op: Op,
 }
 
 /// One list's instructions.
@@ -124,8 +66,8 @@ impl List {
         self.code
             .iter()
             .map(|ins| {
-                let u = ins.operands().all(|r| uniform[r as usize]);
-                uniform[ins.dest() as usize] = u;
+                let u = operands(&ins.op).iter().all(|&r| uniform[r as usize]);
+                uniform[ins.dest as usize] = u;
                 u
             })
             .collect()
@@ -252,24 +194,10 @@ fn translate(
             top += 1;
             (top - 1) as Reg
         });
-        let ins = match op {
-            Op::Add(a, b) => Ins::Add(d, r(a), r(b)),
-            Op::Sub(a, b) => Ins::Sub(d, r(a), r(b)),
-            Op::Mul(a, b) => Ins::Mul(d, r(a), r(b)),
-            Op::Div(a, b) => Ins::Div(d, r(a), r(b)),
-            Op::Min(a, b) => Ins::Min(d, r(a), r(b)),
-            Op::Max(a, b) => Ins::Max(d, r(a), r(b)),
-            Op::Le(a, b) => Ins::Le(d, r(a), r(b)),
-            Op::Eq(a, b) => Ins::Eq(d, r(a), r(b)),
-            Op::Neg(a) => Ins::Neg(d, r(a)),
-            Op::Abs(a) => Ins::Abs(d, r(a)),
-            Op::Exp(a) => Ins::Exp(d, r(a)),
-            Op::Expm1(a) => Ins::Expm1(d, r(a)),
-            Op::Ln(a) => Ins::Ln(d, r(a)),
-            Op::Sin(a) => Ins::Sin(d, r(a)),
-            Op::Cos(a) => Ins::Cos(d, r(a)),
-            Op::Select(c, a, b) => Ins::Select(d, r(c), r(a), r(b)),
-            Op::Const(_) | Op::In(_) => unreachable!("constants and inputs are fixed registers"),
+        debug_assert!(!matches!(op, Op::Const(_) | Op::In(_)), "fixed registers");
+        let ins = Ins {
+            dest: d,
+            op: map_operands(op, |o| Id::from(r(o))),
         };
         reg[i as usize] = Some(d);
         // A value nobody reads (not a root) frees its register at once.

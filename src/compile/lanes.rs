@@ -19,8 +19,9 @@
 use std::ops::ControlFlow;
 
 use super::events::EventStepper;
+use super::ir::{Id, Op};
 use super::lane_code::{Ins, LaneCode, List};
-use super::program::{Direction, Program};
+use super::program::Program;
 use super::tape::{Tape, table_value};
 use crate::integrate::{SampleGrid, walk_grid};
 use crate::model::{PiecewiseLinear, Sample};
@@ -65,27 +66,27 @@ const ZERO: Reg = Reg::splat(0.0);
 
 /// `d = f(a, b)`, block by block (operands copied in, so `d` may be `a`).
 #[inline(always)]
-fn bin(r: &mut [Reg], nb: usize, d: u16, a: u16, b: u16, f: impl Fn(f64, f64) -> f64) {
+fn bin(r: &mut [Reg], nb: usize, d: usize, a: Id, b: Id, f: impl Fn(f64, f64) -> f64) {
     for k in 0..nb {
         let (x, y) = (r[a as usize][k], r[b as usize][k]);
         let mut o = [0.0; W];
         for l in 0..W {
             o[l] = f(x[l], y[l]);
         }
-        r[d as usize][k] = o;
+        r[d][k] = o;
     }
 }
 
 /// `d = f(a)`, block by block.
 #[inline(always)]
-fn un(r: &mut [Reg], nb: usize, d: u16, a: u16, f: impl Fn(f64) -> f64) {
+fn un(r: &mut [Reg], nb: usize, d: usize, a: Id, f: impl Fn(f64) -> f64) {
     for k in 0..nb {
         let x = r[a as usize][k];
         let mut o = [0.0; W];
         for l in 0..W {
             o[l] = f(x[l]);
         }
-        r[d as usize][k] = o;
+        r[d][k] = o;
     }
 }
 
@@ -96,35 +97,36 @@ fn exec(code: &[Ins], uniform: &[bool], r: &mut [Reg], nb: usize) {
     for (&ins, &u) in code.iter().zip(uniform) {
         // A value every lane shares is computed in one block and copied.
         let nb = if u { 1 } else { nb };
-        match ins {
-            Ins::Add(d, a, b) => bin(r, nb, d, a, b, |x, y| x + y),
-            Ins::Sub(d, a, b) => bin(r, nb, d, a, b, |x, y| x - y),
-            Ins::Mul(d, a, b) => bin(r, nb, d, a, b, |x, y| x * y),
-            Ins::Div(d, a, b) => bin(r, nb, d, a, b, |x, y| x / y),
-            Ins::Min(d, a, b) => bin(r, nb, d, a, b, f64::min),
-            Ins::Max(d, a, b) => bin(r, nb, d, a, b, f64::max),
-            Ins::Le(d, a, b) => bin(r, nb, d, a, b, |x, y| if x <= y { 1.0 } else { 0.0 }),
-            Ins::Eq(d, a, b) => bin(r, nb, d, a, b, |x, y| if x == y { 1.0 } else { 0.0 }),
-            Ins::Neg(d, a) => un(r, nb, d, a, |x| -x),
-            Ins::Abs(d, a) => un(r, nb, d, a, f64::abs),
-            Ins::Exp(d, a) => un(r, nb, d, a, exp),
-            Ins::Expm1(d, a) => un(r, nb, d, a, expm1),
-            Ins::Ln(d, a) => un(r, nb, d, a, f64::ln),
-            Ins::Sin(d, a) => un(r, nb, d, a, f64::sin),
-            Ins::Cos(d, a) => un(r, nb, d, a, f64::cos),
-            Ins::Select(d, c, a, b) => {
+        let d = ins.dest as usize;
+        match ins.op {
+            Op::Add(a, b) => bin(r, nb, d, a, b, |x, y| x + y),
+            Op::Sub(a, b) => bin(r, nb, d, a, b, |x, y| x - y),
+            Op::Mul(a, b) => bin(r, nb, d, a, b, |x, y| x * y),
+            Op::Div(a, b) => bin(r, nb, d, a, b, |x, y| x / y),
+            Op::Min(a, b) => bin(r, nb, d, a, b, f64::min),
+            Op::Max(a, b) => bin(r, nb, d, a, b, f64::max),
+            Op::Le(a, b) => bin(r, nb, d, a, b, |x, y| if x <= y { 1.0 } else { 0.0 }),
+            Op::Eq(a, b) => bin(r, nb, d, a, b, |x, y| if x == y { 1.0 } else { 0.0 }),
+            Op::Neg(a) => un(r, nb, d, a, |x| -x),
+            Op::Abs(a) => un(r, nb, d, a, f64::abs),
+            Op::Exp(a) => un(r, nb, d, a, exp),
+            Op::Expm1(a) => un(r, nb, d, a, expm1),
+            Op::Ln(a) => un(r, nb, d, a, f64::ln),
+            Op::Sin(a) => un(r, nb, d, a, f64::sin),
+            Op::Cos(a) => un(r, nb, d, a, f64::cos),
+            Op::Select(c, a, b) => {
                 for k in 0..nb {
                     let (s, x, y) = (r[c as usize][k], r[a as usize][k], r[b as usize][k]);
                     let mut o = [0.0; W];
                     for l in 0..W {
                         o[l] = if s[l] != 0.0 { x[l] } else { y[l] };
                     }
-                    r[d as usize][k] = o;
+                    r[d][k] = o;
                 }
             }
+            Op::Const(_) | Op::In(_) => unreachable!("registers filled before the list runs"),
         }
         if u {
-            let d = ins.dest() as usize;
             let b0 = r[d][0];
             r[d].0[1..].fill(b0);
         }
@@ -328,12 +330,22 @@ impl<'p> LaneRunner<'p> {
             .map(|p| EventStepper::new(prog, tape, p, force))
             .collect();
         let nb = params.len().div_ceil(W);
+        let n = prog.deriv.len();
         let mut regs = vec![ZERO; code.registers];
-        for &(id, reg) in &code.constants {
-            for l in 0..nb * W {
-                // Idle lanes repeat lane 0, so they compute something finite.
-                let s = steppers.get(l).unwrap_or(&steppers[0]);
-                regs[reg as usize][l / W][l % W] = s.frame.get(id);
+        // Each run's constants, and the initial state and modes its stepper
+        // found; idle lanes repeat lane 0, so they compute something finite.
+        let mut y = vec![ZERO; n];
+        for l in 0..nb * W {
+            let s = steppers.get(l).unwrap_or(&steppers[0]);
+            let (b, j) = (l / W, l % W);
+            for &(id, reg) in &code.constants {
+                regs[reg as usize][b][j] = s.frame.get(id);
+            }
+            for (i, &v) in s.y0.iter().enumerate() {
+                y[i][b][j] = v;
+            }
+            for (m, &v) in s.modes.iter().enumerate() {
+                regs[code.modes[m] as usize][b][j] = f64::from(v);
             }
         }
         // Registers every active lane shares: time, tables and the per-run
@@ -352,18 +364,6 @@ impl<'p> LaneRunner<'p> {
         }
         let uniform =
             [&code.deriv, &code.events, &code.report].map(|l| l.uniform(&mut shared.clone()));
-        let n = prog.deriv.len();
-        // The initial state and modes each run's stepper found.
-        let mut y = vec![ZERO; n];
-        for l in 0..nb * W {
-            let s = steppers.get(l).unwrap_or(&steppers[0]);
-            for (i, &v) in s.y0.iter().enumerate() {
-                y[i][l / W][l % W] = v;
-            }
-            for (m, &v) in s.modes.iter().enumerate() {
-                regs[code.modes[m] as usize][l / W][l % W] = f64::from(v);
-            }
-        }
         Self {
             prog,
             code,
@@ -452,11 +452,7 @@ impl<'p> LaneRunner<'p> {
             for b in 0..nb {
                 let (gb, mb, hb) = (&g[b], &mode[b], &mut self.hit[b]);
                 for l in 0..W {
-                    let past = match tr.dir {
-                        Direction::Up => gb[l] >= 0.0,
-                        Direction::Down => gb[l] <= 0.0,
-                    };
-                    hb[l] |= past & (mb[l] == from);
+                    hb[l] |= tr.violated(gb[l]) & (mb[l] == from);
                 }
             }
         }
