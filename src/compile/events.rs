@@ -5,14 +5,13 @@
 //! step ([`super::Transition::fires`]: past the switch at the step's end, and
 //! on the armed side at its start or going further past) is located on the cubic Hermite
 //! interpolant of the step (the state and its derivative at both ends, error
-//! O(h⁴)) by a fixed number of bisections. The earliest one fires: the step is
+//! O(h⁴)) by [`locate_crossing`], a bracketing secant search. The earliest one fires: the step is
 //! redone from its start to the crossing, the mode changes, and the rest of the
 //! step is taken the same way. More than [`MAX_EVENTS_PER_STEP`] events in one
 //! step flag the run as chattering and stop it (it is never hung).
 
 use super::program::Program;
 use super::tape::{Frame, Point, Tape};
-use crate::integrate::CROSSING_ITERATIONS;
 
 /// Events one step may take before the run is flagged as chattering.
 pub const MAX_EVENTS_PER_STEP: usize = 16;
@@ -48,6 +47,8 @@ pub struct EventStepper<'p> {
     interp: Vec<f64>,
     /// Event-function values at the current step's start.
     g_start: Vec<f64>,
+    /// Event-function values at the current step's end.
+    g_end: Vec<f64>,
 }
 
 impl<'p> EventStepper<'p> {
@@ -78,6 +79,7 @@ impl<'p> EventStepper<'p> {
             f_end: z.clone(),
             interp: z,
             g_start: vec![0.0; prog.transitions.len()],
+            g_end: vec![0.0; prog.transitions.len()],
         }
     }
 
@@ -161,6 +163,9 @@ impl<'p> EventStepper<'p> {
                 return;
             }
             let hits: Vec<usize> = self.triggered().collect();
+            for (g1, tr) in self.g_end.iter_mut().zip(&self.prog.transitions) {
+                *g1 = self.frame.get(tr.g);
+            }
             let f0 = self.k[0].clone();
             let mut f_end = std::mem::take(&mut self.f_end);
             self.deriv(ta + rem, y, &mut f_end);
@@ -168,7 +173,9 @@ impl<'p> EventStepper<'p> {
             let y1 = y.to_vec();
             let mut best: Option<(f64, usize)> = None;
             for &tr in &hits {
-                let theta = self.locate(tr, ta, rem, &f0, &y1);
+                let def = &self.prog.transitions[tr];
+                let (v0, v1) = (def.oriented(self.g_start[tr]), def.oriented(self.g_end[tr]));
+                let theta = self.locate(tr, ta, rem, &f0, &y1, v0, v1);
                 if best.is_none_or(|(b, _)| theta < b) {
                     best = Some((theta, tr));
                 }
@@ -195,15 +202,25 @@ impl<'p> EventStepper<'p> {
 
     /// Fraction of the step `[ta, ta + h]` where transition `tr`'s event
     /// function first passes its switch, on the Hermite interpolant between
-    /// `self.start` (derivative `f0`) and `y1` (derivative `self.f_end`).
-    fn locate(&mut self, tr: usize, ta: f64, h: f64, f0: &[f64], y1: &[f64]) -> f64 {
-        let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
-        for _ in 0..CROSSING_ITERATIONS {
-            let mid = 0.5 * (lo + hi);
-            let s2 = mid * mid;
-            let s3 = s2 * mid;
+    /// `self.start` (derivative `f0`) and `y1` (derivative `self.f_end`), by
+    /// [`locate_crossing`] from the oriented values `v0` and `v1` at its ends.
+    #[allow(clippy::too_many_arguments)]
+    fn locate(
+        &mut self,
+        tr: usize,
+        ta: f64,
+        h: f64,
+        f0: &[f64],
+        y1: &[f64],
+        v0: f64,
+        v1: f64,
+    ) -> f64 {
+        let def = self.prog.transitions[tr].clone();
+        locate_crossing(v0, v1, LOCATE_TOLERANCE, |theta| {
+            let s2 = theta * theta;
+            let s3 = s2 * theta;
             let h00 = 2.0 * s3 - 3.0 * s2 + 1.0;
-            let h10 = (s3 - 2.0 * s2 + mid) * h;
+            let h10 = (s3 - 2.0 * s2 + theta) * h;
             let h01 = -2.0 * s3 + 3.0 * s2;
             let h11 = (s3 - s2) * h;
             for i in 0..y1.len() {
@@ -211,16 +228,10 @@ impl<'p> EventStepper<'p> {
                     h00 * self.start[i] + h10 * f0[i] + h01 * y1[i] + h11 * self.f_end[i];
             }
             let interp = std::mem::take(&mut self.interp);
-            self.events_at(ta + mid * h, &interp);
+            self.events_at(ta + theta * h, &interp);
             self.interp = interp;
-            let def = &self.prog.transitions[tr];
-            if def.violated(self.frame.get(def.g)) {
-                hi = mid;
-            } else {
-                lo = mid;
-            }
-        }
-        0.5 * (lo + hi)
+            def.oriented(self.frame.get(def.g))
+        })
     }
 
     /// Outputs and full state at `(t, y)`, into `outputs` and `state`.
@@ -237,5 +248,171 @@ impl<'p> EventStepper<'p> {
         for (o, &id) in state.iter_mut().zip(&self.prog.full_state) {
             *o = self.frame.get(id);
         }
+    }
+}
+
+/// Most event-function evaluations [`locate_crossing`] makes: enough for the
+/// bracket to reach [`LOCATE_TOLERANCE`] when it only halves every fourth one.
+pub const LOCATE_ITERATIONS: usize = 200;
+
+/// Width of the bracket (a fraction of the step) at which [`locate_crossing`]
+/// stops in f64.
+pub const LOCATE_TOLERANCE: f64 = 1e-15;
+
+/// The same for the f32 kernels: about the spacing of f32 values below 1.
+pub const LOCATE_TOLERANCE_F32: f64 = 2.5e-7;
+
+/// Fraction θ ∈ [0, 1] of a step where an event function first passes its
+/// switch, given its oriented value `v(θ)` (≥ 0: past; see
+/// [`super::Transition::oriented`]) with `v0 = v(0)` and `v1 = v(1) ≥ 0`.
+///
+/// A run already past the switch at the step's start (`v0 ≥ 0`, a transition
+/// pushed further past) fires at θ = 0. Otherwise the bracket `[lo, hi]`, with
+/// `v(lo) < 0 ≤ v(hi)`, is narrowed by regula falsi in the Anderson–Björck
+/// form (the value kept at an end that survives twice in a row is scaled
+/// down), each trial point kept at least `tol / 2` inside the bracket, and a
+/// bisection whenever the bracket is not half as wide as three trials before,
+/// so it halves at least every fourth evaluation. It stops when the bracket is
+/// no wider than `tol`, on an exact zero, or after [`LOCATE_ITERATIONS`]
+/// evaluations, and returns `hi`: the first point found past the switch. A
+/// crossing inside one step, where the event function is close to linear,
+/// takes about seven evaluations (bisection took 52). The kernels'
+/// `rig_locate` (shaders/shared/rig_run.wgsl) is the same search, step for
+/// step.
+pub fn locate_crossing(v0: f64, v1: f64, tol: f64, mut v: impl FnMut(f64) -> f64) -> f64 {
+    if v0 >= 0.0 || v0.is_nan() {
+        return 0.0;
+    }
+    let (mut lo, mut hi, mut vlo, mut vhi) = (0.0_f64, 1.0_f64, v0, v1);
+    // Which end moved last: -1 lo, 1 hi, 0 none yet.
+    let mut side = 0_i32;
+    // Bracket widths before the last three trials, oldest first.
+    let mut widths = [2.0_f64; 3];
+    let nudge = 0.5 * tol;
+    for _ in 0..LOCATE_ITERATIONS {
+        let w = hi - lo;
+        if w <= tol || w.is_nan() {
+            break;
+        }
+        let secant = lo + w * (vlo / (vlo - vhi));
+        let m = if w > 0.5 * widths[0] || !(lo..=hi).contains(&secant) {
+            lo + 0.5 * w
+        } else {
+            secant
+        };
+        let m = m.max(lo + nudge).min(hi - nudge);
+        widths = [widths[1], widths[2], w];
+        let vm = v(m);
+        if vm == 0.0 {
+            return m;
+        }
+        if vm > 0.0 {
+            if side == 1 {
+                let f = 1.0 - vm / vhi;
+                vlo *= if f > 0.0 { f } else { 0.5 };
+            }
+            hi = m;
+            vhi = vm;
+            side = 1;
+        } else {
+            if side == -1 {
+                let f = 1.0 - vm / vlo;
+                vhi *= if f > 0.0 { f } else { 0.5 };
+            }
+            lo = m;
+            vlo = vm;
+            side = -1;
+        }
+    }
+    hi
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A test crossing: name, root, oriented value, most evaluations allowed.
+    type Case = (&'static str, f64, fn(f64) -> f64, usize);
+
+    /// Roots found, with the number of evaluations each took.
+    fn located(v0: f64, v1: f64, v: impl Fn(f64) -> f64) -> (f64, usize) {
+        let mut n = 0;
+        let theta = locate_crossing(v0, v1, LOCATE_TOLERANCE, |x| {
+            n += 1;
+            v(x)
+        });
+        (theta, n)
+    }
+
+    #[test]
+    fn crossings_are_found_to_the_tolerance() {
+        // Near-linear crossings, as inside one step, in about seven
+        // evaluations; strongly curved ones take longer.
+        let cases: [Case; 7] = [
+            ("linear", 0.3, |x| x - 0.3, 1),
+            (
+                "mildly curved",
+                (1.24f64.sqrt() - 1.0) / 0.4,
+                |x| x - 0.3 + 0.2 * x * x,
+                8,
+            ),
+            (
+                "sine",
+                std::f64::consts::PI / 12.0,
+                |x| (2.0 * x).sin() - 0.5,
+                8,
+            ),
+            (
+                "exponential",
+                0.5 * 2f64.ln(),
+                |x| (2.0 * x).exp_m1() - 1.0,
+                8,
+            ),
+            (
+                "root at the first secant point",
+                0.5,
+                |x| -(std::f64::consts::PI * x).cos(),
+                3,
+            ),
+            ("cubic", 0.1, |x| x * x * x - 1e-3, 24),
+            (
+                "steep exponential",
+                0.05f64.ln_1p() / 40.0,
+                |x| (40.0 * x).exp_m1() - 0.05,
+                16,
+            ),
+        ];
+        for (name, root, v, most) in cases {
+            let (theta, n) = located(v(0.0), v(1.0), v);
+            assert!(v(theta) >= 0.0, "{name}: {theta} is not past the switch");
+            assert!(
+                (theta - root).abs() <= 4e-15,
+                "{name}: {theta} against {root}"
+            );
+            assert!(
+                n <= most,
+                "{name}: {n} evaluations, expected at most {most}"
+            );
+        }
+    }
+
+    #[test]
+    fn a_jump_is_bracketed_by_bisection_to_the_tolerance() {
+        // No secant step helps: the value jumps at 0.7.
+        let v = |x: f64| if x < 0.7 { -1.0 } else { 1e6 };
+        let (theta, n) = located(-1.0, 1e6, v);
+        assert!(
+            theta >= 0.7 && theta - 0.7 <= 2.0 * LOCATE_TOLERANCE,
+            "{theta}"
+        );
+        assert!(n <= LOCATE_ITERATIONS, "{n}");
+    }
+
+    #[test]
+    fn past_at_the_start_fires_at_once_and_nan_never_hangs() {
+        assert_eq!(located(0.0, 1.0, |_| panic!("no evaluation")).0, 0.0);
+        assert_eq!(located(0.5, 1.0, |_| panic!("no evaluation")).0, 0.0);
+        let (theta, n) = located(-1.0, 1.0, |_| f64::NAN);
+        assert!((0.0..=1.0).contains(&theta) && n <= LOCATE_ITERATIONS);
     }
 }

@@ -41,6 +41,15 @@ impl Transition {
         }
     }
 
+    /// `g` oriented so that `≥ 0` is past the switch: `g` for [`Direction::Up`],
+    /// `−g` for [`Direction::Down`] (`violated(g)` is `oriented(g) >= 0`).
+    pub fn oriented(&self, g: f64) -> f64 {
+        match self.dir {
+            Direction::Up => g,
+            Direction::Down => -g,
+        }
+    }
+
     /// Whether an armed transition fires over a step whose event function
     /// went from `g0` to `g1`: it ends past the switch, and either started on
     /// the armed side or went further past. A transition armed by another

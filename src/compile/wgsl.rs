@@ -20,8 +20,10 @@
 //!   `st_hermite(y0, f0, y1, f1, c00, c10, c01, c11)`;
 //! - `rig_deriv(kc, t, y, md) -> St`, `rig_events(kc, t, y, md) -> Ev` (every
 //!   event function), `rig_hits(g0, g1, md) -> u32` (the armed transitions
-//!   that fire over a step from `g0` to `g1`, one bit each), `rig_event_past(kc,
-//!   i, t, y, md) -> bool`, `rig_fire(i, md)`;
+//!   that fire over a step from `g0` to `g1`, one bit each), `rig_event_value(kc,
+//!   i, t, y, md) -> real` and `rig_oriented(g, i) -> real` (transition `i`'s
+//!   event function oriented so that `>= 0` is past its switch, at a point or
+//!   from `rig_events`' values), `rig_fire(i, md)`;
 //! - `rig_output0_c(kc, t, y, md, ck) -> real` (the scored output) and
 //!   `rig_report_c(kc, t, y, md, ck) -> Rep` (every output, then the full state);
 //! - the drive clocks: `struct Ck`, `rig_clock(kc, t)` and
@@ -483,33 +485,37 @@ impl Emitter<'_> {
             );
         }
         s.push_str("    return hits;\n}\n\n");
-        // Whether transition i is armed and past its switch (location).
-        let past = |i: usize| -> String {
-            let tr = &p.transitions[i];
-            let cmp = match tr.dir {
-                Direction::Up => ">=",
-                Direction::Down => "<=",
-            };
-            format!(
-                "md.m{} == {}u && {} {cmp} real(0.0)",
-                tr.var,
-                tr.from,
-                self.name(tr.g)
-            )
+        // Transition i's event function oriented so that >= 0 is past its
+        // switch (Transition::oriented): at a point of the step (location),
+        // and from the values of rig_events.
+        let oriented = |i: usize, g: &str| -> String {
+            match p.transitions[i].dir {
+                Direction::Up => g.to_string(),
+                Direction::Down => format!("-({g})"),
+            }
         };
         let _ = writeln!(
             s,
-            "fn rig_event_past(kc: Kc, i: u32, t: real, y: St, md: Md) -> bool {{\n    switch i {{"
+            "fn rig_event_value(kc: Kc, i: u32, t: real, y: St, md: Md) -> real {{\n    switch i {{"
         );
-        for i in 0..p.transitions.len() {
+        for (i, tr) in p.transitions.iter().enumerate() {
             let _ = writeln!(
                 s,
                 "        case {i}u: {{\n    let ck = rig_clock(kc, t);\n{}    return {};\n        }}",
-                self.body(&[p.transitions[i].g]),
-                past(i)
+                self.body(&[tr.g]),
+                oriented(i, &self.name(tr.g))
             );
         }
-        s.push_str("        default: { return false; }\n    }\n}\n\n");
+        s.push_str("        default: { return real(0.0); }\n    }\n}\n\n");
+        s.push_str("fn rig_oriented(g: Ev, i: u32) -> real {\n    switch i {\n");
+        for i in 0..p.transitions.len() {
+            let _ = writeln!(
+                s,
+                "        case {i}u: {{ return {}; }}",
+                oriented(i, &format!("g.g[{i}]"))
+            );
+        }
+        s.push_str("        default: { return real(0.0); }\n    }\n}\n\n");
         s.push_str("fn rig_fire(i: u32, md: ptr<function, Md>) {\n    switch i {\n");
         for (i, tr) in p.transitions.iter().enumerate() {
             let _ = writeln!(

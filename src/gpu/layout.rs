@@ -101,6 +101,10 @@ pub fn shared_constants(
             "CROSSING_ITERATIONS".into(),
             crate::integrate::CROSSING_ITERATIONS as u32,
         ),
+        (
+            "LOCATE_ITERATIONS".into(),
+            crate::compile::events::LOCATE_ITERATIONS as u32,
+        ),
         ("BLOCK_SAMPLES".into(), BLOCK_SAMPLES),
         ("FLAG_DONE".into(), FLAG_DONE),
         ("FLAG_BROKEN".into(), FLAG_BROKEN),

@@ -109,6 +109,15 @@ pub fn prelude(model: &GpuModel, precision: Precision, force_drive: bool) -> Str
     // A compile-time constant, so kernels for velocity-only problems carry no
     // force-drive code (lavapipe would execute it under a mask at every stage).
     s.push_str(&format!("const FORCE_DRIVE: bool = {force_drive};\n"));
+    // Where the compiled rigs' crossing search stops (locate_crossing).
+    let tol = match precision {
+        Precision::F64 => crate::compile::events::LOCATE_TOLERANCE,
+        Precision::F32 => crate::compile::events::LOCATE_TOLERANCE_F32,
+    };
+    s.push_str(&format!(
+        "const LOCATE_TOLERANCE: real = {};\n",
+        real_literal(tol, precision)
+    ));
     for (name, value) in shared_constants(&model.slots(), model.state_stride(), model.hist_values())
     {
         s.push_str(&format!("const {name}: u32 = {value}u;\n"));
