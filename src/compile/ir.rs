@@ -129,6 +129,17 @@ impl Graph {
         if let Some(v) = self.fold(&op) {
             return self.push_raw(Op::Const(v));
         }
+        // `(0 − x) + b` is `b − x` (the same rounding of the same difference;
+        // only the sign of a zero result can differ): a node's net force whose
+        // first element pulls on it, one operation fewer per evaluation.
+        if let Op::Add(a, b) = op {
+            if let Some(x) = self.negation(a) {
+                return self.push(Op::Sub(b, x));
+            }
+            if let Some(x) = self.negation(b) {
+                return self.push(Op::Sub(a, x));
+            }
+        }
         match op {
             Op::Add(a, b) if self.constant(b) == Some(0.0) => return a,
             Op::Add(a, b) if self.constant(a) == Some(0.0) => return b,
@@ -150,6 +161,15 @@ impl Graph {
             _ => {}
         }
         self.push_raw(op)
+    }
+
+    /// `x` where `id` is `0 − x` or `−x`.
+    fn negation(&self, id: Id) -> Option<Id> {
+        match self.ops[id as usize] {
+            Op::Sub(z, x) if self.constant(z) == Some(0.0) => Some(x),
+            Op::Neg(x) => Some(x),
+            _ => None,
+        }
     }
 
     fn push_raw(&mut self, op: Op) -> Id {
@@ -372,5 +392,18 @@ mod tests {
         assert_eq!(g.add(a, zero), a);
         let z = g.mul(a, zero);
         assert_eq!(g.ops[z as usize], Op::Const(0.0));
+    }
+
+    #[test]
+    fn a_negated_term_added_becomes_a_difference() {
+        let mut g = Graph::new();
+        let (a, b) = (g.input(Input::State(0)), g.input(Input::State(1)));
+        let zero = g.c(0.0);
+        let minus_a = g.sub(zero, a);
+        let sum = g.add(minus_a, b);
+        assert_eq!(g.ops[sum as usize], Op::Sub(b, a));
+        let neg_b = g.neg(b);
+        let sum = g.add(a, neg_b);
+        assert_eq!(g.ops[sum as usize], Op::Sub(a, b));
     }
 }
