@@ -220,7 +220,7 @@ pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
     // The memory `run` will check, on the CPU and (where the rig has kernels)
     // on the GPU in f64, for the campaign's population.
     let cpu_memory = MemoryEstimate::of(&c, None);
-    let gpu_memory = rigfit::gpu::gpu_model(&c.problem)
+    let gpu_memory = rigfit::gpu::kernel_groups(&c.problem)
         .is_ok()
         .then(|| MemoryEstimate::of(&c, Some(8)));
     let available = memory::available_memory();

@@ -138,7 +138,7 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         .context("opening the GPU evaluator")?;
         if let Some(note) = &opened.note {
             // A driver helps only where the model has kernels to run.
-            if rigfit::gpu::gpu_model(&c.problem).is_ok() {
+            if rigfit::gpu::kernel_groups(&c.problem).is_ok() {
                 out.note(&format!("note: {note}; {GPU_HINT}"));
             } else {
                 out.note(&format!("note: {note}"));
@@ -218,7 +218,7 @@ fn check_memory(
 ) -> Result<(MemoryEstimate, String), super::BadInput> {
     let gpu_real = match (backend, precision) {
         (Backend::Cpu, _) => None,
-        _ if rigfit::gpu::gpu_model(&c.problem).is_err() => None,
+        _ if rigfit::gpu::kernel_groups(&c.problem).is_err() => None,
         (_, PrecisionChoice::F32) => Some(4),
         _ => Some(8),
     };

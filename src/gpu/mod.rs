@@ -25,7 +25,9 @@
 //! - Models with at most four degrees of freedom (`State` is two `vec4`) and two
 //!   outputs (history records hold t, 2 outputs, 8 states).
 //! - Force drives are supported (table in the data buffer); kernels for
-//!   velocity-only problems are compiled without the force-drive code.
+//!   velocity-only problems are compiled without the force-drive code. A
+//!   compiled rig has kernels per drive mode; a job that mixes modes runs one
+//!   pipeline per mode ([`GpuByDrive`]), one after the other each generation.
 //! - In f32, step indices and prologue step counts are exact up to 2^24.
 //! - On CPU drivers (lavapipe) both sides of every branch run, every loop body
 //!   runs at least once and a loop tested at its head runs one extra masked
@@ -66,6 +68,7 @@
 //! PCI bus id or a piece of the name, as `rigfit devices` lists them); Vulkan
 //! does not honour `CUDA_VISIBLE_DEVICES`.
 
+mod by_drive;
 mod context;
 mod evaluator;
 pub mod layout;
@@ -75,6 +78,7 @@ mod probe;
 pub mod shaders;
 pub mod specialise;
 
+pub use by_drive::{GpuByDrive, KernelGroup, kernel_groups};
 pub use context::{
     ADAPTER_ENV, AdapterChoice, AdapterSummary, GpuContext, adapter_list, choose_adapter, instance,
     list_adapters, requested_adapter,
@@ -121,10 +125,11 @@ pub enum GpuError {
     /// The model has no GPU kernels.
     #[error("model `{0}` has no GPU implementation")]
     UnsupportedModel(&'static str),
-    /// The problem's experiments need different kernels of a rig (velocity
-    /// and force drives of a compiled rig in one job).
+    /// One [`GpuEvaluator`] was asked to score experiments that need
+    /// different kernels of a rig (velocity and force drives of a compiled
+    /// rig); [`GpuByDrive`] (what [`open_evaluator`] opens) takes them.
     #[error(
-        "rig `{0}` runs its drive modes in separate GPU kernels; one job on the GPU takes experiments of one drive mode (use the CPU backend to mix them)"
+        "rig `{0}` runs its drive modes in separate GPU kernels; one GpuEvaluator takes experiments of one drive mode (GpuByDrive takes a mix)"
     )]
     MixedDrives(&'static str),
     /// A shader failed to parse or validate.
@@ -156,8 +161,10 @@ pub enum GpuError {
     },
 }
 
-/// The kernels that run `problem`: its model's GPU plug-in, the same for every
-/// experiment.
+/// The kernels that run `problem` in one [`GpuEvaluator`]: its model's GPU
+/// plug-in, the same for every experiment. A problem whose experiments need
+/// several ([`kernel_groups`]) gets [`GpuError::MixedDrives`]; whether the GPU
+/// can run a problem at all is [`kernel_groups`]`(…).is_ok()`.
 pub fn gpu_model(problem: &Problem) -> Result<GpuModel, GpuError> {
     let id = problem.model.id();
     let mut found: Option<GpuModel> = None;
@@ -228,7 +235,9 @@ pub fn resolve_precision(ctx: &GpuContext, choice: PrecisionChoice) -> Result<Pr
 /// Opens the evaluator for `backend`: `cpu` → the f64 reference on all cores;
 /// `gpu` → the GPU or an error; `auto` → the GPU when an adapter exists (and the
 /// model has GPU kernels), otherwise the CPU with a note — unless
-/// `RIGFIT_REQUIRE_GPU=1`, which makes a missing adapter an error.
+/// `RIGFIT_REQUIRE_GPU=1`, which makes a missing adapter an error. Experiments
+/// that need different kernels (drive modes of a compiled rig) are scored by a
+/// [`GpuByDrive`], one pipeline per kernel group.
 pub fn open_evaluator(
     problem: Problem,
     backend: Backend,
@@ -255,7 +264,7 @@ pub fn open_evaluator_on(
         return Ok(cpu(problem, None));
     }
     if backend == Backend::Auto
-        && let Err(e) = gpu_model(&problem)
+        && let Err(e) = kernel_groups(&problem)
     {
         return Ok(cpu(problem, Some(format!("{e}; using the CPU"))));
     }
@@ -268,9 +277,23 @@ pub fn open_evaluator_on(
         Err(e) => return Err(e),
     };
     let precision = resolve_precision(&ctx, precision)?;
-    let gpu = GpuEvaluator::new(ctx, problem, precision, GpuOptions::default())?;
+    let evaluator: Box<dyn Evaluator> = if kernel_groups(&problem)?.len() > 1 {
+        Box::new(GpuByDrive::new(
+            ctx,
+            problem,
+            precision,
+            GpuOptions::default(),
+        )?)
+    } else {
+        Box::new(GpuEvaluator::new(
+            ctx,
+            problem,
+            precision,
+            GpuOptions::default(),
+        )?)
+    };
     Ok(Opened {
-        evaluator: Box::new(gpu),
+        evaluator,
         note: None,
     })
 }

@@ -138,22 +138,30 @@ fn search_bytes_per_candidate(g: usize) -> f64 {
 /// path also the packed run (host and device), its state, progress, fitness and
 /// read-back, with the buffers rounded up to a power of two runs.
 fn evaluation_bytes_per_candidate(campaign: &Campaign, gpu_real: Option<usize>) -> f64 {
-    let ne = campaign.problem.experiments.len() as f64;
+    let ne = campaign.problem.experiments.len();
     let p = campaign.model.params().len();
     let cpu = (p * 8 + 8 + 8 + 16 + 16 + 8) as f64;
     let gpu = gpu_real.map_or(0.0, |real| {
-        let kernels = crate::gpu::gpu_model(&campaign.problem).ok();
-        let slots = kernels.as_ref().map_or(p, |k| k.slots().len());
-        let state = kernels
-            .as_ref()
-            .map_or(crate::gpu::layout::STATE_STRIDE, |k| k.state_stride())
-            as usize;
-        let stride = crate::gpu::layout::run_stride(slots) as usize;
-        let host = stride * 8 + stride * real;
-        let device = stride * real + state * real + 16;
-        (host + 2 * (device + 2 * real)) as f64
+        let run = |slots: usize, state: usize| -> f64 {
+            let stride = crate::gpu::layout::run_stride(slots) as usize;
+            let host = stride * 8 + stride * real;
+            let device = stride * real + state * real + 16;
+            (host + 2 * (device + 2 * real)) as f64
+        };
+        // Each experiment's runs are as wide as the kernels that score it
+        // (a job mixing drive modes has one pipeline per mode).
+        match crate::gpu::kernel_groups(&campaign.problem) {
+            Ok(groups) => groups
+                .iter()
+                .map(|g| {
+                    g.experiments.len() as f64
+                        * run(g.model.slots().len(), g.model.state_stride() as usize)
+                })
+                .sum(),
+            Err(_) => ne as f64 * run(p, crate::gpu::layout::STATE_STRIDE as usize),
+        }
     });
-    ne * (cpu + gpu) + 8.0
+    ne as f64 * cpu + gpu + 8.0
 }
 
 /// Candidates per evaluation chunk: as many as fit in [`CHUNK_BYTES`] on the
@@ -177,8 +185,10 @@ fn history_bytes_per_candidate(campaign: &Campaign, gpu_real: Option<usize>) -> 
         .map(|x| x.window.end)
         .sum();
     let gpu = gpu_real.map_or(0, |real| {
-        let values = crate::gpu::gpu_model(&campaign.problem)
-            .map_or(crate::gpu::layout::HIST_VALUES, |k| k.hist_values());
+        let values = crate::gpu::kernel_groups(&campaign.problem)
+            .ok()
+            .and_then(|g| g.iter().map(|k| k.model.hist_values()).max())
+            .unwrap_or(crate::gpu::layout::HIST_VALUES);
         values as usize * (2 * real + 8)
     });
     (samples * (values * 8 + gpu)) as f64

@@ -1,0 +1,203 @@
+//! One GPU job over experiments that need different kernels of a rig.
+//!
+//! A compiled rig is lowered to one program per drive mode, and each program
+//! has its own WGSL kernels, so a campaign that mixes velocity- and
+//! force-driven experiments of one rig cannot run in one pipeline. The
+//! [`GpuByDrive`] evaluator groups the experiments by the kernels they need
+//! ([`kernel_groups`]), opens one [`GpuEvaluator`] per group on the shared
+//! [`GpuContext`], hands each the part of every batch that belongs to its
+//! experiments and puts the results back in the problem's experiment order.
+//! Each run computes the same bits as in a job of its own group alone.
+
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+
+use crate::eval::{
+    Batch, EvalError, Evaluator, EvaluatorInfo, History, Precision, Problem, Scores,
+};
+use crate::model::GpuModel;
+
+use super::{GpuContext, GpuError, GpuEvaluator, GpuOptions};
+
+/// The experiments of a problem that run on one set of kernels.
+#[derive(Debug, Clone)]
+pub struct KernelGroup {
+    /// The model's GPU plug-in for these experiments.
+    pub model: GpuModel,
+    /// Indices of the experiments in the problem, ascending.
+    pub experiments: Vec<usize>,
+}
+
+/// The problem's experiments grouped by the kernels that run them, in the
+/// order each group's first experiment appears. An error when the model has
+/// no kernels for some experiment (or the problem has no experiments).
+pub fn kernel_groups(problem: &Problem) -> Result<Vec<KernelGroup>, GpuError> {
+    let id = problem.model.id();
+    let mut groups: Vec<KernelGroup> = Vec::new();
+    for (e, exp) in problem.experiments.iter().enumerate() {
+        let g = problem
+            .model
+            .gpu(&exp.drive)
+            .ok_or(GpuError::UnsupportedModel(id))?;
+        match groups.iter_mut().find(|k| k.model.same(&g)) {
+            Some(k) => k.experiments.push(e),
+            None => groups.push(KernelGroup {
+                model: g,
+                experiments: vec![e],
+            }),
+        }
+    }
+    if groups.is_empty() {
+        return Err(GpuError::UnsupportedModel(id));
+    }
+    Ok(groups)
+}
+
+/// One group's evaluator and the problem experiments it scores.
+#[derive(Debug)]
+struct Part {
+    experiments: Vec<usize>,
+    evaluator: GpuEvaluator,
+}
+
+/// Scores a problem whose experiments need different kernels: one
+/// [`GpuEvaluator`] per [`KernelGroup`], on one device.
+#[derive(Debug)]
+pub struct GpuByDrive {
+    ctx: GpuContext,
+    problem: Problem,
+    precision: Precision,
+    parts: Vec<Part>,
+}
+
+impl GpuByDrive {
+    /// Builds one evaluator per kernel group of `problem` on `ctx`.
+    pub fn new(
+        ctx: GpuContext,
+        problem: Problem,
+        precision: Precision,
+        options: GpuOptions,
+    ) -> Result<Self, GpuError> {
+        let parts = kernel_groups(&problem)?
+            .into_iter()
+            .map(|group| {
+                let sub = Problem {
+                    model: problem.model,
+                    experiments: group
+                        .experiments
+                        .iter()
+                        .map(|&e| problem.experiments[e].clone())
+                        .collect(),
+                    substeps: problem.substeps,
+                };
+                Ok(Part {
+                    evaluator: GpuEvaluator::new(ctx.clone(), sub, precision, options)?,
+                    experiments: group.experiments,
+                })
+            })
+            .collect::<Result<Vec<_>, GpuError>>()?;
+        Ok(Self {
+            ctx,
+            problem,
+            precision,
+            parts,
+        })
+    }
+
+    /// The problem being scored.
+    pub fn problem(&self) -> &Problem {
+        &self.problem
+    }
+
+    /// The experiments each evaluator scores, one list per kernel group.
+    pub fn groups(&self) -> Vec<Vec<usize>> {
+        self.parts.iter().map(|p| p.experiments.clone()).collect()
+    }
+}
+
+/// The part of `batch` that belongs to `experiments`, in their order.
+fn sub_batch(batch: &Batch, experiments: &[usize]) -> Batch {
+    Batch {
+        candidates: batch.candidates,
+        params: experiments
+            .iter()
+            .map(|&e| batch.params[e].clone())
+            .collect(),
+        offsets: experiments
+            .iter()
+            .map(|&e| batch.offsets[e].clone())
+            .collect(),
+    }
+}
+
+impl Evaluator for GpuByDrive {
+    fn info(&self) -> EvaluatorInfo {
+        EvaluatorInfo {
+            backend: "gpu".into(),
+            device: self.ctx.describe(),
+            precision: self.precision,
+        }
+    }
+
+    fn fitness(&mut self, batch: &Batch) -> Result<Scores, EvalError> {
+        self.problem.check_batch(batch)?;
+        let ne = self.problem.experiments.len();
+        let mut values = vec![0.0; batch.candidates * ne];
+        let mut diverged = 0;
+        for part in &mut self.parts {
+            let scores = part
+                .evaluator
+                .fitness(&sub_batch(batch, &part.experiments))?;
+            let ng = part.experiments.len();
+            for i in 0..batch.candidates {
+                for (k, &e) in part.experiments.iter().enumerate() {
+                    values[i * ne + e] = scores.values[i * ng + k];
+                }
+            }
+            diverged += scores.diverged;
+        }
+        Ok(Scores {
+            experiments: ne,
+            values,
+            diverged,
+        })
+    }
+
+    fn histories(
+        &mut self,
+        batch: &Batch,
+        which: &[usize],
+    ) -> Result<Vec<Vec<History>>, EvalError> {
+        self.problem.check_batch(batch)?;
+        batch.check_indices(which)?;
+        let ne = self.problem.experiments.len();
+        let mut out: Vec<Vec<Option<History>>> = vec![vec![None; ne]; which.len()];
+        for part in &mut self.parts {
+            let hist = part
+                .evaluator
+                .histories(&sub_batch(batch, &part.experiments), which)?;
+            for (row, per_exp) in out.iter_mut().zip(hist) {
+                for (&e, h) in part.experiments.iter().zip(per_exp) {
+                    row[e] = Some(h);
+                }
+            }
+        }
+        out.into_iter()
+            .map(|row| {
+                row.into_iter()
+                    .map(|h| {
+                        h.ok_or_else(|| {
+                            EvalError::Device("a kernel group left out a history".into())
+                        })
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    fn set_cancel(&mut self, flag: Arc<AtomicBool>) {
+        for part in &mut self.parts {
+            part.evaluator.set_cancel(flag.clone());
+        }
+    }
+}
