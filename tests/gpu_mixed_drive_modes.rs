@@ -276,17 +276,26 @@ fn write_campaign(dir: &Path) -> std::path::PathBuf {
     }
     let data = |name: &str| json!({"file": format!("{name}.csv"), "time_column": "t_s", "force_column": "force_N"});
     let t = table();
+    // Every parameter fixed at the reference but two stiffness/damping genes;
+    // the velocity is each experiment's own (unused by the force drive).
+    let mut params = serde_json::Map::new();
+    for (info, value) in rig().params().iter().zip(REFERENCE) {
+        if info.name != "velocity" {
+            params.insert(info.name.into(), json!(value));
+        }
+    }
+    params.insert(
+        "k1".into(),
+        json!({"min": 4e9, "max": 2e10, "scale": "log"}),
+    );
+    params.insert("c1".into(), json!({"min": 2e5, "max": 1e6, "scale": "log"}));
     let c: Value = json!({
         "name": "tensile4-mixed-drives",
         "rig": "tensile4",
-        "params": {
-            "k1": {"min": 4e9, "max": 2e10, "scale": "log"},
-            "c1": {"min": 2e5, "max": 1e6, "scale": "log"},
-            "gap": 1.87e-5
-        },
+        "params": params,
         "experiments": [
             {"name": "fast", "data": data("fast"), "params": {"velocity": 2.0}},
-            {"name": "force", "data": data("force"),
+            {"name": "force", "data": data("force"), "params": {"velocity": 2.0},
              "drive": {"force": {"t": t.t, "value": t.value}}},
             {"name": "slow", "data": data("slow"), "params": {"velocity": 0.5}}
         ],
@@ -325,4 +334,17 @@ fn rigfit_run_with_backend_gpu_takes_mixed_drive_modes() {
     for name in ["fast", "force", "slow"] {
         assert!(out.join(format!("{name}.csv")).is_file(), "no {name}.csv");
     }
+    // `check` estimates the GPU path's memory for it too.
+    let o = Command::new(env!("CARGO_BIN_EXE_rigfit"))
+        .args(["--json", "check"])
+        .arg(&campaign)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let check: Value = serde_json::from_slice(&o.stdout).unwrap();
+    let (gpu, cpu) = (&check["memory"]["gpu"], &check["memory"]["cpu"]);
+    assert!(
+        gpu["total"].as_f64().unwrap() > cpu["total"].as_f64().unwrap(),
+        "{check}"
+    );
 }
