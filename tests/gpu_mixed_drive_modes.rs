@@ -2,8 +2,9 @@
 //! (`rigs/tensile4.json`: velocity, force table, velocity, in that order): the
 //! kernels of each mode score their own experiments and the results come back
 //! in the campaign's order, equal to the f64 CPU reference per (candidate,
-//! experiment) in fitness and histories, and `rigfit run --backend gpu` runs
-//! such a campaign.
+//! experiment) in fitness, histories and the polish's residuals, and
+//! `rigfit run --backend gpu` runs such a campaign (`rigfit check` estimating
+//! its GPU memory).
 
 mod gpu_common;
 use gpu_common as common;
@@ -22,6 +23,7 @@ use rigfit::gpu::{
 use rigfit::model::compiled::CompiledRig;
 use rigfit::model::tensile::REFERENCE;
 use rigfit::model::{Drive, PiecewiseLinear, RigModel, param_index};
+use rigfit::search::ResidualCost;
 use serde_json::{Value, json};
 
 fn rig() -> &'static CompiledRig {
@@ -347,4 +349,51 @@ fn rigfit_run_with_backend_gpu_takes_mixed_drive_modes() {
         gpu["total"].as_f64().unwrap() > cpu["total"].as_f64().unwrap(),
         "{check}"
     );
+}
+
+/// The polish's residuals of the mixed campaign through the composite
+/// evaluator agree with the CPU reference's.
+#[test]
+fn polish_residuals_of_a_mixed_campaign_match_the_cpu() {
+    let Some(ctx) = common::gpu() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let c = rigfit::campaign::Campaign::load(&write_campaign(dir.path())).unwrap();
+    let genomes = vec![vec![8.4e9, 5.51e5], vec![8.4e9 * 1.05, 5.51e5 * 0.9]];
+    let residuals = |ev: Box<dyn Evaluator>| -> Vec<Vec<f64>> {
+        rigfit::job::CampaignCost::new(&c, ev, true, 0)
+            .residuals(&genomes)
+            .unwrap()
+            .into_iter()
+            .map(Option::unwrap)
+            .collect()
+    };
+    let cpu = residuals(Box::new(CpuEvaluator::new(c.problem.clone(), 0)));
+    // A force error of ε·F_max is a residual error of at most ε·F_max/√SS_tot.
+    let scale = c
+        .problem
+        .experiments
+        .iter()
+        .map(|x| x.force.iter().fold(0.0_f64, |m, f| m.max(f.abs())) / x.ss_tot().sqrt())
+        .fold(0.0_f64, f64::max);
+    for (precision, _, tol) in precisions(&ctx) {
+        let gpu = residuals(Box::new(
+            GpuByDrive::new(
+                ctx.clone(),
+                c.problem.clone(),
+                precision,
+                GpuOptions::default(),
+            )
+            .unwrap(),
+        ));
+        let mut worst = 0.0_f64;
+        for (a, b) in cpu.iter().zip(&gpu) {
+            assert!(!a.is_empty());
+            assert_eq!(a.len(), b.len());
+            for (x, y) in a.iter().zip(b) {
+                worst = worst.max((x - y).abs() / scale);
+            }
+        }
+        eprintln!("{precision:?}: residuals within {worst:.2e} of F_max");
+        assert!(worst <= tol, "{precision:?}: {worst:e} of F_max");
+    }
 }
