@@ -102,16 +102,33 @@ fn rig_locate(kc: Kc, i: u32, ta: real, h: real, y0: St, f0: St, y1: St, f1: St,
     return hi;
 }
 
-// The whole step's end (y1w, with event values g1w) is the one the flat loop
-// of `advance` computed; every later part of the step is taken here.
-fn rig_step(kc: Kc, t: real, h: real, y: ptr<function, St>, md: ptr<function, Md>, y1w: St, g1w: Ev) -> bool {
+// One step of length h from (t, *y) with every switch inside it located
+// (EventStepper::step); false when the step took more than MAX_EVENTS events.
+fn rig_step(kc: Kc, t: real, h: real, y: ptr<function, St>, md: ptr<function, Md>) -> bool {
     var ta = t;
     var rem = h;
-    for (var ev = 0u; ev <= MAX_EVENTS; ev += 1u) {
+    // A located sub-step to take next (to the crossing of transition
+    // `which`), or none. One RK4 step per pass of the loop, whole remainder or
+    // sub-step, so the kernel holds one copy of it here, not two.
+    var sub = false;
+    var s = real(0.0);
+    var which = 0u;
+    for (var part = 0u; part <= 2u * MAX_EVENTS + 1u; part += 1u) {
         let y0 = *y;
-        let g0 = rig_events(kc, ta, y0, *md);
         let f0 = rig_deriv(kc, ta, y0, *md);
-        let y1 = rig_rk4(kc, ta, rem, y0, f0, *md);
+        let y1 = rig_rk4(kc, ta, select(rem, s, sub), y0, f0, *md);
+        if sub {
+            *y = y1;
+            rig_fire(which, md);
+            sub = false;
+            ta += s;
+            rem -= s;
+            if rem <= real(0.0) {
+                return true;
+            }
+            continue;
+        }
+        let g0 = rig_events(kc, ta, y0, *md);
         let g1 = rig_events(kc, ta + rem, y1, *md);
         let hits = rig_hits(g0, g1, *md);
         if hits == 0u {
@@ -120,7 +137,6 @@ fn rig_step(kc: Kc, t: real, h: real, y: ptr<function, St>, md: ptr<function, Md
         }
         let f1 = rig_deriv(kc, ta + rem, y1, *md);
         var best = real(2.0);
-        var which = 0u;
         for (var i = 0u; i < RIG_TRANSITIONS; i += 1u) {
             if ((hits >> i) & 1u) != 0u {
                 let theta = rig_locate(kc, i, ta, rem, y0, f0, y1, f1, *md, rig_oriented(g0, i), rig_oriented(g1, i));
@@ -130,14 +146,8 @@ fn rig_step(kc: Kc, t: real, h: real, y: ptr<function, St>, md: ptr<function, Md
                 }
             }
         }
-        let s = best * rem;
-        *y = rig_rk4(kc, ta, s, y0, f0, *md);
-        rig_fire(which, md);
-        ta += s;
-        rem -= s;
-        if rem <= real(0.0) {
-            return true;
-        }
+        s = best * rem;
+        sub = true;
     }
     return false;
 }
@@ -250,9 +260,6 @@ fn advance(slot: u32, base: u32, e: u32) {
             break;
         }
         var crossed = false;
-        // The end of the step over which a switch fired, for rig_step.
-        var y_hit = y;
-        var g_hit = g;
         // The drive clocks at the step's start, middle and end: one
         // exponential per block, carried from step to step within it.
         var ck0 = rig_clock(kc, rig_step_at(prog, pro, t0, h, hp).x);
@@ -289,7 +296,7 @@ fn advance(slot: u32, base: u32, e: u32) {
         }
         if crossed {
             let at = rig_step_at(prog, pro, t0, h, hp);
-            chattered = !rig_step(kc, at.x, at.y, &y, &md, y_hit, g_hit);
+            chattered = !rig_step(kc, at.x, at.y, &y, &md);
             g = rig_events(kc, at.x + at.y, y, md);
             budget -= 1u;
             let end = at.x + at.y;
