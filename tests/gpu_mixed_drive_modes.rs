@@ -54,22 +54,13 @@ fn experiment(
     dt: f64,
     t_first: f64,
 ) -> ExperimentData {
-    let mut exp = ExperimentData {
-        name: name.into(),
+    common::self_measured(
+        rig(),
+        &reference(velocity),
+        name,
         drive,
-        t_first,
-        dt,
-        force: vec![0.0; samples],
-        window: 0..samples,
-        weight: 1.0,
-    };
-    let one = Problem {
-        model: rig(),
-        experiments: vec![exp.clone()],
-        substeps: 2,
-    };
-    exp.force = simulate_history(&one, 0, &reference(velocity), 0.0).outputs[0].clone();
-    exp
+        (samples, dt, t_first),
+    )
 }
 
 /// Velocity, force, velocity: the modes interleave.

@@ -14,22 +14,7 @@ use rigfit::model::tensile::{REFERENCE, TENSILE4};
 use rigfit::model::{Drive, PiecewiseLinear};
 
 fn experiment(name: &str, drive: Drive, samples: usize, dt: f64, t_first: f64) -> ExperimentData {
-    let mut exp = ExperimentData {
-        name: name.into(),
-        drive,
-        t_first,
-        dt,
-        force: vec![0.0; samples],
-        window: 0..samples,
-        weight: 1.0,
-    };
-    let one = Problem {
-        model: &TENSILE4,
-        experiments: vec![exp.clone()],
-        substeps: 2,
-    };
-    exp.force = simulate_history(&one, 0, &REFERENCE, 0.0).outputs[0].clone();
-    exp
+    common::self_measured(&TENSILE4, &REFERENCE, name, drive, (samples, dt, t_first))
 }
 
 fn problem() -> Problem {

@@ -8,9 +8,10 @@ use std::io::Write;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rigfit::eval::Precision;
-use rigfit::eval::{Batch, Problem};
+use rigfit::eval::{Batch, ExperimentData, Problem, simulate_history};
 use rigfit::gpu::{GpuContext, GpuEvaluator, GpuOptions, gpu_required};
 use rigfit::model::tensile::{REFERENCE, ix};
+use rigfit::model::{Drive, RigModel};
 
 /// The default GPU context; `None` (with a loud message) when there is no
 /// adapter, or a panic when `RIGFIT_REQUIRE_GPU=1`.
@@ -96,4 +97,32 @@ pub fn batch_of(problem: &Problem, params: Vec<f64>) -> Batch {
         params: vec![params],
         offsets: vec![vec![0.0; n]],
     }
+}
+
+/// An experiment of `model` whose measured force is the model's own history
+/// at `params` (exactly fitted there), over `samples` samples `dt` apart from
+/// `t_first`, fitted over all of them.
+pub fn self_measured(
+    model: &'static dyn RigModel,
+    params: &[f64],
+    name: &str,
+    drive: Drive,
+    (samples, dt, t_first): (usize, f64, f64),
+) -> ExperimentData {
+    let mut exp = ExperimentData {
+        name: name.into(),
+        drive,
+        t_first,
+        dt,
+        force: vec![0.0; samples],
+        window: 0..samples,
+        weight: 1.0,
+    };
+    let one = Problem {
+        model,
+        experiments: vec![exp.clone()],
+        substeps: 2,
+    };
+    exp.force = simulate_history(&one, 0, params, 0.0).outputs[0].clone();
+    exp
 }
