@@ -130,16 +130,14 @@ impl<'p> EventStepper<'p> {
         self.frame.eval(&self.tape.event_ops, pt);
     }
 
-    /// Armed transitions that fire over the step, after evaluating the events
-    /// at its end (the start's are in `g_start`).
+    /// Armed transitions that fire over the step from `g_start` to `g_end`.
     fn triggered(&self) -> impl Iterator<Item = usize> + '_ {
         self.prog
             .transitions
             .iter()
             .enumerate()
             .filter(|(i, tr)| {
-                self.modes[tr.var as usize] == tr.from
-                    && tr.fires(self.g_start[*i], self.frame.get(tr.g))
+                self.modes[tr.var as usize] == tr.from && tr.fires(self.g_start[*i], self.g_end[*i])
             })
             .map(|(i, _)| i)
     }
@@ -159,13 +157,13 @@ impl<'p> EventStepper<'p> {
             }
             self.rk4(ta, rem, y);
             self.events_at(ta + rem, y);
+            for (g1, tr) in self.g_end.iter_mut().zip(&self.prog.transitions) {
+                *g1 = self.frame.get(tr.g);
+            }
             if self.triggered().next().is_none() {
                 return;
             }
             let hits: Vec<usize> = self.triggered().collect();
-            for (g1, tr) in self.g_end.iter_mut().zip(&self.prog.transitions) {
-                *g1 = self.frame.get(tr.g);
-            }
             let f0 = self.k[0].clone();
             let mut f_end = std::mem::take(&mut self.f_end);
             self.deriv(ta + rem, y, &mut f_end);
@@ -173,9 +171,7 @@ impl<'p> EventStepper<'p> {
             let y1 = y.to_vec();
             let mut best: Option<(f64, usize)> = None;
             for &tr in &hits {
-                let def = &self.prog.transitions[tr];
-                let (v0, v1) = (def.oriented(self.g_start[tr]), def.oriented(self.g_end[tr]));
-                let theta = self.locate(tr, ta, rem, &f0, &y1, v0, v1);
+                let theta = self.locate(tr, ta, rem, &f0, &y1);
                 if best.is_none_or(|(b, _)| theta < b) {
                     best = Some((theta, tr));
                 }
@@ -203,19 +199,12 @@ impl<'p> EventStepper<'p> {
     /// Fraction of the step `[ta, ta + h]` where transition `tr`'s event
     /// function first passes its switch, on the Hermite interpolant between
     /// `self.start` (derivative `f0`) and `y1` (derivative `self.f_end`), by
-    /// [`locate_crossing`] from the oriented values `v0` and `v1` at its ends.
-    #[allow(clippy::too_many_arguments)]
-    fn locate(
-        &mut self,
-        tr: usize,
-        ta: f64,
-        h: f64,
-        f0: &[f64],
-        y1: &[f64],
-        v0: f64,
-        v1: f64,
-    ) -> f64 {
-        let def = self.prog.transitions[tr].clone();
+    /// [`locate_crossing`] from its oriented values at the step's ends
+    /// (`g_start`, `g_end`).
+    fn locate(&mut self, tr: usize, ta: f64, h: f64, f0: &[f64], y1: &[f64]) -> f64 {
+        let prog = self.prog;
+        let def = &prog.transitions[tr];
+        let (v0, v1) = (def.oriented(self.g_start[tr]), def.oriented(self.g_end[tr]));
         locate_crossing(v0, v1, LOCATE_TOLERANCE, |theta| {
             let s2 = theta * theta;
             let s3 = s2 * theta;
