@@ -1,12 +1,14 @@
 //! A program's tape translated for the lane ensemble ([`super::lanes`]): each
-//! list (derivative, events, report) becomes register instructions, with the
+//! list (derivative, events, report, fitted output) becomes register
+//! instructions, with the
 //! operations in the tape's order and their values in a few reused registers,
 //! so a batch's working set stays in the first-level cache.
 //!
 //! Register file: the states first (`0..n`, where RK4 writes each stage's
 //! input), then time, the mode variables, the tables, the per-run constants the
 //! lists read (filled once per batch), then temporaries, reused once their last
-//! reader has run.
+//! reader has run, then the copies of the derivative's roots that are states
+//! (see [`LaneCode::slopes`]).
 
 use super::ir::{Id, Input, Op, map_operands, operands};
 use super::program::Program;
@@ -48,6 +50,17 @@ pub struct LaneCode {
     pub events: List,
     /// Outputs then full state.
     pub report: List,
+    /// Output 0 alone (the quantity fitted to the measurement): the report's
+    /// operations it needs, in the same order, so its value is the report's.
+    pub fitted: List,
+    /// Where RK4 reads each state's slope once the derivative has run: its
+    /// root's register, or, for a root that is a state register (a
+    /// displacement whose rate is a velocity state), the register
+    /// [`Self::slope_copies`] copies it to, since the next stage's input
+    /// overwrites the state registers while the slopes are read.
+    pub slopes: Vec<Reg>,
+    /// (state register, copy) pairs to copy after each derivative.
+    pub slope_copies: Vec<(Reg, Reg)>,
     /// The time register.
     pub time: Reg,
     /// Each mode variable's register.
@@ -95,7 +108,14 @@ impl LaneCode {
         // Per-run constants read by a list, or a list's root.
         let mut next = tables0 + prog.tables.len();
         let mut constants = vec![];
-        let lists: [(&[Id], Vec<Id>); 3] = [
+        let live0 = prog.graph.live(&prog.outputs[..prog.outputs.len().min(1)]);
+        let fitted_ops: Vec<Id> = tape
+            .report_ops
+            .iter()
+            .copied()
+            .filter(|&i| live0[i as usize])
+            .collect();
+        let lists: [(&[Id], Vec<Id>); 4] = [
             (&tape.deriv_ops, prog.deriv.clone()),
             (
                 &tape.event_ops,
@@ -109,6 +129,7 @@ impl LaneCode {
                     .copied()
                     .collect(),
             ),
+            (&fitted_ops, prog.outputs.iter().take(1).copied().collect()),
         ];
         for (list, roots) in &lists {
             let read = list.iter().flat_map(|&i| operands(&ops[i as usize]));
@@ -122,16 +143,33 @@ impl LaneCode {
             }
         }
         let mut registers = next;
-        let [deriv, events, report] = lists.map(|(list, roots)| {
+        let [deriv, events, report, fitted] = lists.map(|(list, roots)| {
             let (l, top) = translate(prog, list, &roots, &fixed, next);
             registers = registers.max(top);
             l
         });
+        let mut slope_copies = vec![];
+        let slopes = deriv
+            .roots
+            .iter()
+            .map(|&r| {
+                if usize::from(r) >= n {
+                    return r;
+                }
+                let copy = registers as Reg;
+                registers += 1;
+                slope_copies.push((r, copy));
+                copy
+            })
+            .collect();
         assert!(registers <= usize::from(Reg::MAX), "too many registers");
         Self {
             deriv,
             events,
             report,
+            fitted,
+            slopes,
+            slope_copies,
             time,
             modes,
             constants,

@@ -133,31 +133,48 @@ fn exec(code: &[Ins], uniform: &[bool], r: &mut [Reg], nb: usize) {
     }
 }
 
-/// `dst = y + c·k`, lane by lane, over every state (an RK4 stage's input).
+/// After one of RK4's first three derivatives, whose slopes are in the
+/// registers `slopes`: `acc = k` (the first) or `acc += 2·k`, and the next
+/// stage's input `y + c·k` into the state registers, lane by lane.
 #[inline(always)]
-fn stage(r: &mut [Reg], nb: usize, y: &[Reg], c: f64, k: &[Reg]) {
+fn stage(
+    r: &mut [Reg],
+    nb: usize,
+    y: &[Reg],
+    acc: &mut [Reg],
+    slopes: &[u16],
+    c: f64,
+    first: bool,
+) {
     for i in 0..y.len() {
+        let s = slopes[i] as usize;
         for b in 0..nb {
-            let (yb, kb) = (y[i][b], k[i][b]);
+            let (yb, kb, mut a) = (y[i][b], r[s][b], acc[i][b]);
             let mut o = [0.0; W];
             for l in 0..W {
+                a[l] = if first { kb[l] } else { a[l] + 2.0 * kb[l] };
                 o[l] = yb[l] + c * kb[l];
             }
+            acc[i][b] = a;
             r[i][b] = o;
         }
     }
 }
 
-/// `y += c·(k₀ + 2k₁ + 2k₂ + k₃)`, lane by lane (RK4's last line).
+/// RK4's last line after its fourth derivative: `y + c·(acc + k)` into the
+/// state registers, lane by lane, with `acc = k₀ + 2k₁ + 2k₂` summed in that
+/// order by [`stage`], so it rounds as `y + c·(k₀ + 2k₁ + 2k₂ + k₃)` does.
 #[inline(always)]
-fn combine(y: &mut [Reg], nb: usize, c: f64, k: &[Vec<Reg>; 4]) {
+fn finish(r: &mut [Reg], nb: usize, y: &[Reg], acc: &[Reg], slopes: &[u16], c: f64) {
     for i in 0..y.len() {
+        let s = slopes[i] as usize;
         for b in 0..nb {
-            let (k0, k1, k2, k3) = (k[0][i][b], k[1][i][b], k[2][i][b], k[3][i][b]);
-            let yb = &mut y[i][b];
+            let (yb, kb, a) = (y[i][b], r[s][b], acc[i][b]);
+            let mut o = [0.0; W];
             for l in 0..W {
-                yb[l] += c * (k0[l] + 2.0 * k1[l] + 2.0 * k2[l] + k3[l]);
+                o[l] = yb[l] + c * (a[l] + kb[l]);
             }
+            r[i][b] = o;
         }
     }
 }
@@ -179,7 +196,7 @@ pub enum Isa {
 
 #[cfg(target_arch = "x86_64")]
 mod wide {
-    use super::{Ins, Reg, combine, exec, stage};
+    use super::{Ins, Reg, exec, finish, stage};
 
     #[target_feature(enable = "avx512f")]
     pub fn exec_512(code: &[Ins], uniform: &[bool], r: &mut [Reg], nb: usize) {
@@ -190,20 +207,36 @@ mod wide {
         exec(code, uniform, r, nb);
     }
     #[target_feature(enable = "avx512f")]
-    pub fn stage_512(r: &mut [Reg], nb: usize, y: &[Reg], c: f64, k: &[Reg]) {
-        stage(r, nb, y, c, k);
+    pub fn stage_512(
+        r: &mut [Reg],
+        nb: usize,
+        y: &[Reg],
+        acc: &mut [Reg],
+        slopes: &[u16],
+        c: f64,
+        first: bool,
+    ) {
+        stage(r, nb, y, acc, slopes, c, first);
     }
     #[target_feature(enable = "avx2")]
-    pub fn stage_256(r: &mut [Reg], nb: usize, y: &[Reg], c: f64, k: &[Reg]) {
-        stage(r, nb, y, c, k);
+    pub fn stage_256(
+        r: &mut [Reg],
+        nb: usize,
+        y: &[Reg],
+        acc: &mut [Reg],
+        slopes: &[u16],
+        c: f64,
+        first: bool,
+    ) {
+        stage(r, nb, y, acc, slopes, c, first);
     }
     #[target_feature(enable = "avx512f")]
-    pub fn combine_512(y: &mut [Reg], nb: usize, c: f64, k: &[Vec<Reg>; 4]) {
-        combine(y, nb, c, k);
+    pub fn finish_512(r: &mut [Reg], nb: usize, y: &[Reg], acc: &[Reg], slopes: &[u16], c: f64) {
+        finish(r, nb, y, acc, slopes, c);
     }
     #[target_feature(enable = "avx2")]
-    pub fn combine_256(y: &mut [Reg], nb: usize, c: f64, k: &[Vec<Reg>; 4]) {
-        combine(y, nb, c, k);
+    pub fn finish_256(r: &mut [Reg], nb: usize, y: &[Reg], acc: &[Reg], slopes: &[u16], c: f64) {
+        finish(r, nb, y, acc, slopes, c);
     }
 }
 
@@ -264,14 +297,24 @@ impl Isa {
         unsafe_code,
         reason = "calls the loops built for a feature `detect` found"
     )]
-    fn stage(self, r: &mut [Reg], nb: usize, y: &[Reg], c: f64, k: &[Reg]) {
+    #[expect(clippy::too_many_arguments, reason = "the loop's operands, as `stage`")]
+    fn stage(
+        self,
+        r: &mut [Reg],
+        nb: usize,
+        y: &[Reg],
+        acc: &mut [Reg],
+        slopes: &[u16],
+        c: f64,
+        first: bool,
+    ) {
         match self {
             // SAFETY: as in `exec`.
             #[cfg(target_arch = "x86_64")]
-            Self::Avx512 => unsafe { wide::stage_512(r, nb, y, c, k) },
+            Self::Avx512 => unsafe { wide::stage_512(r, nb, y, acc, slopes, c, first) },
             #[cfg(target_arch = "x86_64")]
-            Self::Avx2 => unsafe { wide::stage_256(r, nb, y, c, k) },
-            _ => stage(r, nb, y, c, k),
+            Self::Avx2 => unsafe { wide::stage_256(r, nb, y, acc, slopes, c, first) },
+            _ => stage(r, nb, y, acc, slopes, c, first),
         }
     }
 
@@ -279,14 +322,14 @@ impl Isa {
         unsafe_code,
         reason = "calls the loops built for a feature `detect` found"
     )]
-    fn combine(self, y: &mut [Reg], nb: usize, c: f64, k: &[Vec<Reg>; 4]) {
+    fn finish(self, r: &mut [Reg], nb: usize, y: &[Reg], acc: &[Reg], slopes: &[u16], c: f64) {
         match self {
             // SAFETY: as in `exec`.
             #[cfg(target_arch = "x86_64")]
-            Self::Avx512 => unsafe { wide::combine_512(y, nb, c, k) },
+            Self::Avx512 => unsafe { wide::finish_512(r, nb, y, acc, slopes, c) },
             #[cfg(target_arch = "x86_64")]
-            Self::Avx2 => unsafe { wide::combine_256(y, nb, c, k) },
-            _ => combine(y, nb, c, k),
+            Self::Avx2 => unsafe { wide::finish_256(r, nb, y, acc, slopes, c) },
+            _ => finish(r, nb, y, acc, slopes, c),
         }
     }
 }
@@ -300,16 +343,19 @@ pub struct LaneRunner<'p> {
     /// Active blocks.
     nb: usize,
     isa: Isa,
-    /// Per list (derivative, events, report): which instructions every lane
-    /// shares.
-    uniform: [Vec<bool>; 3],
+    /// Per list (derivative, events, report, fitted output): which
+    /// instructions every lane shares.
+    uniform: [Vec<bool>; 4],
+    /// The register file; between steps its state registers hold every
+    /// lane's state, which the event and report lists read where it is.
     regs: Vec<Reg>,
     steppers: Vec<EventStepper<'p>>,
+    /// The state at the start of the step being taken.
     y: Vec<Reg>,
-    start: Vec<Reg>,
-    k: [Vec<Reg>; 4],
-    /// Lanes whose step ended past an armed switch.
-    hit: [[bool; W]; BLOCKS],
+    /// RK4's running sum of slopes, `k₀ + 2k₁ + 2k₂`.
+    acc: Vec<Reg>,
+    /// Per block, a bit per lane whose step ended past an armed switch.
+    hit: [u8; BLOCKS],
     /// One lane's state, for a step its stepper redoes.
     lane_y: Vec<f64>,
 }
@@ -334,7 +380,6 @@ impl<'p> LaneRunner<'p> {
         let mut regs = vec![ZERO; code.registers];
         // Each run's constants, and the initial state and modes its stepper
         // found; idle lanes repeat lane 0, so they compute something finite.
-        let mut y = vec![ZERO; n];
         for l in 0..nb * W {
             let s = steppers.get(l).unwrap_or(&steppers[0]);
             let (b, j) = (l / W, l % W);
@@ -342,7 +387,7 @@ impl<'p> LaneRunner<'p> {
                 regs[reg as usize][b][j] = s.frame.get(id);
             }
             for (i, &v) in s.y0.iter().enumerate() {
-                y[i][b][j] = v;
+                regs[i][b][j] = v;
             }
             for (m, &v) in s.modes.iter().enumerate() {
                 regs[code.modes[m] as usize][b][j] = f64::from(v);
@@ -350,9 +395,10 @@ impl<'p> LaneRunner<'p> {
         }
         // Registers every active lane shares: time, tables and the per-run
         // constants whose values agree (fixed parameters, literals).
+        let lists = [&code.deriv, &code.events, &code.report, &code.fitted];
         let mut shared = vec![false; code.registers];
         shared[code.time as usize] = true;
-        for l in [&code.deriv, &code.events, &code.report] {
+        for l in lists {
             for &(_, reg) in &l.tables {
                 shared[reg as usize] = true;
             }
@@ -362,8 +408,7 @@ impl<'p> LaneRunner<'p> {
             let v0 = r[0][0];
             shared[reg as usize] = (0..nb * W).all(|l| r[l / W][l % W].to_bits() == v0.to_bits());
         }
-        let uniform =
-            [&code.deriv, &code.events, &code.report].map(|l| l.uniform(&mut shared.clone()));
+        let uniform = lists.map(|l| l.uniform(&mut shared.clone()));
         Self {
             prog,
             code,
@@ -373,10 +418,9 @@ impl<'p> LaneRunner<'p> {
             uniform,
             regs,
             steppers,
-            y,
-            start: vec![ZERO; n],
-            k: std::array::from_fn(|_| vec![ZERO; n]),
-            hit: [[false; W]; BLOCKS],
+            y: vec![ZERO; n],
+            acc: vec![ZERO; n],
+            hit: [0; BLOCKS],
             lane_y: vec![0.0; n],
         }
     }
@@ -407,42 +451,46 @@ impl<'p> LaneRunner<'p> {
             .exec(&list.code, &self.uniform[which], &mut self.regs, nb);
     }
 
-    /// The derivative at the state registers' values into `k[out]`.
-    fn deriv(&mut self, t: f64, out: usize) {
+    /// The derivative at the state registers' values, its slopes left in the
+    /// registers `code.slopes`.
+    fn deriv(&mut self, t: f64) {
         let code = self.code;
         self.eval(&code.deriv, 0, t);
-        for (s, &reg) in code.deriv.roots.iter().enumerate() {
-            self.k[out][s] = self.regs[reg as usize];
+        for &(state, copy) in &code.slope_copies {
+            self.regs[copy as usize] = self.regs[state as usize];
         }
     }
 
-    /// One RK4 step of every lane, written as `EventStepper`'s so the lanes
-    /// round alike.
+    /// One RK4 step of every lane from the state registers' values, its
+    /// start kept in `y`; written as `EventStepper`'s so the lanes round
+    /// alike.
     fn rk4(&mut self, t: f64, h: f64) {
-        let (n, nb) = (self.y.len(), self.nb);
-        self.regs[..n].copy_from_slice(&self.y);
-        self.deriv(t, 0);
-        self.isa
-            .stage(&mut self.regs, nb, &self.y, 0.5 * h, &self.k[0]);
-        self.deriv(t + 0.5 * h, 1);
-        self.isa
-            .stage(&mut self.regs, nb, &self.y, 0.5 * h, &self.k[1]);
-        self.deriv(t + 0.5 * h, 2);
-        self.isa.stage(&mut self.regs, nb, &self.y, h, &self.k[2]);
-        self.deriv(t + h, 3);
-        self.isa.combine(&mut self.y, nb, h / 6.0, &self.k);
+        let (n, nb, isa, slopes) = (self.y.len(), self.nb, self.isa, &self.code.slopes);
+        self.y.copy_from_slice(&self.regs[..n]);
+        for (s, c) in [0.5 * h, 0.5 * h, h].into_iter().enumerate() {
+            self.deriv(if s == 0 { t } else { t + 0.5 * h });
+            isa.stage(
+                &mut self.regs,
+                nb,
+                &self.y,
+                &mut self.acc,
+                slopes,
+                c,
+                s == 0,
+            );
+        }
+        self.deriv(t + h);
+        isa.finish(&mut self.regs, nb, &self.y, &self.acc, slopes, h / 6.0);
     }
 
     /// One step of every lane from `t`; lanes past a switch are redone by
     /// their own stepper with the switch located.
     fn step(&mut self, t: f64, h: f64) {
-        let (n, nb) = (self.y.len(), self.nb);
-        self.start.copy_from_slice(&self.y);
+        let nb = self.nb;
         self.rk4(t, h);
-        self.regs[..n].copy_from_slice(&self.y);
         let code = self.code;
         self.eval(&code.events, 1, t + h);
-        self.hit = [[false; W]; BLOCKS];
+        self.hit = [0; BLOCKS];
         for (tr, &g) in self.prog.transitions.iter().zip(&code.events.roots) {
             let (g, mode) = (
                 &self.regs[g as usize],
@@ -450,28 +498,30 @@ impl<'p> LaneRunner<'p> {
             );
             let from = f64::from(tr.from);
             for b in 0..nb {
-                let (gb, mb, hb) = (&g[b], &mode[b], &mut self.hit[b]);
+                let (gb, mb) = (g[b], mode[b]);
+                let mut bits = 0;
                 for l in 0..W {
-                    hb[l] |= tr.violated(gb[l]) & (mb[l] == from);
+                    bits |= u8::from(tr.violated(gb[l]) & (mb[l] == from)) << l;
                 }
+                self.hit[b] |= bits;
             }
         }
-        if !self.hit[..nb].iter().flatten().any(|&h| h) {
+        if self.hit[..nb].iter().all(|&h| h == 0) {
             return;
         }
         let mut lane_y = std::mem::take(&mut self.lane_y);
         for l in 0..self.steppers.len() {
-            if !self.hit[l / W][l % W] || self.steppers[l].chattered {
+            let (b, j) = (l / W, l % W);
+            if self.hit[b] >> j & 1 == 0 || self.steppers[l].chattered {
                 continue;
             }
-            let (b, j) = (l / W, l % W);
             for (s, v) in lane_y.iter_mut().enumerate() {
-                *v = self.start[s][b][j];
+                *v = self.y[s][b][j];
             }
             let st = &mut self.steppers[l];
             st.step(t, h, &mut lane_y);
             for (s, v) in lane_y.iter().enumerate() {
-                self.y[s][b][j] = *v;
+                self.regs[s][b][j] = *v;
             }
             for (m, &v) in st.modes.iter().enumerate() {
                 self.regs[self.code.modes[m] as usize][b][j] = f64::from(v);
@@ -497,8 +547,6 @@ impl<'p> LaneRunner<'p> {
             self,
             |me, t, h| me.step(t, h),
             |me, k, t| {
-                let n = me.y.len();
-                me.regs[..n].copy_from_slice(&me.y);
                 me.eval(&code.report, 2, t);
                 let (outputs, state) = code.report.roots.split_at(outs.len());
                 for l in 0..lanes {
