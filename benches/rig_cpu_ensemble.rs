@@ -1,11 +1,12 @@
 //! CPU throughput of the compiled rig (candidate-steps per second, f64, all
 //! cores): the hand-written tensile model, the compiled `rigs/tensile4.json`
-//! one run at a time, and the compiled rig's lane-batched ensemble, on the
-//! shipped example's grid. `cargo bench --bench rig_cpu_ensemble`
-//! (`RIGFIT_BENCH_POPULATION`, default 4096; `RIGFIT_BENCH_ROWS=hand,lanes`
-//! picks rows from `hand`, `scalar`, `lanes`). Each rate is printed per second
-//! of wall time and per CPU-second of the process (on a shared machine the
-//! second is the steadier).
+//! one run at a time, and the compiled rig's lane-batched ensemble reporting
+//! output 0 alone (as the fitness asks for it) or every output and the full
+//! state, on the shipped example's grid. `cargo bench --bench
+//! rig_cpu_ensemble` (`RIGFIT_BENCH_POPULATION`, default 4096;
+//! `RIGFIT_BENCH_ROWS=hand,lanes` picks rows from `hand`, `scalar`, `lanes`,
+//! `lanes-full`). Each rate is printed per second of wall time and per
+//! CPU-second of the process (on a shared machine the second is the steadier).
 
 use std::ops::ControlFlow;
 use std::time::Instant;
@@ -16,7 +17,7 @@ use cpu_time::process_cpu_seconds;
 use rayon::prelude::*;
 use rigfit::integrate::SampleGrid;
 use rigfit::model::compiled::CompiledRig;
-use rigfit::model::{Drive, RigModel, tensile};
+use rigfit::model::{Drive, Report, RigModel, tensile};
 
 fn population() -> Vec<Vec<f64>> {
     let n: usize = std::env::var("RIGFIT_BENCH_POPULATION")
@@ -104,14 +105,30 @@ fn main() {
         });
         rates.push(("scalar tape", r));
     }
-    if want("lanes") {
-        let r = measure("compiled tensile4, lane ensemble", ps.len(), steps, || {
+    for (row, report, name, short) in [
+        (
+            "lanes",
+            Report::Fitted,
+            "compiled tensile4, lane ensemble",
+            "lane ensemble",
+        ),
+        (
+            "lanes-full",
+            Report::Full,
+            "compiled tensile4, lanes, full report",
+            "lanes, full report",
+        ),
+    ] {
+        if !want(row) {
+            continue;
+        }
+        let r = measure(name, ps.len(), steps, || {
             let _: f64 = ps
                 .par_chunks(rigfit::compile::LANES)
                 .map(|c| {
                     let refs: Vec<&[f64]> = c.iter().map(|p| p.as_slice()).collect();
                     let mut s = 0.0;
-                    rig.simulate_many(&refs, &drive, &grid, &mut |_, x| {
+                    rig.simulate_many(&refs, &drive, &grid, report, &mut |_, x| {
                         s += x.outputs[0];
                         ControlFlow::Continue(())
                     });
@@ -119,7 +136,7 @@ fn main() {
                 })
                 .sum();
         });
-        rates.push(("lane ensemble", r));
+        rates.push((short, r));
     }
     for (i, (a, ra)) in rates.iter().enumerate() {
         for (b, rb) in &rates[i + 1..] {

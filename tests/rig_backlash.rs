@@ -11,7 +11,7 @@ use std::ops::ControlFlow;
 
 use rigfit::integrate::SampleGrid;
 use rigfit::model::compiled::CompiledRig;
-use rigfit::model::{Drive, RigModel};
+use rigfit::model::{Drive, Report, RigModel};
 use rigfit::rig::desc::DriveLaw;
 use rigfit::rig::{RigSource, parse};
 
@@ -420,7 +420,7 @@ fn the_cpu_lane_ensemble_gives_the_reference_bits() {
         .collect();
     let refs: Vec<&[f64]> = ps.iter().map(|p| p.as_slice()).collect();
     let mut many = vec![vec![]; ps.len()];
-    r.simulate_many(&refs, &Drive::Velocity, &grid, &mut |j, s| {
+    r.simulate_many(&refs, &Drive::Velocity, &grid, Report::Full, &mut |j, s| {
         many[j].extend_from_slice(s.outputs);
         many[j].extend_from_slice(s.state);
         ControlFlow::Continue(())

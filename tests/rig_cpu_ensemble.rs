@@ -8,7 +8,7 @@ use rigfit::compile::{Isa, LANES, LaneCode, LaneRunner, Tape};
 use rigfit::fixtures::REFERENCE_DT;
 use rigfit::integrate::SampleGrid;
 use rigfit::model::compiled::CompiledRig;
-use rigfit::model::{Drive, RigModel, tensile};
+use rigfit::model::{Drive, Report, RigModel, tensile};
 use rigfit::rig::desc::DriveLaw;
 
 fn histories_many(
@@ -19,7 +19,7 @@ fn histories_many(
 ) -> Vec<Vec<u64>> {
     let refs: Vec<&[f64]> = ps.iter().map(|p| p.as_slice()).collect();
     let mut h = vec![vec![]; ps.len()];
-    r.simulate_many(&refs, drive, grid, &mut |l, s| {
+    r.simulate_many(&refs, drive, grid, Report::Full, &mut |l, s| {
         h[l].extend(s.outputs.iter().chain(s.state).map(|v| v.to_bits()));
         ControlFlow::Continue(())
     });
@@ -133,22 +133,69 @@ fn full_and_partial_groups_on_every_vector_width_match_the_scalar_reference() {
         substeps: 1,
     };
     let one = histories_one(&r, &ps, &Drive::Velocity, &grid);
+    // Output 0 alone, as the fitness asks for it.
+    let outputs = r.output_names().len();
+    let width = outputs + r.state_names().len();
+    let fitted: Vec<Vec<u64>> = one
+        .iter()
+        .map(|h| h.chunks(width).map(|s| s[0]).collect())
+        .collect();
     let isas = Isa::available();
     assert!(isas.contains(&Isa::Base));
     for isa in isas {
-        let mut many = vec![vec![]; ps.len()];
-        for (c, chunk) in ps.chunks(LANES).enumerate() {
-            let refs: Vec<&[f64]> = chunk.iter().map(|p| p.as_slice()).collect();
-            LaneRunner::new(prog, &tape, &code, &refs, None)
-                .with_isa(isa)
-                .run(&grid, &mut |l, s| {
-                    many[c * LANES + l]
-                        .extend(s.outputs.iter().chain(s.state).map(|v| v.to_bits()));
-                    ControlFlow::Continue(())
-                });
+        for (report, want) in [(Report::Full, &one), (Report::Fitted, &fitted)] {
+            let mut many = vec![vec![]; ps.len()];
+            for (c, chunk) in ps.chunks(LANES).enumerate() {
+                let refs: Vec<&[f64]> = chunk.iter().map(|p| p.as_slice()).collect();
+                LaneRunner::new(prog, &tape, &code, &refs, None)
+                    .with_isa(isa)
+                    .run(&grid, report, &mut |l, s| {
+                        many[c * LANES + l]
+                            .extend(s.outputs.iter().chain(s.state).map(|v| v.to_bits()));
+                        ControlFlow::Continue(())
+                    });
+            }
+            for (i, (a, b)) in many.iter().zip(want).enumerate() {
+                assert!(a == b, "{isa:?}, {report:?}: candidate {i} differs");
+            }
         }
-        for (i, (a, b)) in many.iter().zip(&one).enumerate() {
-            assert!(a == b, "{isa:?}: candidate {i} differs");
+    }
+}
+
+#[test]
+fn the_fitted_report_is_output_zero_of_the_full_one() {
+    let r = CompiledRig::new(rigfit::rig::shipped("tensile4").unwrap(), "tensile4").unwrap();
+    assert!(r.output_names().len() > 1, "a rig with more than output 0");
+    let ps: Vec<Vec<f64>> = (0..9)
+        .map(|i| {
+            let mut p = tensile::REFERENCE.to_vec();
+            p[tensile::ix::E_FRACTURE] *= 1.0 - 0.04 * i as f64;
+            p
+        })
+        .collect();
+    let refs: Vec<&[f64]> = ps.iter().map(|p| p.as_slice()).collect();
+    let grid = SampleGrid {
+        t0: 0.0,
+        dt: REFERENCE_DT,
+        samples: 1500,
+        substeps: 2,
+    };
+    // Each report by the lanes (this rig's) and one run at a time (the trait's
+    // default, through the hand-written model).
+    let models: [&dyn RigModel; 2] = [&r, &tensile::TENSILE4];
+    for m in models {
+        let mut got = [vec![vec![]; ps.len()], vec![vec![]; ps.len()]];
+        for (h, report) in got.iter_mut().zip([Report::Full, Report::Fitted]) {
+            m.simulate_many(&refs, &Drive::Velocity, &grid, report, &mut |l, s| {
+                if report == Report::Fitted {
+                    assert_eq!((s.outputs.len(), s.state.len()), (1, 0));
+                }
+                h[l].push(s.outputs[0].to_bits());
+                ControlFlow::Continue(())
+            });
         }
+        assert_eq!(got[0].len(), ps.len());
+        assert_eq!(got[0][0].len(), grid.samples);
+        assert_eq!(got[0], got[1], "{}", m.id());
     }
 }

@@ -12,7 +12,7 @@ use rigfit::campaign::Campaign;
 use rigfit::eval::{Batch, CpuEvaluator, Evaluator, Precision, simulate_history};
 use rigfit::gpu::{F32_HISTORY_TOLERANCE, F64_HISTORY_TOLERANCE};
 use rigfit::job::{self, JobOptions};
-use rigfit::model::param_index;
+use rigfit::model::{Report, param_index};
 use serde_json::{Value, json};
 
 const M: f64 = 1.0;
@@ -141,7 +141,7 @@ fn fixed_initial_displacement_and_velocity_match_the_free_response() {
     let runs: Vec<&[f64]> = vec![p, &q, p];
     let mut lanes = vec![vec![]; runs.len()];
     c.model
-        .simulate_many(&runs, &exp.drive, &grid, &mut |l, s| {
+        .simulate_many(&runs, &exp.drive, &grid, Report::Full, &mut |l, s| {
             lanes[l].push(s.state[0]);
             ControlFlow::Continue(())
         });

@@ -24,7 +24,7 @@ use super::lane_code::{Ins, LaneCode, List};
 use super::program::Program;
 use super::tape::{Tape, table_value};
 use crate::integrate::{SampleGrid, walk_grid};
-use crate::model::{PiecewiseLinear, Sample};
+use crate::model::{PiecewiseLinear, Report, Sample};
 
 /// Lanes in one vector block.
 pub const W: usize = 8;
@@ -531,24 +531,34 @@ impl<'p> LaneRunner<'p> {
     }
 
     /// Runs every lane over `grid`, calling `observe(lane, sample)` at every
-    /// sample until the lane's observer breaks.
+    /// sample until the lane's observer breaks, with what `report` asks for
+    /// in each sample (only the list that computes it runs).
     pub fn run(
         &mut self,
         grid: &SampleGrid,
+        report: Report,
         observe: &mut dyn FnMut(usize, &Sample<'_>) -> ControlFlow<()>,
     ) {
         let lanes = self.steppers.len();
         let code = self.code;
+        let (list, which) = match report {
+            Report::Full => (&code.report, 2),
+            Report::Fitted => (&code.fitted, 3),
+        };
         let mut live = vec![true; lanes];
-        let mut outs = vec![0.0; self.prog.outputs.len()];
-        let mut full = vec![0.0; self.prog.full_state.len()];
+        let n_out = match report {
+            Report::Full => self.prog.outputs.len(),
+            Report::Fitted => list.roots.len(),
+        };
+        let mut outs = vec![0.0; n_out];
+        let mut full = vec![0.0; list.roots.len() - n_out];
+        let (outputs, state) = list.roots.split_at(n_out);
         walk_grid(
             grid,
             self,
             |me, t, h| me.step(t, h),
             |me, k, t| {
-                me.eval(&code.report, 2, t);
-                let (outputs, state) = code.report.roots.split_at(outs.len());
+                me.eval(list, which, t);
                 for l in 0..lanes {
                     if !live[l] {
                         continue;

@@ -3,6 +3,7 @@
 use std::ops::ControlFlow;
 
 use super::{DIVERGED, ExperimentData, History, Problem};
+use crate::model::Report;
 
 /// Running residual sum over the fit window, with the blow-up guard.
 #[derive(Debug, Clone, Copy)]
@@ -77,7 +78,7 @@ pub fn score_many(problem: &Problem, e: usize, params: &[&[f64]], offset: f64) -
         .collect();
     problem
         .model
-        .simulate_many(params, &exp.drive, &grid, &mut |l, s| {
+        .simulate_many(params, &exp.drive, &grid, Report::Fitted, &mut |l, s| {
             accs[l].add(exp, s.index, s.outputs[0])
         });
     accs.iter()

@@ -3,7 +3,7 @@
 
 use std::ops::ControlFlow;
 
-use super::{Drive, Linearised, ParamInfo, RigModel, Sample};
+use super::{Drive, Linearised, ParamInfo, Report, RigModel, Sample};
 use crate::compile::{EventStepper, GpuRig, LANES, LaneCode, LaneRunner, Lowered, Tape, lower};
 use crate::integrate::{SampleGrid, walk_grid};
 use crate::rig::RigError;
@@ -576,11 +576,12 @@ impl RigModel for CompiledRig {
         params: &[&[f64]],
         drive: &Drive,
         grid: &SampleGrid,
+        report: Report,
         observe: &mut dyn FnMut(usize, &Sample<'_>) -> ControlFlow<()>,
     ) {
         let Some(i) = self.program_for(drive) else {
             for (j, p) in params.iter().enumerate() {
-                self.simulate(p, drive, grid, &mut |s| observe(j, s));
+                self.simulate(p, drive, grid, &mut |s| observe(j, &report.of(s)));
             }
             return;
         };
@@ -596,7 +597,7 @@ impl RigModel for CompiledRig {
                 chunk,
                 force,
             );
-            runner.run(grid, &mut |l, s| observe(c * LANES + l, s));
+            runner.run(grid, report, &mut |l, s| observe(c * LANES + l, s));
         }
     }
 

@@ -30,6 +30,31 @@ pub struct Sample<'a> {
     pub outputs: &'a [f64],
 }
 
+/// What [`RigModel::simulate_many`] reports at each sample.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Report {
+    /// Every output and the full state.
+    Full,
+    /// Output 0 alone, the quantity fitted to the measurement: the sample's
+    /// `outputs` holds only it and its `state` is empty, which spares a
+    /// lane-batched model the rest of the report (the fitness needs no more).
+    Fitted,
+}
+
+impl Report {
+    /// `s` cut down to what this report holds.
+    pub fn of<'a>(self, s: &Sample<'a>) -> Sample<'a> {
+        match self {
+            Self::Full => *s,
+            Self::Fitted => Sample {
+                state: &[],
+                outputs: &s.outputs[..s.outputs.len().min(1)],
+                ..*s
+            },
+        }
+    }
+}
+
 /// Linearised rig for modal analysis: `M·ẍ + K·x = 0` with a diagonal mass matrix.
 #[derive(Debug, Clone)]
 pub struct Linearised {
@@ -71,18 +96,20 @@ pub trait RigModel: Send + Sync + std::fmt::Debug {
     );
 
     /// Runs several parameter vectors on one grid, calling `observe(run,
-    /// sample)` at every sample of each until its observer breaks. By default
-    /// one run after the other; a model with a lane-batched ensemble (see
-    /// [`RigModel::lanes`]) advances them together, with the same results.
+    /// sample)` at every sample of each until its observer breaks, with what
+    /// `report` asks for in each sample. By default one run after the other;
+    /// a model with a lane-batched ensemble (see [`RigModel::lanes`]) advances
+    /// them together, with the same results.
     fn simulate_many(
         &self,
         params: &[&[f64]],
         drive: &Drive,
         grid: &SampleGrid,
+        report: Report,
         observe: &mut dyn FnMut(usize, &Sample<'_>) -> ControlFlow<()>,
     ) {
         for (i, p) in params.iter().enumerate() {
-            self.simulate(p, drive, grid, &mut |s| observe(i, s));
+            self.simulate(p, drive, grid, &mut |s| observe(i, &report.of(s)));
         }
     }
 
