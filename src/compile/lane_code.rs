@@ -54,10 +54,11 @@ pub struct LaneCode {
     /// operations it needs, in the same order, so its value is the report's.
     pub fitted: List,
     /// Where RK4 reads each state's slope once the derivative has run: its
-    /// root's register, or, for a root that is a state register (a
-    /// displacement whose rate is a velocity state), the register
-    /// [`Self::slope_copies`] copies it to, since the next stage's input
-    /// overwrites the state registers while the slopes are read.
+    /// root's register, or, for a root that is the register of an earlier
+    /// state (which the next stage's input, written state by state in order,
+    /// has overwritten by then), the register [`Self::slope_copies`] copies
+    /// it to. A displacement whose rate is a later velocity state needs no
+    /// copy.
     pub slopes: Vec<Reg>,
     /// (state register, copy) pairs to copy after each derivative.
     pub slope_copies: Vec<(Reg, Reg)>,
@@ -152,8 +153,9 @@ impl LaneCode {
         let slopes = deriv
             .roots
             .iter()
-            .map(|&r| {
-                if usize::from(r) >= n {
+            .enumerate()
+            .map(|(i, &r)| {
+                if usize::from(r) >= i {
                     return r;
                 }
                 let copy = registers as Reg;

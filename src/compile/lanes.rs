@@ -19,7 +19,7 @@
 use std::ops::ControlFlow;
 
 use super::events::EventStepper;
-use super::ir::{Id, Op};
+use super::ir::{Id, Op, operands};
 use super::lane_code::{Ins, LaneCode, List};
 use super::program::Program;
 use super::tape::{Tape, table_value};
@@ -90,13 +90,57 @@ fn un(r: &mut [Reg], nb: usize, d: usize, a: Id, f: impl Fn(f64) -> f64) {
     }
 }
 
-/// Runs `code` over the first `nb` blocks of `r`.
+/// Which blocks an instruction computes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Span {
+    /// Every active block.
+    Lanes,
+    /// Block 0 alone: a value every lane shares that only instructions of
+    /// the same kind read (in block 0).
+    One,
+    /// Block 0, then copied to the others, where a later instruction that
+    /// runs over every block, or the caller (a root), reads it.
+    OneCopied,
+}
+
+impl Span {
+    /// Each instruction's span in `list`, given which give every lane the
+    /// same value ([`List::uniform`]).
+    fn of(list: &List, uniform: &[bool]) -> Vec<Self> {
+        let code = &list.code;
+        (0..code.len())
+            .map(|j| {
+                if !uniform[j] {
+                    return Self::Lanes;
+                }
+                let d = code[j].dest;
+                for (later, &u) in code[j + 1..].iter().zip(&uniform[j + 1..]) {
+                    if !u && operands(&later.op).contains(&Id::from(d)) {
+                        return Self::OneCopied;
+                    }
+                    if later.dest == d {
+                        return Self::One;
+                    }
+                }
+                if list.roots.contains(&d) {
+                    Self::OneCopied
+                } else {
+                    Self::One
+                }
+            })
+            .collect()
+    }
+}
+
+/// Runs `code` (instruction by instruction over `span`'s blocks) over the
+/// first `nb` blocks of `r`.
 #[inline(always)]
-fn exec(code: &[Ins], uniform: &[bool], r: &mut [Reg], nb: usize) {
+fn exec(code: &[Ins], span: &[Span], r: &mut [Reg], nb: usize) {
     use super::math::{exp, expm1};
-    for (&ins, &u) in code.iter().zip(uniform) {
-        // A value every lane shares is computed in one block and copied.
-        let nb = if u { 1 } else { nb };
+    for (&ins, &sp) in code.iter().zip(span) {
+        // A value every lane shares is computed in one block (and copied
+        // where a block of its own lane reads it).
+        let nb = if sp == Span::Lanes { nb } else { 1 };
         let d = ins.dest as usize;
         match ins.op {
             Op::Add(a, b) => bin(r, nb, d, a, b, |x, y| x + y),
@@ -126,7 +170,7 @@ fn exec(code: &[Ins], uniform: &[bool], r: &mut [Reg], nb: usize) {
             }
             Op::Const(_) | Op::In(_) => unreachable!("registers filled before the list runs"),
         }
-        if u {
+        if sp == Span::OneCopied {
             let b0 = r[d][0];
             r[d].0[1..].fill(b0);
         }
@@ -196,15 +240,15 @@ pub enum Isa {
 
 #[cfg(target_arch = "x86_64")]
 mod wide {
-    use super::{Ins, Reg, exec, finish, stage};
+    use super::{Ins, Reg, Span, exec, finish, stage};
 
     #[target_feature(enable = "avx512f")]
-    pub fn exec_512(code: &[Ins], uniform: &[bool], r: &mut [Reg], nb: usize) {
-        exec(code, uniform, r, nb);
+    pub fn exec_512(code: &[Ins], span: &[Span], r: &mut [Reg], nb: usize) {
+        exec(code, span, r, nb);
     }
     #[target_feature(enable = "avx2")]
-    pub fn exec_256(code: &[Ins], uniform: &[bool], r: &mut [Reg], nb: usize) {
-        exec(code, uniform, r, nb);
+    pub fn exec_256(code: &[Ins], span: &[Span], r: &mut [Reg], nb: usize) {
+        exec(code, span, r, nb);
     }
     #[target_feature(enable = "avx512f")]
     pub fn stage_512(
@@ -282,14 +326,14 @@ impl Isa {
         unsafe_code,
         reason = "calls the loops built for a feature `detect` found"
     )]
-    fn exec(self, code: &[Ins], uniform: &[bool], r: &mut [Reg], nb: usize) {
+    fn exec(self, code: &[Ins], span: &[Span], r: &mut [Reg], nb: usize) {
         match self {
             // SAFETY: `detect` returns these only where the processor has them.
             #[cfg(target_arch = "x86_64")]
-            Self::Avx512 => unsafe { wide::exec_512(code, uniform, r, nb) },
+            Self::Avx512 => unsafe { wide::exec_512(code, span, r, nb) },
             #[cfg(target_arch = "x86_64")]
-            Self::Avx2 => unsafe { wide::exec_256(code, uniform, r, nb) },
-            _ => exec(code, uniform, r, nb),
+            Self::Avx2 => unsafe { wide::exec_256(code, span, r, nb) },
+            _ => exec(code, span, r, nb),
         }
     }
 
@@ -343,9 +387,9 @@ pub struct LaneRunner<'p> {
     /// Active blocks.
     nb: usize,
     isa: Isa,
-    /// Per list (derivative, events, report, fitted output): which
-    /// instructions every lane shares.
-    uniform: [Vec<bool>; 4],
+    /// Per list (derivative, events, report, fitted output): each
+    /// instruction's span (every lane, or one value all share).
+    spans: [Vec<Span>; 4],
     /// The register file; between steps its state registers hold every
     /// lane's state, which the event and report lists read where it is.
     regs: Vec<Reg>,
@@ -408,14 +452,14 @@ impl<'p> LaneRunner<'p> {
             let v0 = r[0][0];
             shared[reg as usize] = (0..nb * W).all(|l| r[l / W][l % W].to_bits() == v0.to_bits());
         }
-        let uniform = lists.map(|l| l.uniform(&mut shared.clone()));
+        let spans = lists.map(|l| Span::of(l, &l.uniform(&mut shared.clone())));
         Self {
             prog,
             code,
             force,
             nb,
             isa: Isa::detect(),
-            uniform,
+            spans,
             regs,
             steppers,
             y: vec![ZERO; n],
@@ -436,8 +480,8 @@ impl<'p> LaneRunner<'p> {
         self
     }
 
-    /// Fills the time and table registers for `list` (whose uniform flags
-    /// are `self.uniform[which]`) at `t`, then runs it.
+    /// Fills the time and table registers for `list` (whose spans are
+    /// `self.spans[which]`) at `t`, then runs it.
     fn eval(&mut self, list: &List, which: usize, t: f64) {
         let nb = self.nb;
         if list.uses_time {
@@ -448,7 +492,7 @@ impl<'p> LaneRunner<'p> {
             self.regs[reg as usize].0[..nb].fill([v; W]);
         }
         self.isa
-            .exec(&list.code, &self.uniform[which], &mut self.regs, nb);
+            .exec(&list.code, &self.spans[which], &mut self.regs, nb);
     }
 
     /// The derivative at the state registers' values, its slopes left in the
