@@ -21,7 +21,7 @@ use std::ops::ControlFlow;
 use super::events::EventStepper;
 use super::ir::{Id, Op, operands};
 use super::lane_code::{Ins, LaneCode, List};
-use super::program::Program;
+use super::program::{Direction, Program};
 use super::tape::{Tape, table_value};
 use crate::integrate::{SampleGrid, walk_grid};
 use crate::model::{PiecewiseLinear, Report, Sample};
@@ -220,6 +220,27 @@ fn finish(r: &mut [Reg], nb: usize, y: &[Reg], acc: &[Reg], slopes: &[u16], c: f
             }
             r[i][b] = o;
         }
+    }
+}
+
+/// Sets the bit of each lane of the first `nb` blocks whose mode is `from`
+/// and whose event function `g` is `past` its switch.
+#[inline(always)]
+fn mark(
+    hit: &mut [u8; BLOCKS],
+    nb: usize,
+    g: &Reg,
+    mode: &Reg,
+    from: f64,
+    past: impl Fn(f64) -> bool,
+) {
+    for b in 0..nb {
+        let (gb, mb) = (g[b], mode[b]);
+        let mut bits = 0;
+        for l in 0..W {
+            bits |= u8::from(past(gb[l]) & (mb[l] == from)) << l;
+        }
+        hit[b] |= bits;
     }
 }
 
@@ -541,13 +562,10 @@ impl<'p> LaneRunner<'p> {
                 &self.regs[code.modes[tr.var as usize] as usize],
             );
             let from = f64::from(tr.from);
-            for b in 0..nb {
-                let (gb, mb) = (g[b], mode[b]);
-                let mut bits = 0;
-                for l in 0..W {
-                    bits |= u8::from(tr.violated(gb[l]) & (mb[l] == from)) << l;
-                }
-                self.hit[b] |= bits;
+            // `Transition::violated`, its direction fixed outside the loop.
+            match tr.dir {
+                Direction::Up => mark(&mut self.hit, nb, g, mode, from, |g| g >= 0.0),
+                Direction::Down => mark(&mut self.hit, nb, g, mode, from, |g| g <= 0.0),
             }
         }
         if self.hit[..nb].iter().all(|&h| h == 0) {
