@@ -5,6 +5,13 @@
 //! compiler turns each into a few vector instructions, and `exp`/`expm1` are
 //! [`super::math`]'s branch-free forms, which vectorise too.
 //!
+//! Between steps every lane's state sits in the state registers, where the
+//! event and report lists read it; RK4 reads each slope where the derivative
+//! left it and sums them as they come, so a step copies the state once (its
+//! start, kept for a lane that must redo it). A run reports every output and
+//! the full state, or output 0 alone ([`Report`]), with the list that
+//! computes just that.
+//!
 //! Plain steps, event checks and reports run over the lanes. A lane whose step
 //! ends past a switch is handed to its own [`EventStepper`], which redoes that
 //! step from its start with the switch located: the lanes evaluate the same
