@@ -270,45 +270,29 @@ pub enum Isa {
 mod wide {
     use super::{Ins, Reg, Span, exec, finish, stage};
 
-    #[target_feature(enable = "avx512f")]
-    pub fn exec_512(code: &[Ins], span: &[Span], r: &mut [Reg], nb: usize) {
-        exec(code, span, r, nb);
+    /// `f` built for AVX-512 (`wide`) and for AVX2 (`narrow`): the same
+    /// source, compiled with each feature enabled.
+    macro_rules! built_for {
+        ($($f:ident => $wide:ident, $narrow:ident ($($a:ident: $t:ty),*);)*) => {$(
+            #[target_feature(enable = "avx512f")]
+            pub fn $wide($($a: $t),*) {
+                $f($($a),*);
+            }
+            #[target_feature(enable = "avx2")]
+            pub fn $narrow($($a: $t),*) {
+                $f($($a),*);
+            }
+        )*};
     }
-    #[target_feature(enable = "avx2")]
-    pub fn exec_256(code: &[Ins], span: &[Span], r: &mut [Reg], nb: usize) {
-        exec(code, span, r, nb);
-    }
-    #[target_feature(enable = "avx512f")]
-    pub fn stage_512(
-        r: &mut [Reg],
-        nb: usize,
-        y: &[Reg],
-        acc: &mut [Reg],
-        slopes: &[u16],
-        c: f64,
-        first: bool,
-    ) {
-        stage(r, nb, y, acc, slopes, c, first);
-    }
-    #[target_feature(enable = "avx2")]
-    pub fn stage_256(
-        r: &mut [Reg],
-        nb: usize,
-        y: &[Reg],
-        acc: &mut [Reg],
-        slopes: &[u16],
-        c: f64,
-        first: bool,
-    ) {
-        stage(r, nb, y, acc, slopes, c, first);
-    }
-    #[target_feature(enable = "avx512f")]
-    pub fn finish_512(r: &mut [Reg], nb: usize, y: &[Reg], acc: &[Reg], slopes: &[u16], c: f64) {
-        finish(r, nb, y, acc, slopes, c);
-    }
-    #[target_feature(enable = "avx2")]
-    pub fn finish_256(r: &mut [Reg], nb: usize, y: &[Reg], acc: &[Reg], slopes: &[u16], c: f64) {
-        finish(r, nb, y, acc, slopes, c);
+
+    built_for! {
+        exec => exec_512, exec_256(code: &[Ins], span: &[Span], r: &mut [Reg], nb: usize);
+        stage => stage_512, stage_256(
+            r: &mut [Reg], nb: usize, y: &[Reg], acc: &mut [Reg], slopes: &[u16], c: f64, first: bool
+        );
+        finish => finish_512, finish_256(
+            r: &mut [Reg], nb: usize, y: &[Reg], acc: &[Reg], slopes: &[u16], c: f64
+        );
     }
 }
 
