@@ -17,10 +17,13 @@
 //! `RIGFIT_BENCH_POPS=4096,…` only the given populations and
 //! `RIGFIT_BENCH_SAMPLES=500` shortens the record (for quick kernel work),
 //! `RIGFIT_BENCH_SUBSTEPS=10` takes that many RK4 steps per sample;
-//! `RIGFIT_BENCH_CPU_TIME=1` adds candidate-steps per CPU-second of the process.
+//! `RIGFIT_BENCH_CPU_TIME=1` adds candidate-steps per CPU-second of the process
+//! (its CPU-time clock, all threads, lavapipe's included).
 //!
-//! Timings drop by half or more while other builds share the cores (compare
-//! variants alternately, several times). The README has the measured table.
+//! Rates per wall second drop by half or more while other work shares the
+//! cores, or when lavapipe gets one core instead of two; the rate per
+//! CPU-second moved by about 2 % between such runs, so compare variants by it,
+//! alternately, several times. The README has the measured tables.
 
 #[path = "common/cpu_time.rs"]
 mod cpu_time;
