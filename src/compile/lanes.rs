@@ -555,8 +555,12 @@ impl<'p> LaneRunner<'p> {
             let from = f64::from(tr.from);
             // `Transition::violated`, its direction fixed outside the loop.
             match tr.dir {
-                Direction::Up => mark(&mut self.hit, nb, g, mode, from, |g| g >= 0.0),
-                Direction::Down => mark(&mut self.hit, nb, g, mode, from, |g| g <= 0.0),
+                Direction::Up => mark(&mut self.hit, nb, g, mode, from, |g| Direction::Up.past(g)),
+                Direction::Down => {
+                    mark(&mut self.hit, nb, g, mode, from, |g| {
+                        Direction::Down.past(g)
+                    });
+                }
             }
         }
         if self.hit[..nb].iter().all(|&h| h == 0) {

@@ -14,6 +14,18 @@ pub enum Direction {
     Down,
 }
 
+impl Direction {
+    /// Whether `g` is past the switch: `g ≥ 0` ([`Direction::Up`]) or `g ≤ 0`
+    /// ([`Direction::Down`]).
+    #[inline(always)]
+    pub fn past(self, g: f64) -> bool {
+        match self {
+            Self::Up => g >= 0.0,
+            Self::Down => g <= 0.0,
+        }
+    }
+}
+
 /// A located switch: while mode variable `var` is `from`, the transition is
 /// armed; it fires where `g` reaches zero in `dir`, and sets `var` to `to`.
 #[derive(Debug, Clone, PartialEq)]
@@ -35,10 +47,7 @@ pub struct Transition {
 impl Transition {
     /// Whether `g` is past the switch.
     pub fn violated(&self, g: f64) -> bool {
-        match self.dir {
-            Direction::Up => g >= 0.0,
-            Direction::Down => g <= 0.0,
-        }
+        self.dir.past(g)
     }
 
     /// `g` oriented so that `≥ 0` is past the switch: `g` for [`Direction::Up`],
