@@ -138,6 +138,54 @@ fn main() {
         });
         rates.push((short, r));
     }
+    // The lane ensemble run directly: interpreting its code (as where no C
+    // compiler works), or built to native code in f32.
+    let lowered = rigfit::compile::lower(&rig.desc, "tensile4").unwrap();
+    let prog = &lowered.programs[0];
+    let tape = rigfit::compile::Tape::new(prog);
+    let code = rigfit::compile::LaneCode::new(prog, &tape);
+    let f32_build = want("lanes-f32").then(|| {
+        rigfit::compile::Native::build(&code, rigfit::compile::Arith::F32)
+            .expect("the C compiler builds the lane code")
+    });
+    for (row, native, name, short) in [
+        (
+            "interp",
+            None,
+            "compiled tensile4, lanes interpreted",
+            "lanes interpreted",
+        ),
+        (
+            "lanes-f32",
+            f32_build.as_deref(),
+            "compiled tensile4, lanes, f32",
+            "lanes f32",
+        ),
+    ] {
+        if !want(row) {
+            continue;
+        }
+        let r = measure(name, ps.len(), steps, || {
+            let _: f64 = ps
+                .par_chunks(rigfit::compile::LANES)
+                .map(|c| {
+                    let refs: Vec<&[f64]> = c.iter().map(|p| p.as_slice()).collect();
+                    let mut s = 0.0;
+                    let mut runner =
+                        rigfit::compile::LaneRunner::new(prog, &tape, &code, &refs, None);
+                    if let Some(n) = native {
+                        runner = runner.with_native(n);
+                    }
+                    runner.run(&grid, Report::Fitted, &mut |_, x| {
+                        s += x.outputs[0];
+                        ControlFlow::Continue(())
+                    });
+                    s
+                })
+                .sum();
+        });
+        rates.push((short, r));
+    }
     for (i, (a, ra)) in rates.iter().enumerate() {
         for (b, rb) in &rates[i + 1..] {
             println!(

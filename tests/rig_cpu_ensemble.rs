@@ -4,7 +4,7 @@
 
 use std::ops::ControlFlow;
 
-use rigfit::compile::{Isa, LANES, LaneCode, LaneRunner, Tape};
+use rigfit::compile::{Arith, Isa, LANES, LaneCode, LaneRunner, Native, Tape};
 use rigfit::fixtures::REFERENCE_DT;
 use rigfit::integrate::SampleGrid;
 use rigfit::model::compiled::CompiledRig;
@@ -198,4 +198,190 @@ fn the_fitted_report_is_output_zero_of_the_full_one() {
         assert_eq!(got[0][0].len(), grid.samples);
         assert_eq!(got[0], got[1], "{}", m.id());
     }
+}
+
+/// Every run of `ps` through the lane code of `desc`'s program for `force`'s
+/// drive (velocity without one), built to native code, each output and state
+/// as bits, as `report` asks.
+fn histories_native(
+    desc: &rigfit::rig::desc::RigDesc,
+    ps: &[Vec<f64>],
+    force: Option<&rigfit::model::PiecewiseLinear>,
+    grid: &SampleGrid,
+    report: Report,
+) -> Vec<Vec<u64>> {
+    let lowered = rigfit::compile::lower(desc, "native").unwrap();
+    let mode = if force.is_some() { "force" } else { "velocity" };
+    let prog = lowered.programs.iter().find(|p| p.mode == mode).unwrap();
+    let tape = Tape::new(prog);
+    let code = LaneCode::new(prog, &tape);
+    // No C compiler here is a failure, not a skip.
+    let native = Native::build(&code, Arith::F64).expect("the C compiler builds the lane code");
+    let mut many = vec![vec![]; ps.len()];
+    for (c, chunk) in ps.chunks(LANES).enumerate() {
+        let refs: Vec<&[f64]> = chunk.iter().map(|p| p.as_slice()).collect();
+        LaneRunner::new(prog, &tape, &code, &refs, force)
+            .with_native(&native)
+            .run(grid, report, &mut |l, s| {
+                many[c * LANES + l].extend(s.outputs.iter().chain(s.state).map(|v| v.to_bits()));
+                ControlFlow::Continue(())
+            });
+    }
+    many
+}
+
+#[test]
+fn native_lanes_match_the_scalar_reference_bit_for_bit() {
+    let desc = rigfit::rig::shipped("tensile4").unwrap();
+    let r = CompiledRig::new(desc.clone(), "tensile4").unwrap();
+    // A full group with the drive shared (its time-only part computed once
+    // per step), then a partial one whose ramps differ (computed per block).
+    let ps: Vec<Vec<f64>> = (0..LANES + 13)
+        .map(|i| {
+            let mut p = tensile::REFERENCE.to_vec();
+            let f = 1.0 + 0.3 * i as f64 / LANES as f64;
+            p[tensile::ix::K1] *= f;
+            p[tensile::ix::GAP] *= f;
+            p[tensile::ix::E_FRACTURE] *= 2.0 - f;
+            if i >= LANES {
+                p[tensile::ix::RAMP] *= f;
+            }
+            p
+        })
+        .collect();
+    let grid = SampleGrid {
+        t0: 0.0,
+        dt: REFERENCE_DT,
+        samples: 1500,
+        substeps: 1,
+    };
+    let one = histories_one(&r, &ps, &Drive::Velocity, &grid);
+    let width = r.output_names().len() + r.state_names().len();
+    let fitted: Vec<Vec<u64>> = one
+        .iter()
+        .map(|h| h.chunks(width).map(|s| s[0]).collect())
+        .collect();
+    for (report, want) in [(Report::Full, &one), (Report::Fitted, &fitted)] {
+        let many = histories_native(&desc, &ps, None, &grid, report);
+        for (i, (a, b)) in many.iter().zip(want).enumerate() {
+            assert_eq!(a.len(), b.len());
+            assert!(a == b, "{report:?}: candidate {i} differs");
+        }
+    }
+}
+
+#[test]
+fn native_stick_slip_lanes_match_through_many_events() {
+    // A force table (a table input) and many stick–slip switches.
+    let mut desc = rigfit::rig::shipped("stick_slip").unwrap();
+    let (t, f): (Vec<f64>, Vec<f64>) = (0..=400)
+        .map(|i| {
+            let t = i as f64 * 0.005;
+            (t, 20.0 * (2.0 * std::f64::consts::PI * t).sin())
+        })
+        .unzip();
+    desc.drives[0].law = DriveLaw::ForceTable {
+        t: Some(t),
+        value: Some(f),
+        gain: None,
+    };
+    let r = CompiledRig::new(desc.clone(), "stick_slip").unwrap();
+    let ps: Vec<Vec<f64>> = (0..9)
+        .map(|i| vec![1.0, 8.0 + i as f64, 1e4, 0.5 * i as f64])
+        .collect();
+    let grid = SampleGrid {
+        t0: 0.0,
+        dt: 1e-3,
+        samples: 2000,
+        substeps: 2,
+    };
+    let one = histories_one(&r, &ps, &Drive::Velocity, &grid);
+    assert_eq!(histories_native(&desc, &ps, None, &grid, Report::Full), one);
+}
+
+/// The f32 tolerance the GPU's f32 kernels are held to (`tests/gpu_rig_parity.rs`):
+/// each output's and state's largest difference from the f64 reference, over
+/// that series' largest magnitude.
+const F32_TOLERANCE: f64 = 2e-4;
+
+#[test]
+fn native_f32_lanes_stay_within_the_f32_tolerance_of_the_reference() {
+    let desc = rigfit::rig::shipped("tensile4").unwrap();
+    let r = CompiledRig::new(desc.clone(), "tensile4").unwrap();
+    let ps: Vec<Vec<f64>> = (0..21)
+        .map(|i| {
+            let mut p = tensile::REFERENCE.to_vec();
+            let f = 1.0 + 0.02 * i as f64;
+            p[tensile::ix::K1] *= f;
+            p[tensile::ix::C4] *= f;
+            if i >= 16 {
+                p[tensile::ix::RAMP] *= f;
+            }
+            p
+        })
+        .collect();
+    let grid = SampleGrid {
+        t0: 0.0,
+        dt: REFERENCE_DT,
+        samples: 2000,
+        substeps: 1,
+    };
+    let width = r.output_names().len() + r.state_names().len();
+    let one = histories_one(&r, &ps, &Drive::Velocity, &grid);
+    let f32_runs = {
+        let lowered = rigfit::compile::lower(&desc, "tensile4").unwrap();
+        let prog = &lowered.programs[0];
+        let tape = Tape::new(prog);
+        let code = LaneCode::new(prog, &tape);
+        let native = Native::build(&code, Arith::F32).expect("the C compiler builds the lane code");
+        assert_eq!(native.arith, Arith::F32);
+        let refs: Vec<&[f64]> = ps.iter().map(|p| p.as_slice()).collect();
+        let mut h = vec![vec![]; ps.len()];
+        LaneRunner::new(prog, &tape, &code, &refs, None)
+            .with_native(&native)
+            .run(&grid, Report::Full, &mut |l, s| {
+                h[l].extend(s.outputs.iter().chain(s.state).copied());
+                ControlFlow::Continue(())
+            });
+        h
+    };
+    let mut worst = 0.0_f64;
+    for (i, (a, b)) in f32_runs.iter().zip(&one).enumerate() {
+        assert_eq!(a.len(), b.len());
+        for col in 0..width {
+            let series = |h: &[f64]| {
+                h.iter()
+                    .skip(col)
+                    .step_by(width)
+                    .copied()
+                    .collect::<Vec<_>>()
+            };
+            let (x, y) = (
+                series(a),
+                series(
+                    b.iter()
+                        .map(|&v| f64::from_bits(v))
+                        .collect::<Vec<_>>()
+                        .as_slice(),
+                ),
+            );
+            let scale = y.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            if scale == 0.0 {
+                continue;
+            }
+            let err = x
+                .iter()
+                .zip(&y)
+                .fold(0.0_f64, |m, (p, q)| m.max((p - q).abs()))
+                / scale;
+            assert!(
+                err <= F32_TOLERANCE,
+                "candidate {i}, column {col}: {err:.2e}"
+            );
+            worst = worst.max(err);
+        }
+    }
+    // f32 arithmetic, not f64 under another name.
+    assert!(worst > 1e-9, "{worst:e}");
+    eprintln!("worst relative difference {worst:.2e}");
 }

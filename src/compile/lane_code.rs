@@ -11,7 +11,7 @@
 //! (see [`LaneCode::slopes`]).
 
 use super::ir::{Id, Input, Op, map_operands, operands};
-use super::program::Program;
+use super::program::{Direction, Program};
 use super::tape::Tape;
 
 /// Register index.
@@ -62,6 +62,9 @@ pub struct LaneCode {
     pub slopes: Vec<Reg>,
     /// (state register, copy) pairs to copy after each derivative.
     pub slope_copies: Vec<(Reg, Reg)>,
+    /// Per event root (transition), what arms it and which way it fires:
+    /// (its mode variable's register, the value that arms it, direction).
+    pub armed: Vec<(Reg, f64, Direction)>,
     /// The time register.
     pub time: Reg,
     /// Each mode variable's register.
@@ -172,6 +175,11 @@ impl LaneCode {
             fitted,
             slopes,
             slope_copies,
+            armed: prog
+                .transitions
+                .iter()
+                .map(|tr| (modes[tr.var as usize], f64::from(tr.from), tr.dir))
+                .collect(),
             time,
             modes,
             constants,

@@ -28,6 +28,7 @@ use std::ops::ControlFlow;
 use super::events::EventStepper;
 use super::ir::{Id, Op, operands};
 use super::lane_code::{Ins, LaneCode, List};
+use super::native::{Native, NativeList};
 use super::program::{Direction, Program};
 use super::tape::{Tape, table_value};
 use crate::integrate::{SampleGrid, walk_grid};
@@ -36,9 +37,11 @@ use crate::model::{PiecewiseLinear, Report, Sample};
 /// Lanes in one vector block.
 pub const W: usize = 8;
 /// Blocks in a register.
-const BLOCKS: usize = 8;
+pub(crate) const BLOCKS: usize = 8;
 /// Runs advanced together, at most.
 pub const LANES: usize = W * BLOCKS;
+// Lane sets are bits of a `u64`.
+const _: () = assert!(LANES <= 64);
 
 type Blk = [f64; W];
 /// One value of every lane, aligned to a cache line so no vector load or
@@ -414,6 +417,18 @@ pub struct LaneRunner<'p> {
     hit: [u8; BLOCKS],
     /// One lane's state, for a step its stepper redoes.
     lane_y: Vec<f64>,
+    /// The lane code built to native code, which then runs the steps and
+    /// lists instead of the interpreter.
+    native: Option<&'p Native>,
+    /// Table values for `native`'s calls.
+    tab: Vec<f64>,
+    /// Whether every active lane shares `native`'s `hoist_reads`.
+    hoist: bool,
+    /// A bit per lane whose stepper found its run chattering (its outputs
+    /// NaN from then on).
+    chattered: u64,
+    /// The number the observer is given for lane 0.
+    first: usize,
 }
 
 impl<'p> LaneRunner<'p> {
@@ -478,6 +493,41 @@ impl<'p> LaneRunner<'p> {
             acc: vec![ZERO; n],
             hit: [0; BLOCKS],
             lane_y: vec![0.0; n],
+            native: None,
+            tab: vec![],
+            hoist: false,
+            chattered: 0,
+            first: 0,
+        }
+    }
+
+    /// The same runs through `native`, the build of this runner's lane code
+    /// ([`Native::build`]), instead of the interpreter.
+    pub fn with_native(mut self, native: &'p Native) -> Self {
+        self.tab = vec![0.0; 4 * native.table_stride];
+        let lanes = self.nb * W;
+        self.hoist = native.hoist_reads.iter().all(|&reg| {
+            let r = &self.regs[reg as usize];
+            (0..lanes).all(|l| r[l / W][l % W].to_bits() == r[0][0].to_bits())
+        });
+        self.native = Some(native);
+        self
+    }
+
+    /// Lane `l` is run `first + l` to the observer (a group of a larger
+    /// batch).
+    pub fn numbered_from(mut self, first: usize) -> Self {
+        self.first = first;
+        self
+    }
+
+    /// `native`'s table values at each time of `tt`.
+    fn fill_tables(&mut self, tt: &[f64]) {
+        let stride = self.tab.len() / 4;
+        for (s, &t) in tt.iter().enumerate() {
+            for k in 0..stride {
+                self.tab[s * stride + k] = table_value(self.prog, self.force, k as u32, t);
+            }
         }
     }
 
@@ -496,6 +546,16 @@ impl<'p> LaneRunner<'p> {
     /// `self.spans[which]`) at `t`, then runs it.
     fn eval(&mut self, list: &List, which: usize, t: f64) {
         let nb = self.nb;
+        if let Some(native) = self.native {
+            let which = match which {
+                1 => NativeList::Events,
+                2 => NativeList::Report,
+                _ => NativeList::Fitted,
+            };
+            self.fill_tables(&[t]);
+            native.list(which, &mut self.regs, nb, t, &self.tab, &mut self.hit);
+            return;
+        }
         if list.uses_time {
             self.regs[self.code.time as usize].0[..nb].fill([t; W]);
         }
@@ -521,6 +581,23 @@ impl<'p> LaneRunner<'p> {
     /// start kept in `y`; written as `EventStepper`'s so the lanes round
     /// alike.
     fn rk4(&mut self, t: f64, h: f64) {
+        if let Some(native) = self.native {
+            let tt = [t, t + 0.5 * h, t + 0.5 * h, t + h];
+            self.fill_tables(&tt);
+            let (ch, h6) = (0.5 * h, h / 6.0);
+            native.rk4(
+                &mut self.regs,
+                &mut self.y,
+                self.nb,
+                &tt,
+                &self.tab,
+                ch,
+                h,
+                h6,
+                self.hoist,
+            );
+            return;
+        }
         let (n, nb, isa, slopes) = (self.y.len(), self.nb, self.isa, &self.code.slopes);
         self.y.copy_from_slice(&self.regs[..n]);
         for (s, c) in [0.5 * h, 0.5 * h, h].into_iter().enumerate() {
@@ -545,9 +622,14 @@ impl<'p> LaneRunner<'p> {
         let nb = self.nb;
         self.rk4(t, h);
         let code = self.code;
-        self.eval(&code.events, 1, t + h);
         self.hit = [0; BLOCKS];
+        // Native code sets the hit bits as it computes the event functions.
+        self.eval(&code.events, 1, t + h);
+        let marked = self.native.is_some();
         for (tr, &g) in self.prog.transitions.iter().zip(&code.events.roots) {
+            if marked {
+                break;
+            }
             let (g, mode) = (
                 &self.regs[g as usize],
                 &self.regs[code.modes[tr.var as usize] as usize],
@@ -569,7 +651,7 @@ impl<'p> LaneRunner<'p> {
         let mut lane_y = std::mem::take(&mut self.lane_y);
         for l in 0..self.steppers.len() {
             let (b, j) = (l / W, l % W);
-            if self.hit[b] >> j & 1 == 0 || self.steppers[l].chattered {
+            if self.hit[b] >> j & 1 == 0 || self.chattered >> l & 1 == 1 {
                 continue;
             }
             for (s, v) in lane_y.iter_mut().enumerate() {
@@ -583,6 +665,7 @@ impl<'p> LaneRunner<'p> {
             for (m, &v) in st.modes.iter().enumerate() {
                 self.regs[self.code.modes[m] as usize][b][j] = f64::from(v);
             }
+            self.chattered |= u64::from(st.chattered) << l;
         }
         self.lane_y = lane_y;
     }
@@ -602,7 +685,8 @@ impl<'p> LaneRunner<'p> {
             Report::Full => (&code.report, 2),
             Report::Fitted => (&code.fitted, 3),
         };
-        let mut live = vec![true; lanes];
+        // A bit per lane whose observer has not broken.
+        let mut live: u64 = if lanes == 64 { !0 } else { (1 << lanes) - 1 };
         let n_out = match report {
             Report::Full => self.prog.outputs.len(),
             Report::Fitted => list.roots.len(),
@@ -616,12 +700,12 @@ impl<'p> LaneRunner<'p> {
             |me, t, h| me.step(t, h),
             |me, k, t| {
                 me.eval(list, which, t);
-                for l in 0..lanes {
-                    if !live[l] {
-                        continue;
-                    }
+                let mut left = live;
+                while left != 0 {
+                    let l = left.trailing_zeros() as usize;
+                    left &= left - 1;
                     let (b, j) = (l / W, l % W);
-                    let chattered = me.steppers[l].chattered;
+                    let chattered = me.chattered >> l & 1 == 1;
                     for (o, &reg) in outs.iter_mut().zip(outputs) {
                         *o = if chattered {
                             f64::NAN
@@ -638,11 +722,11 @@ impl<'p> LaneRunner<'p> {
                         state: &full,
                         outputs: &outs,
                     };
-                    if observe(l, &s).is_break() {
-                        live[l] = false;
+                    if observe(me.first + l, &s).is_break() {
+                        live &= !(1 << l);
                     }
                 }
-                if live.contains(&true) {
+                if live != 0 {
                     ControlFlow::Continue(())
                 } else {
                     ControlFlow::Break(())

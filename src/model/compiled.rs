@@ -4,6 +4,7 @@
 use std::ops::ControlFlow;
 
 use super::{Drive, Linearised, ParamInfo, Report, RigModel, Sample};
+use crate::compile::native::NativeSlot;
 use crate::compile::{EventStepper, GpuRig, LANES, LaneCode, LaneRunner, Lowered, Tape, lower};
 use crate::integrate::{SampleGrid, walk_grid};
 use crate::rig::RigError;
@@ -23,6 +24,8 @@ pub struct CompiledRig {
     tapes: Vec<Tape>,
     /// Each tape in the lane ensemble's register form.
     lane_code: Vec<LaneCode>,
+    /// Each lane code's native build, made once it pays.
+    native: Vec<NativeSlot>,
     /// Each program prepared for the GPU kernels (`None`: it cannot run there).
     gpu: Vec<Option<std::sync::Arc<GpuRig>>>,
 }
@@ -80,6 +83,9 @@ impl CompiledRig {
             outputs: Box::leak(outputs.into_boxed_slice()),
             desc,
             lowered,
+            native: std::iter::repeat_with(NativeSlot::default)
+                .take(tapes.len())
+                .collect(),
             tapes,
             lane_code,
             gpu,
@@ -589,6 +595,8 @@ impl RigModel for CompiledRig {
             Drive::Force(t) => Some(t),
             Drive::Velocity => None,
         };
+        let work = (params.len() * grid.total_steps()) as u64;
+        let native = self.native[i].get(&self.lane_code[i], work);
         for (c, chunk) in params.chunks(LANES).enumerate() {
             let mut runner = LaneRunner::new(
                 &self.lowered.programs[i],
@@ -597,7 +605,10 @@ impl RigModel for CompiledRig {
                 chunk,
                 force,
             );
-            runner.run(grid, report, &mut |l, s| observe(c * LANES + l, s));
+            if let Some(n) = &native {
+                runner = runner.with_native(n);
+            }
+            runner.numbered_from(c * LANES).run(grid, report, observe);
         }
     }
 
