@@ -144,6 +144,17 @@ impl<'p> EventStepper<'p> {
 
     /// One step of length `h` from `(t, y)`, switches located inside it.
     pub fn step(&mut self, t: f64, h: f64, y: &mut [f64]) {
+        self.step_known(t, h, y, None);
+    }
+
+    /// [`Self::step`] where the plain RK4 step from `(t, y)` over `h` is
+    /// known to end at `y_end` (the lane ensemble took it): of that step only
+    /// the first slope (which locating a switch needs) is computed again.
+    pub fn step_ending_at(&mut self, t: f64, h: f64, y: &mut [f64], y_end: &[f64]) {
+        self.step_known(t, h, y, Some(y_end));
+    }
+
+    fn step_known(&mut self, t: f64, h: f64, y: &mut [f64], mut known_end: Option<&[f64]>) {
         if self.chattered {
             return;
         }
@@ -155,7 +166,14 @@ impl<'p> EventStepper<'p> {
             for (g0, tr) in self.g_start.iter_mut().zip(&self.prog.transitions) {
                 *g0 = self.frame.get(tr.g);
             }
-            self.rk4(ta, rem, y);
+            if let Some(end) = known_end.take() {
+                let mut k0 = std::mem::take(&mut self.k[0]);
+                self.deriv(ta, y, &mut k0);
+                self.k[0] = k0;
+                y.copy_from_slice(end);
+            } else {
+                self.rk4(ta, rem, y);
+            }
             self.events_at(ta + rem, y);
             for (g1, tr) in self.g_end.iter_mut().zip(&self.prog.transitions) {
                 *g1 = self.frame.get(tr.g);

@@ -29,6 +29,7 @@ use super::events::EventStepper;
 use super::ir::{Id, Op, operands};
 use super::lane_code::{Ins, LaneCode, List};
 use super::native::{Native, NativeList};
+use super::native_c::Arith;
 use super::program::{Direction, Program};
 use super::tape::{Tape, table_value};
 use crate::integrate::{SampleGrid, walk_grid};
@@ -415,8 +416,10 @@ pub struct LaneRunner<'p> {
     acc: Vec<Reg>,
     /// Per block, a bit per lane whose step ended past an armed switch.
     hit: [u8; BLOCKS],
-    /// One lane's state, for a step its stepper redoes.
+    /// One lane's state, for a step its stepper redoes, and where the lanes'
+    /// plain step ended.
     lane_y: Vec<f64>,
+    lane_end: Vec<f64>,
     /// The lane code built to native code, which then runs the steps and
     /// lists instead of the interpreter.
     native: Option<&'p Native>,
@@ -493,6 +496,7 @@ impl<'p> LaneRunner<'p> {
             acc: vec![ZERO; n],
             hit: [0; BLOCKS],
             lane_y: vec![0.0; n],
+            lane_end: vec![0.0; n],
             native: None,
             tab: vec![],
             hoist: false,
@@ -510,6 +514,17 @@ impl<'p> LaneRunner<'p> {
             let r = &self.regs[reg as usize];
             (0..lanes).all(|l| r[l / W][l % W].to_bits() == r[0][0].to_bits())
         });
+        if native.arith == Arith::F32 {
+            // The f32 code reads each per-run constant as f32, its lanes
+            // packed at the start of its row, instead of rounding it at
+            // every step.
+            for &(_, reg) in &self.code.constants {
+                let row = &mut self.regs[reg as usize];
+                let lanes: Vec<f32> = row.0.iter().flatten().map(|&x| x as f32).collect();
+                let packed: &mut [f32] = bytemuck::cast_slice_mut(&mut row.0[..]);
+                packed[..lanes.len()].copy_from_slice(&lanes);
+            }
+        }
         self.native = Some(native);
         self
     }
@@ -649,6 +664,7 @@ impl<'p> LaneRunner<'p> {
             return;
         }
         let mut lane_y = std::mem::take(&mut self.lane_y);
+        let mut lane_end = std::mem::take(&mut self.lane_end);
         for l in 0..self.steppers.len() {
             let (b, j) = (l / W, l % W);
             if self.hit[b] >> j & 1 == 0 || self.chattered >> l & 1 == 1 {
@@ -657,8 +673,11 @@ impl<'p> LaneRunner<'p> {
             for (s, v) in lane_y.iter_mut().enumerate() {
                 *v = self.y[s][b][j];
             }
+            for (s, v) in lane_end.iter_mut().enumerate() {
+                *v = self.regs[s][b][j];
+            }
             let st = &mut self.steppers[l];
-            st.step(t, h, &mut lane_y);
+            st.step_ending_at(t, h, &mut lane_y, &lane_end);
             for (s, v) in lane_y.iter().enumerate() {
                 self.regs[s][b][j] = *v;
             }
@@ -668,6 +687,7 @@ impl<'p> LaneRunner<'p> {
             self.chattered |= u64::from(st.chattered) << l;
         }
         self.lane_y = lane_y;
+        self.lane_end = lane_end;
     }
 
     /// Runs every lane over `grid`, calling `observe(lane, sample)` at every

@@ -90,6 +90,7 @@ const F64_LANES: &str = r#"typedef d v; typedef dm m; typedef du u;
 #define STEP 1
 #define LD(A, i) (A)[(i) * BLOCKS + b]
 #define ST(A, i, x) ((A)[(i) * BLOCKS + b] = (x))
+#define LDC LD
 F v vabs(v a) { return (v)((u)a & 0x7fffffffffffffffULL); }
 F v vexp(v x) { return dexp(x); }
 F v vexpm1(v x) { return dexpm1(x); }
@@ -112,6 +113,8 @@ F void split(v x, d *lo, d *hi) {
 }
 #define LD(A, i) join((A)[(i) * BLOCKS + b], (A)[(i) * BLOCKS + b + 1])
 #define ST(A, i, x) split((x), &(A)[(i) * BLOCKS + b], &(A)[(i) * BLOCKS + b + 1])
+/* A per-run constant's row holds its lanes as f32, packed at its start. */
+#define LDC(A, i) (((v *)&(A)[(i) * BLOCKS])[b / 2])
 F v fsplat(float x) { v r; for (int l = 0; l < 16; l++) r[l] = x; return r; }
 F v fpick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
 F v vabs(v a) { return (v)((u)a & 0x7fffffffu); }
@@ -232,6 +235,8 @@ fn load(
         format!("splat({time})")
     } else if let Some(t) = tables(reg) {
         format!("splat({t})")
+    } else if code.constants.iter().any(|&(_, r)| r == reg) {
+        format!("LDC(R, {reg})")
     } else {
         format!("LD(R, {reg})")
     };
