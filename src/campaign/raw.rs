@@ -250,7 +250,8 @@ pub struct RawSolver {
     /// `"backend"`: `"auto"` (default), `"gpu"` or `"cpu"`.
     #[serde(default)]
     pub backend: Backend,
-    /// `"precision"`: `"auto"` (default), `"f32"` or `"f64"` (GPU only).
+    /// `"precision"`: `"auto"` (default), `"f32"` or `"f64"`; on the CPU
+    /// `"f32"` runs a compiled rig's native f32 lanes, anything else f64.
     #[serde(default)]
     pub precision: PrecisionChoice,
 }

@@ -98,12 +98,12 @@ pub enum BackendArg {
     Cpu,
 }
 
-/// GPU precision on the command line.
+/// Arithmetic precision on the command line.
 #[derive(Debug, Clone, Copy, ValueEnum)]
 pub enum PrecisionArg {
-    /// f64 when the adapter supports it, else f32.
+    /// GPU: f64 when the adapter supports it, else f32. CPU: f64.
     Auto,
-    /// Single precision.
+    /// Single precision (on the CPU: a compiled rig's native f32 lanes).
     F32,
     /// Double precision.
     F64,
@@ -120,7 +120,8 @@ pub struct RunArgs {
     /// Evaluator backend (default: the campaign's solver.backend).
     #[arg(long, value_enum)]
     pub backend: Option<BackendArg>,
-    /// GPU precision (default: the campaign's solver.precision).
+    /// Precision (default: the campaign's solver.precision); on the CPU only
+    /// f32 differs from the f64 reference.
     #[arg(long, value_enum)]
     pub precision: Option<PrecisionArg>,
     /// Continue from the checkpoint in the output folder.

@@ -279,6 +279,23 @@ pub struct NativeSlot {
 }
 
 impl NativeSlot {
+    /// The build of `code` in `arith` now, whatever the work so far (`None`
+    /// where it cannot be had, or `RIGFIT_NATIVE=off`).
+    pub fn now(&self, code: &LaneCode, arith: Arith) -> Option<Arc<Native>> {
+        if std::env::var("RIGFIT_NATIVE").as_deref() == Ok("off") {
+            return None;
+        }
+        self.built
+            .get_or_init(|| match Native::build(code, arith) {
+                Ok(n) => Some(n),
+                Err(e) => {
+                    log::warn!("{e}");
+                    None
+                }
+            })
+            .clone()
+    }
+
     /// The build to run `work` more candidate-steps of `code` with, if any.
     pub fn get(&self, code: &LaneCode, work: u64) -> Option<Arc<Native>> {
         use std::sync::atomic::Ordering;

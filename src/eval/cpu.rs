@@ -1,4 +1,6 @@
-//! The CPU evaluator: the f64 RK4 reference, parallel over candidates (rayon).
+//! The CPU evaluator: the f64 RK4 reference, parallel over candidates (rayon);
+//! or, asked for f32 ([`CpuEvaluator::in_f32`]), a compiled rig's f32 lane
+//! ensemble.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -16,6 +18,7 @@ pub struct CpuEvaluator {
     problem: Problem,
     pool: rayon::ThreadPool,
     cancel: Option<Arc<AtomicBool>>,
+    precision: Precision,
 }
 
 impl CpuEvaluator {
@@ -43,7 +46,36 @@ impl CpuEvaluator {
             problem,
             pool,
             cancel: None,
+            precision: Precision::F64,
         })
+    }
+
+    /// The same evaluator scoring in f32 (a compiled rig's native f32 lane
+    /// ensemble, held to the f32 tolerance of the reference), or
+    /// [`EvalError::Unsupported`] saying why it cannot: a model without an
+    /// f32 path (the hand-written ones), or no C compiler to build it.
+    pub fn in_f32(mut self) -> Result<Self, EvalError> {
+        for exp in &self.problem.experiments {
+            let grid = exp.grid(0.0, self.problem.substeps);
+            let built = self.problem.model.simulate_many_f32(
+                &[],
+                &exp.drive,
+                &grid,
+                crate::model::Report::Fitted,
+                &mut |_, _| std::ops::ControlFlow::Continue(()),
+            );
+            if !built {
+                return Err(EvalError::Unsupported(format!(
+                    "f32 on the CPU needs a compiled rig (a campaign's \"rig\"; the hand-written \
+                     \"model\": \"{}\" has no f32 CPU path) whose lane code the C compiler builds \
+                     (`cc`, or RIGFIT_CC; not with RIGFIT_NATIVE=off); experiment {} has none",
+                    self.problem.model.id(),
+                    exp.name
+                )));
+            }
+        }
+        self.precision = Precision::F32;
+        Ok(self)
     }
 
     /// The problem being scored.
@@ -60,7 +92,7 @@ impl Evaluator for CpuEvaluator {
                 1 => "1 thread".to_string(),
                 n => format!("{n} threads (rayon)"),
             },
-            precision: Precision::F64,
+            precision: self.precision,
         }
     }
 
@@ -107,7 +139,7 @@ impl Evaluator for CpuEvaluator {
                     if cancelled() {
                         return vec![(f64::NAN, false); n];
                     }
-                    if n == 1 {
+                    if n == 1 && self.precision == Precision::F64 {
                         return vec![score_one(
                             problem,
                             e,
@@ -116,7 +148,7 @@ impl Evaluator for CpuEvaluator {
                         )];
                     }
                     let params: Vec<&[f64]> = (i..i + n).map(|c| batch.params_of(e, c)).collect();
-                    score_many(problem, e, &params, batch.offsets[e][i])
+                    score_many(problem, e, &params, batch.offsets[e][i], self.precision)
                 })
                 .collect()
         });

@@ -2,7 +2,7 @@
 
 use std::ops::ControlFlow;
 
-use super::{DIVERGED, ExperimentData, History, Problem};
+use super::{DIVERGED, ExperimentData, History, Precision, Problem};
 use crate::model::Report;
 
 /// Running residual sum over the fit window, with the blow-up guard.
@@ -68,19 +68,33 @@ pub fn score_one(problem: &Problem, e: usize, params: &[f64], offset: f64) -> (f
 }
 
 /// [`score_one`] for several candidates of experiment `e` with one offset, run
-/// together where the model has lanes (the same values as one by one).
-pub fn score_many(problem: &Problem, e: usize, params: &[&[f64]], offset: f64) -> Vec<(f64, bool)> {
+/// together where the model has lanes (the same values as one by one), in
+/// `precision` ([`Precision::F32`] where the model has an f32 path, see
+/// [`crate::model::RigModel::simulate_many_f32`]; f64 otherwise).
+pub fn score_many(
+    problem: &Problem,
+    e: usize,
+    params: &[&[f64]],
+    offset: f64,
+    precision: Precision,
+) -> Vec<(f64, bool)> {
     let exp = &problem.experiments[e];
     let grid = exp.grid(offset, problem.substeps);
     let mut accs: Vec<FitnessAccumulator> = params
         .iter()
         .map(|_| FitnessAccumulator::new(exp))
         .collect();
-    problem
-        .model
-        .simulate_many(params, &exp.drive, &grid, Report::Fitted, &mut |l, s| {
-            accs[l].add(exp, s.index, s.outputs[0])
-        });
+    let mut observe =
+        |l: usize, s: &crate::model::Sample<'_>| accs[l].add(exp, s.index, s.outputs[0]);
+    let in_f32 = precision == Precision::F32
+        && problem
+            .model
+            .simulate_many_f32(params, &exp.drive, &grid, Report::Fitted, &mut observe);
+    if !in_f32 {
+        problem
+            .model
+            .simulate_many(params, &exp.drive, &grid, Report::Fitted, &mut observe);
+    }
     accs.iter()
         .map(|acc| {
             let v = acc.value();

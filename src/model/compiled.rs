@@ -4,6 +4,7 @@
 use std::ops::ControlFlow;
 
 use super::{Drive, Linearised, ParamInfo, Report, RigModel, Sample};
+use crate::compile::Arith;
 use crate::compile::native::NativeSlot;
 use crate::compile::{EventStepper, GpuRig, LANES, LaneCode, LaneRunner, Lowered, Tape, lower};
 use crate::integrate::{SampleGrid, walk_grid};
@@ -26,6 +27,8 @@ pub struct CompiledRig {
     lane_code: Vec<LaneCode>,
     /// Each lane code's native build, made once it pays.
     native: Vec<NativeSlot>,
+    /// Each lane code's f32 build, made when first asked for.
+    native_f32: Vec<NativeSlot>,
     /// Each program prepared for the GPU kernels (`None`: it cannot run there).
     gpu: Vec<Option<std::sync::Arc<GpuRig>>>,
 }
@@ -84,6 +87,9 @@ impl CompiledRig {
             desc,
             lowered,
             native: std::iter::repeat_with(NativeSlot::default)
+                .take(tapes.len())
+                .collect(),
+            native_f32: std::iter::repeat_with(NativeSlot::default)
                 .take(tapes.len())
                 .collect(),
             tapes,
@@ -610,6 +616,39 @@ impl RigModel for CompiledRig {
             }
             runner.numbered_from(c * LANES).run(grid, report, observe);
         }
+    }
+
+    fn simulate_many_f32(
+        &self,
+        params: &[&[f64]],
+        drive: &Drive,
+        grid: &SampleGrid,
+        report: Report,
+        observe: &mut dyn FnMut(usize, &Sample<'_>) -> ControlFlow<()>,
+    ) -> bool {
+        let Some(i) = self.program_for(drive) else {
+            return false;
+        };
+        let Some(native) = self.native_f32[i].now(&self.lane_code[i], Arith::F32) else {
+            return false;
+        };
+        let force = match drive {
+            Drive::Force(t) => Some(t),
+            Drive::Velocity => None,
+        };
+        for (c, chunk) in params.chunks(LANES).enumerate() {
+            LaneRunner::new(
+                &self.lowered.programs[i],
+                &self.tapes[i],
+                &self.lane_code[i],
+                chunk,
+                force,
+            )
+            .with_native(&native)
+            .numbered_from(c * LANES)
+            .run(grid, report, observe);
+        }
+        true
     }
 
     fn lanes(&self) -> usize {

@@ -113,6 +113,22 @@ pub trait RigModel: Send + Sync + std::fmt::Debug {
         }
     }
 
+    /// [`RigModel::simulate_many`] in f32 arithmetic (held to the f32
+    /// tolerance of the f64 reference, as the GPU's f32 kernels are), where
+    /// the model has an f32 path here: a compiled rig whose lane code the C
+    /// compiler built. Returns `false`, having run nothing, where it has
+    /// none.
+    fn simulate_many_f32(
+        &self,
+        _params: &[&[f64]],
+        _drive: &Drive,
+        _grid: &SampleGrid,
+        _report: Report,
+        _observe: &mut dyn FnMut(usize, &Sample<'_>) -> ControlFlow<()>,
+    ) -> bool {
+        false
+    }
+
     /// How many runs [`RigModel::simulate_many`] advances together (1: no
     /// gain from grouping runs).
     fn lanes(&self) -> usize {
