@@ -251,7 +251,8 @@ pub struct RawSolver {
     #[serde(default)]
     pub backend: Backend,
     /// `"precision"`: `"auto"` (default), `"f32"` or `"f64"`; on the CPU
-    /// `"f32"` runs a compiled rig's native f32 lanes, anything else f64.
+    /// `"f32"` runs a compiled rig's native f32 lanes (f64, with a warning,
+    /// for a model without them), anything else f64.
     #[serde(default)]
     pub precision: PrecisionChoice,
 }

@@ -88,18 +88,20 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     // (a GPU job needs them if it falls back to the CPU).
     let cpu = CpuEvaluator::try_new(c.problem.clone(), a.threads)
         .map_err(|e| super::BadInput(format!("--threads {}: {e}", a.threads)))?;
-    // f32 on the CPU is the compiled rig's native f32 lanes: built (or
-    // refused) now, before any work.
-    let cpu = if backend == Backend::Cpu && precision == PrecisionChoice::F32 {
+    // f32 on the CPU is a compiled rig's native f32 lanes, built now, before
+    // any work; a model without them is scored in f64 (as before they
+    // existed), with a warning.
+    let mut cpu = cpu;
+    if backend == Backend::Cpu
+        && precision == PrecisionChoice::F32
+        && let Err(e) = cpu.use_f32()
+    {
         let asked = match a.precision {
             Some(_) => "--precision f32".to_string(),
             None => format!("{}: solver.precision \"f32\"", a.campaign.display()),
         };
-        cpu.in_f32()
-            .map_err(|e| super::BadInput(format!("{asked} on the CPU: {e}")))?
-    } else {
-        cpu
-    };
+        out.note(&format!("warning: {asked} on the CPU: {e}; scoring in f64"));
+    }
     if backend != Backend::Cpu
         && let Some((selector, selected_by)) = rigfit::gpu::requested_adapter(a.adapter.as_deref())
     {

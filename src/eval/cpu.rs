@@ -1,5 +1,5 @@
 //! The CPU evaluator: the f64 RK4 reference, parallel over candidates (rayon);
-//! or, asked for f32 ([`CpuEvaluator::in_f32`]), a compiled rig's f32 lane
+//! or, asked for f32 ([`CpuEvaluator::use_f32`]), a compiled rig's f32 lane
 //! ensemble.
 
 use std::sync::Arc;
@@ -50,11 +50,11 @@ impl CpuEvaluator {
         })
     }
 
-    /// The same evaluator scoring in f32 (a compiled rig's native f32 lane
-    /// ensemble, held to the f32 tolerance of the reference), or
+    /// Scores in f32 from now on (a compiled rig's native f32 lane ensemble,
+    /// held to the f32 tolerance of the reference), or, unchanged (f64),
     /// [`EvalError::Unsupported`] saying why it cannot: a model without an
     /// f32 path (the hand-written ones), or no C compiler to build it.
-    pub fn in_f32(mut self) -> Result<Self, EvalError> {
+    pub fn use_f32(&mut self) -> Result<(), EvalError> {
         for exp in &self.problem.experiments {
             let grid = exp.grid(0.0, self.problem.substeps);
             let built = self.problem.model.simulate_many_f32(
@@ -75,7 +75,7 @@ impl CpuEvaluator {
             }
         }
         self.precision = Precision::F32;
-        Ok(self)
+        Ok(())
     }
 
     /// The problem being scored.

@@ -5,7 +5,7 @@ use std::ops::ControlFlow;
 
 use super::{Drive, Linearised, ParamInfo, Report, RigModel, Sample};
 use crate::compile::Arith;
-use crate::compile::native::NativeSlot;
+use crate::compile::native::{Native, NativeSlot};
 use crate::compile::{EventStepper, GpuRig, LANES, LaneCode, LaneRunner, Lowered, Tape, lower};
 use crate::integrate::{SampleGrid, walk_grid};
 use crate::rig::RigError;
@@ -101,6 +101,41 @@ impl CompiledRig {
     /// Compiles and leaks, for the `&'static dyn RigModel` the campaign holds.
     pub fn leaked(desc: RigDesc, file: &str) -> Result<&'static Self, RigError> {
         Ok(Box::leak(Box::new(Self::new(desc, file)?)))
+    }
+
+    /// `params` run by program `i`'s lane ensemble, natively where `native`
+    /// is its build, in groups of [`LANES`].
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "simulate_many's operands and the program"
+    )]
+    fn run_lanes(
+        &self,
+        i: usize,
+        drive: &Drive,
+        params: &[&[f64]],
+        grid: &SampleGrid,
+        report: Report,
+        native: Option<&Native>,
+        observe: &mut dyn FnMut(usize, &Sample<'_>) -> ControlFlow<()>,
+    ) {
+        let force = match drive {
+            Drive::Force(t) => Some(t),
+            Drive::Velocity => None,
+        };
+        for (c, chunk) in params.chunks(LANES).enumerate() {
+            let mut runner = LaneRunner::new(
+                &self.lowered.programs[i],
+                &self.tapes[i],
+                &self.lane_code[i],
+                chunk,
+                force,
+            );
+            if let Some(n) = native {
+                runner = runner.with_native(n);
+            }
+            runner.numbered_from(c * LANES).run(grid, report, observe);
+        }
     }
 
     /// Index of the program for `drive`.
@@ -597,25 +632,9 @@ impl RigModel for CompiledRig {
             }
             return;
         };
-        let force = match drive {
-            Drive::Force(t) => Some(t),
-            Drive::Velocity => None,
-        };
         let work = (params.len() * grid.total_steps()) as u64;
         let native = self.native[i].get(&self.lane_code[i], work);
-        for (c, chunk) in params.chunks(LANES).enumerate() {
-            let mut runner = LaneRunner::new(
-                &self.lowered.programs[i],
-                &self.tapes[i],
-                &self.lane_code[i],
-                chunk,
-                force,
-            );
-            if let Some(n) = &native {
-                runner = runner.with_native(n);
-            }
-            runner.numbered_from(c * LANES).run(grid, report, observe);
-        }
+        self.run_lanes(i, drive, params, grid, report, native.as_deref(), observe);
     }
 
     fn simulate_many_f32(
@@ -632,22 +651,7 @@ impl RigModel for CompiledRig {
         let Some(native) = self.native_f32[i].now(&self.lane_code[i], Arith::F32) else {
             return false;
         };
-        let force = match drive {
-            Drive::Force(t) => Some(t),
-            Drive::Velocity => None,
-        };
-        for (c, chunk) in params.chunks(LANES).enumerate() {
-            LaneRunner::new(
-                &self.lowered.programs[i],
-                &self.tapes[i],
-                &self.lane_code[i],
-                chunk,
-                force,
-            )
-            .with_native(&native)
-            .numbered_from(c * LANES)
-            .run(grid, report, observe);
-        }
+        self.run_lanes(i, drive, params, grid, report, Some(&native), observe);
         true
     }
 
