@@ -1,11 +1,13 @@
-//! CPU throughput of the compiled rig (candidate-steps per second, f64, all
+//! CPU throughput of the compiled rig (candidate-steps per second, all
 //! cores): the hand-written tensile model, the compiled `rigs/tensile4.json`
-//! one run at a time, and the compiled rig's lane-batched ensemble reporting
-//! output 0 alone (as the fitness asks for it) or every output and the full
-//! state, on the shipped example's grid. `cargo bench --bench
-//! rig_cpu_ensemble` (`RIGFIT_BENCH_POPULATION`, default 4096;
-//! `RIGFIT_BENCH_ROWS=hand,lanes` picks rows from `hand`, `scalar`, `lanes`,
-//! `lanes-full`). Each rate is printed per second of wall time and per
+//! one run at a time, and the compiled rig's lane-batched ensemble on the
+//! fitness path (output 0 of a group at each sample, `simulate_fitted`) in
+//! f64 and f32, a call per run and sample (`simulate_many`, output 0 alone or
+//! every output and the full state), and interpreted instead of native, on
+//! the shipped example's grid. `cargo bench --bench rig_cpu_ensemble`
+//! (`RIGFIT_BENCH_POPULATION`, default 4096; `RIGFIT_BENCH_ROWS=hand,lanes`
+//! picks rows from `hand`, `scalar`, `lanes`, `lanes-f32`, `lanes-each`,
+//! `lanes-full`, `interp`). Each rate is printed per second of wall time and per
 //! CPU-second of the process (on a shared machine the second is the steadier).
 
 use std::ops::ControlFlow;
@@ -105,12 +107,47 @@ fn main() {
         });
         rates.push(("scalar tape", r));
     }
-    for (row, report, name, short) in [
+    // The fitness path: output 0 of each group at once, f64 or f32.
+    for (row, f32, name, short) in [
         (
             "lanes",
-            Report::Fitted,
+            false,
             "compiled tensile4, lane ensemble",
-            "lane ensemble",
+            "lanes f64",
+        ),
+        (
+            "lanes-f32",
+            true,
+            "compiled tensile4, lanes, f32",
+            "lanes f32",
+        ),
+    ] {
+        if !want(row) {
+            continue;
+        }
+        let r = measure(name, ps.len(), steps, || {
+            let _: f64 = ps
+                .par_chunks(rigfit::compile::LANES)
+                .map(|c| {
+                    let refs: Vec<&[f64]> = c.iter().map(|p| p.as_slice()).collect();
+                    let mut s = 0.0;
+                    let ran_f32 = rig.simulate_fitted(&refs, &drive, &grid, f32, &mut |x, _| {
+                        s += x.values.iter().sum::<f64>();
+                    });
+                    assert_eq!(ran_f32, f32, "the C compiler builds the f32 lanes");
+                    s
+                })
+                .sum();
+        });
+        rates.push((short, r));
+    }
+    // Each run at each sample (`simulate_many`): output 0 alone, or everything.
+    for (row, report, name, short) in [
+        (
+            "lanes-each",
+            Report::Fitted,
+            "compiled tensile4, lanes, a call per run",
+            "lanes, a call per run",
         ),
         (
             "lanes-full",
@@ -138,53 +175,31 @@ fn main() {
         });
         rates.push((short, r));
     }
-    // The lane ensemble run directly: interpreting its code (as where no C
-    // compiler works), or built to native code in f32.
-    let lowered = rigfit::compile::lower(&rig.desc, "tensile4").unwrap();
-    let prog = &lowered.programs[0];
-    let tape = rigfit::compile::Tape::new(prog);
-    let code = rigfit::compile::LaneCode::new(prog, &tape);
-    let f32_build = want("lanes-f32").then(|| {
-        rigfit::compile::Native::build(&code, rigfit::compile::Arith::F32)
-            .expect("the C compiler builds the lane code")
-    });
-    for (row, native, name, short) in [
-        (
-            "interp",
-            None,
+    if want("interp") {
+        // The lane ensemble interpreting its code (as where no C compiler
+        // works), on the fitness path.
+        let lowered = rigfit::compile::lower(&rig.desc, "tensile4").unwrap();
+        let prog = &lowered.programs[0];
+        let tape = rigfit::compile::Tape::new(prog);
+        let code = rigfit::compile::LaneCode::new(prog, &tape);
+        let r = measure(
             "compiled tensile4, lanes interpreted",
-            "lanes interpreted",
-        ),
-        (
-            "lanes-f32",
-            f32_build.as_deref(),
-            "compiled tensile4, lanes, f32",
-            "lanes f32",
-        ),
-    ] {
-        if !want(row) {
-            continue;
-        }
-        let r = measure(name, ps.len(), steps, || {
-            let _: f64 = ps
-                .par_chunks(rigfit::compile::LANES)
-                .map(|c| {
-                    let refs: Vec<&[f64]> = c.iter().map(|p| p.as_slice()).collect();
-                    let mut s = 0.0;
-                    let mut runner =
-                        rigfit::compile::LaneRunner::new(prog, &tape, &code, &refs, None);
-                    if let Some(n) = native {
-                        runner = runner.with_native(n);
-                    }
-                    runner.run(&grid, Report::Fitted, &mut |_, x| {
-                        s += x.outputs[0];
-                        ControlFlow::Continue(())
-                    });
-                    s
-                })
-                .sum();
-        });
-        rates.push((short, r));
+            ps.len(),
+            steps,
+            || {
+                let _: f64 = ps
+                    .par_chunks(rigfit::compile::LANES)
+                    .map(|c| {
+                        let refs: Vec<&[f64]> = c.iter().map(|p| p.as_slice()).collect();
+                        let mut s = 0.0;
+                        rigfit::compile::LaneRunner::new(prog, &tape, &code, &refs, None)
+                            .run_fitted(&grid, &mut |x, _| s += x.values.iter().sum::<f64>());
+                        s
+                    })
+                    .sum();
+            },
+        );
+        rates.push(("lanes interpreted", r));
     }
     for (i, (a, ra)) in rates.iter().enumerate() {
         for (b, rb) in &rates[i + 1..] {

@@ -197,6 +197,25 @@ fn the_fitted_report_is_output_zero_of_the_full_one() {
         assert_eq!(got[0].len(), ps.len());
         assert_eq!(got[0][0].len(), grid.samples);
         assert_eq!(got[0], got[1], "{}", m.id());
+        // The same values a group at a time (`simulate_fitted`, f64), with a
+        // run stopped after 100 samples and the rest left to the end.
+        let mut grouped = vec![vec![]; ps.len()];
+        let ran_f32 = m.simulate_fitted(&refs, &Drive::Velocity, &grid, false, &mut |s, live| {
+            for (j, v) in s.values.iter().enumerate() {
+                if *live >> j & 1 == 1 {
+                    grouped[s.first + j].push(v.to_bits());
+                }
+            }
+            if s.index == 99 && (s.first..s.first + s.values.len()).contains(&4) {
+                *live &= !(1 << (4 - s.first));
+            }
+        });
+        assert!(!ran_f32);
+        for (i, (a, b)) in grouped.iter().zip(&got[1]).enumerate() {
+            let n = if i == 4 { 100 } else { grid.samples };
+            assert_eq!(a.len(), n, "{} run {i}", m.id());
+            assert_eq!(a[..], b[..n], "{} run {i}", m.id());
+        }
     }
 }
 

@@ -33,7 +33,7 @@ use super::native_c::Arith;
 use super::program::{Direction, Program};
 use super::tape::{Tape, table_value};
 use crate::integrate::{SampleGrid, walk_grid};
-use crate::model::{PiecewiseLinear, Report, Sample};
+use crate::model::{FittedSample, PiecewiseLinear, Report, Sample};
 
 /// Lanes in one vector block.
 pub const W: usize = 8;
@@ -525,6 +525,9 @@ impl<'p> LaneRunner<'p> {
                 packed[..lanes.len()].copy_from_slice(&lanes);
             }
         }
+        for st in &mut self.steppers {
+            st.with_native_deriv(self.code, native, self.force);
+        }
         self.native = Some(native);
         self
     }
@@ -688,6 +691,50 @@ impl<'p> LaneRunner<'p> {
         }
         self.lane_y = lane_y;
         self.lane_end = lane_end;
+    }
+
+    /// Runs every lane over `grid`, handing output 0 of every lane to
+    /// `observe` at each sample (as [`crate::model::RigModel::simulate_fitted`]
+    /// does: lanes numbered from [`Self::numbered_from`], `live` a bit per
+    /// lane still observed), until no lane is left.
+    pub fn run_fitted(
+        &mut self,
+        grid: &SampleGrid,
+        observe: &mut dyn FnMut(&FittedSample<'_>, &mut u64),
+    ) {
+        let lanes = self.steppers.len();
+        let code = self.code;
+        let out = code.fitted.roots[0] as usize;
+        let mut live: u64 = if lanes == 64 { !0 } else { (1 << lanes) - 1 };
+        let mut values = vec![0.0; lanes];
+        walk_grid(
+            grid,
+            self,
+            |me, t, h| me.step(t, h),
+            |me, k, t| {
+                me.eval(&code.fitted, 3, t);
+                let row = &me.regs[out];
+                for (l, v) in values.iter_mut().enumerate() {
+                    *v = if me.chattered >> l & 1 == 1 {
+                        f64::NAN
+                    } else {
+                        row[l / W][l % W]
+                    };
+                }
+                let s = FittedSample {
+                    first: me.first,
+                    index: k,
+                    t,
+                    values: &values,
+                };
+                observe(&s, &mut live);
+                if live != 0 {
+                    ControlFlow::Continue(())
+                } else {
+                    ControlFlow::Break(())
+                }
+            },
+        );
     }
 
     /// Runs every lane over `grid`, calling `observe(lane, sample)` at every

@@ -55,11 +55,17 @@ pub enum NativeError {
 type Rk4Fn =
     unsafe extern "C" fn(*mut Reg, *mut Reg, c_long, *const f64, *const f64, f64, f64, f64, c_long);
 type ListFn = unsafe extern "C" fn(*mut Reg, c_long, f64, *const f64, *mut u8);
+type Deriv1Fn = unsafe extern "C" fn(*const f64, f64, *const f64, *mut f64);
 
 /// A loaded build of one program's lane code.
 pub struct Native {
     rk4: Rk4Fn,
     lists: [ListFn; 3],
+    deriv1: Deriv1Fn,
+    /// The lane code's register count and state count, which
+    /// [`Self::deriv1`]'s slices hold.
+    registers: usize,
+    states: usize,
     /// Table values per derivative in [`Self::rk4`]'s `tab`.
     pub(crate) table_stride: usize,
     /// The per-run constants whose values, shared by every lane, let
@@ -100,9 +106,12 @@ impl Native {
             return Ok(n.clone());
         }
         let dir = scratch_dir()?;
-        let result = compile_and_load(&dir, &src).map(|(rk4, lists, lib)| Native {
+        let result = compile_and_load(&dir, &src).map(|(rk4, lists, deriv1, lib)| Native {
             rk4,
             lists,
+            deriv1,
+            registers: code.registers,
+            states: code.slopes.len(),
             table_stride: native_c::table_stride(code),
             hoist_reads: native_c::hoistable(code).1,
             arith,
@@ -180,6 +189,21 @@ impl Native {
     }
 }
 
+impl Native {
+    /// One run's derivative in f64 (whatever [`Self::arith`]), bit for bit
+    /// the scalar reference's: `r` the run's scalar register file (states,
+    /// modes and per-run constants at their registers), time `t`, table
+    /// values `tab`; the slopes into `out`.
+    #[expect(unsafe_code, reason = "calls the compiled C")]
+    pub(crate) fn deriv1(&self, r: &[f64], t: f64, tab: &[f64], out: &mut [f64]) {
+        assert!(r.len() == self.registers && out.len() == self.states);
+        assert!(tab.len() >= self.table_stride);
+        // SAFETY: the C reads registers below `registers`, tables below
+        // `table_stride`, and writes `states` slopes.
+        unsafe { (self.deriv1)(r.as_ptr(), t, tab.as_ptr(), out.as_mut_ptr()) }
+    }
+}
+
 /// A new directory of this process's own under the temporary folder, never
 /// named alike twice in one process: the dynamic loader takes a library path
 /// it has loaded before for that library, even once the file is gone.
@@ -213,7 +237,7 @@ fn scratch_dir() -> Result<PathBuf, NativeError> {
 fn compile_and_load(
     dir: &Path,
     src: &str,
-) -> Result<(Rk4Fn, [ListFn; 3], libloading::Library), NativeError> {
+) -> Result<(Rk4Fn, [ListFn; 3], Deriv1Fn, libloading::Library), NativeError> {
     let c = dir.join("lanes.c");
     let lib = dir.join("lanes.so");
     std::fs::write(&c, src).map_err(|source| NativeError::Io {
@@ -261,7 +285,8 @@ fn compile_and_load(
         for name in [&b"rig_events\0"[..], b"rig_report\0", b"rig_fitted\0"] {
             lists.push(*l.get::<ListFn>(name).map_err(load_err)?);
         }
-        Ok((rk4, [lists[0], lists[1], lists[2]], l))
+        let deriv1: Deriv1Fn = *l.get::<Deriv1Fn>(b"rig_deriv1\0").map_err(load_err)?;
+        Ok((rk4, [lists[0], lists[1], lists[2]], deriv1, l))
     }
 }
 

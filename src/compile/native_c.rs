@@ -84,6 +84,53 @@ F d dexpm1(d x) {
 }
 "#;
 
+/// One run's f64 arithmetic, for the derivative a redone step takes
+/// (`rig_deriv1`): [`super::math`]'s `eˣ` and `eˣ − 1` and Rust's `min`,
+/// `max`, comparisons and select, on scalars.
+const SCALAR: &str = r#"#include <stdint.h>
+#include <string.h>
+F double spow2(double k) { double v = k + (1023.0 + SHIFT); uint64_t b; memcpy(&b, &v, 8); b <<= 52; memcpy(&v, &b, 8); return v; }
+F double spoly(double r) {
+  double r2 = r * r, r4 = r2 * r2, r8 = r4 * r4;
+  double a0 = 1.0 + 0.5 * r;
+  double a1 = (1.0 / 6.0) + (1.0 / 24.0) * r;
+  double a2 = (1.0 / 120.0) + (1.0 / 720.0) * r;
+  double a3 = (1.0 / 5040.0) + (1.0 / 40320.0) * r;
+  double a4 = (1.0 / 362880.0) + (1.0 / 3628800.0) * r;
+  double a5 = (1.0 / 39916800.0) + (1.0 / 479001600.0) * r;
+  double a6 = 1.0 / 6227020800.0;
+  double b0 = a0 + a1 * r2, b1 = a2 + a3 * r2, b2 = a4 + a5 * r2;
+  double d0 = b0 + b1 * r4, d1 = b2 + a6 * r4;
+  return (d0 + d1 * r8) * r;
+}
+F double sclamp(double x, double lo, double hi) { if (x < lo) x = lo; if (x > hi) x = hi; return x; }
+F double sexp(double x) {
+  double c = sclamp(x, -746.0, EXP_MAX);
+  double k = (c * INV_LN2 + SHIFT) - SHIFT;
+  double r = (c - k * LN2_HI) - k * LN2_LO;
+  double k1 = (0.5 * k + SHIFT) - SHIFT;
+  double e = (spoly(r) + 1.0) * spow2(k1) * spow2(k - k1);
+  return x < -745.2 ? 0.0 : x > EXP_MAX ? __builtin_inf() : e;
+}
+F double sexpm1(double x) {
+  double c = sclamp(x, -41.0, 709.0);
+  double k = (c * INV_LN2 + SHIFT) - SHIFT;
+  double r = (c - k * LN2_HI) - k * LN2_LO;
+  double p = spoly(r), t = spow2(k);
+  double e = t * p + (t - 1.0);
+  return x < -40.0 ? -1.0 : x > EXP_MAX ? __builtin_inf() : e;
+}
+F double ssel(double c, double a, double b) { return c != 0.0 ? a : b; }
+F double sle(double a, double b) { return a <= b ? 1.0 : 0.0; }
+F double seq(double a, double b) { return a == b ? 1.0 : 0.0; }
+F double smin(double a, double b) { return a != a ? b : b != b ? a : a < b ? a : b; }
+F double smax(double a, double b) { return a != a ? b : b != b ? a : a > b ? a : b; }
+F double sabs(double a) { return fabs(a); }
+F double slog(double a) { return log(a); }
+F double ssin(double a) { return sin(a); }
+F double scos(double a) { return cos(a); }
+"#;
+
 /// The lane type `v` of [`Arith::F64`]: a block of the register file.
 const F64_LANES: &str = r#"typedef d v; typedef dm m; typedef du u;
 #define WV 8
@@ -151,9 +198,9 @@ F v vexpm1(v x) {
 /// What both lane types share, written on `v`.
 const LANE_OPS: &str = r#"F v splat(double x) { v r; for (int l = 0; l < WV; l++) r[l] = x; return r; }
 F v pick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
-F v sel(v c, v a, v b) { return pick(c != splat(0.0), a, b); }
-F v le(v a, v b) { return (v)((a <= b) & (m)splat(1.0)); }
-F v eq(v a, v b) { return (v)((a == b) & (m)splat(1.0)); }
+F v vsel(v c, v a, v b) { return pick(c != splat(0.0), a, b); }
+F v vle(v a, v b) { return (v)((a <= b) & (m)splat(1.0)); }
+F v veq(v a, v b) { return (v)((a == b) & (m)splat(1.0)); }
 /* Rust's f64::min / f64::max: a NaN operand gives the other. */
 F v vmin(v a, v b) { v r = pick(a < b, a, b); r = pick(a != a, b, r); return pick(b != b, a, r); }
 F v vmax(v a, v b) { v r = pick(a > b, a, b); r = pick(a != a, b, r); return pick(b != b, a, r); }
@@ -162,26 +209,27 @@ F v vsin(v a) { v r; for (int l = 0; l < WV; l++) r[l] = sin(a[l]); return r; }
 F v vcos(v a) { v r; for (int l = 0; l < WV; l++) r[l] = cos(a[l]); return r; }
 "#;
 
-/// One instruction as a C statement on the register locals `rN`.
-fn statement(dest: Reg, op: &Op) -> String {
+/// One instruction as a C statement on the register locals `rN`, with the
+/// helpers for vectors (`p = 'v'`) or scalars (`'s'`).
+fn statement(dest: Reg, op: &Op, p: char) -> String {
     let r = |i: Id| format!("r{i}");
     let e = match *op {
         Op::Add(a, b) => format!("{} + {}", r(a), r(b)),
         Op::Sub(a, b) => format!("{} - {}", r(a), r(b)),
         Op::Mul(a, b) => format!("{} * {}", r(a), r(b)),
         Op::Div(a, b) => format!("{} / {}", r(a), r(b)),
-        Op::Min(a, b) => format!("vmin({}, {})", r(a), r(b)),
-        Op::Max(a, b) => format!("vmax({}, {})", r(a), r(b)),
-        Op::Le(a, b) => format!("le({}, {})", r(a), r(b)),
-        Op::Eq(a, b) => format!("eq({}, {})", r(a), r(b)),
+        Op::Min(a, b) => format!("{p}min({}, {})", r(a), r(b)),
+        Op::Max(a, b) => format!("{p}max({}, {})", r(a), r(b)),
+        Op::Le(a, b) => format!("{p}le({}, {})", r(a), r(b)),
+        Op::Eq(a, b) => format!("{p}eq({}, {})", r(a), r(b)),
         Op::Neg(a) => format!("-{}", r(a)),
-        Op::Abs(a) => format!("vabs({})", r(a)),
-        Op::Exp(a) => format!("vexp({})", r(a)),
-        Op::Expm1(a) => format!("vexpm1({})", r(a)),
-        Op::Ln(a) => format!("vlog({})", r(a)),
-        Op::Sin(a) => format!("vsin({})", r(a)),
-        Op::Cos(a) => format!("vcos({})", r(a)),
-        Op::Select(c, a, b) => format!("sel({}, {}, {})", r(c), r(a), r(b)),
+        Op::Abs(a) => format!("{p}abs({})", r(a)),
+        Op::Exp(a) => format!("{p}exp({})", r(a)),
+        Op::Expm1(a) => format!("{p}expm1({})", r(a)),
+        Op::Ln(a) => format!("{p}log({})", r(a)),
+        Op::Sin(a) => format!("{p}sin({})", r(a)),
+        Op::Cos(a) => format!("{p}cos({})", r(a)),
+        Op::Select(c, a, b) => format!("{p}sel({}, {}, {})", r(c), r(a), r(b)),
         Op::Const(_) | Op::In(_) => unreachable!("registers filled before the list runs"),
     };
     format!("    r{dest} = {e};\n")
@@ -329,7 +377,7 @@ fn rk4_loop(s: &mut String, code: &LaneCode, hoisted: Option<&[bool]>) {
             if hoisted.is_some_and(|h| h[j]) {
                 let _ = writeln!(s, "    r{} = u{stage}_{j};", ins.dest);
             } else {
-                s.push_str(&statement(ins.dest, &ins.op));
+                s.push_str(&statement(ins.dest, &ins.op, 'v'));
             }
         }
         for &(state, copy) in &code.slope_copies {
@@ -394,7 +442,7 @@ pub fn source(code: &LaneCode, arith: Arith) -> String {
                 .enumerate()
                 .filter(|&(j, _)| flags[j])
             {
-                s.push_str(&statement(ins.dest, &ins.op));
+                s.push_str(&statement(ins.dest, &ins.op, 'v'));
                 let _ = writeln!(s, "    v u{stage}_{j} = r{};", ins.dest);
             }
         }
@@ -402,6 +450,39 @@ pub fn source(code: &LaneCode, arith: Arith) -> String {
         s.push_str("  return;\n  }\n");
     }
     rk4_loop(&mut s, code, None);
+    s.push_str("}\n");
+
+    // rig_deriv1: one run's derivative for its redone steps; `R` its scalar
+    // register file (states, modes and per-run constants at their
+    // registers), `out` the slopes.
+    s.push_str(SCALAR);
+    s.push_str(
+        "void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) {\n",
+    );
+    let _ = writeln!(
+        s,
+        "    double {};",
+        (0..code.registers)
+            .map(|i| format!("r{i}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    for &reg in &inputs(&code.deriv) {
+        let src = if reg == code.time {
+            "t".to_string()
+        } else if let Some(k) = table_of(reg) {
+            format!("tab[{k}]")
+        } else {
+            format!("R[{reg}]")
+        };
+        let _ = writeln!(s, "    r{reg} = {src};");
+    }
+    for ins in &code.deriv.code {
+        s.push_str(&statement(ins.dest, &ins.op, 's'));
+    }
+    for (i, &root) in code.deriv.roots.iter().enumerate() {
+        let _ = writeln!(s, "    out[{i}] = r{root};");
+    }
     s.push_str("}\n");
 
     for (name, list) in [
@@ -427,7 +508,7 @@ pub fn source(code: &LaneCode, arith: Arith) -> String {
             load(&mut s, reg, "t", code, &tabs);
         }
         for ins in &list.code {
-            s.push_str(&statement(ins.dest, &ins.op));
+            s.push_str(&statement(ins.dest, &ins.op, 'v'));
         }
         for &root in &list.roots {
             let _ = writeln!(s, "    ST(R, {root}, r{root});");

@@ -57,13 +57,10 @@ impl CpuEvaluator {
     pub fn use_f32(&mut self) -> Result<(), EvalError> {
         for exp in &self.problem.experiments {
             let grid = exp.grid(0.0, self.problem.substeps);
-            let built = self.problem.model.simulate_many_f32(
-                &[],
-                &exp.drive,
-                &grid,
-                crate::model::Report::Fitted,
-                &mut |_, _| std::ops::ControlFlow::Continue(()),
-            );
+            let built =
+                self.problem
+                    .model
+                    .simulate_fitted(&[], &exp.drive, &grid, true, &mut |_, _| {});
             if !built {
                 return Err(EvalError::Unsupported(format!(
                     "f32 on the CPU needs a compiled rig (a campaign's \"rig\"; the hand-written \

@@ -3,7 +3,6 @@
 use std::ops::ControlFlow;
 
 use super::{DIVERGED, ExperimentData, History, Precision, Problem};
-use crate::model::Report;
 
 /// Running residual sum over the fit window, with the blow-up guard.
 #[derive(Debug, Clone, Copy)]
@@ -70,7 +69,7 @@ pub fn score_one(problem: &Problem, e: usize, params: &[f64], offset: f64) -> (f
 /// [`score_one`] for several candidates of experiment `e` with one offset, run
 /// together where the model has lanes (the same values as one by one), in
 /// `precision` ([`Precision::F32`] where the model has an f32 path, see
-/// [`crate::model::RigModel::simulate_many_f32`]; f64 otherwise).
+/// [`crate::model::RigModel::simulate_fitted`]; f64 otherwise).
 pub fn score_many(
     problem: &Problem,
     e: usize,
@@ -84,17 +83,22 @@ pub fn score_many(
         .iter()
         .map(|_| FitnessAccumulator::new(exp))
         .collect();
-    let mut observe =
-        |l: usize, s: &crate::model::Sample<'_>| accs[l].add(exp, s.index, s.outputs[0]);
-    let in_f32 = precision == Precision::F32
-        && problem
-            .model
-            .simulate_many_f32(params, &exp.drive, &grid, Report::Fitted, &mut observe);
-    if !in_f32 {
-        problem
-            .model
-            .simulate_many(params, &exp.drive, &grid, Report::Fitted, &mut observe);
-    }
+    problem.model.simulate_fitted(
+        params,
+        &exp.drive,
+        &grid,
+        precision == Precision::F32,
+        &mut |s, live| {
+            let mut left = *live;
+            while left != 0 {
+                let j = left.trailing_zeros() as usize;
+                left &= left - 1;
+                if accs[s.first + j].add(exp, s.index, s.values[j]).is_break() {
+                    *live &= !(1 << j);
+                }
+            }
+        },
+    );
     accs.iter()
         .map(|acc| {
             let v = acc.value();

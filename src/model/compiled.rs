@@ -3,7 +3,7 @@
 
 use std::ops::ControlFlow;
 
-use super::{Drive, Linearised, ParamInfo, Report, RigModel, Sample};
+use super::{Drive, FittedSample, Linearised, ParamInfo, Report, RigModel, Sample};
 use crate::compile::Arith;
 use crate::compile::native::{Native, NativeSlot};
 use crate::compile::{EventStepper, GpuRig, LANES, LaneCode, LaneRunner, Lowered, Tape, lower};
@@ -31,6 +31,17 @@ pub struct CompiledRig {
     native_f32: Vec<NativeSlot>,
     /// Each program prepared for the GPU kernels (`None`: it cannot run there).
     gpu: Vec<Option<std::sync::Arc<GpuRig>>>,
+}
+
+/// How a group of lane runs reports ([`CompiledRig::run_lanes`]).
+enum Observe<'a> {
+    /// Each run at each sample, as [`RigModel::simulate_many`].
+    Each(
+        Report,
+        &'a mut dyn FnMut(usize, &Sample<'_>) -> ControlFlow<()>,
+    ),
+    /// Output 0 of the group at each sample, as [`RigModel::simulate_fitted`].
+    Fitted(&'a mut dyn FnMut(&FittedSample<'_>, &mut u64)),
 }
 
 fn leak(s: &str) -> &'static str {
@@ -105,19 +116,14 @@ impl CompiledRig {
 
     /// `params` run by program `i`'s lane ensemble, natively where `native`
     /// is its build, in groups of [`LANES`].
-    #[expect(
-        clippy::too_many_arguments,
-        reason = "simulate_many's operands and the program"
-    )]
     fn run_lanes(
         &self,
         i: usize,
         drive: &Drive,
         params: &[&[f64]],
         grid: &SampleGrid,
-        report: Report,
         native: Option<&Native>,
-        observe: &mut dyn FnMut(usize, &Sample<'_>) -> ControlFlow<()>,
+        mut observe: Observe<'_>,
     ) {
         let force = match drive {
             Drive::Force(t) => Some(t),
@@ -134,7 +140,11 @@ impl CompiledRig {
             if let Some(n) = native {
                 runner = runner.with_native(n);
             }
-            runner.numbered_from(c * LANES).run(grid, report, observe);
+            let mut runner = runner.numbered_from(c * LANES);
+            match &mut observe {
+                Observe::Each(report, f) => runner.run(grid, *report, *f),
+                Observe::Fitted(f) => runner.run_fitted(grid, *f),
+            }
         }
     }
 
@@ -634,25 +644,44 @@ impl RigModel for CompiledRig {
         };
         let work = (params.len() * grid.total_steps()) as u64;
         let native = self.native[i].get(&self.lane_code[i], work);
-        self.run_lanes(i, drive, params, grid, report, native.as_deref(), observe);
+        self.run_lanes(
+            i,
+            drive,
+            params,
+            grid,
+            native.as_deref(),
+            Observe::Each(report, observe),
+        );
     }
 
-    fn simulate_many_f32(
+    fn simulate_fitted(
         &self,
         params: &[&[f64]],
         drive: &Drive,
         grid: &SampleGrid,
-        report: Report,
-        observe: &mut dyn FnMut(usize, &Sample<'_>) -> ControlFlow<()>,
+        f32: bool,
+        observe: &mut dyn FnMut(&FittedSample<'_>, &mut u64),
     ) -> bool {
         let Some(i) = self.program_for(drive) else {
+            super::fitted_one_by_one(self, params, drive, grid, observe);
             return false;
         };
-        let Some(native) = self.native_f32[i].now(&self.lane_code[i], Arith::F32) else {
-            return false;
-        };
-        self.run_lanes(i, drive, params, grid, report, Some(&native), observe);
-        true
+        let in_f32 = f32
+            .then(|| self.native_f32[i].now(&self.lane_code[i], Arith::F32))
+            .flatten();
+        let native = in_f32.clone().or_else(|| {
+            let work = (params.len() * grid.total_steps()) as u64;
+            self.native[i].get(&self.lane_code[i], work)
+        });
+        self.run_lanes(
+            i,
+            drive,
+            params,
+            grid,
+            native.as_deref(),
+            Observe::Fitted(observe),
+        );
+        in_f32.is_some()
     }
 
     fn lanes(&self) -> usize {

@@ -30,6 +30,48 @@ pub struct Sample<'a> {
     pub outputs: &'a [f64],
 }
 
+/// Output 0 of a group of runs at one sample ([`RigModel::simulate_fitted`]).
+#[derive(Debug, Clone, Copy)]
+pub struct FittedSample<'a> {
+    /// The run `values[0]` belongs to; `values[j]` is run `first + j`'s.
+    pub first: usize,
+    /// Sample index on the grid.
+    pub index: usize,
+    /// Sample time (s).
+    pub t: f64,
+    /// Output 0 of each run of the group (NaN for a run that chattered).
+    pub values: &'a [f64],
+}
+
+/// [`RigModel::simulate_fitted`] one run after the other, in f64 (its
+/// default).
+pub fn fitted_one_by_one<M: RigModel + ?Sized>(
+    model: &M,
+    params: &[&[f64]],
+    drive: &Drive,
+    grid: &SampleGrid,
+    observe: &mut dyn FnMut(&FittedSample<'_>, &mut u64),
+) {
+    for (i, p) in params.iter().enumerate() {
+        model.simulate(p, drive, grid, &mut |s| {
+            let mut live = 1;
+            let values = [s.outputs[0]];
+            let sample = FittedSample {
+                first: i,
+                index: s.index,
+                t: s.t,
+                values: &values,
+            };
+            observe(&sample, &mut live);
+            if live == 0 {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
+        });
+    }
+}
+
 /// What [`RigModel::simulate_many`] reports at each sample.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Report {
@@ -113,19 +155,25 @@ pub trait RigModel: Send + Sync + std::fmt::Debug {
         }
     }
 
-    /// [`RigModel::simulate_many`] in f32 arithmetic (held to the f32
-    /// tolerance of the f64 reference, as the GPU's f32 kernels are), where
-    /// the model has an f32 path here: a compiled rig whose lane code the C
-    /// compiler built. Returns `false`, having run nothing, where it has
-    /// none.
-    fn simulate_many_f32(
+    /// Output 0 alone of several runs on one grid, each sample's values for a
+    /// group of runs handed to `observe` at once (what the fitness needs,
+    /// without a call per run and sample). `live` has a bit per run of the
+    /// group (bit `j`: run `first + j`) still observed: the observer clears a
+    /// run's bit to stop observing it, and the group ends when none is left.
+    /// With `f32`, in f32 arithmetic where the model has an f32 path here (a
+    /// compiled rig whose lane code the C compiler built), held to the f32
+    /// tolerance of the f64 reference as the GPU's f32 kernels are. Returns
+    /// whether it ran in f32. By default one run after the other, in f64.
+    fn simulate_fitted(
         &self,
-        _params: &[&[f64]],
-        _drive: &Drive,
-        _grid: &SampleGrid,
-        _report: Report,
-        _observe: &mut dyn FnMut(usize, &Sample<'_>) -> ControlFlow<()>,
+        params: &[&[f64]],
+        drive: &Drive,
+        grid: &SampleGrid,
+        f32: bool,
+        observe: &mut dyn FnMut(&FittedSample<'_>, &mut u64),
     ) -> bool {
+        let _ = f32;
+        fitted_one_by_one(self, params, drive, grid, observe);
         false
     }
 
