@@ -124,6 +124,15 @@ fn evaluators() -> Vec<Row> {
             Box::new(|| Box::new(CpuEvaluator::new(problem(true), 0))),
             true,
         ),
+        (
+            "cpu-all-threads-rig-f32",
+            Box::new(|| {
+                let mut ev = CpuEvaluator::new(problem(true), 0);
+                ev.use_f32().expect("the C compiler builds the f32 lanes");
+                Box::new(ev)
+            }),
+            true,
+        ),
     ];
     match GpuContext::new() {
         Ok(ctx) => {
