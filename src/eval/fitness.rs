@@ -26,12 +26,25 @@ impl FitnessAccumulator {
 
     /// Adds sample `k` with model output `model`; breaks once the run diverged.
     pub fn add(&mut self, exp: &ExperimentData, k: usize, model: f64) -> ControlFlow<()> {
+        self.add_measured(model, Self::measured(exp, k))
+    }
+
+    /// The measured value sample `k` is scored against: `None` outside the
+    /// fit window (the same for every run of a sample, so a group looks it
+    /// up once).
+    pub fn measured(exp: &ExperimentData, k: usize) -> Option<f64> {
+        exp.window.contains(&k).then(|| exp.force[k])
+    }
+
+    /// [`Self::add`] with the sample's [`Self::measured`] value.
+    #[inline]
+    pub fn add_measured(&mut self, model: f64, measured: Option<f64>) -> ControlFlow<()> {
         if model.is_nan() || model.abs() > self.limit {
             self.diverged = true;
             return ControlFlow::Break(());
         }
-        if exp.window.contains(&k) {
-            let r = model - exp.force[k];
+        if let Some(m) = measured {
+            let r = model - m;
             self.ss_res += r * r;
         }
         ControlFlow::Continue(())
@@ -89,11 +102,22 @@ pub fn score_many(
         &grid,
         precision == Precision::F32,
         &mut |s, live| {
+            let measured = FitnessAccumulator::measured(exp, s.index);
+            let accs = &mut accs[s.first..s.first + s.values.len()];
+            if *live == u64::MAX >> (64 - s.values.len()) {
+                // Every run still observed: straight through the group.
+                for (j, (acc, &v)) in accs.iter_mut().zip(s.values).enumerate() {
+                    if acc.add_measured(v, measured).is_break() {
+                        *live &= !(1 << j);
+                    }
+                }
+                return;
+            }
             let mut left = *live;
             while left != 0 {
                 let j = left.trailing_zeros() as usize;
                 left &= left - 1;
-                if accs[s.first + j].add(exp, s.index, s.values[j]).is_break() {
+                if accs[j].add_measured(s.values[j], measured).is_break() {
                     *live &= !(1 << j);
                 }
             }
