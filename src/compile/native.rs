@@ -143,10 +143,12 @@ impl Native {
         h6: f64,
         hoist: bool,
     ) {
-        assert!(tab.len() >= 4 * self.table_stride && y.len() <= r.len());
+        assert!(r.len() == self.registers && y.len() == self.states && nb <= BLOCKS);
+        assert!(tab.len() >= 4 * self.table_stride);
         // SAFETY: the C reads and writes rows below the lane code's register
-        // count (`r`'s length, checked by the runner) and `y`'s state rows,
-        // blocks below `nb` ≤ BLOCKS; `tab` holds what it reads.
+        // count (`r`'s length) and `y`'s state rows, blocks below `nb` ≤
+        // BLOCKS (the f32 code also the block after each even one, still
+        // below BLOCKS); `tab` holds what it reads.
         unsafe {
             (self.rk4)(
                 r.as_mut_ptr(),
@@ -175,6 +177,7 @@ impl Native {
         tab: &[f64],
         hit: &mut [u8; BLOCKS],
     ) {
+        assert!(r.len() == self.registers && nb <= BLOCKS);
         assert!(tab.len() >= self.table_stride);
         // SAFETY: as in `rk4`; `hit` has a byte for every block.
         unsafe {
