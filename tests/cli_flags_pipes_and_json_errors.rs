@@ -181,3 +181,22 @@ fn the_vulkan_drivers_xdg_runtime_dir_lines_stay_out_of_rigfits_output() {
     assert!(!stderr(&o).contains("XDG_RUNTIME_DIR"), "{}", stderr(&o));
     assert!(String::from_utf8_lossy(&o.stdout).contains("GPU adapters"));
 }
+
+#[test]
+fn devices_says_whether_the_cpu_lanes_run_native_code() {
+    let o = rigfit().args(["devices", "--json"]).output().unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    // No C compiler here is a failure, not a skip.
+    assert_eq!(v["cpu"]["native_lanes"], Value::Bool(true), "{v}");
+    let o = rigfit()
+        .arg("devices")
+        .env("RIGFIT_CC", "/nonexistent/cc")
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains("lanes interpret their code") && text.contains("/nonexistent/cc"),
+        "{text}"
+    );
+}

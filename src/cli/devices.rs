@@ -5,9 +5,20 @@ use anyhow::Result;
 use super::Output;
 use rigfit::gpu::list_adapters;
 
-/// Lists every adapter wgpu can see, with its f64 support.
+/// Lists every adapter wgpu can see, with its f64 support, and whether the
+/// CPU's lane ensemble runs native code here.
 pub fn devices(out: &Output) -> Result<()> {
     let adapters = list_adapters();
+    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    let native = rigfit::compile::native::check_native_lanes();
+    let cpu_line = match &native {
+        Ok((cc, version)) => format!(
+            "CPU: {cores} cores; compiled rigs' lanes run native code, built by `{cc}` ({version})"
+        ),
+        Err(why) => format!(
+            "CPU: {cores} cores; compiled rigs' lanes interpret their code (3× slower): {why}"
+        ),
+    };
     let rows: Vec<serde_json::Value> = adapters
         .iter()
         .map(|a| {
@@ -17,13 +28,23 @@ pub fn devices(out: &Output) -> Result<()> {
             })
         })
         .collect();
-    out.json(&serde_json::json!({ "adapters": rows }))?;
+    out.json(&serde_json::json!({
+        "adapters": rows,
+        "cpu": {
+            "cores": cores,
+            "native_lanes": native.is_ok(),
+            "compiler": native.as_ref().ok().map(|(cc, _)| cc),
+            "compiler_version": native.as_ref().ok().map(|(_, v)| v),
+            "why_not": native.as_ref().err(),
+        },
+    }))?;
     out.say(|| {
         if adapters.is_empty() {
-            return "no GPU adapter found. Install a Vulkan driver: on Debian \
-                    `apt-get install mesa-vulkan-drivers` gives the software adapter lavapipe; \
-                    on NVIDIA/AMD machines install the vendor's Vulkan driver."
-                .into();
+            return format!(
+                "no GPU adapter found. Install a Vulkan driver: on Debian \
+                 `apt-get install mesa-vulkan-drivers` gives the software adapter lavapipe; \
+                 on NVIDIA/AMD machines install the vendor's Vulkan driver.\n{cpu_line}"
+            );
         }
         let mut s =
             String::from("GPU adapters (precision auto picks f64 where shader_f64 is yes):\n");
@@ -44,7 +65,8 @@ pub fn devices(out: &Output) -> Result<()> {
         }
         s += "pick one with `rigfit run --adapter I` (index, PCI bus id or a piece of the name) \
               or RIGFIT_ADAPTER\n";
-        s.trim_end().to_string()
+        s += &cpu_line;
+        s
     });
     Ok(())
 }

@@ -293,6 +293,31 @@ fn compile_and_load(
     }
 }
 
+/// Whether this machine builds native lane code, for `rigfit devices`: the
+/// C compiler and the first line of its `--version` where it builds the
+/// shipped tensile4 rig's lanes, else why not (`RIGFIT_NATIVE=off`
+/// included).
+pub fn check_native_lanes() -> Result<(String, String), String> {
+    if std::env::var("RIGFIT_NATIVE").as_deref() == Ok("off") {
+        return Err("RIGFIT_NATIVE=off".into());
+    }
+    let desc = crate::rig::shipped("tensile4").ok_or("the shipped tensile4 rig is missing")?;
+    let lowered = super::lower(&desc, "tensile4").map_err(|e| e.to_string())?;
+    let prog = &lowered.programs[0];
+    let tape = super::Tape::new(prog);
+    let code = LaneCode::new(prog, &tape);
+    Native::build(&code, Arith::F64).map_err(|e| e.to_string())?;
+    let cc = std::env::var("RIGFIT_CC").unwrap_or_else(|_| "cc".into());
+    let version = Command::new(&cc)
+        .arg("--version")
+        .output()
+        .ok()
+        .and_then(|o| String::from_utf8(o.stdout).ok())
+        .and_then(|v| v.lines().next().map(str::to_string))
+        .unwrap_or_default();
+    Ok((cc, version))
+}
+
 /// When the lane ensemble runs native code: `RIGFIT_NATIVE=off` never,
 /// `always` from the first batch, otherwise once a program has run
 /// [`NATIVE_AFTER`] candidate-steps in this process (building takes about a
