@@ -105,6 +105,7 @@ impl Native {
         if let Some(n) = built.get(&src) {
             return Ok(n.clone());
         }
+        let started = std::time::Instant::now();
         let dir = scratch_dir()?;
         let result = compile_and_load(&dir, &src).map(|(rk4, lists, deriv1, lib)| Native {
             rk4,
@@ -120,6 +121,11 @@ impl Native {
         // Only the files written above are in it; the library stays mapped.
         let _ = std::fs::remove_dir_all(&dir);
         let n = Arc::new(result?);
+        log::info!(
+            "native lane code built ({arith:?}, {} registers) in {:.2} s",
+            code.registers,
+            started.elapsed().as_secs_f64()
+        );
         built.insert(src, n.clone());
         Ok(n)
     }
