@@ -74,8 +74,9 @@ fn tensile_lanes_match_the_scalar_reference_bit_for_bit() {
     }
 }
 
-#[test]
-fn stick_slip_lanes_match_the_scalar_reference_through_many_events() {
+/// The shipped stick-slip rig driven by a 1 Hz, 20 N sine force table: a
+/// slow sine, so the slider sticks and slips many times.
+fn stick_slip_under_a_sine() -> rigfit::rig::desc::RigDesc {
     let mut desc = rigfit::rig::shipped("stick_slip").unwrap();
     let (t, f): (Vec<f64>, Vec<f64>) = (0..=400)
         .map(|i| {
@@ -88,6 +89,12 @@ fn stick_slip_lanes_match_the_scalar_reference_through_many_events() {
         value: Some(f),
         gain: None,
     };
+    desc
+}
+
+#[test]
+fn stick_slip_lanes_match_the_scalar_reference_through_many_events() {
+    let desc = stick_slip_under_a_sine();
     let r = CompiledRig::new(desc, "stick_slip").unwrap();
     let ps: Vec<Vec<f64>> = (0..5)
         .map(|i| vec![1.0, 8.0 + i as f64, 1e4, 0.5 * i as f64])
@@ -292,18 +299,7 @@ fn native_lanes_match_the_scalar_reference_bit_for_bit() {
 #[test]
 fn native_stick_slip_lanes_match_through_many_events() {
     // A force table (a table input) and many stick–slip switches.
-    let mut desc = rigfit::rig::shipped("stick_slip").unwrap();
-    let (t, f): (Vec<f64>, Vec<f64>) = (0..=400)
-        .map(|i| {
-            let t = i as f64 * 0.005;
-            (t, 20.0 * (2.0 * std::f64::consts::PI * t).sin())
-        })
-        .unzip();
-    desc.drives[0].law = DriveLaw::ForceTable {
-        t: Some(t),
-        value: Some(f),
-        gain: None,
-    };
+    let desc = stick_slip_under_a_sine();
     let r = CompiledRig::new(desc.clone(), "stick_slip").unwrap();
     let ps: Vec<Vec<f64>> = (0..9)
         .map(|i| vec![1.0, 8.0 + i as f64, 1e4, 0.5 * i as f64])

@@ -32,7 +32,6 @@ pub struct Fired {
 struct NativeDeriv<'p> {
     code: &'p LaneCode,
     native: &'p Native,
-    force: Option<&'p crate::model::PiecewiseLinear>,
     /// The run's scalar register file: per-run constants filled once, states
     /// and modes at each call.
     r: Vec<f64>,
@@ -102,14 +101,8 @@ impl<'p> EventStepper<'p> {
 
     /// Takes the derivative from `native`, the build of `code` (this
     /// stepper's program's lane code), instead of the tape: the same bits,
-    /// several times faster. `force` is the force table the stepper was made
-    /// with.
-    pub fn with_native_deriv(
-        &mut self,
-        code: &'p LaneCode,
-        native: &'p Native,
-        force: Option<&'p crate::model::PiecewiseLinear>,
-    ) {
+    /// several times faster.
+    pub fn with_native_deriv(&mut self, code: &'p LaneCode, native: &'p Native) {
         let mut r = vec![0.0; code.registers];
         for &(id, reg) in &code.constants {
             r[reg as usize] = self.frame.get(id);
@@ -117,7 +110,6 @@ impl<'p> EventStepper<'p> {
         self.native = Some(NativeDeriv {
             code,
             native,
-            force,
             r,
             tab: vec![0.0; native.table_stride],
         });
@@ -131,7 +123,7 @@ impl<'p> EventStepper<'p> {
                 nd.r[m as usize] = f64::from(v);
             }
             for (k, v) in nd.tab.iter_mut().enumerate() {
-                *v = table_value(self.prog, nd.force, k as u32, t);
+                *v = table_value(self.prog, self.frame.force(), k as u32, t);
             }
             nd.native.deriv1(&nd.r, t, &nd.tab, out);
             return;

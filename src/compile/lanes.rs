@@ -33,7 +33,7 @@ use super::native_c::Arith;
 use super::program::{Direction, Program};
 use super::tape::{Tape, table_value};
 use crate::integrate::{SampleGrid, walk_grid};
-use crate::model::{FittedSample, PiecewiseLinear, Report, Sample};
+use crate::model::{FittedSample, PiecewiseLinear, Report, Sample, lane_bits};
 
 /// Lanes in one vector block.
 pub const W: usize = 8;
@@ -70,6 +70,12 @@ impl Reg {
     /// Every lane `v`.
     const fn splat(v: f64) -> Self {
         Self([[v; W]; BLOCKS])
+    }
+
+    /// Whether lanes `0..lanes` hold the same bits.
+    fn agrees(&self, lanes: usize) -> bool {
+        let v0 = self[0][0].to_bits();
+        (0..lanes).all(|l| self[l / W][l % W].to_bits() == v0)
     }
 }
 
@@ -478,9 +484,7 @@ impl<'p> LaneRunner<'p> {
             }
         }
         for &(_, reg) in &code.constants {
-            let r = &regs[reg as usize];
-            let v0 = r[0][0];
-            shared[reg as usize] = (0..nb * W).all(|l| r[l / W][l % W].to_bits() == v0.to_bits());
+            shared[reg as usize] = regs[reg as usize].agrees(nb * W);
         }
         let spans = lists.map(|l| Span::of(l, &l.uniform(&mut shared.clone())));
         Self {
@@ -510,10 +514,10 @@ impl<'p> LaneRunner<'p> {
     pub fn with_native(mut self, native: &'p Native) -> Self {
         self.tab = vec![0.0; 4 * native.table_stride];
         let lanes = self.nb * W;
-        self.hoist = native.hoist_reads.iter().all(|&reg| {
-            let r = &self.regs[reg as usize];
-            (0..lanes).all(|l| r[l / W][l % W].to_bits() == r[0][0].to_bits())
-        });
+        self.hoist = native
+            .hoist_reads
+            .iter()
+            .all(|&reg| self.regs[reg as usize].agrees(lanes));
         if native.arith == Arith::F32 {
             // The f32 code reads each per-run constant as f32, its lanes
             // packed at the start of its row, instead of rounding it at
@@ -526,7 +530,7 @@ impl<'p> LaneRunner<'p> {
             }
         }
         for st in &mut self.steppers {
-            st.with_native_deriv(self.code, native, self.force);
+            st.with_native_deriv(self.code, native);
         }
         self.native = Some(native);
         self
@@ -634,6 +638,24 @@ impl<'p> LaneRunner<'p> {
         isa.finish(&mut self.regs, nb, &self.y, &self.acc, slopes, h / 6.0);
     }
 
+    /// Sets the bit in `hit` of each lane whose event function (in its
+    /// register) is past an armed switch.
+    fn mark_hits(&mut self) {
+        let (code, nb) = (self.code, self.nb);
+        for (&(mode, from, dir), &g) in code.armed.iter().zip(&code.events.roots) {
+            let (g, mode) = (&self.regs[g as usize], &self.regs[mode as usize]);
+            // `Transition::violated`, its direction fixed outside the loop.
+            match dir {
+                Direction::Up => mark(&mut self.hit, nb, g, mode, from, |g| Direction::Up.past(g)),
+                Direction::Down => {
+                    mark(&mut self.hit, nb, g, mode, from, |g| {
+                        Direction::Down.past(g)
+                    });
+                }
+            }
+        }
+    }
+
     /// One step of every lane from `t`; lanes past a switch are redone by
     /// their own stepper with the switch located.
     fn step(&mut self, t: f64, h: f64) {
@@ -643,25 +665,8 @@ impl<'p> LaneRunner<'p> {
         self.hit = [0; BLOCKS];
         // Native code sets the hit bits as it computes the event functions.
         self.eval(&code.events, 1, t + h);
-        let marked = self.native.is_some();
-        for (tr, &g) in self.prog.transitions.iter().zip(&code.events.roots) {
-            if marked {
-                break;
-            }
-            let (g, mode) = (
-                &self.regs[g as usize],
-                &self.regs[code.modes[tr.var as usize] as usize],
-            );
-            let from = f64::from(tr.from);
-            // `Transition::violated`, its direction fixed outside the loop.
-            match tr.dir {
-                Direction::Up => mark(&mut self.hit, nb, g, mode, from, |g| Direction::Up.past(g)),
-                Direction::Down => {
-                    mark(&mut self.hit, nb, g, mode, from, |g| {
-                        Direction::Down.past(g)
-                    });
-                }
-            }
+        if self.native.is_none() {
+            self.mark_hits();
         }
         if self.hit[..nb].iter().all(|&h| h == 0) {
             return;
@@ -705,7 +710,7 @@ impl<'p> LaneRunner<'p> {
         let lanes = self.steppers.len();
         let code = self.code;
         let out = code.fitted.roots[0] as usize;
-        let mut live: u64 = if lanes == 64 { !0 } else { (1 << lanes) - 1 };
+        let mut live = lane_bits(lanes);
         let mut values = vec![0.0; lanes];
         walk_grid(
             grid,
@@ -753,7 +758,7 @@ impl<'p> LaneRunner<'p> {
             Report::Fitted => (&code.fitted, 3),
         };
         // A bit per lane whose observer has not broken.
-        let mut live: u64 = if lanes == 64 { !0 } else { (1 << lanes) - 1 };
+        let mut live = lane_bits(lanes);
         let n_out = match report {
             Report::Full => self.prog.outputs.len(),
             Report::Fitted => list.roots.len(),

@@ -107,17 +107,7 @@ impl Native {
         }
         let started = std::time::Instant::now();
         let dir = scratch_dir()?;
-        let result = compile_and_load(&dir, &src).map(|(rk4, lists, deriv1, lib)| Native {
-            rk4,
-            lists,
-            deriv1,
-            registers: code.registers,
-            states: code.slopes.len(),
-            table_stride: native_c::table_stride(code),
-            hoist_reads: native_c::hoistable(code).1,
-            arith,
-            _lib: lib,
-        });
+        let result = compile_and_load(&dir, &src, code, arith);
         // Only the files written above are in it; the library stays mapped.
         let _ = std::fs::remove_dir_all(&dir);
         let n = Arc::new(result?);
@@ -196,9 +186,7 @@ impl Native {
             );
         }
     }
-}
 
-impl Native {
     /// One run's derivative in f64 (whatever [`Self::arith`]), bit for bit
     /// the scalar reference's: `r` the run's scalar register file (states,
     /// modes and per-run constants at their registers), time `t`, table
@@ -241,12 +229,15 @@ fn scratch_dir() -> Result<PathBuf, NativeError> {
     })
 }
 
+/// Builds `src` (the C of `code` in `arith`) in `dir` and loads its
+/// functions.
 #[expect(unsafe_code, reason = "loads the library just built and its functions")]
-/// Builds `src` in `dir` and loads its functions.
 fn compile_and_load(
     dir: &Path,
     src: &str,
-) -> Result<(Rk4Fn, [ListFn; 3], Deriv1Fn, libloading::Library), NativeError> {
+    code: &LaneCode,
+    arith: Arith,
+) -> Result<Native, NativeError> {
     let c = dir.join("lanes.c");
     let lib = dir.join("lanes.so");
     std::fs::write(&c, src).map_err(|source| NativeError::Io {
@@ -254,7 +245,7 @@ fn compile_and_load(
         path: c.clone(),
         source,
     })?;
-    let cc = std::env::var("RIGFIT_CC").unwrap_or_else(|_| "cc".into());
+    let cc = compiler();
     let out = Command::new(&cc)
         .args([
             "-O2",
@@ -290,13 +281,42 @@ fn compile_and_load(
     unsafe {
         let l = libloading::Library::new(&lib).map_err(load_err)?;
         let rk4: Rk4Fn = *l.get::<Rk4Fn>(b"rig_rk4\0").map_err(load_err)?;
-        let mut lists = vec![];
-        for name in [&b"rig_events\0"[..], b"rig_report\0", b"rig_fitted\0"] {
-            lists.push(*l.get::<ListFn>(name).map_err(load_err)?);
-        }
+        let list = |name: &[u8]| l.get::<ListFn>(name).map(|f| *f).map_err(load_err);
+        let lists = [
+            list(b"rig_events\0")?,
+            list(b"rig_report\0")?,
+            list(b"rig_fitted\0")?,
+        ];
         let deriv1: Deriv1Fn = *l.get::<Deriv1Fn>(b"rig_deriv1\0").map_err(load_err)?;
-        Ok((rk4, [lists[0], lists[1], lists[2]], deriv1, l))
+        Ok(Native {
+            rk4,
+            lists,
+            deriv1,
+            registers: code.registers,
+            states: code.slopes.len(),
+            table_stride: native_c::table_stride(code),
+            hoist_reads: native_c::hoistable(code).1,
+            arith,
+            _lib: l,
+        })
     }
+}
+
+/// The C compiler: `RIGFIT_CC`, or `cc`.
+fn compiler() -> String {
+    std::env::var("RIGFIT_CC").unwrap_or_else(|_| "cc".into())
+}
+
+/// `RIGFIT_NATIVE`, read once per process: `None` never to build native
+/// code (`off`), else the candidate-steps a program runs before it is built
+/// for [`NativeSlot::get`] (0 for `always`, [`NATIVE_AFTER`] by default).
+fn policy() -> Option<u64> {
+    static POLICY: std::sync::OnceLock<Option<u64>> = std::sync::OnceLock::new();
+    *POLICY.get_or_init(|| match std::env::var("RIGFIT_NATIVE").as_deref() {
+        Ok("off") => None,
+        Ok("always") => Some(0),
+        _ => Some(NATIVE_AFTER),
+    })
 }
 
 /// Whether this machine builds native lane code, for `rigfit devices`: the
@@ -304,7 +324,7 @@ fn compile_and_load(
 /// shipped tensile4 rig's lanes, else why not (`RIGFIT_NATIVE=off`
 /// included).
 pub fn check_native_lanes() -> Result<(String, String), String> {
-    if std::env::var("RIGFIT_NATIVE").as_deref() == Ok("off") {
+    if policy().is_none() {
         return Err("RIGFIT_NATIVE=off".into());
     }
     let desc = crate::rig::shipped("tensile4").ok_or("the shipped tensile4 rig is missing")?;
@@ -313,7 +333,7 @@ pub fn check_native_lanes() -> Result<(String, String), String> {
     let tape = super::Tape::new(prog);
     let code = LaneCode::new(prog, &tape);
     Native::build(&code, Arith::F64).map_err(|e| e.to_string())?;
-    let cc = std::env::var("RIGFIT_CC").unwrap_or_else(|_| "cc".into());
+    let cc = compiler();
     let version = Command::new(&cc)
         .arg("--version")
         .output()
@@ -341,43 +361,36 @@ impl NativeSlot {
     /// The build of `code` in `arith` now, whatever the work so far (`None`
     /// where it cannot be had, or `RIGFIT_NATIVE=off`).
     pub fn now(&self, code: &LaneCode, arith: Arith) -> Option<Arc<Native>> {
-        if std::env::var("RIGFIT_NATIVE").as_deref() == Ok("off") {
-            return None;
-        }
+        policy()?;
         self.built
             .get_or_init(|| match Native::build(code, arith) {
                 Ok(n) => Some(n),
                 Err(e) => {
-                    log::warn!("{e}");
+                    match arith {
+                        Arith::F64 => log::warn!("{e}; the lane ensemble interprets instead"),
+                        Arith::F32 => log::warn!("{e}; no f32 lanes"),
+                    }
                     None
                 }
             })
             .clone()
     }
 
-    /// The build to run `work` more candidate-steps of `code` with, if any.
+    /// The f64 build to run `work` more candidate-steps of `code` with, once
+    /// the program's work in this process has reached the policy's
+    /// threshold.
     pub fn get(&self, code: &LaneCode, work: u64) -> Option<Arc<Native>> {
-        use std::sync::atomic::Ordering;
-        static POLICY: std::sync::OnceLock<Option<u64>> = std::sync::OnceLock::new();
-        let after = (*POLICY.get_or_init(|| match std::env::var("RIGFIT_NATIVE").as_deref() {
-            Ok("off") => None,
-            Ok("always") => Some(0),
-            _ => Some(NATIVE_AFTER),
-        }))?;
+        let after = policy()?;
         if let Some(b) = self.built.get() {
             return b.clone();
         }
-        if self.work.fetch_add(work, Ordering::Relaxed) < after {
+        if self
+            .work
+            .fetch_add(work, std::sync::atomic::Ordering::Relaxed)
+            < after
+        {
             return None;
         }
-        self.built
-            .get_or_init(|| match Native::build(code, Arith::F64) {
-                Ok(n) => Some(n),
-                Err(e) => {
-                    log::warn!("{e}; the lane ensemble interprets instead");
-                    None
-                }
-            })
-            .clone()
+        self.now(code, Arith::F64)
     }
 }

@@ -310,11 +310,25 @@ pub fn hoistable(code: &LaneCode) -> (Vec<bool>, Vec<Reg>) {
     (flags, reads)
 }
 
+/// The time and table registers for `rig_rk4`'s derivative `stage` (0–3):
+/// `tt[stage]` and that stage's row of `tab`.
+fn stage_inputs(s: &mut String, code: &LaneCode, stage: usize) {
+    if code.deriv.uses_time {
+        let _ = writeln!(s, "    r{} = splat(tt[{stage}]);", code.time);
+    }
+    for &(k, reg) in &code.deriv.tables {
+        let _ = writeln!(
+            s,
+            "    r{reg} = splat(tab[{} + {k}]);",
+            stage * table_stride(code)
+        );
+    }
+}
+
 /// `rig_rk4`'s loop over blocks: hoisted (`Some`: which instructions were
 /// computed before the loop, into `u{stage}_{index}`) or not.
 fn rk4_loop(s: &mut String, code: &LaneCode, hoisted: Option<&[bool]>) {
     let n = code.slopes.len();
-    let ntab = table_stride(code);
     s.push_str("  for (long b = 0; b < nb; b += STEP) {\n");
     declare(s, code);
     let _ = writeln!(
@@ -338,12 +352,7 @@ fn rk4_loop(s: &mut String, code: &LaneCode, hoisted: Option<&[bool]>) {
         let _ = writeln!(s, "    y{i} = LD(R, {i}); ST(Y, {i}, y{i}); r{i} = y{i};");
     }
     for stage in 0..4 {
-        if code.deriv.uses_time {
-            let _ = writeln!(s, "    r{} = splat(tt[{stage}]);", code.time);
-        }
-        for &(k, reg) in &code.deriv.tables {
-            let _ = writeln!(s, "    r{reg} = splat(tab[{} + {k}]);", stage * ntab);
-        }
+        stage_inputs(s, code, stage);
         for (j, ins) in code.deriv.code.iter().enumerate() {
             if hoisted.is_some_and(|h| h[j]) {
                 let _ = writeln!(s, "    r{} = u{stage}_{j};", ins.dest);
@@ -384,11 +393,10 @@ pub fn source(code: &LaneCode, arith: Arith) -> String {
         .collect();
     let table_of = |reg: Reg| table_regs.iter().find(|&&(_, r)| r == reg).map(|&(k, _)| k);
 
-    // rig_rk4: tt[4] the derivative's times, tab[4 * ntab] the tables at
-    // them, ch = 0.5·h, h, h6 = h/6 (computed by the caller as the
+    // rig_rk4: tt[4] the derivative's times, tab[4 * table_stride] the
+    // tables at them, ch = 0.5·h, h, h6 = h/6 (computed by the caller as the
     // interpreter does); `hoist`: every constant `hoistable` lists is the
     // same in every lane.
-    let ntab = table_stride(code);
     let (flags, reads) = hoistable(code);
     s.push_str(
         "void rig_rk4(d *restrict R, d *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist) {\n  const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);\n",
@@ -400,12 +408,7 @@ pub fn source(code: &LaneCode, arith: Arith) -> String {
             load(&mut s, reg, "", code, &|_| None);
         }
         for stage in 0..4 {
-            if code.deriv.uses_time {
-                let _ = writeln!(s, "    r{} = splat(tt[{stage}]);", code.time);
-            }
-            for &(k, reg) in &code.deriv.tables {
-                let _ = writeln!(s, "    r{reg} = splat(tab[{} + {k}]);", stage * ntab);
-            }
+            stage_inputs(&mut s, code, stage);
             for (j, ins) in code
                 .deriv
                 .code

@@ -66,6 +66,11 @@ pub struct Frame<'p> {
 }
 
 impl<'p> Frame<'p> {
+    /// The experiment's force table, if any.
+    pub(crate) fn force(&self) -> Option<&'p crate::model::PiecewiseLinear> {
+        self.force
+    }
+
     /// A frame for one run with packed values `slots` (the full parameter
     /// vector) and the experiment's force table, if any.
     pub fn new(

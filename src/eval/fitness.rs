@@ -104,15 +104,6 @@ pub fn score_many(
         &mut |s, live| {
             let measured = FitnessAccumulator::measured(exp, s.index);
             let accs = &mut accs[s.first..s.first + s.values.len()];
-            if *live == u64::MAX >> (64 - s.values.len()) {
-                // Every run still observed: straight through the group.
-                for (j, (acc, &v)) in accs.iter_mut().zip(s.values).enumerate() {
-                    if acc.add_measured(v, measured).is_break() {
-                        *live &= !(1 << j);
-                    }
-                }
-                return;
-            }
             let mut left = *live;
             while left != 0 {
                 let j = left.trailing_zeros() as usize;

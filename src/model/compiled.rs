@@ -114,6 +114,18 @@ impl CompiledRig {
         Ok(Box::leak(Box::new(Self::new(desc, file)?)))
     }
 
+    /// Program `i`'s f64 native build for running `params` on `grid`, once
+    /// its work so far makes it pay ([`NativeSlot::get`]).
+    fn native_for(
+        &self,
+        i: usize,
+        params: &[&[f64]],
+        grid: &SampleGrid,
+    ) -> Option<std::sync::Arc<Native>> {
+        let work = (params.len() * grid.total_steps()) as u64;
+        self.native[i].get(&self.lane_code[i], work)
+    }
+
     /// `params` run by program `i`'s lane ensemble, natively where `native`
     /// is its build, in groups of [`LANES`].
     fn run_lanes(
@@ -125,10 +137,7 @@ impl CompiledRig {
         native: Option<&Native>,
         mut observe: Observe<'_>,
     ) {
-        let force = match drive {
-            Drive::Force(t) => Some(t),
-            Drive::Velocity => None,
-        };
+        let force = drive.force_table();
         for (c, chunk) in params.chunks(LANES).enumerate() {
             let mut runner = LaneRunner::new(
                 &self.lowered.programs[i],
@@ -160,10 +169,7 @@ impl CompiledRig {
     /// A run's integrator for `params` under `drive`.
     pub fn stepper<'a>(&'a self, params: &[f64], drive: &'a Drive) -> Option<EventStepper<'a>> {
         let i = self.program_for(drive)?;
-        let force = match drive {
-            Drive::Force(t) => Some(t),
-            Drive::Velocity => None,
-        };
+        let force = drive.force_table();
         Some(EventStepper::new(
             &self.lowered.programs[i],
             &self.tapes[i],
@@ -642,8 +648,7 @@ impl RigModel for CompiledRig {
             }
             return;
         };
-        let work = (params.len() * grid.total_steps()) as u64;
-        let native = self.native[i].get(&self.lane_code[i], work);
+        let native = self.native_for(i, params, grid);
         self.run_lanes(
             i,
             drive,
@@ -669,10 +674,7 @@ impl RigModel for CompiledRig {
         let in_f32 = f32
             .then(|| self.native_f32[i].now(&self.lane_code[i], Arith::F32))
             .flatten();
-        let native = in_f32.clone().or_else(|| {
-            let work = (params.len() * grid.total_steps()) as u64;
-            self.native[i].get(&self.lane_code[i], work)
-        });
+        let native = in_f32.clone().or_else(|| self.native_for(i, params, grid));
         self.run_lanes(
             i,
             drive,

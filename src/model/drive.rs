@@ -40,3 +40,13 @@ pub enum Drive {
     /// Actuator mass driven by a force table (t in s, force in N); zero for t < 0.
     Force(PiecewiseLinear),
 }
+
+impl Drive {
+    /// The force table of a [`Drive::Force`].
+    pub fn force_table(&self) -> Option<&PiecewiseLinear> {
+        match self {
+            Self::Force(t) => Some(t),
+            Self::Velocity => None,
+        }
+    }
+}

@@ -43,6 +43,13 @@ pub struct FittedSample<'a> {
     pub values: &'a [f64],
 }
 
+/// Runs `0..n` of a group as `live` bits ([`RigModel::simulate_fitted`];
+/// `n ≤ 64`).
+pub fn lane_bits(n: usize) -> u64 {
+    assert!(n <= 64, "at most 64 runs to a group");
+    if n == 64 { u64::MAX } else { (1 << n) - 1 }
+}
+
 /// [`RigModel::simulate_fitted`] one run after the other, in f64 (its
 /// default).
 pub fn fitted_one_by_one<M: RigModel + ?Sized>(
