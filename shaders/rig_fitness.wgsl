@@ -41,10 +41,13 @@ fn finish(slot: u32, base: u32, acc: real) {
 }
 
 @compute @workgroup_size(64)
-fn fitness_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn fitness_main(
+    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(local_invocation_index) lane: u32,
+) {
     let slot = gid.x;
     if slot >= settings.runs {
         return;
     }
-    advance(slot, slot * RUN_STRIDE, slot % settings.experiments);
+    advance(slot, slot * RUN_STRIDE, slot % settings.experiments, lane);
 }

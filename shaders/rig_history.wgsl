@@ -34,12 +34,15 @@ fn observe(
 fn finish(slot: u32, base: u32, acc: real) {}
 
 @compute @workgroup_size(64)
-fn history_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn history_main(
+    @builtin(global_invocation_id) gid: vec3<u32>,
+    @builtin(local_invocation_index) lane: u32,
+) {
     let slot = gid.x;
     if slot >= settings.runs {
         return;
     }
     let e = slot % settings.experiments;
     let run = selection[slot / settings.experiments] * settings.experiments + e;
-    advance(slot, run * RUN_STRIDE, e);
+    advance(slot, run * RUN_STRIDE, e, lane);
 }
