@@ -17,6 +17,9 @@
 //! `RIGFIT_BENCH_POPS=4096,…` only the given populations and
 //! `RIGFIT_BENCH_SAMPLES=500` shortens the record (for quick kernel work),
 //! `RIGFIT_BENCH_SUBSTEPS=10` takes that many RK4 steps per sample;
+//! `RIGFIT_BENCH_PAIRS=N` instead times each row against its compiled-rig twin
+//! (`gpu-f32` against `gpu-f32-rig`, …) in N alternating rounds and prints the
+//! ratio of their rates per CPU-second (median over the rounds);
 //! `RIGFIT_BENCH_CPU_TIME=1` adds candidate-steps per CPU-second of the process
 //! (its CPU-time clock, all threads, lavapipe's included).
 //!
@@ -228,10 +231,72 @@ fn print_table(evals: &[Row]) {
     );
 }
 
+/// CPU seconds of one evaluation of `b` (wall seconds where the process CPU
+/// clock is unavailable).
+fn cpu_seconds(eval: &mut dyn Evaluator, b: &Batch) -> f64 {
+    let t = Instant::now();
+    let cpu = process_cpu_seconds();
+    eval.fitness(b).unwrap();
+    match (cpu, process_cpu_seconds()) {
+        (Some(a), Some(z)) => z - a,
+        _ => t.elapsed().as_secs_f64(),
+    }
+}
+
+/// `RIGFIT_BENCH_PAIRS=N`: each selected row `X` that has a compiled-rig twin
+/// `X-rig`, timed in N alternating rounds (X, then X-rig) at every population.
+/// Prints the compiled ÷ hand-written ratio of candidate-steps per
+/// CPU-second: the median over rounds, and the ratio of the two fastest
+/// rounds. Alternating within one process keeps a slow spell of the machine
+/// from falling on one row only, which a table of rows run one after the
+/// other cannot.
+fn print_pairs(evals: &[Row], rounds: usize) {
+    println!("
+| pair | population | compiled ÷ hand-written, median of {rounds} rounds | fastest ÷ fastest | hand-written, fastest (/cpu-s) | compiled, fastest (/cpu-s) |\n|---|---|---|---|---|---|");
+    let steps = steps(&problem(false));
+    for (name, make, rig) in evals.iter().filter(|r| !r.2) {
+        let twin = format!("{name}-rig");
+        let Some((_, make_rig, _)) = evals.iter().find(|r| r.0 == twin) else {
+            continue;
+        };
+        let (mut hand, mut comp) = (make(), make_rig());
+        for &n in &populations() {
+            let (bh, bc) = (batch(n, *rig), batch(n, true));
+            hand.fitness(&bh).unwrap();
+            comp.fitness(&bc).unwrap();
+            let mut ratios = Vec::new();
+            let (mut best_h, mut best_c) = (f64::INFINITY, f64::INFINITY);
+            for _ in 0..rounds {
+                let h = cpu_seconds(hand.as_mut(), &bh);
+                let c = cpu_seconds(comp.as_mut(), &bc);
+                best_h = best_h.min(h);
+                best_c = best_c.min(c);
+                ratios.push(h / c);
+            }
+            ratios.sort_by(f64::total_cmp);
+            let work = (n * steps) as f64;
+            println!(
+                "| {name} | {n} | {:.3} | {:.3} | {:.2e} | {:.2e} |",
+                ratios[ratios.len() / 2],
+                best_h / best_c,
+                work / best_h,
+                work / best_c
+            );
+        }
+    }
+}
+
 fn main() {
     let mut evals = evaluators();
     if let Some(rows) = env_list("RIGFIT_BENCH_ROWS") {
         evals.retain(|(name, ..)| rows.iter().any(|r| name.contains(r.as_str())));
+    }
+    if let Some(rounds) = std::env::var("RIGFIT_BENCH_PAIRS")
+        .ok()
+        .and_then(|v| v.parse::<usize>().ok())
+    {
+        print_pairs(&evals, rounds.max(1));
+        return;
     }
     print_table(&evals);
     if std::env::var_os("RIGFIT_BENCH_TABLE_ONLY").is_some() {

@@ -20,7 +20,10 @@
 //!   `st_hermite(y0, f0, y1, f1, c00, c10, c01, c11)`;
 //! - `rig_deriv(kc, t, y, md) -> St`, `rig_events(kc, t, y, md) -> Ev` (every
 //!   event function), `rig_hits(g0, g1, md) -> u32` (the armed transitions
-//!   that fire over a step from `g0` to `g1`, one bit each), `rig_event_value(kc,
+//!   that fire over a step from `g0` to `g1`, one bit each), `rig_any_hit(g0,
+//!   g1, md) -> bool` (whether any does: `rig_hits != 0`, with each pair of
+//!   transitions that share an event function and a mode variable tested at
+//!   once, for the flat loop's every step), `rig_event_value(kc,
 //!   i, t, y, md) -> real` and `rig_oriented(g, i) -> real` (transition `i`'s
 //!   event function oriented so that `>= 0` is past its switch, at a point or
 //!   from `rig_events`' values), `rig_fire(i, md)`;
@@ -485,6 +488,7 @@ impl Emitter<'_> {
             );
         }
         s.push_str("    return hits;\n}\n\n");
+        s.push_str(&any_hit(p));
         // Transition i's event function oriented so that >= 0 is past its
         // switch (Transition::oriented): at a point of the step (location),
         // and from the values of rig_events.
@@ -594,6 +598,80 @@ impl Emitter<'_> {
     }
 }
 
+/// `rig_any_hit(g0, g1, md) -> bool`: whether any armed transition fires over
+/// a step (`rig_hits(g0, g1, md) != 0`, the same comparisons). Two transitions
+/// on one event function and one mode variable, one up and one down, armed by
+/// different values (a contact closing and opening, a slider sticking and
+/// slipping) are tested together: the event values are multiplied by +1 or
+/// −1 (exact) as the mode arms the up or the down one, which halves the
+/// comparisons the run loop makes at every step.
+fn any_hit(p: &Program) -> String {
+    let trs = &p.transitions;
+    let test =
+        |o1: &str, o0: &str| format!("{o1} >= real(0.0) && (!({o0} >= real(0.0)) || {o1} > {o0})");
+    let mut paired = vec![false; trs.len()];
+    let mut terms = Vec::new();
+    let mut lets = String::new();
+    for (i, a) in trs.iter().enumerate() {
+        if paired[i] {
+            continue;
+        }
+        let partner = (i + 1..trs.len()).find(|&j| {
+            let b = &trs[j];
+            !paired[j] && b.g == a.g && b.var == a.var && b.from != a.from && b.dir != a.dir
+        });
+        match partner {
+            Some(j) => {
+                paired[j] = true;
+                let (up, down) = match a.dir {
+                    Direction::Up => (i, j),
+                    Direction::Down => (j, i),
+                };
+                let (fu, fd, v) = (trs[up].from, trs[down].from, a.var);
+                let k = terms.len();
+                let _ = writeln!(
+                    lets,
+                    "    let s{k} = select(real(-1.0), real(1.0), md.m{v} == {fu}u);\n    let p{k} = s{k} * g1.g[{up}];\n    let q{k} = s{k} * g0.g[{up}];"
+                );
+                // The variable starts at 0 and takes only the values its
+                // transitions set: where those are the pair's two, one of
+                // them is always armed.
+                let always = std::iter::once(0)
+                    .chain(trs.iter().filter(|t| t.var == v).map(|t| t.to))
+                    .all(|x| x == fu || x == fd);
+                let armed = if always {
+                    String::new()
+                } else {
+                    format!("(md.m{v} == {fu}u || md.m{v} == {fd}u) && ")
+                };
+                terms.push(format!(
+                    "({armed}{})",
+                    test(&format!("p{k}"), &format!("q{k}"))
+                ));
+            }
+            None => {
+                let o = |g: &str| match a.dir {
+                    Direction::Up => format!("{g}.g[{i}]"),
+                    Direction::Down => format!("(-{g}.g[{i}])"),
+                };
+                terms.push(format!(
+                    "(md.m{} == {}u && {})",
+                    a.var,
+                    a.from,
+                    test(&o("g1"), &o("g0"))
+                ));
+            }
+        }
+    }
+    if terms.is_empty() {
+        terms.push("false".into());
+    }
+    format!(
+        "fn rig_any_hit(g0: Ev, g1: Ev, md: Md) -> bool {{\n{lets}    return {};\n}}\n\n",
+        terms.join("\n        || ")
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -611,6 +689,7 @@ mod tests {
                     "fn rig_deriv",
                     "fn rig_events",
                     "fn rig_hits",
+                    "fn rig_any_hit",
                     "fn rig_fire",
                     "fn rig_report",
                 ] {
