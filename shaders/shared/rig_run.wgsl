@@ -163,31 +163,17 @@ fn rig_step_at(prog: vec4<u32>, pro: u32, t0: real, h: real, hp: real) -> vec2<r
 }
 
 // Counts one step taken and observes the sample it completes: sample 0 when
-// it ends the prologue, sample prog.y when it ends an interval. True when the
-// observer stops the run. One observe call, so a CPU driver runs it once per
-// step under its mask.
-fn rig_tick(
-    slot: u32,
-    ex: ExpInfo,
-    pro: u32,
-    t0: real,
-    dt: real,
-    limit: real,
-    kc: Kc,
-    y: St,
-    md: Md,
-    chattered: bool,
-    ck: Ck,
-    prog: ptr<function, vec4<u32>>,
-    acc: ptr<function, real>,
-) -> bool {
-    var p = *prog;
+// it ends the prologue, sample prog.y when it ends an interval; the run is
+// done when the observer stops it. One observe call, so a CPU driver runs it
+// once per step under its mask. `ck` is the drive clock at the step's end.
+fn rig_tick(k: RunK, s: ptr<function, RunS>, ck: Ck) {
+    var p = (*s).prog;
     var obs = false;
-    var k = 0u;
-    if p.x < pro {
+    var i = 0u;
+    if p.x < k.pro {
         p.x += 1u;
-        if p.x == pro {
-            obs = ex.samples > 0u;
+        if p.x == k.pro {
+            obs = k.ex.samples > 0u;
             p.y = 1u;
         }
     } else {
@@ -195,15 +181,19 @@ fn rig_tick(
         if p.w == settings.substeps {
             p.w = 0u;
             obs = true;
-            k = p.y;
+            i = p.y;
             p.y += 1u;
         }
     }
-    *prog = p;
+    (*s).prog = p;
     if obs {
-        return observe(slot, ex, k, t0 + real(k) * dt, limit, kc, y, md, ck, chattered, acc);
+        // A local for observe's pointer: naga's SPIR-V writer cannot pass a
+        // pointer to a member of a struct variable.
+        var acc = (*s).acc;
+        let st = *s;
+        (*s).done = observe(k.slot, k.ex, i, k.t0 + real(i) * k.dt, k.limit, k.kc, st.y, st.md, ck, st.chattered, &acc);
+        (*s).acc = acc;
     }
-    return false;
 }
 
 // What a run's steps read and never change: its slot, experiment, parameters,
@@ -282,7 +272,7 @@ fn run_open(k: RunK) -> RunS {
     return RunS(y, md, g, acc, prog, chattered, done);
 }
 
-// Whether the run has steps left to take.
+// Whether the run goes on: not stopped, steps left to take.
 fn run_live(k: RunK, s: RunS) -> bool {
     return !s.done && (s.prog.x < k.pro || s.prog.y < k.ex.samples);
 }
@@ -300,17 +290,15 @@ fn run_live(k: RunK, s: RunS) -> bool {
 // ulps), inside the parity tolerances.
 fn run_block(k: RunK, s: ptr<function, RunS>, budget: ptr<function, u32>) -> bool {
     var st = *s;
-    var prog = st.prog;
-    var acc = st.acc;
     var left = *budget;
     var crossed = false;
-    var ck0 = rig_clock(k.kc, rig_step_at(prog, k.pro, k.t0, k.h, k.hp).x);
+    var ck0 = rig_clock(k.kc, rig_step_at(st.prog, k.pro, k.t0, k.h, k.hp).x);
     var n = 0u;
     loop {
-        let live = !crossed && !st.done && left > 0u && (prog.x < k.pro || prog.y < k.ex.samples);
-        let at = rig_step_at(prog, k.pro, k.t0, k.h, k.hp);
+        let live = !crossed && left > 0u && run_live(k, st);
+        let at = rig_step_at(st.prog, k.pro, k.t0, k.h, k.hp);
         var q = k.qh;
-        if prog.x < k.pro {
+        if st.prog.x < k.pro {
             q = k.qhp;
         }
         let ckh = rig_clock_shift(ck0, q);
@@ -329,15 +317,13 @@ fn run_block(k: RunK, s: ptr<function, RunS>, budget: ptr<function, u32>) -> boo
                 ck0 = ck1;
             }
             left -= 1u;
-            st.done = rig_tick(k.slot, k.ex, k.pro, k.t0, k.dt, k.limit, k.kc, st.y, st.md, st.chattered, ck1, &prog, &acc);
+            rig_tick(k, &st, ck1);
         }
         continuing {
             n += 1u;
             break if n >= RIG_BLOCK_SAMPLES * settings.substeps;
         }
     }
-    st.prog = prog;
-    st.acc = acc;
     *s = st;
     *budget = left;
     return crossed;
@@ -355,18 +341,14 @@ fn run_crossed(k: RunK, s: ptr<function, RunS>) {
     st.md = md;
     let end = at.x + at.y;
     st.g = rig_events(k.kc, end, y, md);
-    var prog = st.prog;
-    var acc = st.acc;
-    st.done = rig_tick(k.slot, k.ex, k.pro, k.t0, k.dt, k.limit, k.kc, y, md, st.chattered, rig_clock(k.kc, end), &prog, &acc);
-    st.prog = prog;
-    st.acc = acc;
+    rig_tick(k, &st, rig_clock(k.kc, end));
     *s = st;
 }
 
 // Stores the run for the next dispatch; a finished run (or one that blew up
-// or chattered) writes its result. True when it is finished.
-fn run_close(k: RunK, s: RunS) -> bool {
-    let done = s.done || (s.prog.x >= k.pro && s.prog.y >= k.ex.samples);
+// or chattered) writes its result.
+fn run_close(k: RunK, s: RunS) {
+    let done = !run_live(k, s);
     rig_state_store(k.sb, s.y, s.md);
     state[k.sb + RIG_ACC] = s.acc;
     var flags = s.prog.z;
@@ -378,7 +360,6 @@ fn run_close(k: RunK, s: RunS) -> bool {
         finish(k.slot, k.base, s.acc);
     }
     progress[k.slot] = vec4<u32>(s.prog.x, s.prog.y, flags, s.prog.w);
-    return done;
 }
 
 // Lanes that leave the flat loop together to take a crossed step. A CPU

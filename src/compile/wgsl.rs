@@ -475,29 +475,18 @@ impl Emitter<'_> {
         s.push_str("    return r;\n}\n\n");
         s.push_str("fn rig_hits(g0: Ev, g1: Ev, md: Md) -> u32 {\n    var hits = 0u;\n");
         for (i, tr) in p.transitions.iter().enumerate() {
-            let (past, further) = match tr.dir {
-                Direction::Up => (">=", ">"),
-                Direction::Down => ("<=", "<"),
-            };
+            let g = |e: &str| oriented(tr.dir, &format!("{e}.g[{i}]"));
             let _ = writeln!(
                 s,
-                "    hits |= select(0u, {}u, md.m{} == {}u && g1.g[{i}] {past} real(0.0) && (!(g0.g[{i}] {past} real(0.0)) || g1.g[{i}] {further} g0.g[{i}]));",
+                "    hits |= select(0u, {}u, md.m{} == {}u && {});",
                 1u64 << i,
                 tr.var,
-                tr.from
+                tr.from,
+                fires(&g("g1"), &g("g0"))
             );
         }
         s.push_str("    return hits;\n}\n\n");
         s.push_str(&any_hit(p));
-        // Transition i's event function oriented so that >= 0 is past its
-        // switch (Transition::oriented): at a point of the step (location),
-        // and from the values of rig_events.
-        let oriented = |i: usize, g: &str| -> String {
-            match p.transitions[i].dir {
-                Direction::Up => g.to_string(),
-                Direction::Down => format!("-({g})"),
-            }
-        };
         let _ = writeln!(
             s,
             "fn rig_event_value(kc: Kc, i: u32, t: real, y: St, md: Md) -> real {{\n    switch i {{"
@@ -507,16 +496,16 @@ impl Emitter<'_> {
                 s,
                 "        case {i}u: {{\n    let ck = rig_clock(kc, t);\n{}    return {};\n        }}",
                 self.body(&[tr.g]),
-                oriented(i, &self.name(tr.g))
+                oriented(tr.dir, &self.name(tr.g))
             );
         }
         s.push_str("        default: { return real(0.0); }\n    }\n}\n\n");
         s.push_str("fn rig_oriented(g: Ev, i: u32) -> real {\n    switch i {\n");
-        for i in 0..p.transitions.len() {
+        for (i, tr) in p.transitions.iter().enumerate() {
             let _ = writeln!(
                 s,
                 "        case {i}u: {{ return {}; }}",
-                oriented(i, &format!("g.g[{i}]"))
+                oriented(tr.dir, &format!("g.g[{i}]"))
             );
         }
         s.push_str("        default: { return real(0.0); }\n    }\n}\n\n");
@@ -598,6 +587,23 @@ impl Emitter<'_> {
     }
 }
 
+/// An event value `g` oriented so that `>= 0` is past its switch
+/// (`Transition::oriented`): `g` for an upward switch, `−g` (exact) for a
+/// downward one.
+fn oriented(dir: Direction, g: &str) -> String {
+    match dir {
+        Direction::Up => g.to_string(),
+        Direction::Down => format!("-({g})"),
+    }
+}
+
+/// Whether an armed transition fires over a step, from its oriented event
+/// values at the step's end `o1` and start `o0` (`Transition::fires`): past
+/// the switch at the end, and before it at the start or further past.
+fn fires(o1: &str, o0: &str) -> String {
+    format!("{o1} >= real(0.0) && (!({o0} >= real(0.0)) || {o1} > {o0})")
+}
+
 /// `rig_any_hit(g0, g1, md) -> bool`: whether any armed transition fires over
 /// a step (`rig_hits(g0, g1, md) != 0`, the same comparisons). Two transitions
 /// on one event function and one mode variable, one up and one down, armed by
@@ -607,8 +613,6 @@ impl Emitter<'_> {
 /// comparisons the run loop makes at every step.
 fn any_hit(p: &Program) -> String {
     let trs = &p.transitions;
-    let test =
-        |o1: &str, o0: &str| format!("{o1} >= real(0.0) && (!({o0} >= real(0.0)) || {o1} > {o0})");
     let mut paired = vec![false; trs.len()];
     let mut terms = Vec::new();
     let mut lets = String::new();
@@ -646,19 +650,16 @@ fn any_hit(p: &Program) -> String {
                 };
                 terms.push(format!(
                     "({armed}{})",
-                    test(&format!("p{k}"), &format!("q{k}"))
+                    fires(&format!("p{k}"), &format!("q{k}"))
                 ));
             }
             None => {
-                let o = |g: &str| match a.dir {
-                    Direction::Up => format!("{g}.g[{i}]"),
-                    Direction::Down => format!("(-{g}.g[{i}])"),
-                };
+                let g = |e: &str| oriented(a.dir, &format!("{e}.g[{i}]"));
                 terms.push(format!(
                     "(md.m{} == {}u && {})",
                     a.var,
                     a.from,
-                    test(&o("g1"), &o("g0"))
+                    fires(&g("g1"), &g("g0"))
                 ));
             }
         }
