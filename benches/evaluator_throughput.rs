@@ -251,8 +251,9 @@ fn cpu_seconds(eval: &mut dyn Evaluator, b: &Batch) -> f64 {
 /// from falling on one row only, which a table of rows run one after the
 /// other cannot.
 fn print_pairs(evals: &[Row], rounds: usize) {
-    println!("
-| pair | population | compiled ÷ hand-written, median of {rounds} rounds | fastest ÷ fastest | hand-written, fastest (/cpu-s) | compiled, fastest (/cpu-s) |\n|---|---|---|---|---|---|");
+    println!(
+        "\n| pair | population | compiled ÷ hand-written, median of {rounds} rounds | fastest ÷ fastest | hand-written, fastest (/cpu-s) | compiled, fastest (/cpu-s) |\n|---|---|---|---|---|---|"
+    );
     let steps = steps(&problem(false));
     for (name, make, rig) in evals.iter().filter(|r| !r.2) {
         let twin = format!("{name}-rig");
