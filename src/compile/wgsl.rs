@@ -20,13 +20,12 @@
 //!   `st_hermite(y0, f0, y1, f1, c00, c10, c01, c11)`;
 //! - `rig_deriv(kc, t, y, md) -> St`, `rig_events(kc, t, y, md) -> Ev` (every
 //!   event function), `rig_hits(g0, g1, md) -> u32` (the armed transitions
-//!   that fire over a step from `g0` to `g1`, one bit each), `rig_any_hit(g0,
-//!   g1, md) -> bool` (whether any does: `rig_hits != 0`, with each pair of
-//!   transitions that share an event function and a mode variable tested at
-//!   once, for the flat loop's every step), `rig_event_value(kc,
-//!   i, t, y, md) -> real` and `rig_oriented(g, i) -> real` (transition `i`'s
-//!   event function oriented so that `>= 0` is past its switch, at a point or
-//!   from `rig_events`' values), `rig_fire(i, md)`;
+//!   that fire over a step from `g0` to `g1`, one bit each: the exact test of
+//!   the located-step path), `rig_bases_c`, `rig_window(kc, md)` and
+//!   `rig_outside(w, b)` (the flat loop's conservative test at every step:
+//!   [`Emitter::window`]), `rig_oriented(g, i) -> real` (transition `i`'s
+//!   event function oriented so that `>= 0` is past its switch, from
+//!   `rig_events`' values), `rig_fire(i, md)`;
 //! - `rig_output0_c(kc, t, y, md, ck) -> real` (the scored output) and
 //!   `rig_report_c(kc, t, y, md, ck) -> Rep` (every output, then the full state);
 //! - the drive clocks: `struct Ck`, `rig_clock(kc, t)` and
@@ -486,20 +485,7 @@ impl Emitter<'_> {
             );
         }
         s.push_str("    return hits;\n}\n\n");
-        s.push_str(&any_hit(p));
-        let _ = writeln!(
-            s,
-            "fn rig_event_value(kc: Kc, i: u32, t: real, y: St, md: Md) -> real {{\n    switch i {{"
-        );
-        for (i, tr) in p.transitions.iter().enumerate() {
-            let _ = writeln!(
-                s,
-                "        case {i}u: {{\n    let ck = rig_clock(kc, t);\n{}    return {};\n        }}",
-                self.body(&[tr.g]),
-                oriented(tr.dir, &self.name(tr.g))
-            );
-        }
-        s.push_str("        default: { return real(0.0); }\n    }\n}\n\n");
+        s.push_str(&self.window());
         s.push_str("fn rig_oriented(g: Ev, i: u32) -> real {\n    switch i {\n");
         for (i, tr) in p.transitions.iter().enumerate() {
             let _ = writeln!(
@@ -557,6 +543,107 @@ impl Emitter<'_> {
         s
     }
 
+    /// The flat loop's test, for its every step: whether an armed transition
+    /// may fire over the step. Each event function is split into a base and a
+    /// threshold where it is `base − c` with `c` a run constant (else the base
+    /// is the whole function and `c` is 0), and the transitions on one base
+    /// share a window: `struct Eb` (each base, from `rig_bases_c`), `struct
+    /// Win` and `rig_window(kc, md)` (per base, the least threshold of the
+    /// armed upward transitions and the greatest of the armed downward ones,
+    /// found once per block: the modes change only on a located step), and
+    /// `rig_outside(w, b)` (the base at or past an end of its window).
+    ///
+    /// The test is conservative, never exact: a transition that fires is past
+    /// its switch at the step's end (`fl(base − c) ≥ 0` upward, `≤ 0`
+    /// downward), and subtraction rounds monotonically, so the base is then
+    /// outside the window too. A step it flags where none fires costs the
+    /// located-step path one plain step (`rig_hits`, the exact test, finds
+    /// nothing); it never decides which transition fires. Two subtractions
+    /// and two comparisons per base, however many transitions share it (the
+    /// tensile rig's yield, its reverse and fracture all on the specimen's
+    /// elongation), joined by the non-short-circuit `|` (a short-circuit `||`
+    /// becomes a branch, which a CPU driver runs under a mask).
+    fn window(&self) -> String {
+        let p = self.prog();
+        let mut bases: Vec<(Id, Vec<(usize, String)>)> = Vec::new();
+        for (i, tr) in p.transitions.iter().enumerate() {
+            let rc = |k: Id| p.run_constant[k as usize];
+            let (b, c) = match p.graph.ops[tr.g as usize] {
+                Op::Sub(a, c) if rc(c) && !rc(a) => (a, self.name(c)),
+                _ => (tr.g, "real(0.0)".to_string()),
+            };
+            match bases.iter_mut().find(|e| e.0 == b) {
+                Some(e) => e.1.push((i, c)),
+                None => bases.push((b, vec![(i, c)])),
+            }
+        }
+        let roots: Vec<Id> = bases.iter().map(|e| e.0).collect();
+        let sig = "kc: Kc, t: real, y: St, md: Md, ck: Ck";
+        let mut s = format!(
+            "struct Eb {{
+{}}}
+
+fn rig_bases_c({sig}) -> Eb {{
+{}    var r: Eb;
+",
+            self.fields("b", roots.len().max(1), "real"),
+            self.body(&roots)
+        );
+        if roots.is_empty() {
+            s.push_str(
+                "    r.b0 = real(0.0);
+",
+            );
+        }
+        for (j, &b) in roots.iter().enumerate() {
+            let _ = writeln!(s, "    r.b{j} = {};", self.name(b));
+        }
+        let _ = write!(
+            s,
+            "    return r;\n}}\n\nstruct Win {{\n{}{}}}\n\nfn rig_window(kc: Kc, md: Md) -> Win {{\n    var w: Win;\n",
+            self.fields("lo", roots.len().max(1), "real"),
+            self.fields("hi", roots.len().max(1), "real"),
+        );
+        let mut terms = Vec::new();
+        for (j, (_, trs)) in bases.iter().enumerate() {
+            let _ = writeln!(s, "    w.lo{j} = -REAL_MAX;\n    w.hi{j} = REAL_MAX;");
+            for dir in [Direction::Up, Direction::Down] {
+                let mut any = false;
+                for (i, c) in trs.iter().filter(|(i, _)| p.transitions[*i].dir == dir) {
+                    let tr = &p.transitions[*i];
+                    let (side, pick) = match dir {
+                        Direction::Up => ("hi", "min"),
+                        Direction::Down => ("lo", "max"),
+                    };
+                    let _ = writeln!(
+                        s,
+                        "    w.{side}{j} = select(w.{side}{j}, {pick}(w.{side}{j}, {c}), md.m{} == {}u);",
+                        tr.var, tr.from
+                    );
+                    any = true;
+                }
+                if any {
+                    terms.push(match dir {
+                        Direction::Up => format!("b.b{j} - w.hi{j} >= real(0.0)"),
+                        Direction::Down => format!("b.b{j} - w.lo{j} <= real(0.0)"),
+                    });
+                }
+            }
+        }
+        if roots.is_empty() {
+            s.push_str("    w.lo0 = -REAL_MAX;\n    w.hi0 = REAL_MAX;\n");
+        }
+        if terms.is_empty() {
+            terms.push("false".into());
+        }
+        let _ = write!(
+            s,
+            "    return w;\n}}\n\nfn rig_outside(w: Win, b: Eb) -> bool {{\n    return {};\n}}\n\n",
+            terms.join("\n        | ")
+        );
+        s
+    }
+
     /// `struct Ck` (each clock's `expm1(c·t)`), `rig_clock(kc, t)` and
     /// `rig_clock_shift(c, q)`, the clocks `δ` later from the clocks at `t`
     /// and `q` (the clocks at `δ`): `e^{c(t+δ)} − 1 = m + q + m·q`, exact in
@@ -604,79 +691,30 @@ fn fires(o1: &str, o0: &str) -> String {
     format!("{o1} >= real(0.0) && (!({o0} >= real(0.0)) || {o1} > {o0})")
 }
 
-/// `rig_any_hit(g0, g1, md) -> bool`: whether any armed transition fires over
-/// a step (`rig_hits(g0, g1, md) != 0`, the same comparisons). Two transitions
-/// on one event function and one mode variable, one up and one down, armed by
-/// different values (a contact closing and opening, a slider sticking and
-/// slipping) are tested together: the event values are multiplied by +1 or
-/// −1 (exact) as the mode arms the up or the down one, which halves the
-/// comparisons the run loop makes at every step.
-fn any_hit(p: &Program) -> String {
-    let trs = &p.transitions;
-    let mut paired = vec![false; trs.len()];
-    let mut terms = Vec::new();
-    let mut lets = String::new();
-    for (i, a) in trs.iter().enumerate() {
-        if paired[i] {
-            continue;
-        }
-        let partner = (i + 1..trs.len()).find(|&j| {
-            let b = &trs[j];
-            !paired[j] && b.g == a.g && b.var == a.var && b.from != a.from && b.dir != a.dir
-        });
-        match partner {
-            Some(j) => {
-                paired[j] = true;
-                let (up, down) = match a.dir {
-                    Direction::Up => (i, j),
-                    Direction::Down => (j, i),
-                };
-                let (fu, fd, v) = (trs[up].from, trs[down].from, a.var);
-                let k = terms.len();
-                let _ = writeln!(
-                    lets,
-                    "    let s{k} = select(real(-1.0), real(1.0), md.m{v} == {fu}u);\n    let p{k} = s{k} * g1.g[{up}];\n    let q{k} = s{k} * g0.g[{up}];"
-                );
-                // The variable starts at 0 and takes only the values its
-                // transitions set: where those are the pair's two, one of
-                // them is always armed.
-                let always = std::iter::once(0)
-                    .chain(trs.iter().filter(|t| t.var == v).map(|t| t.to))
-                    .all(|x| x == fu || x == fd);
-                let armed = if always {
-                    String::new()
-                } else {
-                    format!("(md.m{v} == {fu}u || md.m{v} == {fd}u) && ")
-                };
-                terms.push(format!(
-                    "({armed}{})",
-                    fires(&format!("p{k}"), &format!("q{k}"))
-                ));
-            }
-            None => {
-                let g = |e: &str| oriented(a.dir, &format!("{e}.g[{i}]"));
-                terms.push(format!(
-                    "(md.m{} == {}u && {})",
-                    a.var,
-                    a.from,
-                    fires(&g("g1"), &g("g0"))
-                ));
-            }
-        }
-    }
-    if terms.is_empty() {
-        terms.push("false".into());
-    }
-    format!(
-        "fn rig_any_hit(g0: Ev, g1: Ev, md: Md) -> bool {{\n{lets}    return {};\n}}\n\n",
-        terms.join("\n        || ")
-    )
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::rig::SHIPPED;
+
+    #[test]
+    fn transitions_on_one_base_share_a_window() {
+        let desc = crate::rig::shipped("tensile4").expect("a shipped rig");
+        let rig = crate::model::compiled::CompiledRig::new(desc, "tensile4").expect("compiles");
+        let prog = &rig.lowered.programs[0];
+        let src = GpuRig::new(prog)
+            .expect("emits")
+            .source(&|v| format!("real({v:e})"));
+        // Slack closing and opening on the adapter's gap; yield, its reverse
+        // and fracture on the specimen's elongation.
+        assert_eq!(prog.transitions.len(), 5);
+        let eb = &src[src.find("struct Eb {").expect("struct Eb")..];
+        assert_eq!(eb[..eb.find('}').unwrap()].matches(": real").count(), 2);
+        let out = &src[src.find("fn rig_outside(").expect("rig_outside")..];
+        let out = &out[..out.find('}').unwrap()];
+        assert_eq!(out.matches("w.hi").count(), 2, "{out}");
+        assert_eq!(out.matches("w.lo").count(), 2, "{out}");
+        assert!(!out.contains("||"), "short-circuit test: {out}");
+    }
 
     #[test]
     fn every_shipped_rig_emits_its_functions() {
@@ -690,7 +728,8 @@ mod tests {
                     "fn rig_deriv",
                     "fn rig_events",
                     "fn rig_hits",
-                    "fn rig_any_hit",
+                    "fn rig_window",
+                    "fn rig_outside",
                     "fn rig_fire",
                     "fn rig_report",
                 ] {

@@ -118,6 +118,16 @@ pub fn prelude(model: &GpuModel, precision: Precision, force_drive: bool) -> Str
         "const LOCATE_TOLERANCE: real = {};\n",
         real_literal(tol, precision)
     ));
+    // The largest finite real: the open ends of the compiled rigs' event
+    // windows (rig_window).
+    let max = match precision {
+        Precision::F64 => f64::MAX,
+        Precision::F32 => f64::from(f32::MAX),
+    };
+    s.push_str(&format!(
+        "const REAL_MAX: real = {};\n",
+        real_literal(max, precision)
+    ));
     for (name, value) in shared_constants(&model.slots(), model.state_stride(), model.hist_values())
     {
         s.push_str(&format!("const {name}: u32 = {value}u;\n"));
