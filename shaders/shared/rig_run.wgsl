@@ -293,10 +293,10 @@ fn run_live(k: RunK, s: RunS) -> bool {
 // for the block; conservative, so a flagged step where no armed transition
 // fires only costs the located-step path a plain step) stops advancing for
 // the rest of the block, and true is returned; the step is then to be taken
-// by run_crossed, which decides exactly (rig_hits). The drive clocks are computed once per block and carried from
-// step to step by rig_clock_shift, where the reference computes them afresh
-// at every step: the two differ by rounding (at most a block's worth of
-// ulps), inside the parity tolerances.
+// by run_crossed, which decides exactly (rig_hits). The drive clocks are
+// computed once per block and carried from step to step by rig_clock_shift,
+// where the reference computes them afresh at every step: the two differ by
+// rounding (at most a block's worth of ulps), inside the parity tolerances.
 fn run_block(k: RunK, s: ptr<function, RunS>, budget: ptr<function, u32>) -> bool {
     var st = *s;
     var left = *budget;

@@ -323,7 +323,6 @@ impl Emitter<'_> {
             String::from("// Generated from the rig description by src/compile/wgsl.rs.\n\n");
         let _ = writeln!(s, "const RIG_STATES: u32 = {ns}u;");
         let _ = writeln!(s, "const RIG_MODES: u32 = {nm}u;");
-        let _ = writeln!(s, "const RIG_TRANSITIONS: u32 = {}u;", p.transitions.len());
         let _ = writeln!(
             s,
             "const RIG_REPORT: u32 = {}u;\n",
@@ -565,9 +564,9 @@ impl Emitter<'_> {
     /// becomes a branch, which a CPU driver runs under a mask).
     fn window(&self) -> String {
         let p = self.prog();
+        let rc = |k: Id| p.run_constant[k as usize];
         let mut bases: Vec<(Id, Vec<(usize, String)>)> = Vec::new();
         for (i, tr) in p.transitions.iter().enumerate() {
-            let rc = |k: Id| p.run_constant[k as usize];
             let (b, c) = match p.graph.ops[tr.g as usize] {
                 Op::Sub(a, c) if rc(c) && !rc(a) => (a, self.name(c)),
                 _ => (tr.g, "real(0.0)".to_string()),
@@ -580,20 +579,12 @@ impl Emitter<'_> {
         let roots: Vec<Id> = bases.iter().map(|e| e.0).collect();
         let sig = "kc: Kc, t: real, y: St, md: Md, ck: Ck";
         let mut s = format!(
-            "struct Eb {{
-{}}}
-
-fn rig_bases_c({sig}) -> Eb {{
-{}    var r: Eb;
-",
+            "struct Eb {{\n{}}}\n\nfn rig_bases_c({sig}) -> Eb {{\n{}    var r: Eb;\n",
             self.fields("b", roots.len().max(1), "real"),
             self.body(&roots)
         );
         if roots.is_empty() {
-            s.push_str(
-                "    r.b0 = real(0.0);
-",
-            );
+            s.push_str("    r.b0 = real(0.0);\n");
         }
         for (j, &b) in roots.iter().enumerate() {
             let _ = writeln!(s, "    r.b{j} = {};", self.name(b));

@@ -76,7 +76,9 @@ pub const BLOCK_SAMPLES: u32 = 32;
 /// a whole number of these blocks too. Shorter than the hand-written
 /// kernels' blocks because a run that crosses a switch waits out the rest of
 /// its block: on lavapipe 16 gave about 3 % more throughput than 32 in f64
-/// and about 1 % in f32 (README, "on the GPU").
+/// and about 1 % in f32 with the per-pair test; with the windows
+/// (`rig_window`) 32 measured the same in f32 and 8 slower (README, "on the
+/// GPU").
 pub const RIG_BLOCK_SAMPLES: u32 = 16;
 const _: () = assert!(BLOCK_SAMPLES % RIG_BLOCK_SAMPLES == 0);
 
