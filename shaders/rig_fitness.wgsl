@@ -2,7 +2,8 @@
 // experiment) run integrates the rig (shared/rig_run.wgsl) and accumulates the
 // residual sum of output 0 against the measured force; a finished run writes
 // SS_res / SS_tot (or -1 when it blew up or chattered) to `fitness`. Mirrors
-// FitnessAccumulator in src/eval/fitness.rs.
+// FitnessAccumulator in src/eval/fitness.rs. The generated `measured` (see
+// record_fn in src/gpu/shaders.rs) reads the measured values.
 
 // 1 − R² per run, written once the run is done; -1 marks a diverged run.
 @group(0) @binding(6) var<storage, read_write> fitness: array<real>;
@@ -26,7 +27,7 @@ fn observe(
         return true;
     }
     if k >= ex.win_start && k < ex.win_end {
-        let r = f - data[ex.data_offset + k];
+        let r = f - measured(ex.data_offset + k);
         *acc += r * r;
     }
     return false;

@@ -4,7 +4,7 @@
 
 use rigfit::eval::Precision;
 use rigfit::gpu::layout::{ExpInfo, Settings, run_stride, shared_constants};
-use rigfit::gpu::shaders::{self, Kernel};
+use rigfit::gpu::shaders::{self, Kernel, ProblemShape};
 use rigfit::model::compiled::CompiledRig;
 use rigfit::model::{Drive, GpuModel, PiecewiseLinear, RigModel, registry};
 
@@ -40,12 +40,20 @@ fn sources() -> Vec<(String, Precision, Kernel, String)> {
     for (id, model) in gpu_models() {
         for precision in [Precision::F32, Precision::F64] {
             for kernel in Kernel::ALL {
-                for force_drive in [false, true] {
+                // Both drive flags; the measured values from `data` and
+                // from a uniform copy (one vec4, and 64 KiB's worth).
+                for (force_drive, record_vec4s) in
+                    [(false, None), (true, Some(1)), (false, Some(4096))]
+                {
+                    let shape = ProblemShape {
+                        force_drive,
+                        record_vec4s,
+                    };
                     let src = match kernel {
                         Kernel::ExpProbe => shaders::probe_source(precision),
-                        _ => shaders::source(&model, precision, kernel, force_drive, &[]),
+                        _ => shaders::source(&model, precision, kernel, shape, &[]),
                     };
-                    out.push((format!("{id} force={force_drive}"), precision, kernel, src));
+                    out.push((format!("{id} {shape:?}"), precision, kernel, src));
                 }
                 if kernel == Kernel::Fitness {
                     // Every per-run value baked (specialise.rs): literals of
@@ -55,7 +63,8 @@ fn sources() -> Vec<(String, Precision, Kernel, String)> {
                     let baked: Vec<Option<f64>> = (0..stride)
                         .map(|i| Some(values[i % values.len()]))
                         .collect();
-                    let src = shaders::source(&model, precision, kernel, false, &baked);
+                    let src =
+                        shaders::source(&model, precision, kernel, Default::default(), &baked);
                     let param = shaders::param_fn(&baked, precision);
                     assert_eq!(param.matches("case ").count(), stride);
                     assert!(src.contains(&param), "{id}: param() not baked");
@@ -124,7 +133,11 @@ fn host_structs_match_wgsl_sizes() {
 #[test]
 fn shared_constants_reach_the_shader_unchanged() {
     for (id, model) in gpu_models() {
-        let src = shaders::source(&model, Precision::F32, Kernel::Fitness, true, &[]);
+        let shape = ProblemShape {
+            force_drive: true,
+            record_vec4s: None,
+        };
+        let src = shaders::source(&model, Precision::F32, Kernel::Fitness, shape, &[]);
         let m = shaders::reflect(&src, Precision::F32, Kernel::Fitness)
             .unwrap()
             .module;

@@ -21,7 +21,7 @@ use super::pack::{
     PackedProblem, from_real_bytes, pack_problem, pack_runs, real_size, to_real_bytes,
 };
 use super::pipeline::{self, Binding, Kernelled};
-use super::shaders::Kernel;
+use super::shaders::{Kernel, ProblemShape, RECORD_BINDING};
 use super::specialise;
 use super::{GpuContext, GpuError};
 
@@ -45,6 +45,11 @@ pub struct GpuOptions {
     /// (`None`: the device's limits alone). Tests set a small value so that
     /// the split path runs on any adapter.
     pub max_runs_per_pass: Option<usize>,
+    /// Let the compiled rigs' fitness kernel read the measured values from a
+    /// uniform-buffer copy of them where they fit the device's uniform
+    /// binding (see [`super::shaders::record_fn`]); `false` reads them from
+    /// the storage buffer, as a longer record does. The same bits either way.
+    pub uniform_record: bool,
 }
 
 impl Default for GpuOptions {
@@ -53,12 +58,15 @@ impl Default for GpuOptions {
             chunk_steps: 2048,
             specialise: true,
             max_runs_per_pass: None,
+            uniform_record: true,
         }
     }
 }
 
-/// Bindings of the fitness kernel (`shared/bindings.wgsl`, then `fitness`).
-const FITNESS_BINDINGS: [Binding; 7] = [
+/// Bindings of the fitness kernel (`shared/bindings.wgsl`, then `fitness`,
+/// then `record` at [`RECORD_BINDING`], which only the compiled rigs' kernel
+/// reads).
+const FITNESS_BINDINGS: [Binding; 8] = [
     Binding::Uniform,
     Binding::Read,
     Binding::Read,
@@ -66,7 +74,9 @@ const FITNESS_BINDINGS: [Binding; 7] = [
     Binding::ReadWrite,
     Binding::ReadWrite,
     Binding::ReadWrite,
+    Binding::Uniform,
 ];
+const _: () = assert!(RECORD_BINDING as usize == FITNESS_BINDINGS.len() - 1);
 
 /// Bindings of the history kernel (`shared/bindings.wgsl`, then `history`,
 /// `selection`): explicit, as a rig without tables never reads `data`.
@@ -120,7 +130,7 @@ pub struct GpuEvaluator {
     model: GpuModel,
     precision: Precision,
     options: GpuOptions,
-    force_drive: bool,
+    shape: ProblemShape,
     fitness_layout: pipeline::Layout,
     fitness_kernel: Kernelled,
     /// Specialised fitness kernels built so far, oldest first.
@@ -131,6 +141,9 @@ pub struct GpuEvaluator {
     history_kernel: Kernelled,
     experiments: wgpu::Buffer,
     data: wgpu::Buffer,
+    /// The uniform copy of `data` the compiled rigs' fitness kernel reads
+    /// (`shape.record_vec4s`), or 16 bytes that no kernel reads.
+    record: wgpu::Buffer,
     runs: Option<RunBuffers>,
     host: Vec<f64>,
     cancel: Option<Arc<AtomicBool>>,
@@ -152,10 +165,15 @@ impl GpuEvaluator {
             .experiments
             .iter()
             .any(|e| matches!(e.drive, Drive::Force(_)));
+        let packed = pack_problem(&problem, &model);
+        let shape = ProblemShape {
+            force_drive: force,
+            record_vec4s: record_vec4s(&ctx, &model, &packed, precision, options),
+        };
         let fitness_layout = pipeline::layout(&ctx, "fitness layout", &FITNESS_BINDINGS);
         let fitness_kernel = pipeline::build(
             &ctx,
-            Some((&model, force, &[])),
+            Some((&model, shape, &[])),
             precision,
             Kernel::Fitness,
             Some(&fitness_layout),
@@ -163,13 +181,18 @@ impl GpuEvaluator {
         let history_layout = pipeline::layout(&ctx, "history layout", &HISTORY_BINDINGS);
         let history_kernel = pipeline::build(
             &ctx,
-            Some((&model, force, &[])),
+            Some((&model, shape, &[])),
             precision,
             Kernel::History,
             Some(&history_layout),
         )?;
-        let packed = pack_problem(&problem, &model);
-        let (experiments, data) = pipeline::scoped(&ctx, "problem buffers", || {
+        let (experiments, data, record) = pipeline::scoped(&ctx, "problem buffers", || {
+            // Zero-padded to whole vec4s; 16 bytes where no kernel reads it.
+            let mut copy = match shape.record_vec4s {
+                Some(_) => packed.data.clone(),
+                None => vec![],
+            };
+            copy.resize(4 * shape.record_vec4s.unwrap_or(1) as usize, 0.0);
             (
                 pipeline::storage_init(
                     &ctx,
@@ -183,6 +206,11 @@ impl GpuEvaluator {
                     &to_real_bytes(&packed.data, precision),
                     false,
                 ),
+                pipeline::uniform_init(
+                    &ctx,
+                    "measured data (uniform copy)",
+                    &to_real_bytes(&copy, precision),
+                ),
             )
         })?;
         Ok(Self {
@@ -192,7 +220,7 @@ impl GpuEvaluator {
             model,
             precision,
             options,
-            force_drive: force,
+            shape,
             fitness_layout,
             fitness_kernel,
             specialised: Vec::new(),
@@ -201,6 +229,7 @@ impl GpuEvaluator {
             history_kernel,
             experiments,
             data,
+            record,
             runs: None,
             host: Vec::new(),
             cancel: None,
@@ -215,6 +244,13 @@ impl GpuEvaluator {
     /// The device context.
     pub fn context(&self) -> &GpuContext {
         &self.ctx
+    }
+
+    /// Whether the fitness kernels read the measured values from their
+    /// uniform copy ([`GpuOptions::uniform_record`]) rather than from the
+    /// storage buffer.
+    pub fn record_in_uniform(&self) -> bool {
+        self.shape.record_vec4s.is_some()
     }
 
     /// How many per-run values the kernel that scored the last batch had baked
@@ -360,6 +396,7 @@ impl GpuEvaluator {
                         slice(&state, f, count, bytes[1]),
                         slice(&progress, f, count, bytes[2]),
                         slice(&fitness, f, count, bytes[3]),
+                        whole(&self.record),
                     ];
                     let entries: Vec<wgpu::BindGroupEntry<'_>> = bindings
                         .into_iter()
@@ -474,7 +511,7 @@ impl GpuEvaluator {
         );
         let kernel = pipeline::build(
             &self.ctx,
-            Some((&self.model, self.force_drive, &baked)),
+            Some((&self.model, self.shape, &baked)),
             self.precision,
             Kernel::Fitness,
             Some(&self.fitness_layout),
@@ -670,6 +707,24 @@ fn device_error(e: GpuError) -> EvalError {
         GpuError::Cancelled => EvalError::Cancelled,
         e => EvalError::Device(e.to_string()),
     }
+}
+
+/// The vec4s of the compiled rigs' uniform copy of the measured data: `None`
+/// for a hand-written model, when `options` turn it off, or when the data do
+/// not fit the device's largest uniform binding.
+fn record_vec4s(
+    ctx: &GpuContext,
+    model: &GpuModel,
+    packed: &PackedProblem,
+    precision: Precision,
+    options: GpuOptions,
+) -> Option<u32> {
+    if !options.uniform_record || !matches!(model, GpuModel::Compiled(_)) {
+        return None;
+    }
+    let n = packed.data.len().div_ceil(4).max(1) as u64;
+    let fits = n * 4 * real_size(precision) <= ctx.device.limits().max_uniform_buffer_binding_size;
+    (fits && n <= u64::from(u32::MAX)).then_some(n as u32)
 }
 
 fn gcd(a: usize, b: usize) -> usize {

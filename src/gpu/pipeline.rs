@@ -92,19 +92,19 @@ pub fn layout(ctx: &GpuContext, label: &str, bindings: &[Binding]) -> Layout {
     Layout { group, pipeline }
 }
 
-/// Builds `kernel` for `model` (with its force-drive flag and baked per-run
+/// Builds `kernel` for `model` (with its problem's shape and baked per-run
 /// values, see [`shaders::param_fn`]) at `precision`: validates with naga, reads
 /// the workgroup size back, creates the pipeline, with `layout` or else the
 /// layout wgpu derives from the shader.
 pub fn build(
     ctx: &GpuContext,
-    model: Option<(&GpuModel, bool, &[Option<f64>])>,
+    model: Option<(&GpuModel, shaders::ProblemShape, &[Option<f64>])>,
     precision: Precision,
     kernel: Kernel,
     layout: Option<&Layout>,
 ) -> Result<Kernelled, GpuError> {
     let src = match model {
-        Some((m, force_drive, baked)) => shaders::source(m, precision, kernel, force_drive, baked),
+        Some((m, shape, baked)) => shaders::source(m, precision, kernel, shape, baked),
         None => shaders::probe_source(precision),
     };
     let reflected = shaders::reflect(&src, precision, kernel)?;
@@ -144,6 +144,18 @@ pub fn storage_init(ctx: &GpuContext, label: &str, bytes: &[u8], writable: bool)
             label: Some(label),
             contents: &contents,
             usage,
+        })
+}
+
+/// A uniform buffer initialised with `bytes` (at least 16 bytes).
+pub fn uniform_init(ctx: &GpuContext, label: &str, bytes: &[u8]) -> wgpu::Buffer {
+    let mut contents = bytes.to_vec();
+    contents.resize(contents.len().max(16), 0);
+    ctx.device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: &contents,
+            usage: wgpu::BufferUsages::UNIFORM,
         })
 }
 

@@ -102,6 +102,43 @@ pub fn precision_prelude(precision: Precision) -> String {
     )
 }
 
+/// What a kernel's source takes from the problem it scores.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ProblemShape {
+    /// Whether any experiment is force-driven (`FORCE_DRIVE`).
+    pub force_drive: bool,
+    /// The compiled rigs' fitness kernel: `Some(n)` reads the measured values
+    /// from `record`, a uniform-buffer copy of `data` in `n` vec4s (see
+    /// [`record_fn`]); `None` reads them from `data`.
+    pub record_vec4s: Option<u32>,
+}
+
+/// The binding of `record` in the fitness kernels' layout (after
+/// `shared/bindings.wgsl`'s six and `fitness`).
+pub const RECORD_BINDING: u32 = 7;
+
+/// `fn measured(i)`, value `i` of `data`, for the compiled rigs' fitness
+/// kernel: from `record`, a uniform-buffer copy of `data` in `vec4s` vec4s,
+/// where it fits; else from `data` itself. A CPU driver (lavapipe) reads a
+/// storage buffer at a per-lane index one lane at a time in a loop with a
+/// bounds test and a branch per lane, and a uniform buffer with one gather:
+/// on the shipped example that loop, taken at every sample, was 15 % of the
+/// compiled kernel's time.
+pub fn record_fn(vec4s: Option<u32>) -> String {
+    match vec4s {
+        Some(n) => format!(
+            "@group(0) @binding({RECORD_BINDING}) var<uniform> record: array<vec4<real>, {n}>;\n\n\
+             // Value i of `data`, from its uniform copy (src/gpu/shaders.rs, record_fn).\n\
+             fn measured(i: u32) -> real {{\n    return record[i >> 2u][i & 3u];\n}}\n"
+        ),
+        None => {
+            "// Value i of `data` (src/gpu/shaders.rs, record_fn: too long for a uniform copy).\n\
+                 fn measured(i: u32) -> real {\n    return data[i];\n}\n"
+                .to_string()
+        }
+    }
+}
+
 /// The prelude: [`precision_prelude`], `FORCE_DRIVE` and the integer constants
 /// of `layout.rs`.
 pub fn prelude(model: &GpuModel, precision: Precision, force_drive: bool) -> String {
@@ -169,18 +206,18 @@ pub fn param_fn(baked: &[Option<f64>], precision: Precision) -> String {
     s
 }
 
-/// Full WGSL source of `kernel` for `model` at `precision`; `force_drive` when
-/// any experiment of the problem is force-driven; `baked` per-run values that
-/// are constants (see [`param_fn`]; empty for the generic kernel).
+/// Full WGSL source of `kernel` for `model` at `precision`, for a problem of
+/// `shape`; `baked` per-run values that are constants (see [`param_fn`]; empty
+/// for the generic kernel).
 pub fn source(
     model: &GpuModel,
     precision: Precision,
     kernel: Kernel,
-    force_drive: bool,
+    shape: ProblemShape,
     baked: &[Option<f64>],
 ) -> String {
     let mut parts = vec![
-        prelude(model, precision, force_drive),
+        prelude(model, precision, shape.force_drive),
         SHARED_EXP.to_string(),
     ];
     match (kernel, model) {
@@ -211,6 +248,9 @@ pub fn source(
             );
             parts.push(rig.source(&|v| real_literal(v, precision)));
             parts.push(param_fn(baked, precision));
+            if kernel == Kernel::Fitness {
+                parts.push(record_fn(shape.record_vec4s));
+            }
             parts.push(
                 match kernel {
                     Kernel::Fitness => KERNEL_RIG_FITNESS,

@@ -1,0 +1,154 @@
+//! The compiled rigs' fitness kernel reads the measured values from a
+//! uniform-buffer copy where they fit the device's uniform binding, and from
+//! the storage buffer otherwise (src/gpu/shaders.rs, `record_fn`): the two give
+//! the same bits, on every shipped rig campaign in both precisions (force
+//! tables sit in the same buffer after the records), and a record too long for
+//! the uniform binding falls back to the storage buffer and still matches the
+//! CPU reference.
+
+mod gpu_common;
+use gpu_common as common;
+
+use std::path::Path;
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rigfit::campaign::Campaign;
+use rigfit::eval::{CpuEvaluator, Evaluator, Precision, Problem};
+use rigfit::gpu::{GpuContext, GpuEvaluator, GpuOptions};
+use rigfit::job::gene_specs;
+
+/// The campaigns under `campaigns/` that name a rig, each shortened to at
+/// most 400 samples, and the shipped tensile example through `tensile4`.
+fn campaigns() -> Vec<Campaign> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("campaigns");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    files.sort();
+    let mut out = vec![];
+    for p in files {
+        let mut v: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
+        let obj = v.as_object_mut().unwrap();
+        if obj.get("rig").is_none() {
+            obj.remove("model");
+            obj.insert("rig".into(), "tensile4".into());
+        }
+        let name = p.file_name().unwrap().to_string_lossy().to_string();
+        let Ok(mut c) = Campaign::from_str(&v.to_string(), &dir, &name) else {
+            continue;
+        };
+        for e in &mut c.problem.experiments {
+            let n = e.force.len().min(400);
+            e.force.truncate(n);
+            e.window = e.window.start.min(n)..n;
+        }
+        out.push(c);
+    }
+    assert!(out.len() >= 2, "too few rig campaigns: {}", out.len());
+    out
+}
+
+/// Twelve genomes spread over the campaign's search box, seeded.
+fn genomes(c: &Campaign) -> Vec<Vec<f64>> {
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let genes = gene_specs(c);
+    (0..12)
+        .map(|_| genes.iter().map(|g| g.at_fraction(rng.random())).collect())
+        .collect()
+}
+
+fn evaluator(ctx: &GpuContext, p: &Problem, precision: Precision, uniform: bool) -> GpuEvaluator {
+    let options = GpuOptions {
+        uniform_record: uniform,
+        ..GpuOptions::default()
+    };
+    GpuEvaluator::new(ctx.clone(), p.clone(), precision, options).unwrap()
+}
+
+fn precisions(ctx: &GpuContext) -> Vec<Precision> {
+    let mut v = vec![Precision::F32];
+    if ctx.has_f64() {
+        v.push(Precision::F64);
+    }
+    v
+}
+
+#[test]
+fn the_uniform_copy_and_the_storage_buffer_give_the_same_bits() {
+    let Some(ctx) = common::gpu() else { return };
+    let mut uniform = 0;
+    for c in campaigns() {
+        let batch = c.batch(&genomes(&c));
+        for precision in precisions(&ctx) {
+            let mut on = evaluator(&ctx, &c.problem, precision, true);
+            let mut off = evaluator(&ctx, &c.problem, precision, false);
+            // A campaign whose drive tables make the data too long for
+            // the binding reads storage both ways (EMPS's measured drive).
+            assert!(!off.record_in_uniform());
+            uniform += usize::from(on.record_in_uniform());
+            let a = on.fitness(&batch).unwrap();
+            let b = off.fitness(&batch).unwrap();
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(
+                bits(&a.values),
+                bits(&b.values),
+                "{} {precision:?}",
+                c.problem.experiments[0].name
+            );
+            assert!(
+                a.values.iter().any(|&x| x > 0.0 && x < 1.0),
+                "no fit at all"
+            );
+        }
+    }
+    assert!(
+        uniform >= 4,
+        "only {uniform} campaign runs used the uniform copy"
+    );
+}
+
+#[test]
+fn a_record_longer_than_the_uniform_binding_is_read_from_storage() {
+    let Some(ctx) = common::gpu() else { return };
+    let limit = ctx.device.limits().max_uniform_buffer_binding_size as usize;
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("campaigns/aa2024_t3_synthetic.json");
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let obj = v.as_object_mut().unwrap();
+    obj.remove("model");
+    obj.insert("rig".into(), "tensile4".into());
+    let dir = path.parent().unwrap();
+    let mut c = Campaign::from_str(&v.to_string(), dir, "aa2024_t3_synthetic.json").unwrap();
+    // More f32 samples than the binding holds, the measured force repeated
+    // (the fit window stays where it was).
+    let e = &mut c.problem.experiments[0];
+    let n = limit / 4 + 64;
+    let f = e.force.clone();
+    e.force = (0..n).map(|i| f[i % f.len()]).collect();
+    let batch = c.batch(&genomes(&c)[..4]);
+    let cpu = CpuEvaluator::new(c.problem.clone(), 1)
+        .fitness(&batch)
+        .unwrap();
+    for precision in precisions(&ctx) {
+        let mut gpu = evaluator(&ctx, &c.problem, precision, true);
+        assert!(
+            !gpu.record_in_uniform(),
+            "{n} samples fit a {limit}-byte binding"
+        );
+        let g = gpu.fitness(&batch).unwrap();
+        let tol = match precision {
+            Precision::F32 => 2e-3,
+            Precision::F64 => 1e-9,
+        };
+        for (a, b) in g.values.iter().zip(&cpu.values) {
+            assert!(
+                (a - b).abs() <= tol * b.abs().max(1e-3),
+                "{precision:?}: {a} vs {b}"
+            );
+        }
+    }
+}
