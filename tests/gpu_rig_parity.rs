@@ -13,7 +13,6 @@ use gpu_common as common;
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use std::path::Path;
 
 use rigfit::campaign::Campaign;
 use rigfit::eval::{
@@ -384,14 +383,7 @@ fn compare(ctx: &GpuContext, precision: Precision, case: &Case) -> f64 {
 
 /// Every shipped campaign that names a rig (`campaigns/*.json` with `"rig"`).
 fn rig_campaigns() -> Vec<Campaign> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("campaigns");
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "json"))
-        .collect();
-    files.sort();
-    files
+    common::campaign_files()
         .into_iter()
         .filter(|p| {
             let v: serde_json::Value =

@@ -22,14 +22,8 @@ use rigfit::job::gene_specs;
 /// most 400 samples, and the shipped tensile example through `tensile4`.
 fn campaigns() -> Vec<Campaign> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("campaigns");
-    let mut files: Vec<_> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|x| x == "json"))
-        .collect();
-    files.sort();
     let mut out = vec![];
-    for p in files {
+    for p in common::campaign_files() {
         let mut v: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
         let obj = v.as_object_mut().unwrap();

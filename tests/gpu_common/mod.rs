@@ -32,6 +32,18 @@ pub fn gpu() -> Option<GpuContext> {
     }
 }
 
+/// The shipped campaign files (`campaigns/*.json`), sorted.
+pub fn campaign_files() -> Vec<std::path::PathBuf> {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("campaigns");
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    files.sort();
+    files
+}
+
 /// A GPU evaluator of `problem` on `ctx` with the default options.
 pub fn evaluator(ctx: &GpuContext, problem: &Problem, precision: Precision) -> GpuEvaluator {
     GpuEvaluator::new(
