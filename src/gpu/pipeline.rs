@@ -131,14 +131,16 @@ pub fn build(
     })
 }
 
-/// A storage buffer initialised with `bytes` (at least 16 bytes).
-pub fn storage_init(ctx: &GpuContext, label: &str, bytes: &[u8], writable: bool) -> wgpu::Buffer {
+/// A buffer of `usage` initialised with `bytes`, zero-padded to at least 16
+/// bytes.
+fn buffer_init(
+    ctx: &GpuContext,
+    label: &str,
+    bytes: &[u8],
+    usage: wgpu::BufferUsages,
+) -> wgpu::Buffer {
     let mut contents = bytes.to_vec();
     contents.resize(contents.len().max(16), 0);
-    let mut usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
-    if writable {
-        usage |= wgpu::BufferUsages::COPY_SRC;
-    }
     ctx.device
         .create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some(label),
@@ -147,16 +149,18 @@ pub fn storage_init(ctx: &GpuContext, label: &str, bytes: &[u8], writable: bool)
         })
 }
 
+/// A storage buffer initialised with `bytes` (at least 16 bytes).
+pub fn storage_init(ctx: &GpuContext, label: &str, bytes: &[u8], writable: bool) -> wgpu::Buffer {
+    let mut usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST;
+    if writable {
+        usage |= wgpu::BufferUsages::COPY_SRC;
+    }
+    buffer_init(ctx, label, bytes, usage)
+}
+
 /// A uniform buffer initialised with `bytes` (at least 16 bytes).
 pub fn uniform_init(ctx: &GpuContext, label: &str, bytes: &[u8]) -> wgpu::Buffer {
-    let mut contents = bytes.to_vec();
-    contents.resize(contents.len().max(16), 0);
-    ctx.device
-        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some(label),
-            contents: &contents,
-            usage: wgpu::BufferUsages::UNIFORM,
-        })
+    buffer_init(ctx, label, bytes, wgpu::BufferUsages::UNIFORM)
 }
 
 /// An uninitialised buffer of `size` bytes (at least 16).
