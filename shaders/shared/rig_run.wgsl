@@ -395,9 +395,10 @@ fn run_close(k: RunK, s: RunS) {
 // groups of 32-bit lanes) therefore leave the block loop together, and reach
 // that code, only after a block in which one of them crossed a switch: each
 // crossing lane raises its group's vote, and every lane leaves the block loop
-// once it sees it. Correctness never rests on the vote (a lane that leaves
-// without having crossed simply goes back); a driver whose groups differ from
-// VOTE_LANES only takes the crossed-step code more often.
+// once it sees it; a lane that leaves without having crossed takes its next
+// step there too, whose code is the reference's for any step. Correctness
+// never rests on the vote: a driver whose groups differ from VOTE_LANES only
+// takes the crossed-step code more often.
 const VOTE_LANES: u32 = 8u;
 var<workgroup> vote: array<atomic<u32>, 64>;
 
@@ -427,7 +428,11 @@ fn advance(slot: u32, base: u32, e: u32, lane: u32) {
                 break;
             }
         }
-        if crossed {
+        // Every live lane of the group takes its next step here, not only
+        // those that crossed: the group runs this code for all of its lanes
+        // anyway, and a step without a switch comes out as the flat loop's
+        // (run_crossed's y1), so the others advance a step for the price.
+        if (crossed || atomicLoad(&vote[group]) != 0u) && run_live(k, s) && budget > 0u {
             // Again for a run whose step a second switch interrupted: one
             // call per switch, the loop's body run once when none did.
             loop {
