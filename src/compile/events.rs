@@ -179,9 +179,7 @@ impl<'p> EventStepper<'p> {
             .transitions
             .iter()
             .enumerate()
-            .filter(|(i, tr)| {
-                self.modes[tr.var as usize] == tr.from && tr.fires(self.g_start[*i], self.g_end[*i])
-            })
+            .filter(|(i, tr)| tr.armed(&self.modes) && tr.fires(self.g_start[*i], self.g_end[*i]))
             .map(|(i, _)| i)
     }
 

@@ -44,7 +44,7 @@ pub fn initial_state(prog: &Program, tape: &Tape, frame: &mut Frame<'_>) -> (Vec
         let fire = prog.transitions.iter().find(|tr| {
             let g = frame.get(tr.g);
             !switched[tr.var as usize]
-                && modes[tr.var as usize] == tr.from
+                && tr.armed(&modes)
                 && match tr.dir {
                     Direction::Up => g > 0.0,
                     Direction::Down => g < 0.0,

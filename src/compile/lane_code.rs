@@ -65,6 +65,11 @@ pub struct LaneCode {
     /// Per event root (transition), what arms it and which way it fires:
     /// (its mode variable's register, the value that arms it, direction).
     pub armed: Vec<(Reg, f64, Direction)>,
+    /// Per event root, the further (mode register, value) pairs that must
+    /// hold for it to be armed ([`Transition::guard`]).
+    ///
+    /// [`Transition::guard`]: super::program::Transition::guard
+    pub guards: Vec<Vec<(Reg, f64)>>,
     /// The time register.
     pub time: Reg,
     /// Each mode variable's register.
@@ -179,6 +184,16 @@ impl LaneCode {
                 .transitions
                 .iter()
                 .map(|tr| (modes[tr.var as usize], f64::from(tr.from), tr.dir))
+                .collect(),
+            guards: prog
+                .transitions
+                .iter()
+                .map(|tr| {
+                    tr.guard
+                        .iter()
+                        .map(|&(v, x)| (modes[v as usize], f64::from(x)))
+                        .collect()
+                })
                 .collect(),
             time,
             modes,

@@ -240,8 +240,9 @@ fn finish(r: &mut [Reg], nb: usize, y: &[Reg], acc: &[Reg], slopes: &[u16], c: f
     }
 }
 
-/// Sets the bit of each lane of the first `nb` blocks whose mode is `from`
-/// and whose event function `g` is `past` its switch.
+/// Sets the bit of each lane of the first `nb` blocks whose mode is `from`,
+/// whose guard holds (each (register, value) pair of `guard.0`, registers
+/// `guard.1`) and whose event function `g` is `past` its switch.
 #[inline(always)]
 fn mark(
     hit: &mut [u8; BLOCKS],
@@ -249,6 +250,7 @@ fn mark(
     g: &Reg,
     mode: &Reg,
     from: f64,
+    guard: (&[(u16, f64)], &[Reg]),
     past: impl Fn(f64) -> bool,
 ) {
     for b in 0..nb {
@@ -256,6 +258,12 @@ fn mark(
         let mut bits = 0;
         for l in 0..W {
             bits |= u8::from(past(gb[l]) & (mb[l] == from)) << l;
+        }
+        for &(r, v) in guard.0 {
+            let rb = guard.1[usize::from(r)][b];
+            for l in 0..W {
+                bits &= !(u8::from(rb[l] != v) << l);
+            }
         }
         hit[b] |= bits;
     }
@@ -642,13 +650,18 @@ impl<'p> LaneRunner<'p> {
     /// register) is past an armed switch.
     fn mark_hits(&mut self) {
         let (code, nb) = (self.code, self.nb);
-        for (&(mode, from, dir), &g) in code.armed.iter().zip(&code.events.roots) {
+        for ((&(mode, from, dir), &g), guard) in
+            code.armed.iter().zip(&code.events.roots).zip(&code.guards)
+        {
             let (g, mode) = (&self.regs[g as usize], &self.regs[mode as usize]);
+            let guard = (&guard[..], &self.regs[..]);
             // `Transition::violated`, its direction fixed outside the loop.
             match dir {
-                Direction::Up => mark(&mut self.hit, nb, g, mode, from, |g| Direction::Up.past(g)),
+                Direction::Up => mark(&mut self.hit, nb, g, mode, from, guard, |g| {
+                    Direction::Up.past(g)
+                }),
                 Direction::Down => {
-                    mark(&mut self.hit, nb, g, mode, from, |g| {
+                    mark(&mut self.hit, nb, g, mode, from, guard, |g| {
                         Direction::Down.past(g)
                     });
                 }

@@ -15,6 +15,7 @@ pub mod interval;
 pub mod ir;
 pub mod lane_code;
 pub mod lanes;
+pub mod liveness;
 pub mod lower;
 pub mod math;
 pub mod native;

@@ -472,7 +472,8 @@ pub fn source(code: &LaneCode, arith: Arith) -> String {
         let tabs = |reg: Reg| table_of(reg).map(|k| format!("tab[{k}]"));
         let mut loads = inputs(list);
         if name == "rig_events" {
-            for &(mode, _, _) in &code.armed {
+            let guarded = code.guards.iter().flatten().map(|&(m, _)| m);
+            for mode in code.armed.iter().map(|a| a.0).chain(guarded) {
                 if !loads.contains(&mode) {
                     loads.push(mode);
                 }
@@ -491,14 +492,20 @@ pub fn source(code: &LaneCode, arith: Arith) -> String {
             // `LaneRunner`'s hit test: a bit per lane armed and past its
             // switch (`Direction::past`).
             s.push_str("    m k = (m){0};\n");
-            for (&(mode, from, dir), &g) in code.armed.iter().zip(&list.roots) {
+            for ((&(mode, from, dir), &g), guard) in
+                code.armed.iter().zip(&list.roots).zip(&code.guards)
+            {
                 let past = match dir {
                     Direction::Up => ">=",
                     Direction::Down => "<=",
                 };
+                let guard: String = guard
+                    .iter()
+                    .map(|&(m, v)| format!(" & (r{m} == splat({v:?}))"))
+                    .collect();
                 let _ = writeln!(
                     s,
-                    "    k |= (r{mode} == splat({from:?})) & (r{g} {past} splat(0.0));"
+                    "    k |= (r{mode} == splat({from:?})) & (r{g} {past} splat(0.0)){guard};"
                 );
             }
             s.push_str(

@@ -42,9 +42,20 @@ pub struct Transition {
     pub g: Id,
     /// Direction.
     pub dir: Direction,
+    /// Further mode values (variable, value) that must all hold for it to be
+    /// armed; empty but in the fitness variant of a program, where a switch
+    /// that can no longer reach the fitted output is skipped
+    /// ([`super::liveness`]).
+    pub guard: Vec<(u32, u32)>,
 }
 
 impl Transition {
+    /// Whether it is armed at `modes`: its variable at `from`, its guard held.
+    pub fn armed(&self, modes: &[u32]) -> bool {
+        modes[self.var as usize] == self.from
+            && self.guard.iter().all(|&(v, x)| modes[v as usize] == x)
+    }
+
     /// Whether `g` is past the switch.
     pub fn violated(&self, g: f64) -> bool {
         self.dir.past(g)

@@ -40,7 +40,7 @@
 use std::fmt::Write as _;
 
 use super::ir::{Id, Input, Op, operands};
-use super::program::{Direction, Program};
+use super::program::{Direction, Program, Transition};
 use super::tape::{Frame, Tape};
 
 /// Most located switches one program may have on the GPU (`rig_hits` is a
@@ -67,6 +67,10 @@ pub struct GpuRig {
     /// buffer's prefix ([`GpuRig::table_data`]).
     inline: Vec<(u32, u32, u32)>,
     table_data: Vec<f64>,
+    /// The fitness kernel's program where it skips switches that can no
+    /// longer reach the fitted output ([`super::liveness`]); the same graph,
+    /// slots and tables, only the transitions' guards differ.
+    fitted: Option<Box<GpuRig>>,
 }
 
 /// Whether `id` is a run constant that a kernel reads as a slot (not a literal).
@@ -110,13 +114,31 @@ impl GpuRig {
                 table_data.extend_from_slice(&t.value);
             }
         }
+        let variant = super::liveness::fitted_variant(prog);
+        let fitted = (variant.transitions != prog.transitions).then(|| {
+            Box::new(Self {
+                prog: variant,
+                tape: tape.clone(),
+                slots: Vec::clone(&slots),
+                inline: inline.clone(),
+                table_data: table_data.clone(),
+                fitted: None,
+            })
+        });
         Ok(Self {
             prog: prog.clone(),
             tape,
             slots,
             inline,
             table_data,
+            fitted,
         })
+    }
+
+    /// The rig as the fitness kernel runs it: with the switches that cannot
+    /// reach the fitted output skipped where they cannot.
+    pub fn fitted(&self) -> &GpuRig {
+        self.fitted.as_deref().unwrap_or(self)
     }
 
     /// The program.
@@ -476,10 +498,9 @@ impl Emitter<'_> {
             let g = |e: &str| oriented(tr.dir, &format!("{e}.g[{i}]"));
             let _ = writeln!(
                 s,
-                "    hits |= select(0u, {}u, md.m{} == {}u && {});",
+                "    hits |= select(0u, {}u, {} && {});",
                 1u64 << i,
-                tr.var,
-                tr.from,
+                armed(tr),
                 fires(&g("g1"), &g("g0"))
             );
         }
@@ -608,8 +629,8 @@ impl Emitter<'_> {
                     };
                     let _ = writeln!(
                         s,
-                        "    w.{side}{j} = select(w.{side}{j}, {pick}(w.{side}{j}, {c}), md.m{} == {}u);",
-                        tr.var, tr.from
+                        "    w.{side}{j} = select(w.{side}{j}, {pick}(w.{side}{j}, {c}), {});",
+                        armed(tr)
                     );
                     any = true;
                 }
@@ -663,6 +684,16 @@ impl Emitter<'_> {
         s.push_str("    return r;\n}\n\n");
         s
     }
+}
+
+/// Whether `tr` is armed at the modes `md` (`Transition::armed`): its
+/// variable at its `from` value and every pair of its guard held.
+fn armed(tr: &Transition) -> String {
+    std::iter::once((tr.var, tr.from))
+        .chain(tr.guard.iter().copied())
+        .map(|(v, x)| format!("md.m{v} == {x}u"))
+        .collect::<Vec<_>>()
+        .join(" && ")
 }
 
 /// An event value `g` oriented so that `>= 0` is past its switch

@@ -246,6 +246,14 @@ pub fn source(
                     .iter()
                     .map(|s| s.to_string()),
             );
+            // The fitness kernel reads output 0 only, and skips the switches
+            // that can no longer reach it (GpuRig::fitted), as the CPU's
+            // fitted lanes do.
+            let rig = if kernel == Kernel::Fitness {
+                rig.fitted()
+            } else {
+                rig
+            };
             parts.push(rig.source(&|v| real_literal(v, precision)));
             parts.push(param_fn(baked, precision));
             if kernel == Kernel::Fitness {

@@ -31,7 +31,24 @@ pub struct CompiledRig {
     native_f32: Vec<NativeSlot>,
     /// Each program prepared for the GPU kernels (`None`: it cannot run there).
     gpu: Vec<Option<std::sync::Arc<GpuRig>>>,
+    /// Each program's fitness variant, where it skips switches that can no
+    /// longer reach the fitted output ([`crate::compile::liveness`]); `None`
+    /// where it would skip none.
+    fitted: Vec<Option<Fitted>>,
 }
+
+/// A program's fitness variant and its lane code and native builds (its
+/// graph, and so its tape, is the program's own).
+#[derive(Debug)]
+struct Fitted {
+    program: crate::compile::Program,
+    lane_code: LaneCode,
+    native: NativeSlot,
+    native_f32: NativeSlot,
+}
+
+/// What one program's lane runs read: the program, its tape and lane code.
+type LaneParts<'a> = (&'a crate::compile::Program, &'a Tape, &'a LaneCode);
 
 /// How a group of lane runs reports ([`CompiledRig::run_lanes`]).
 enum Observe<'a> {
@@ -90,6 +107,20 @@ impl CompiledRig {
             .iter()
             .map(|p| GpuRig::new(p).ok().map(std::sync::Arc::new))
             .collect();
+        let fitted = lowered
+            .programs
+            .iter()
+            .zip(&tapes)
+            .map(|(p, t)| {
+                let v = crate::compile::liveness::fitted_variant(p);
+                (v.transitions != p.transitions).then(|| Fitted {
+                    lane_code: LaneCode::new(&v, t),
+                    program: v,
+                    native: NativeSlot::default(),
+                    native_f32: NativeSlot::default(),
+                })
+            })
+            .collect();
         Ok(Self {
             id: leak(&desc.id),
             params: Box::leak(params.into_boxed_slice()),
@@ -106,6 +137,7 @@ impl CompiledRig {
             tapes,
             lane_code,
             gpu,
+            fitted,
         })
     }
 
@@ -126,11 +158,20 @@ impl CompiledRig {
         self.native[i].get(&self.lane_code[i], work)
     }
 
-    /// `params` run by program `i`'s lane ensemble, natively where `native`
-    /// is its build, in groups of [`LANES`].
+    /// Program `i`'s parts for lane runs.
+    fn lane_parts(&self, i: usize) -> LaneParts<'_> {
+        (
+            &self.lowered.programs[i],
+            &self.tapes[i],
+            &self.lane_code[i],
+        )
+    }
+
+    /// `params` run by a program's lane ensemble (`parts`), natively where
+    /// `native` is its build, in groups of [`LANES`].
     fn run_lanes(
         &self,
-        i: usize,
+        parts: LaneParts<'_>,
         drive: &Drive,
         params: &[&[f64]],
         grid: &SampleGrid,
@@ -138,14 +179,9 @@ impl CompiledRig {
         mut observe: Observe<'_>,
     ) {
         let force = drive.force_table();
+        let (program, tape, code) = parts;
         for (c, chunk) in params.chunks(LANES).enumerate() {
-            let mut runner = LaneRunner::new(
-                &self.lowered.programs[i],
-                &self.tapes[i],
-                &self.lane_code[i],
-                chunk,
-                force,
-            );
+            let mut runner = LaneRunner::new(program, tape, code, chunk, force);
             if let Some(n) = native {
                 runner = runner.with_native(n);
             }
@@ -650,7 +686,7 @@ impl RigModel for CompiledRig {
         };
         let native = self.native_for(i, params, grid);
         self.run_lanes(
-            i,
+            self.lane_parts(i),
             drive,
             params,
             grid,
@@ -671,12 +707,19 @@ impl RigModel for CompiledRig {
             super::fitted_one_by_one(self, params, drive, grid, observe);
             return false;
         };
-        let in_f32 = f32
-            .then(|| self.native_f32[i].now(&self.lane_code[i], Arith::F32))
-            .flatten();
-        let native = in_f32.clone().or_else(|| self.native_for(i, params, grid));
+        // Output 0 only: the fitness variant where it skips switches.
+        let (parts, slots) = match &self.fitted[i] {
+            Some(f) => (
+                (&f.program, &self.tapes[i], &f.lane_code),
+                (&f.native, &f.native_f32),
+            ),
+            None => (self.lane_parts(i), (&self.native[i], &self.native_f32[i])),
+        };
+        let in_f32 = f32.then(|| slots.1.now(parts.2, Arith::F32)).flatten();
+        let work = (params.len() * grid.total_steps()) as u64;
+        let native = in_f32.clone().or_else(|| slots.0.get(parts.2, work));
         self.run_lanes(
-            i,
+            parts,
             drive,
             params,
             grid,

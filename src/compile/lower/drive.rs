@@ -180,6 +180,7 @@ pub(super) fn signal(
                 to: 1,
                 g: since,
                 dir: Direction::Up,
+                guard: Vec::new(),
             });
             trans.push(Transition {
                 name: format!("{path} pulse ends"),
@@ -188,6 +189,7 @@ pub(super) fn signal(
                 to: 2,
                 g: left,
                 dir: Direction::Up,
+                guard: Vec::new(),
             });
             let pi = g.c(std::f64::consts::PI);
             let w = g.div(pi, tau);

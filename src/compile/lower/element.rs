@@ -45,6 +45,7 @@ pub(super) fn element_force(
             to,
             g,
             dir,
+            guard: Vec::new(),
         });
     };
 
@@ -148,6 +149,7 @@ pub(super) fn element_force(
                             to: 1,
                             g: gy,
                             dir: Direction::Up,
+                            guard: Vec::new(),
                         });
                         trans.push(Transition {
                             name: format!("{} unloads below the limit", e.name),
@@ -156,6 +158,7 @@ pub(super) fn element_force(
                             to: 0,
                             g: gy,
                             dir: Direction::Down,
+                            guard: Vec::new(),
                         });
                     }
                     let plastic = mode_is(g, var, 1.0);
