@@ -25,8 +25,9 @@
 use super::ir::{Id, Input, Op, operands};
 use super::program::Program;
 
-/// Mode-value combinations past which the analysis is not tried.
-const MAX_COMBINATIONS: usize = 4096;
+/// Mode-value combinations past which the analysis is not tried (it walks
+/// the graph once per combination and the combinations reachable from each).
+const MAX_COMBINATIONS: usize = 256;
 
 /// `prog` with a guard on each transition that cannot reach output 0 from
 /// some of its armed mode combinations; `prog` unchanged where none can be
