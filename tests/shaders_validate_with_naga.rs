@@ -158,3 +158,31 @@ fn shared_constants_reach_the_shader_unchanged() {
         }
     }
 }
+
+/// The fitness kernel runs the rig's fitness variant (src/compile/liveness.rs):
+/// tensile4's slack and yield switches armed only while the specimen is whole;
+/// the history kernel arms every switch on its own mode alone.
+#[test]
+fn the_fitness_kernel_skips_the_switches_behind_the_break() {
+    let desc = rigfit::rig::shipped("tensile4").expect("shipped");
+    let rig = CompiledRig::leaked(desc, "tensile4").expect("compiles");
+    let model = rig.gpu(&Drive::Velocity).expect("GPU kernels");
+    let hits = |kernel: Kernel| {
+        let src = shaders::source(&model, Precision::F32, kernel, Default::default(), &[]);
+        let at = src.find("fn rig_hits(").expect("rig_hits");
+        let body = &src[at..at + src[at..].find("\n}\n").expect("end")];
+        body.lines()
+            .filter(|l| l.contains("hits |="))
+            .map(|l| l.matches("md.m").count())
+            .collect::<Vec<_>>()
+    };
+    // Five transitions; fracture (one mode test) is never guarded.
+    let fitness = hits(Kernel::Fitness);
+    assert_eq!(fitness.len(), 5);
+    assert_eq!(
+        fitness.iter().filter(|&&n| n == 2).count(),
+        4,
+        "{fitness:?}"
+    );
+    assert_eq!(hits(Kernel::History), vec![1; 5]);
+}
