@@ -66,6 +66,13 @@ pub fn fitted_variant(prog: &Program) -> Program {
     out
 }
 
+/// [`fitted_variant`] where it skips some switch; `None` where it is `prog`
+/// itself, so that the fitness paths can share `prog`'s builds.
+pub fn skipping_variant(prog: &Program) -> Option<Program> {
+    let v = fitted_variant(prog);
+    (v.transitions != prog.transitions).then_some(v)
+}
+
 /// Values each mode variable takes: one past the largest a transition reads
 /// or sets.
 fn mode_counts(prog: &Program) -> Vec<usize> {

@@ -79,8 +79,17 @@ fn is_slot(p: &Program, id: Id) -> bool {
 }
 
 impl GpuRig {
-    /// Prepares `prog` for the kernels.
+    /// Prepares `prog` for the kernels, its fitness kernel skipping the
+    /// switches that can no longer reach the fitted output
+    /// ([`super::liveness::skipping_variant`]).
     pub fn new(prog: &Program) -> Result<Self, EmitError> {
+        Self::with_fitted(prog, super::liveness::skipping_variant(prog))
+    }
+
+    /// Prepares `prog` for the kernels, with `fitted`, `prog`'s fitness
+    /// variant where it differs (the same graph; guards only), for the fitness
+    /// kernel.
+    pub fn with_fitted(prog: &Program, fitted: Option<Program>) -> Result<Self, EmitError> {
         if prog.transitions.len() > MAX_TRANSITIONS {
             return Err(EmitError::TooManyTransitions(prog.transitions.len()));
         }
@@ -102,7 +111,7 @@ impl GpuRig {
         for &r in &roots {
             wanted[r as usize] = true;
         }
-        let slots = (0..prog.graph.ops.len() as Id)
+        let slots: Vec<Id> = (0..prog.graph.ops.len() as Id)
             .filter(|&i| wanted[i as usize] && is_slot(prog, i))
             .collect();
         let mut inline = Vec::new();
@@ -114,12 +123,11 @@ impl GpuRig {
                 table_data.extend_from_slice(&t.value);
             }
         }
-        let variant = super::liveness::fitted_variant(prog);
-        let fitted = (variant.transitions != prog.transitions).then(|| {
+        let fitted = fitted.map(|variant| {
             Box::new(Self {
                 prog: variant,
                 tape: tape.clone(),
-                slots: Vec::clone(&slots),
+                slots: slots.clone(),
                 inline: inline.clone(),
                 table_data: table_data.clone(),
                 fitted: None,

@@ -102,18 +102,26 @@ impl CompiledRig {
             .zip(&tapes)
             .map(|(p, t)| LaneCode::new(p, t))
             .collect();
+        let variants: Vec<Option<crate::compile::Program>> = lowered
+            .programs
+            .iter()
+            .map(crate::compile::liveness::skipping_variant)
+            .collect();
         let gpu = lowered
             .programs
             .iter()
-            .map(|p| GpuRig::new(p).ok().map(std::sync::Arc::new))
+            .zip(&variants)
+            .map(|(p, v)| {
+                GpuRig::with_fitted(p, v.clone())
+                    .ok()
+                    .map(std::sync::Arc::new)
+            })
             .collect();
-        let fitted = lowered
-            .programs
-            .iter()
+        let fitted = variants
+            .into_iter()
             .zip(&tapes)
-            .map(|(p, t)| {
-                let v = crate::compile::liveness::fitted_variant(p);
-                (v.transitions != p.transitions).then(|| Fitted {
+            .map(|(v, t)| {
+                v.map(|v| Fitted {
                     lane_code: LaneCode::new(&v, t),
                     program: v,
                     native: NativeSlot::default(),
@@ -146,16 +154,16 @@ impl CompiledRig {
         Ok(Box::leak(Box::new(Self::new(desc, file)?)))
     }
 
-    /// Program `i`'s f64 native build for running `params` on `grid`, once
-    /// its work so far makes it pay ([`NativeSlot::get`]).
+    /// The f64 native build of `code` in `slot` for running `params` on
+    /// `grid`, once its work so far makes it pay ([`NativeSlot::get`]).
     fn native_for(
-        &self,
-        i: usize,
+        slot: &NativeSlot,
+        code: &LaneCode,
         params: &[&[f64]],
         grid: &SampleGrid,
     ) -> Option<std::sync::Arc<Native>> {
         let work = (params.len() * grid.total_steps()) as u64;
-        self.native[i].get(&self.lane_code[i], work)
+        slot.get(code, work)
     }
 
     /// Program `i`'s parts for lane runs.
@@ -684,7 +692,7 @@ impl RigModel for CompiledRig {
             }
             return;
         };
-        let native = self.native_for(i, params, grid);
+        let native = Self::native_for(&self.native[i], &self.lane_code[i], params, grid);
         self.run_lanes(
             self.lane_parts(i),
             drive,
@@ -716,8 +724,9 @@ impl RigModel for CompiledRig {
             None => (self.lane_parts(i), (&self.native[i], &self.native_f32[i])),
         };
         let in_f32 = f32.then(|| slots.1.now(parts.2, Arith::F32)).flatten();
-        let work = (params.len() * grid.total_steps()) as u64;
-        let native = in_f32.clone().or_else(|| slots.0.get(parts.2, work));
+        let native = in_f32
+            .clone()
+            .or_else(|| Self::native_for(slots.0, parts.2, params, grid));
         self.run_lanes(
             parts,
             drive,
