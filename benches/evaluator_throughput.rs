@@ -2,12 +2,11 @@
 //! evaluator on the shipped example (`campaigns/aa2024_t3_synthetic.json`: 2501
 //! samples, one RK4 step per sample, seven free parameters), with the free
 //! parameters drawn uniformly over their bounds (log-uniform on log scales,
-//! seeded): CPU on one thread, CPU on all threads, GPU f32 and f64 (specialised
-//! to the batch, as a calibration runs them) and the same without
-//! specialisation (`-generic`), at populations 1024, 4096 and 16384; rows
-//! ending `-rig` run the same campaign with `"rig": "tensile4"`, the compiled
-//! rig description (`rigs/tensile4.json`) in the kernels the WGSL emitter
-//! writes, every switch located.
+//! seeded), through the compiled rig `rigs/tensile4.json` with every event
+//! located: CPU lanes on one thread, on all threads, in f32 (native lanes), GPU
+//! f32 and f64 (specialised to the batch, as a calibration runs them) and the
+//! same without specialisation (`-generic`), at populations 1024, 4096 and
+//! 16384.
 //!
 //! `cargo bench --bench evaluator_throughput` prints a Markdown table first (the
 //! fastest of five timed evaluations per cell, after a warm-up), then runs the
@@ -17,16 +16,18 @@
 //! `RIGFIT_BENCH_POPS=4096,…` only the given populations and
 //! `RIGFIT_BENCH_SAMPLES=500` shortens the record (for quick kernel work),
 //! `RIGFIT_BENCH_SUBSTEPS=10` takes that many RK4 steps per sample;
-//! `RIGFIT_BENCH_PAIRS=N` instead times each row against its compiled-rig twin
-//! (`gpu-f32` against `gpu-f32-rig`, …) in N alternating rounds and prints the
-//! ratio of their rates per CPU-second (median over the rounds);
+//! `RIGFIT_BENCH_PAIRS=N` instead times each specialised GPU row against its
+//! generic twin (`gpu-f32` against `gpu-f32-generic`, …) in N alternating
+//! rounds and prints the ratio of their rates per CPU-second (median over the
+//! rounds);
 //! `RIGFIT_BENCH_CPU_TIME=1` adds candidate-steps per CPU-second of the process
 //! (its CPU-time clock, all threads, lavapipe's included).
 //!
 //! Rates per wall second drop by half or more while other work shares the
 //! cores, or when lavapipe gets one core instead of two; the rate per
 //! CPU-second moved by about 2 % between such runs, so compare variants by it,
-//! alternately, several times. The README has the measured tables.
+//! alternately, several times. docs/engineering/performance.md has the
+//! measured tables.
 
 #[path = "common/cpu_time.rs"]
 mod cpu_time;
@@ -44,24 +45,14 @@ const POPULATIONS: [usize; 3] = [1024, 4096, 16384];
 /// Timed evaluations per table cell; the table shows the fastest.
 const REPEATS: usize = 5;
 
-/// The shipped example; with `rig`, through the compiled `rigs/tensile4.json`.
-fn campaign(rig: bool) -> Campaign {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("campaigns");
-    let path = dir.join("aa2024_t3_synthetic.json");
-    if !rig {
-        return Campaign::load(&path).expect("the shipped example loads");
-    }
-    let mut v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
-    let obj = v.as_object_mut().unwrap();
-    obj.remove("model");
-    obj.insert("rig".into(), "tensile4".into());
-    Campaign::from_str(&v.to_string(), &dir, "aa2024_t3_synthetic.json (rig)")
-        .expect("the shipped example loads with the compiled rig")
+/// The shipped example.
+fn campaign() -> Campaign {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("campaigns/aa2024_t3_synthetic.json");
+    Campaign::load(&path).expect("the shipped example loads")
 }
 
-fn problem(rig: bool) -> Problem {
-    let mut p = campaign(rig).problem;
+fn problem() -> Problem {
+    let mut p = campaign().problem;
     if let Some(n) = std::env::var("RIGFIT_BENCH_SAMPLES")
         .ok()
         .and_then(|v| v.parse::<usize>().ok())
@@ -83,8 +74,8 @@ fn problem(rig: bool) -> Problem {
 
 /// `n` candidates with every free parameter uniform over its bounds (in the
 /// logarithm for log-scale genes), from a fixed xorshift seed.
-fn batch(n: usize, rig: bool) -> Batch {
-    let c = campaign(rig);
+fn batch(n: usize) -> Batch {
+    let c = campaign();
     let mut s = 0x2545_f491_4f6c_dd1d_u64;
     let mut uniform = move || {
         s ^= s << 13;
@@ -107,34 +98,26 @@ fn steps(problem: &Problem) -> usize {
 
 type Factory = Box<dyn Fn() -> Box<dyn Evaluator>>;
 
-/// A table row: its name, its evaluator, whether it runs the compiled rig.
-type Row = (&'static str, Factory, bool);
+/// A table row: its name and its evaluator.
+type Row = (&'static str, Factory);
 
 fn evaluators() -> Vec<Row> {
     let mut v: Vec<Row> = vec![
         (
             "cpu-1-thread",
-            Box::new(|| Box::new(CpuEvaluator::new(problem(false), 1))),
-            false,
+            Box::new(|| Box::new(CpuEvaluator::new(problem(), 1))),
         ),
         (
             "cpu-all-threads",
-            Box::new(|| Box::new(CpuEvaluator::new(problem(false), 0))),
-            false,
+            Box::new(|| Box::new(CpuEvaluator::new(problem(), 0))),
         ),
         (
-            "cpu-all-threads-rig",
-            Box::new(|| Box::new(CpuEvaluator::new(problem(true), 0))),
-            true,
-        ),
-        (
-            "cpu-all-threads-rig-f32",
+            "cpu-all-threads-f32",
             Box::new(|| {
-                let mut ev = CpuEvaluator::new(problem(true), 0);
+                let mut ev = CpuEvaluator::new(problem(), 0);
                 ev.use_f32().expect("the C compiler builds the f32 lanes");
                 Box::new(ev)
             }),
-            true,
         ),
     ];
     match GpuContext::new() {
@@ -143,27 +126,23 @@ fn evaluators() -> Vec<Row> {
             if ctx.has_f64() {
                 precisions.push(("f64", Precision::F64));
             }
-            for rig in [false, true] {
-                for (specialise, suffix) in [(true, ""), (false, "-generic")] {
-                    for &(pname, precision) in &precisions {
-                        let r = if rig { "-rig" } else { "" };
-                        let name: &'static str = format!("gpu-{pname}{suffix}{r}").leak();
-                        let c = ctx.clone();
-                        let options = GpuOptions {
-                            specialise,
-                            ..GpuOptions::default()
-                        };
-                        v.push((
-                            name,
-                            Box::new(move || {
-                                Box::new(
-                                    GpuEvaluator::new(c.clone(), problem(rig), precision, options)
-                                        .unwrap(),
-                                )
-                            }),
-                            rig,
-                        ));
-                    }
+            for (specialise, suffix) in [(true, ""), (false, "-generic")] {
+                for &(pname, precision) in &precisions {
+                    let name: &'static str = format!("gpu-{pname}{suffix}").leak();
+                    let c = ctx.clone();
+                    let options = GpuOptions {
+                        specialise,
+                        ..GpuOptions::default()
+                    };
+                    v.push((
+                        name,
+                        Box::new(move || {
+                            Box::new(
+                                GpuEvaluator::new(c.clone(), problem(), precision, options)
+                                    .unwrap(),
+                            )
+                        }),
+                    ));
                 }
             }
         }
@@ -187,22 +166,22 @@ fn populations() -> Vec<usize> {
 }
 
 fn print_table(evals: &[Row]) {
-    let steps = steps(&problem(false));
+    let steps = steps(&problem());
     println!(
         "\nShipped example, {} samples × {} substeps = {steps} RK4 steps per candidate",
-        problem(false).experiments[0].force.len(),
-        problem(false).substeps
+        problem().experiments[0].force.len(),
+        problem().substeps
     );
     let pops = populations();
     let per_cpu = std::env::var_os("RIGFIT_BENCH_CPU_TIME").is_some();
     let head: String = pops.iter().map(|n| format!(" {n} |")).collect();
     let rule: String = pops.iter().map(|_| "---|").collect();
     println!("\n| evaluator |{head}\n|---|{rule}");
-    for (name, make, rig) in evals {
+    for (name, make) in evals {
         let mut eval = make();
         let mut row = format!("| {name} |");
         for &n in &pops {
-            let b = batch(n, *rig);
+            let b = batch(n);
             eval.fitness(&b).unwrap();
             // The best of REPEATS timed evaluations: other work on the machine
             // only ever slows one down.
@@ -243,33 +222,33 @@ fn cpu_seconds(eval: &mut dyn Evaluator, b: &Batch) -> f64 {
     }
 }
 
-/// `RIGFIT_BENCH_PAIRS=N`: each selected row `X` that has a compiled-rig twin
-/// `X-rig`, timed in N alternating rounds (X, then X-rig) at every population.
-/// Prints the compiled ÷ hand-written ratio of candidate-steps per
+/// `RIGFIT_BENCH_PAIRS=N`: each selected row `X` that has a generic twin
+/// `X-generic`, timed in N alternating rounds (X, then X-generic) at every
+/// population. Prints the specialised ÷ generic ratio of candidate-steps per
 /// CPU-second: the median over rounds, and the ratio of the two fastest
 /// rounds. Alternating within one process keeps a slow spell of the machine
 /// from falling on one row only, which a table of rows run one after the
 /// other cannot.
 fn print_pairs(evals: &[Row], rounds: usize) {
     println!(
-        "\n| pair | population | compiled ÷ hand-written, median of {rounds} rounds | fastest ÷ fastest | hand-written, fastest (/cpu-s) | compiled, fastest (/cpu-s) |\n|---|---|---|---|---|---|"
+        "\n| pair | population | specialised ÷ generic, median of {rounds} rounds | fastest ÷ fastest | generic, fastest (/cpu-s) | specialised, fastest (/cpu-s) |\n|---|---|---|---|---|---|"
     );
-    let steps = steps(&problem(false));
-    for (name, make, rig) in evals.iter().filter(|r| !r.2) {
-        let twin = format!("{name}-rig");
-        let Some((_, make_rig, _)) = evals.iter().find(|r| r.0 == twin) else {
+    let steps = steps(&problem());
+    for (name, make) in evals.iter() {
+        let twin = format!("{name}-generic");
+        let Some((_, make_generic)) = evals.iter().find(|r| r.0 == twin) else {
             continue;
         };
-        let (mut hand, mut comp) = (make(), make_rig());
+        let (mut generic, mut special) = (make_generic(), make());
         for &n in &populations() {
-            let (bh, bc) = (batch(n, *rig), batch(n, true));
-            hand.fitness(&bh).unwrap();
-            comp.fitness(&bc).unwrap();
+            let b = batch(n);
+            generic.fitness(&b).unwrap();
+            special.fitness(&b).unwrap();
             let mut ratios = Vec::new();
             let (mut best_h, mut best_c) = (f64::INFINITY, f64::INFINITY);
             for _ in 0..rounds {
-                let h = cpu_seconds(hand.as_mut(), &bh);
-                let c = cpu_seconds(comp.as_mut(), &bc);
+                let h = cpu_seconds(generic.as_mut(), &b);
+                let c = cpu_seconds(special.as_mut(), &b);
                 best_h = best_h.min(h);
                 best_c = best_c.min(c);
                 ratios.push(h / c);
@@ -308,12 +287,12 @@ fn main() {
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(2))
         .configure_from_args();
-    let steps = steps(&problem(false));
+    let steps = steps(&problem());
     let mut group = c.benchmark_group("candidate_steps");
-    for (name, make, rig) in &evals {
+    for (name, make) in &evals {
         let mut eval = make();
         for n in POPULATIONS {
-            let b = batch(n, *rig);
+            let b = batch(n);
             group.throughput(Throughput::Elements((n * steps) as u64));
             group.bench_with_input(BenchmarkId::new(*name, n), &b, |bench, b| {
                 bench.iter(|| eval.fitness(b).unwrap())

@@ -1,12 +1,11 @@
 //! CPU throughput of the compiled rig (candidate-steps per second, all
-//! cores): the hand-written tensile model, the compiled `rigs/tensile4.json`
-//! one run at a time, and the compiled rig's lane-batched ensemble on the
+//! cores): the compiled `rigs/tensile4.json` one run at a time, and the compiled rig's lane-batched ensemble on the
 //! fitness path (output 0 of a group at each sample, `simulate_fitted`) in
 //! f64 and f32, a call per run and sample (`simulate_many`, output 0 alone or
 //! every output and the full state), and interpreted instead of native, on
 //! the shipped example's grid. `cargo bench --bench rig_cpu_ensemble`
-//! (`RIGFIT_BENCH_POPULATION`, default 4096; `RIGFIT_BENCH_ROWS=hand,lanes`
-//! picks rows from `hand`, `scalar`, `lanes`, `lanes-f32`, `lanes-each`,
+//! (`RIGFIT_BENCH_POPULATION`, default 4096; `RIGFIT_BENCH_ROWS=scalar,lanes`
+//! picks rows from `scalar`, `lanes`, `lanes-f32`, `lanes-each`,
 //! `lanes-full`, `interp`). Each rate is printed per second of wall time and per
 //! CPU-second of the process (on a shared machine the second is the steadier).
 
@@ -17,9 +16,14 @@ use std::time::Instant;
 mod cpu_time;
 use cpu_time::process_cpu_seconds;
 use rayon::prelude::*;
-use rigfit::integrate::SampleGrid;
+use rigfit::base::SampleGrid;
+use rigfit::base::{Drive, Report};
+use rigfit::model::RigModel;
 use rigfit::model::compiled::CompiledRig;
-use rigfit::model::{Drive, Report, RigModel, tensile};
+
+#[path = "../tests/oracle/mod.rs"]
+mod oracle;
+use oracle::tensile::{REFERENCE, ix};
 
 fn population() -> Vec<Vec<f64>> {
     let n: usize = std::env::var("RIGFIT_BENCH_POPULATION")
@@ -28,10 +32,10 @@ fn population() -> Vec<Vec<f64>> {
         .unwrap_or(4096);
     (0..n)
         .map(|i| {
-            let mut p = tensile::REFERENCE.to_vec();
+            let mut p = REFERENCE.to_vec();
             let f = 1.0 + 0.2 * (i as f64 / n as f64);
-            p[tensile::ix::K1] *= f;
-            p[tensile::ix::C4] *= f;
+            p[ix::K1] *= f;
+            p[ix::C4] *= f;
             p
         })
         .collect()
@@ -40,7 +44,7 @@ fn population() -> Vec<Vec<f64>> {
 fn rows() -> Vec<String> {
     std::env::var("RIGFIT_BENCH_ROWS")
         .map(|v| v.split(',').map(|s| s.trim().to_string()).collect())
-        .unwrap_or_else(|_| vec!["hand".into(), "scalar".into(), "lanes".into()])
+        .unwrap_or_else(|_| vec!["scalar".into(), "lanes".into()])
 }
 
 /// Best of three: (candidate-steps per wall second, per CPU-second).
@@ -95,12 +99,6 @@ fn main() {
     let rows = rows();
     let want = |r: &str| rows.iter().any(|x| x == r);
     let mut rates = vec![];
-    if want("hand") {
-        let r = measure("hand-written tensile4, scalar", ps.len(), steps, || {
-            let _: f64 = ps.par_iter().map(|p| one(&tensile::TENSILE4, p)).sum();
-        });
-        rates.push(("hand-written", r));
-    }
     if want("scalar") {
         let r = measure("compiled tensile4, scalar tape", ps.len(), steps, || {
             let _: f64 = ps.par_iter().map(|p| one(&rig, p)).sum();

@@ -3,15 +3,16 @@
 # a GPU: builds the bench in release, prints the adapter, date, driver and commit,
 # then rigfit's candidate-steps/s on the shipped example (2 500 RK4 steps per
 # candidate) for every GPU kernel variant (f32/f64, specialised as a calibration
-# runs them and generic, the hand-written kernels and the compiled tensile4 rig)
-# at each population, and the CUDA/JAX peers of ../shared/peers (or $RIGFIT_PEERS)
+# runs them and generic, every variant the bench has)
+# at each population, and the CUDA/JAX peers of benches/peers (or $RIGFIT_PEERS)
 # at the same populations where Python has numba-cuda or JAX. Output is Markdown.
 #
 # Environment:
 #   RIGFIT_GPU_BENCH_POPS   populations, comma-separated
 #                           (default 4096,16384,65536,262144,1048576,4194304)
 #   RIGFIT_GPU_BENCH_PROFILE cargo profile for the bench (default: bench, i.e. release)
-#   RIGFIT_PEERS            folder of the peer scripts (default: ../shared/peers)
+#   RIGFIT_PEERS            folder of the peer scripts (default: benches/peers,
+#                           relative to the repository root)
 #   RIGFIT_ADAPTER          which adapter (index, PCI bus id or piece of the name)
 #   RIGFIT_BENCH_SAMPLES    shorten the record (quick checks of this script only)
 set -euo pipefail
@@ -19,7 +20,7 @@ cd "$(dirname "$0")/.."
 
 pops="${RIGFIT_GPU_BENCH_POPS:-4096,16384,65536,262144,1048576,4194304}"
 profile="${RIGFIT_GPU_BENCH_PROFILE:-bench}"
-peers="${RIGFIT_PEERS:-../shared/peers}"
+peers="${RIGFIT_PEERS:-benches/peers}"
 steps=2500
 if [ -z "${XDG_RUNTIME_DIR:-}" ]; then
     XDG_RUNTIME_DIR="$(mktemp -d)"

@@ -29,7 +29,9 @@ fn main() -> ExitCode {
             let code = cli::exit_code(&err);
             // Every message is bounded, whatever a library quoted from the
             // input (the sources cut their own echoes to 60 characters).
-            let bound = |s: String| rigfit::text::shorten_quotes(&s, 4 * rigfit::text::ECHO_CHARS);
+            let bound = |s: String| {
+                rigfit::base::text::shorten_quotes(&s, 4 * rigfit::base::text::ECHO_CHARS)
+            };
             let message = bound(err.to_string());
             let mut shown = message.clone();
             let mut causes = Vec::new();

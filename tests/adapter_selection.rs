@@ -3,6 +3,8 @@
 //! selector that names no adapter is refused before any work with exit 2 and
 //! the list of adapters; one that names an adapter runs the job there and
 //! result.json says which and how it was chosen.
+mod oracle;
+mod tensile_common;
 
 mod gpu_common;
 

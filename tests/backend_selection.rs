@@ -2,13 +2,15 @@
 //! f64 reference, `gpu` the device at the chosen precision, `auto` the GPU when
 //! an adapter exists (f64 where it has SHADER_F64); `list_adapters` reports the
 //! adapters with their f64 support.
+mod oracle;
+mod tensile_common;
 
 mod gpu_common;
 use gpu_common as common;
 
 use rigfit::eval::{Backend, Precision, PrecisionChoice};
-use rigfit::fixtures::reference_problem;
 use rigfit::gpu::{list_adapters, open_evaluator};
+use tensile_common::reference_problem;
 
 #[test]
 fn cpu_backend_opens_the_reference_without_a_note() {

@@ -1,14 +1,17 @@
 //! Good campaigns become the expected genes, base vectors, batches and joint
 //! fitness: shared versus per-experiment genes, offsets and weights.
+mod oracle;
+mod tensile_common;
 
 mod campaign_common;
 use campaign_common as common;
 
 use common::{csv, example, set, write};
+use rigfit::base::Scale;
 use rigfit::campaign::{Campaign, GeneTarget};
 use rigfit::eval::{DIVERGED, Scores};
-use rigfit::model::{Scale, tensile::ix};
 use serde_json::json;
+use tensile_common::ix;
 
 fn load(v: &serde_json::Value, data: &[(&str, &str)]) -> (tempfile::TempDir, Campaign) {
     let dir = tempfile::tempdir().unwrap();
@@ -160,7 +163,7 @@ fn param_file_fixes_genes_and_values() {
     std::fs::write(&file, r#"{"params": {"m1": -1}}"#).unwrap();
     let err = c.apply_param_file(&file).unwrap_err().to_string();
     assert!(
-        err.contains("result.json: params: expected m1: a value > 0"),
+        err.contains("result.json: params: expected m1: a mass > 0"),
         "{err}"
     );
 }

@@ -154,7 +154,7 @@ fn bad_campaign_values_name_path_and_expectation() {
         case!(
             "negative mass",
             |v| set(v, "/params/m1", json!(-1.0)),
-            ["params.m1: expected m1: a value > 0, found -1"]
+            ["params.m1: expected m1: a mass > 0, found -1"]
         ),
         case!(
             "zero mass bound",
@@ -163,12 +163,15 @@ fn bad_campaign_values_name_path_and_expectation() {
                 "/params/m2",
                 json!({"min": 0.0, "max": 1.0, "scale": "linear"})
             ),
-            ["params.m2.min: expected m2: a value > 0, found 0"]
+            ["params.m2.min: expected m2: a mass > 0, found 0"]
         ),
         case!(
-            "unknown model",
+            "the retired model key",
             |v| set(v, "/model", json!("tensile5")),
-            ["model: expected a known model (tensile4)", "\"tensile5\""]
+            [
+                "model: expected \"rig\": the \"model\" key is gone, write \"rig\": \"tensile4\"",
+                "\"model\": \"tensile5\""
+            ]
         ),
         case!(
             "missing data file",
@@ -437,7 +440,7 @@ fn bad_campaign_values_name_path_and_expectation() {
 #[test]
 fn malformed_json_gives_line_and_column() {
     let dir = tempfile::tempdir().unwrap();
-    let path = write(dir.path(), "{\n  \"name\": \"x\",\n  \"model\": ,\n}", &[]);
+    let path = write(dir.path(), "{\n  \"name\": \"x\",\n  \"rig\": ,\n}", &[]);
     let err = Campaign::load(&path).unwrap_err().to_string();
     assert!(err.contains("campaign.json:3:"), "{err}");
     assert!(err.contains("malformed JSON"), "{err}");

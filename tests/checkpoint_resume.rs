@@ -6,8 +6,8 @@ use std::path::Path;
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
-use rigfit::fsutil::temp_path_for;
-use rigfit::model::Scale;
+use rigfit::base::Scale;
+use rigfit::base::fsutil::temp_path_for;
 use rigfit::search::{
     BatchCost, Checkpoint, CostBatch, Executor, Fingerprint, FnCost, GaSettings, GeneSpec,
     GeneticAlgorithm, ObserverMode, SearchError, SearchOutcome, TerminationReason,
@@ -31,7 +31,7 @@ fn base_settings(every: usize) -> GaSettings {
 
 fn fingerprint(data: &str) -> Fingerprint {
     Fingerprint::new()
-        .with("model", "tensile4")
+        .with("rig", "tensile4")
         .with("data", data)
 }
 

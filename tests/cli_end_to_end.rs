@@ -59,7 +59,7 @@ fn readme_run_command_leaves_a_complete_result_folder() {
 
     let r = read_json(&out.join("result.json"));
     assert_eq!(r["seed"], 5);
-    assert_eq!(r["model"], "tensile4");
+    assert_eq!(r["rig"], "tensile4");
     assert_eq!(r["generations"], 3);
     assert!(["cpu", "gpu"].contains(&r["backend"].as_str().unwrap()));
     let exp = &r["experiments"][0];
@@ -203,7 +203,7 @@ fn json_flag_prints_machine_readable_output() {
         .unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
     let v: Value = serde_json::from_slice(&o.stdout).unwrap();
-    assert_eq!(v["model"], "tensile4");
+    assert_eq!(v["rig"], "tensile4");
     assert_eq!(v["genes"].as_array().unwrap().len(), 7);
 }
 

@@ -1,6 +1,8 @@
 //! Several jobs started together on one machine, each with its own output
 //! folder: all finish, and each leaves exactly what it leaves when run alone,
 //! on the CPU and on the GPU (four processes sharing one adapter).
+mod oracle;
+mod tensile_common;
 
 mod gpu_common;
 

@@ -1,13 +1,14 @@
 //! f32 on the CPU: a compiled rig's native f32 lane ensemble scores a
 //! campaign within the f32 tolerance of the f64 reference and says so in its
-//! info; a campaign whose model has no f32 path is scored in f64, as before,
+//! info; where the lane code is not built (no C compiler, or
+//! `RIGFIT_NATIVE=off`) a campaign asking for f32 on the CPU is scored in f64,
 //! with a warning.
 
 use std::path::PathBuf;
 use std::process::Command;
 
 use rigfit::campaign::Campaign;
-use rigfit::eval::{CpuEvaluator, EvalError, Evaluator, Precision};
+use rigfit::eval::{CpuEvaluator, Evaluator, Precision};
 use serde_json::Value;
 
 fn repo() -> PathBuf {
@@ -69,21 +70,11 @@ fn f32_lanes_score_within_the_f32_tolerance_of_the_reference() {
 }
 
 #[test]
-fn a_hand_written_model_has_no_f32_cpu_path() {
-    let c = Campaign::load(&repo().join("campaigns/aa2024_t3_synthetic.json")).unwrap();
-    let mut ev = CpuEvaluator::new(c.problem.clone(), 1);
-    match ev.use_f32() {
-        Err(EvalError::Unsupported(why)) => assert!(why.contains("compiled rig"), "{why}"),
-        other => panic!("expected Unsupported, got {other:?}"),
-    }
-    assert_eq!(ev.info().precision, Precision::F64);
-}
-
-#[test]
-fn the_binary_scores_a_hand_written_model_in_f64_with_a_warning() {
+fn without_native_lanes_the_binary_scores_in_f64_with_a_warning() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     let o = Command::new(env!("CARGO_BIN_EXE_rigfit"))
+        .env("RIGFIT_NATIVE", "off")
         .arg("run")
         .arg(repo().join("campaigns/aa2024_t3_synthetic.json"))
         .arg("--out")
@@ -102,6 +93,7 @@ fn the_binary_scores_a_hand_written_model_in_f64_with_a_warning() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(0), "{err}");
     assert!(err.contains("warning: --precision f32 on the CPU"), "{err}");
+    assert!(err.contains("RIGFIT_NATIVE=off"), "{err}");
     let result: Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
     assert_eq!(result["precision"], "f64", "{result}");

@@ -3,9 +3,9 @@
 
 use std::path::Path;
 
-use rigfit::data::{Column, CsvSpec, DataError, parse_csv};
+use rigfit::base::data::{Column, CsvSpec, DataError, parse_csv};
 
-fn parse(text: &str, spec: &CsvSpec) -> Result<rigfit::data::Series, DataError> {
+fn parse(text: &str, spec: &CsvSpec) -> Result<rigfit::base::data::Series, DataError> {
     parse_csv(text, Path::new("rec.csv"), spec)
 }
 
@@ -142,7 +142,7 @@ fn errors_carry_line_numbers_counting_comments() {
 
 #[test]
 fn load_csv_names_a_missing_file() {
-    let e = rigfit::data::load_csv(Path::new("/nonexistent/rec.csv"), &CsvSpec::default());
+    let e = rigfit::base::data::load_csv(Path::new("/nonexistent/rec.csv"), &CsvSpec::default());
     let e = e.unwrap_err().to_string();
     assert!(e.starts_with("/nonexistent/rec.csv: cannot read"), "{e}");
 }

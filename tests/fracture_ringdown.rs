@@ -1,14 +1,20 @@
 //! Proves the post-fracture history of the tensile rig: once the specimen breaks,
 //! the load cell rings alone on `k1` and `c1_post` exactly as the closed-form
-//! damped oscillator started from the state at fracture; the fracture time and the
-//! post-fracture history converge at (nearly) fourth order because the switch is
-//! located inside the step; and detecting the fracture only at step boundaries
-//! would make the post-fracture history orders of magnitude worse.
+//! damped oscillator started from the state at fracture, on the compiled rig and
+//! on the hand-written oracle (tests/oracle); and, of the classic RK4 the oracle
+//! runs on, that the fracture time and the post-fracture history converge at
+//! (nearly) fourth order because the switch is located inside the step, and
+//! that detecting the fracture only at step boundaries would make the
+//! post-fracture history orders of magnitude worse.
 
-use rigfit::integrate::test_systems::DampedOscillator;
-use rigfit::integrate::{Integrator, System, rk4_step};
-use rigfit::model::{Drive, tensile};
-use tensile::{TensileSystem, ix};
+mod oracle;
+mod tensile_common;
+
+use oracle::rk4::{Integrator, System, rk4_step};
+use oracle::systems::DampedOscillator;
+use oracle::tensile::{REFERENCE, TensileSystem, ix};
+use rigfit::base::Drive;
+use tensile_common::tensile4;
 
 /// What one fixed-step run records.
 struct Run {
@@ -42,8 +48,8 @@ impl System for BoundaryDetect<'_> {
     }
 }
 
-/// Integrates from rest to `t_end` with steps `h`; `naive` selects boundary
-/// detection instead of the located switch.
+/// Integrates the oracle from rest to `t_end` with steps `h`; `naive` selects
+/// boundary detection instead of the located switch.
 fn run(params: &[f64], h: f64, t_end: f64, naive: bool) -> Run {
     let drive = Drive::Velocity;
     let mut sys = BoundaryDetect(TensileSystem::new(params, &drive));
@@ -86,43 +92,61 @@ fn run(params: &[f64], h: f64, t_end: f64, naive: bool) -> Run {
 /// that unlocated jump makes its fracture-time error erratic in `h`
 /// (6.7e-10, 1.5e-9, 2.2e-10, 6.1e-12, 1.0e-10 s for h = 1 µs … 62.5 ns).
 fn smooth_case() -> [f64; 27] {
-    let mut p = tensile::REFERENCE;
+    let mut p = REFERENCE;
     p[ix::GAP] = 0.0;
     p[ix::E_YIELD] = 1.0;
     p[ix::E_FRACTURE] = 6e-5;
     p
 }
 
-#[test]
-fn load_cell_rings_as_the_closed_form_oscillator_after_fracture() {
-    let p = tensile::REFERENCE;
-    let r = run(&p, 0.5e-6, 3e-3, false);
-    let osc = DampedOscillator {
-        m: p[ix::M1],
-        k: p[ix::K1],
-        c: p[ix::C1_POST],
-        x0: r.at_fracture.0,
-        v0: r.at_fracture.1,
-        t0: r.tf,
-    };
+/// The compiled rig from rest to `t_end` with steps `h`: its located fracture
+/// time, `(y1, v1)` at the end of the step that holds it, and `(t, y1)` after
+/// every step past fracture.
+fn compiled_run(params: &[f64], h: f64, t_end: f64) -> (f64, (f64, f64), Vec<(f64, f64)>) {
+    let rig = tensile4();
+    let drive = Drive::Velocity;
+    let mut st = rig.stepper(params, &drive).expect("a velocity drive");
+    let prog = &rig.lowered.programs[rig.program_for(&drive).expect("velocity")];
+    let mut y = st.y0.clone();
+    let mut broke: Option<(f64, (f64, f64))> = None;
+    let mut after = Vec::new();
+    for i in 0..(t_end / h).round() as usize {
+        let t = i as f64 * h;
+        st.step(t, h, &mut y);
+        if broke.is_none()
+            && let Some(f) = st
+                .fired
+                .iter()
+                .find(|f| prog.transitions[f.transition].name == "specimen breaks")
+        {
+            broke = Some((f.t, (y[0], y[4])));
+        }
+        if broke.is_some() {
+            after.push((t + h, y[0]));
+        }
+    }
+    assert!(!st.chattered);
+    let (tf, at) = broke.expect("the specimen breaks");
+    (tf, at, after)
+}
+
+/// Holds a post-fracture load-cell history `after` to the closed-form
+/// oscillator `osc`: displacement, ringing frequency and decay.
+fn assert_rings_as(what: &str, osc: &DampedOscillator, after: &[(f64, f64)]) {
     let scale = osc.x0.hypot(osc.v0 / osc.omega0());
-    let worst = r
-        .after
+    let worst = after
         .iter()
         .map(|&(t, y1)| (y1 - osc.exact(t).0).abs() / scale)
         .fold(0.0, f64::max);
-    println!(
-        "fracture at {:.6} ms; max |y1 − closed form| / amplitude = {worst:.3e}",
-        r.tf * 1e3
-    );
+    println!("{what}: max |y1 − closed form| / amplitude = {worst:.3e}");
     // RK4 phase error ≈ (ω₀h)⁵/120 per step ≈ 1e-11 × ~4900 steps ≈ 5e-8.
     assert!(
         worst < 1e-7,
-        "post-fracture y1 differs from the closed form by {worst:e}"
+        "{what}: post-fracture y1 differs from the closed form by {worst:e}"
     );
 
     // Frequency from the zero crossings, decay from the successive maxima.
-    let a = &r.after;
+    let a = after;
     let zeros: Vec<f64> = a
         .windows(2)
         .filter(|w| w[0].1 < 0.0 && w[1].1 >= 0.0)
@@ -142,15 +166,48 @@ fn load_cell_rings_as_the_closed_form_oscillator_after_fracture() {
     let slope = peaks.iter().map(|p| (p.0 - mt) * (p.1 - ml)).sum::<f64>()
         / peaks.iter().map(|p| (p.0 - mt).powi(2)).sum::<f64>();
     println!(
-        "ringing {f:.2} Hz (closed form {fd:.2} Hz), decay {:.2} 1/s (closed form {:.2} 1/s)",
+        "{what}: ringing {f:.2} Hz (closed form {fd:.2} Hz), decay {:.2} 1/s (closed form {:.2} 1/s)",
         -slope,
         osc.decay_rate()
     );
-    assert!((f - fd).abs() / fd < 1e-4, "ringing frequency {f} vs {fd}");
+    assert!(
+        (f - fd).abs() / fd < 1e-4,
+        "{what}: ringing frequency {f} vs {fd}"
+    );
     assert!(
         (-slope - osc.decay_rate()).abs() / osc.decay_rate() < 5e-3,
-        "decay {}",
+        "{what}: decay {}",
         -slope
+    );
+}
+
+#[test]
+fn load_cell_rings_as_the_closed_form_oscillator_after_fracture() {
+    let p = REFERENCE;
+    let (h, t_end) = (0.5e-6, 3e-3);
+    let ringing = |x0: f64, v0: f64, t0: f64| DampedOscillator {
+        m: p[ix::M1],
+        k: p[ix::K1],
+        c: p[ix::C1_POST],
+        x0,
+        v0,
+        t0,
+    };
+
+    // The compiled rig, from the state at the end of the step that breaks.
+    let (tf, (x0, v0), after) = compiled_run(&p, h, t_end);
+    println!("compiled rig: fracture at {:.6} ms", tf * 1e3);
+    let t0 = after[0].0;
+    assert!(t0 - h < tf && tf <= t0, "fracture {tf} outside its step");
+    assert_rings_as("compiled rig", &ringing(x0, v0, t0), &after[1..]);
+
+    // The oracle, from the state at the located fracture itself.
+    let r = run(&p, h, t_end, false);
+    println!("oracle: fracture at {:.6} ms", r.tf * 1e3);
+    assert_rings_as(
+        "oracle",
+        &ringing(r.at_fracture.0, r.at_fracture.1, r.tf),
+        &r.after,
     );
 }
 

@@ -4,7 +4,7 @@
 use proptest::prelude::*;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use rigfit::model::Scale;
+use rigfit::base::Scale;
 use rigfit::search::operators::{latin_hypercube, mutate, polynomial_mutation, sbx_pair, uniform};
 use rigfit::search::{GeneSpec, GeneticAlgorithm, genes::genome_values};
 

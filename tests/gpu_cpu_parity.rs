@@ -5,6 +5,8 @@
 //! the best ten. f64 within 1e-9 of each history's largest |F|; f32 within
 //! `F32_HISTORY_TOLERANCE`. A fracture placed just before, at and just after a
 //! step boundary does not flip the result either.
+mod oracle;
+mod tensile_common;
 
 mod gpu_common;
 use gpu_common as common;
@@ -12,18 +14,18 @@ use gpu_common as common;
 use rigfit::eval::{
     Batch, CpuEvaluator, Evaluator, Precision, Problem, score_one, simulate_history,
 };
-use rigfit::fixtures::{REFERENCE_DT, REFERENCE_SUBSTEPS, reference_experiment};
 use rigfit::gpu::{
     F32_HISTORY_TOLERANCE, F64_HISTORY_TOLERANCE, GpuContext, GpuEvaluator, GpuOptions,
 };
-use rigfit::model::tensile::{REFERENCE, TENSILE4, ix};
+use tensile_common::{REFERENCE, ix, tensile4};
+use tensile_common::{REFERENCE_DT, REFERENCE_SUBSTEPS, reference_experiment};
 
 const SAMPLES: usize = 800;
 const CANDIDATES: usize = 256;
 
 fn problem() -> Problem {
     Problem {
-        model: &TENSILE4,
+        model: tensile4(),
         experiments: vec![reference_experiment(
             SAMPLES,
             REFERENCE_DT,
@@ -120,7 +122,7 @@ fn f64_force_histories_match_cpu_at_one_and_three_steps_per_sample() {
         let samples = SAMPLES * REFERENCE_SUBSTEPS / substeps;
         let dt = h * substeps as f64;
         let problem = Problem {
-            model: &TENSILE4,
+            model: tensile4(),
             experiments: vec![reference_experiment(samples, dt, substeps, 20.0, 7)],
             substeps,
         };

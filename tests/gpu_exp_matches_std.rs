@@ -1,6 +1,8 @@
 //! The shaders' own exp/expm1 (`shaders/shared/exp.wgsl`), run on the GPU, agree
 //! with `f64::exp` and `f64::exp_m1` over their whole useful range: to a few ulp
 //! in f64, to f32 rounding in f32 (where expm1 is the built-in exp minus 1).
+mod oracle;
+mod tensile_common;
 
 mod gpu_common;
 use gpu_common as common;

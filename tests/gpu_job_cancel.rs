@@ -2,6 +2,8 @@
 //! between two chunks of steps instead of finishing the generation, the
 //! process exits with 130, and the checkpoint of the last finished generation
 //! is kept as it was.
+mod oracle;
+mod tensile_common;
 
 mod gpu_common;
 

@@ -5,6 +5,8 @@
 //! experiment) in fitness, histories and the polish's residuals, and
 //! `rigfit run --backend gpu` runs such a campaign (`rigfit check` estimating
 //! its GPU memory).
+mod oracle;
+mod tensile_common;
 
 mod gpu_common;
 use gpu_common as common;
@@ -12,6 +14,7 @@ use gpu_common as common;
 use std::path::Path;
 use std::process::Command;
 
+use rigfit::base::{Drive, PiecewiseLinear};
 use rigfit::eval::{
     Backend, Batch, CpuEvaluator, DIVERGED, Evaluator, ExperimentData, Precision, PrecisionChoice,
     Problem, simulate_history,
@@ -21,10 +24,10 @@ use rigfit::gpu::{
     kernel_groups, open_evaluator,
 };
 use rigfit::model::compiled::CompiledRig;
-use rigfit::model::tensile::REFERENCE;
-use rigfit::model::{Drive, PiecewiseLinear, RigModel, param_index};
+use rigfit::model::{RigModel, param_index};
 use rigfit::search::ResidualCost;
 use serde_json::{Value, json};
+use tensile_common::REFERENCE;
 
 fn rig() -> &'static CompiledRig {
     CompiledRig::leaked(rigfit::rig::shipped("tensile4").unwrap(), "tensile4").unwrap()

@@ -2,19 +2,21 @@
 //! fit window, start time and drive (one velocity-driven, one force-driven from
 //! a piecewise-linear table), give the same fitness and histories on the GPU as
 //! on the CPU reference.
+mod oracle;
+mod tensile_common;
 
 mod gpu_common;
 use gpu_common as common;
 
+use rigfit::base::{Drive, PiecewiseLinear};
 use rigfit::eval::{
     Batch, CpuEvaluator, Evaluator, ExperimentData, Precision, Problem, simulate_history,
 };
-use rigfit::gpu::{F32_HISTORY_TOLERANCE, F64_HISTORY_TOLERANCE};
-use rigfit::model::tensile::{REFERENCE, TENSILE4};
-use rigfit::model::{Drive, PiecewiseLinear};
+use rigfit::gpu::{F32_HISTORY_TOLERANCE, F64_HISTORY_TOLERANCE, GpuByDrive, GpuOptions};
+use tensile_common::{REFERENCE, tensile4};
 
 fn experiment(name: &str, drive: Drive, samples: usize, dt: f64, t_first: f64) -> ExperimentData {
-    common::self_measured(&TENSILE4, &REFERENCE, name, drive, (samples, dt, t_first))
+    common::self_measured(tensile4(), &REFERENCE, name, drive, (samples, dt, t_first))
 }
 
 fn problem() -> Problem {
@@ -27,7 +29,7 @@ fn problem() -> Problem {
     let mut force = experiment("force", Drive::Force(table), 200, 2.0e-6, 0.0);
     force.window = 10..150;
     Problem {
-        model: &TENSILE4,
+        model: tensile4(),
         experiments: vec![velocity, force],
         substeps: 2,
     }
@@ -66,7 +68,15 @@ fn multi_experiment_force_drive_fitness_and_histories_match_cpu() {
         precisions.push((Precision::F64, 1e-9, F64_HISTORY_TOLERANCE));
     }
     for (precision, fit_tol, hist_tol) in precisions {
-        let mut gpu = common::evaluator(&ctx, &problem, precision);
+        // The rig has a kernel per drive mode: one evaluator per mode, on one
+        // device, each scoring its experiments.
+        let mut gpu = GpuByDrive::new(
+            ctx.clone(),
+            problem.clone(),
+            precision,
+            GpuOptions::default(),
+        )
+        .unwrap();
         let g = gpu.fitness(&batch).unwrap();
         assert_eq!(g.diverged, cpu.diverged, "{precision:?}");
         for (j, (a, b)) in g.values.iter().zip(&cpu.values).enumerate() {
@@ -140,7 +150,7 @@ fn long_force_table_histories_match_cpu() {
         0.0,
     );
     let problem = Problem {
-        model: &TENSILE4,
+        model: tensile4(),
         experiments: vec![exp],
         substeps: 2,
     };

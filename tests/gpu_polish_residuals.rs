@@ -2,6 +2,8 @@
 //! f64 CPU reference: residuals within [`F64_HISTORY_TOLERANCE`] of the largest
 //! measured force (f64 kernels) or [`F32_HISTORY_TOLERANCE`] (f32), and the
 //! standard errors built from the stencil's Jacobian within 1e-6 (f64).
+mod oracle;
+mod tensile_common;
 
 mod gpu_common;
 use gpu_common as common;

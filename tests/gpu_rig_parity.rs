@@ -7,6 +7,8 @@
 //! a rig, over candidates spread through its search box. f64 within
 //! [`F64_HISTORY_TOLERANCE`] of each series' largest magnitude; f32 within
 //! [`F32_HISTORY_TOLERANCE`].
+mod oracle;
+mod tensile_common;
 
 mod gpu_common;
 use gpu_common as common;
@@ -14,13 +16,14 @@ use gpu_common as common;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+use rigfit::base::{Drive, PiecewiseLinear};
 use rigfit::campaign::Campaign;
 use rigfit::eval::{
     Batch, Evaluator, ExperimentData, Precision, Problem, score_one, simulate_history,
 };
 use rigfit::gpu::{F32_HISTORY_TOLERANCE, F64_HISTORY_TOLERANCE, GpuContext};
+use rigfit::model::RigModel;
 use rigfit::model::compiled::CompiledRig;
-use rigfit::model::{Drive, PiecewiseLinear, RigModel};
 use rigfit::search::GeneSpec;
 
 /// One rig, one drive, a seeded spread of candidates around `centre`.
@@ -84,14 +87,7 @@ const FREE_PLAY: &str = r#"{
 
 fn cases() -> Vec<Case> {
     let tensile = shipped("tensile4");
-    let reference: Vec<f64> = tensile
-        .params()
-        .iter()
-        .map(|p| {
-            rigfit::model::tensile::REFERENCE
-                [rigfit::model::param_index(&rigfit::model::tensile::TENSILE4, p.name).unwrap()]
-        })
-        .collect();
+    let reference = tensile_common::REFERENCE.to_vec();
     let ix = |r: &CompiledRig, n: &str| r.params().iter().position(|p| p.name == n).unwrap();
     let free_play = CompiledRig::leaked(
         serde_json::from_str(FREE_PLAY).unwrap(),
@@ -140,9 +136,9 @@ fn cases() -> Vec<Case> {
                 .collect(),
             centre: reference,
             spread: 1.5,
-            dt: rigfit::fixtures::REFERENCE_DT,
+            dt: tensile_common::REFERENCE_DT,
             samples: 600,
-            substeps: rigfit::fixtures::REFERENCE_SUBSTEPS,
+            substeps: tensile_common::REFERENCE_SUBSTEPS,
             min_events: 3,
             f32_samples: None,
         },

@@ -4,6 +4,8 @@
 //! on the shipped example's free parameters, and when batches share different
 //! values; each batch gets the kernel of its own shared values, so the same
 //! batch always gets the same bits.
+mod oracle;
+mod tensile_common;
 
 mod gpu_common;
 use gpu_common as common;
@@ -16,7 +18,7 @@ use rigfit::campaign::Campaign;
 use rigfit::eval::{Batch, Evaluator, Precision, Problem};
 use rigfit::gpu::{GpuContext, GpuEvaluator, GpuOptions};
 use rigfit::job::gene_specs;
-use rigfit::model::tensile::ix;
+use tensile_common::ix;
 
 const CANDIDATES: usize = 96;
 const SAMPLES: usize = 700;

@@ -6,6 +6,8 @@
 //! and f64, specialised and generic. The device limit (65 535 workgroups) is
 //! far above what a test can run on lavapipe, so the tests lower it with
 //! `GpuOptions::max_runs_per_pass`.
+mod oracle;
+mod tensile_common;
 
 mod gpu_common;
 use gpu_common as common;

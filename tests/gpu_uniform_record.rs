@@ -5,6 +5,8 @@
 //! tables sit in the same buffer after the records), and a record too long for
 //! the uniform binding falls back to the storage buffer and still matches the
 //! CPU reference.
+mod oracle;
+mod tensile_common;
 
 mod gpu_common;
 use gpu_common as common;
@@ -18,19 +20,13 @@ use rigfit::eval::{CpuEvaluator, Evaluator, Precision, Problem};
 use rigfit::gpu::{GpuContext, GpuEvaluator, GpuOptions};
 use rigfit::job::gene_specs;
 
-/// The campaigns under `campaigns/` that name a rig, each shortened to at
-/// most 400 samples, and the shipped tensile example through `tensile4`.
+/// The campaigns under `campaigns/`, each shortened to at most 400 samples.
 fn campaigns() -> Vec<Campaign> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("campaigns");
     let mut out = vec![];
     for p in common::campaign_files() {
-        let mut v: serde_json::Value =
+        let v: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(&p).unwrap()).unwrap();
-        let obj = v.as_object_mut().unwrap();
-        if obj.get("rig").is_none() {
-            obj.remove("model");
-            obj.insert("rig".into(), "tensile4".into());
-        }
         let name = p.file_name().unwrap().to_string_lossy().to_string();
         let Ok(mut c) = Campaign::from_str(&v.to_string(), &dir, &name) else {
             continue;
@@ -110,13 +106,7 @@ fn a_record_longer_than_the_uniform_binding_is_read_from_storage() {
     let Some(ctx) = common::gpu() else { return };
     let limit = ctx.device.limits().max_uniform_buffer_binding_size as usize;
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("campaigns/aa2024_t3_synthetic.json");
-    let mut v: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
-    let obj = v.as_object_mut().unwrap();
-    obj.remove("model");
-    obj.insert("rig".into(), "tensile4".into());
-    let dir = path.parent().unwrap();
-    let mut c = Campaign::from_str(&v.to_string(), dir, "aa2024_t3_synthetic.json").unwrap();
+    let mut c = Campaign::load(&path).unwrap();
     // More f32 samples than the binding holds, the measured force repeated
     // (the fit window stays where it was).
     let e = &mut c.problem.experiments[0];

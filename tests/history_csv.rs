@@ -4,7 +4,7 @@
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
-use rigfit::model::Scale;
+use rigfit::base::Scale;
 use rigfit::search::{
     Executor, FnCost, GeneSpec, GeneticAlgorithm, HISTORY_COLUMNS, HistoryCsvObserver, ObserverMode,
 };

@@ -9,8 +9,8 @@ use std::path::Path;
 
 use identify_common::{ForcedChain, Multisine, simulate};
 use rigfit::campaign::Campaign;
-use rigfit::precal::identify::frf;
-use rigfit::precal::identify::modal::{self, ModalOptions, Response};
+use rigfit::identify::frf;
+use rigfit::identify::modal::{self, ModalOptions, Response};
 
 /// Simulates the chain under a 2–30 Hz multisine (0.1 Hz line spacing) on mass
 /// 1 at 100 Hz for 130 s and returns force and x1 after the first 10 s.

@@ -11,7 +11,7 @@ use std::f64::consts::PI;
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use rigfit::precal::identify::impedance::{self, ImpactRecord};
+use rigfit::identify::impedance::{self, ImpactRecord};
 use seed_rigs_common::{outputs, params, rig, shipped, truth};
 
 const FS: f64 = 3906.25;

@@ -6,10 +6,9 @@ mod identify_common;
 
 use std::path::Path;
 
-use identify_common::{Multisine, simulate};
-use rigfit::integrate::System;
-use rigfit::precal::identify::columns::Table;
-use rigfit::precal::identify::idim::{self, IdimOptions};
+use identify_common::{Multisine, System, simulate};
+use rigfit::identify::columns::Table;
+use rigfit::identify::idim::{self, IdimOptions};
 
 /// EMPS's force gain (N/V), from the benchmark's .mat file.
 const GTAU: f64 = 35.15065188248547;

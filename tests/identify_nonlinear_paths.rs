@@ -4,9 +4,8 @@
 
 mod identify_common;
 
-use identify_common::{Multisine, simulate};
-use rigfit::integrate::System;
-use rigfit::precal::identify::nimiso::{self, NimisoOptions, Nonlinearity};
+use identify_common::{Multisine, System, simulate};
+use rigfit::identify::nimiso::{self, NimisoOptions, Nonlinearity};
 
 /// `m·ẍ + c·ẋ + k·x + k3·x³ = F(t)`.
 struct Duffing {

@@ -5,8 +5,8 @@
 mod identify_common;
 
 use identify_common::{BaseExcited, Multisine, simulate};
-use rigfit::precal::identify::dpe::{self, DpeOptions, GridOptions, Term, signed_power};
-use rigfit::precal::identify::rfs::{self, RfsOptions};
+use rigfit::identify::dpe::{self, DpeOptions, GridOptions, Term, signed_power};
+use rigfit::identify::rfs::{self, RfsOptions};
 
 /// Simulates `m·ẍ + R(x, ẋ) = −m·a` under a 5–60 Hz multisine (document 000's
 /// band) and returns `(t, x, a)` at `fs`.

@@ -10,7 +10,7 @@ mod seed_rigs_common;
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use rigfit::precal::identify::transmissibility::{
+use rigfit::identify::transmissibility::{
     self as tr, ArxForm, block_spectra, element_fit, segment_for_averages,
 };
 use seed_rigs_common::{outputs, params, rig, truth};

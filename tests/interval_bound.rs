@@ -5,11 +5,12 @@
 //! interval, and every eigenvalue of the Jacobian (nalgebra) is no larger in
 //! magnitude than the bound. Prints each rig's interval and per-law bounds.
 
-use rigfit::compile::interval::deriv_jacobian_box;
-use rigfit::compile::tangent::deriv_jacobian;
+use rigfit::base::{Drive, PiecewiseLinear};
+use rigfit::compile::analysis::interval::deriv_jacobian_box;
+use rigfit::compile::analysis::tangent::deriv_jacobian;
 use rigfit::compile::{Frame, Tape};
+use rigfit::model::RigModel;
 use rigfit::model::compiled::CompiledRig;
-use rigfit::model::{Drive, PiecewiseLinear, RigModel};
 
 /// A small deterministic generator (xorshift), uniform in [0, 1).
 struct Rng(u64);

@@ -1,12 +1,14 @@
 //! Two experiments on the same rig at different speeds, fitted jointly: rig
 //! parameters shared, the specimen's fracture elongation and one clock offset
 //! per experiment, and the joint fitness the weighted mean of the two 1 − R².
+mod oracle;
+mod tensile_common;
 
 use rigfit::campaign::Campaign;
 use rigfit::eval::CpuEvaluator;
-use rigfit::fixtures::reference_like;
 use rigfit::job::{self, JobOptions};
-use rigfit::model::tensile::{REFERENCE, ix};
+use tensile_common::reference_like;
+use tensile_common::{REFERENCE, ix};
 
 /// A synthetic record of the reference rig at `velocity`, fracturing at
 /// `e_fracture`, as CSV text.
@@ -29,7 +31,7 @@ fn two_speeds_fit_jointly_with_shared_rig_and_own_specimen_parameters() {
     std::fs::write(dir.path().join("fast.csv"), record(2.0, 1.0e-3, 1500, 2)).unwrap();
     let campaign = serde_json::json!({
         "name": "two-speeds",
-        "model": "tensile4",
+        "rig": "tensile4",
         "params": {
             "m1": 7.9, "m2": 0.14, "m3": 0.48,
             "k1": {"min": 2e9, "max": 3e10, "scale": "log"},

@@ -15,9 +15,9 @@ use std::path::{Path, PathBuf};
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
+use rigfit::base::noise::gaussian;
 use rigfit::campaign::Campaign;
 use rigfit::eval::{CpuEvaluator, Evaluator, simulate_history};
-use rigfit::fixtures::gaussian;
 use rigfit::job::CampaignCost;
 use rigfit::search::{GeneSpec, Polish, PolishOutcome, PolishSettings};
 

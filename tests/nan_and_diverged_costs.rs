@@ -1,8 +1,8 @@
 //! Proves NaN, infinite and DIVERGED costs neither break sorting and statistics
 //! nor go unreported.
 
+use rigfit::base::Scale;
 use rigfit::eval::DIVERGED;
-use rigfit::model::Scale;
 use rigfit::search::{
     BatchCost, CostBatch, Executor, FnCost, GeneSpec, GeneticAlgorithm, SearchError,
 };

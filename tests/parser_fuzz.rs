@@ -8,8 +8,8 @@ use std::path::Path;
 
 use common::{csv, example};
 use proptest::prelude::*;
+use rigfit::base::data::{Column, CsvSpec, parse_csv};
 use rigfit::campaign::Campaign;
-use rigfit::data::{Column, CsvSpec, parse_csv};
 use serde_json::Value;
 
 /// Every JSON pointer of `v`, containers included.

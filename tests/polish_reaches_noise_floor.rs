@@ -4,6 +4,8 @@
 //! the floor, and the reported 95 % intervals hold the true values. An interrupt
 //! in the middle of the polish, once resumed, ends with the bits of a job that
 //! was never interrupted.
+mod oracle;
+mod tensile_common;
 
 use std::path::Path;
 use std::sync::Arc;
@@ -11,9 +13,9 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use rigfit::campaign::Campaign;
 use rigfit::eval::{Batch, CpuEvaluator, EvalError, Evaluator, EvaluatorInfo, History, Scores};
-use rigfit::fixtures::reference_like;
 use rigfit::job::{self, JobOptions, JobSummary};
-use rigfit::model::tensile::{REFERENCE, ix};
+use tensile_common::reference_like;
+use tensile_common::{REFERENCE, ix};
 
 /// The true values of the free parameters, by gene name.
 const TRUTH: [(&str, f64); 7] = [
@@ -45,7 +47,7 @@ fn campaign(dir: &Path) -> Campaign {
     std::fs::write(dir.join("fast.csv"), record(2.0, 1.0e-3, 1500, 2)).unwrap();
     let json = serde_json::json!({
         "name": "two-speeds",
-        "model": "tensile4",
+        "rig": "tensile4",
         "params": {
             "m1": 7.9, "m2": 0.14, "m3": 0.48,
             "k1": {"min": 2e9, "max": 3e10, "scale": "log"},
@@ -249,7 +251,7 @@ fn multi_rate_case() {
     );
     let json = serde_json::json!({
         "name": "three-rates",
-        "model": "tensile4",
+        "rig": "tensile4",
         "params": {
             "m1": 7.9, "m2": 0.14, "m3": 0.48,
             "k1": {"min": 2e9, "max": 3e10, "scale": "log"},

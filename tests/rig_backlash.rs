@@ -9,9 +9,10 @@
 
 use std::ops::ControlFlow;
 
-use rigfit::integrate::SampleGrid;
+use rigfit::base::SampleGrid;
+use rigfit::base::{Drive, Report};
+use rigfit::model::RigModel;
 use rigfit::model::compiled::CompiledRig;
-use rigfit::model::{Drive, Report, RigModel};
 use rigfit::rig::desc::DriveLaw;
 use rigfit::rig::{RigSource, parse};
 
@@ -314,7 +315,7 @@ fn modes_see_the_element_in_contact_and_the_interval_bound_its_play() {
         "{:?}",
         lin.stiffness
     );
-    let report = rigfit::modes::ModeReport::new(&lin).unwrap();
+    let report = rigfit::model::modes::ModeReport::new(&lin).unwrap();
     let w = report.modes[0].omega;
     println!("linearised: {w} rad/s");
     assert!((w - (K / M).sqrt()).abs() < 1e-9 * w);

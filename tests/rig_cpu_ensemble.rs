@@ -1,15 +1,19 @@
 //! The lane-batched CPU ensemble of a compiled rig gives every run the same
 //! bits as the scalar f64 reference, switches and all, whatever the lane count
 //! of the last group.
+mod oracle;
+mod tensile_common;
 
 use std::ops::ControlFlow;
 
+use rigfit::base::SampleGrid;
+use rigfit::base::{Drive, Report};
 use rigfit::compile::{Arith, Isa, LANES, LaneCode, LaneRunner, Native, Tape};
-use rigfit::fixtures::REFERENCE_DT;
-use rigfit::integrate::SampleGrid;
+use rigfit::model::RigModel;
 use rigfit::model::compiled::CompiledRig;
-use rigfit::model::{Drive, Report, RigModel, tensile};
 use rigfit::rig::desc::DriveLaw;
+use tensile_common::REFERENCE_DT;
+use tensile_common::{REFERENCE, ix};
 
 fn histories_many(
     r: &CompiledRig,
@@ -51,11 +55,11 @@ fn tensile_lanes_match_the_scalar_reference_bit_for_bit() {
     // slack engages, the specimen yields and breaks at different steps.
     let ps: Vec<Vec<f64>> = (0..11)
         .map(|i| {
-            let mut p = tensile::REFERENCE.to_vec();
+            let mut p = REFERENCE.to_vec();
             let f = 1.0 + 0.05 * i as f64;
-            p[tensile::ix::K1] *= f;
-            p[tensile::ix::GAP] *= f;
-            p[tensile::ix::E_FRACTURE] *= 2.0 - f;
+            p[ix::K1] *= f;
+            p[ix::GAP] *= f;
+            p[ix::E_FRACTURE] *= 2.0 - f;
             p
         })
         .collect();
@@ -125,14 +129,14 @@ fn full_and_partial_groups_on_every_vector_width_match_the_scalar_reference() {
     // identical runs (every per-run value shared).
     let mut ps: Vec<Vec<f64>> = (0..LANES)
         .map(|i| {
-            let mut p = tensile::REFERENCE.to_vec();
+            let mut p = REFERENCE.to_vec();
             let f = 1.0 + 0.3 * i as f64 / LANES as f64;
-            p[tensile::ix::K1] *= f;
-            p[tensile::ix::GAP] *= f;
+            p[ix::K1] *= f;
+            p[ix::GAP] *= f;
             p
         })
         .collect();
-    ps.extend(std::iter::repeat_n(tensile::REFERENCE.to_vec(), 11));
+    ps.extend(std::iter::repeat_n(REFERENCE.to_vec(), 11));
     let grid = SampleGrid {
         t0: 0.0,
         dt: REFERENCE_DT,
@@ -175,8 +179,8 @@ fn the_fitted_report_is_output_zero_of_the_full_one() {
     assert!(r.output_names().len() > 1, "a rig with more than output 0");
     let ps: Vec<Vec<f64>> = (0..9)
         .map(|i| {
-            let mut p = tensile::REFERENCE.to_vec();
-            p[tensile::ix::E_FRACTURE] *= 1.0 - 0.04 * i as f64;
+            let mut p = REFERENCE.to_vec();
+            p[ix::E_FRACTURE] *= 1.0 - 0.04 * i as f64;
             p
         })
         .collect();
@@ -187,10 +191,8 @@ fn the_fitted_report_is_output_zero_of_the_full_one() {
         samples: 1500,
         substeps: 2,
     };
-    // Each report by the lanes (this rig's) and one run at a time (the trait's
-    // default, through the hand-written model).
-    let models: [&dyn RigModel; 2] = [&r, &tensile::TENSILE4];
-    for m in models {
+    // Each report by the lanes.
+    for m in [&r] {
         let mut got = [vec![vec![]; ps.len()], vec![vec![]; ps.len()]];
         for (h, report) in got.iter_mut().zip([Report::Full, Report::Fitted]) {
             m.simulate_many(&refs, &Drive::Velocity, &grid, report, &mut |l, s| {
@@ -232,7 +234,7 @@ fn the_fitted_report_is_output_zero_of_the_full_one() {
 fn histories_native(
     desc: &rigfit::rig::desc::RigDesc,
     ps: &[Vec<f64>],
-    force: Option<&rigfit::model::PiecewiseLinear>,
+    force: Option<&rigfit::base::PiecewiseLinear>,
     grid: &SampleGrid,
     report: Report,
 ) -> Vec<Vec<u64>> {
@@ -264,13 +266,13 @@ fn native_lanes_match_the_scalar_reference_bit_for_bit() {
     // per step), then a partial one whose ramps differ (computed per block).
     let ps: Vec<Vec<f64>> = (0..LANES + 13)
         .map(|i| {
-            let mut p = tensile::REFERENCE.to_vec();
+            let mut p = REFERENCE.to_vec();
             let f = 1.0 + 0.3 * i as f64 / LANES as f64;
-            p[tensile::ix::K1] *= f;
-            p[tensile::ix::GAP] *= f;
-            p[tensile::ix::E_FRACTURE] *= 2.0 - f;
+            p[ix::K1] *= f;
+            p[ix::GAP] *= f;
+            p[ix::E_FRACTURE] *= 2.0 - f;
             if i >= LANES {
-                p[tensile::ix::RAMP] *= f;
+                p[ix::RAMP] *= f;
             }
             p
         })
@@ -325,12 +327,12 @@ fn native_f32_lanes_stay_within_the_f32_tolerance_of_the_reference() {
     let r = CompiledRig::new(desc.clone(), "tensile4").unwrap();
     let ps: Vec<Vec<f64>> = (0..21)
         .map(|i| {
-            let mut p = tensile::REFERENCE.to_vec();
+            let mut p = REFERENCE.to_vec();
             let f = 1.0 + 0.02 * i as f64;
-            p[tensile::ix::K1] *= f;
-            p[tensile::ix::C4] *= f;
+            p[ix::K1] *= f;
+            p[ix::C4] *= f;
             if i >= 16 {
-                p[tensile::ix::RAMP] *= f;
+                p[ix::RAMP] *= f;
             }
             p
         })

@@ -5,9 +5,10 @@
 
 use std::ops::ControlFlow;
 
-use rigfit::integrate::SampleGrid;
+use rigfit::base::Drive;
+use rigfit::base::SampleGrid;
+use rigfit::model::RigModel;
 use rigfit::model::compiled::CompiledRig;
-use rigfit::model::{Drive, RigModel};
 use rigfit::rig::{RigSource, parse};
 use serde_json::{Value, json};
 

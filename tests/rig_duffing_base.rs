@@ -3,9 +3,10 @@
 
 use std::ops::ControlFlow;
 
-use rigfit::integrate::SampleGrid;
+use rigfit::base::Drive;
+use rigfit::base::SampleGrid;
+use rigfit::model::RigModel;
 use rigfit::model::compiled::CompiledRig;
-use rigfit::model::{Drive, RigModel};
 use rigfit::rig::desc::DriveLaw;
 
 fn rig(accel: Option<(Vec<f64>, Vec<f64>)>) -> CompiledRig {
@@ -95,7 +96,7 @@ fn cubic_case_converges_at_fourth_order() {
 /// after the interpolation instead of before).
 #[test]
 fn base_acceleration_from_the_experiments_table_matches_the_inline_table() {
-    use rigfit::model::PiecewiseLinear;
+    use rigfit::base::PiecewiseLinear;
     use rigfit::rig::desc::Coef;
     let t: Vec<f64> = (0..400).map(|i| i as f64 * 2.5e-4).collect();
     let volts: Vec<f64> = t

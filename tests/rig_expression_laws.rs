@@ -6,9 +6,10 @@
 
 use std::ops::ControlFlow;
 
-use rigfit::integrate::SampleGrid;
+use rigfit::base::Drive;
+use rigfit::base::SampleGrid;
+use rigfit::model::RigModel;
 use rigfit::model::compiled::CompiledRig;
-use rigfit::model::{Drive, RigModel};
 use serde_json::{Value, json};
 
 fn duffing(edit: impl Fn(&mut Value)) -> CompiledRig {

@@ -22,7 +22,6 @@ fn setup(dir: &Path) {
     )
     .unwrap();
     let o = c.as_object_mut().unwrap();
-    o.remove("model");
     o.insert("rig".into(), "bad_rig.json".into());
     o.insert("output".into(), "out".into());
     std::fs::copy(

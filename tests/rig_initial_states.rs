@@ -1,6 +1,8 @@
 //! Per-experiment initial states (`experiments[].initial`): fixed, free and
 //! from the data; the modes a run starts in; the CPU reference, the lane
 //! ensemble and the GPU kernels alike; bad input refused with exit 2.
+mod oracle;
+mod tensile_common;
 
 mod gpu_common;
 
@@ -8,11 +10,12 @@ use std::ops::ControlFlow;
 use std::path::Path;
 use std::process::Command;
 
+use rigfit::base::Report;
 use rigfit::campaign::Campaign;
 use rigfit::eval::{Batch, CpuEvaluator, Evaluator, Precision, simulate_history};
 use rigfit::gpu::{F32_HISTORY_TOLERANCE, F64_HISTORY_TOLERANCE};
 use rigfit::job::{self, JobOptions};
-use rigfit::model::{Report, param_index};
+use rigfit::model::param_index;
 use serde_json::{Value, json};
 
 const M: f64 = 1.0;
@@ -443,7 +446,10 @@ fn bad_initial_states_are_refused_with_exit_2_and_the_path() {
         json!({"x1": 0.001}),
         json!({}),
         Some(json!({"model": "tensile4"})),
-        &["experiments[0].initial", "a compiled rig"],
+        &[
+            "model",
+            "the \"model\" key is gone, write \"rig\": \"tensile4\"",
+        ],
     );
 }
 
@@ -467,7 +473,7 @@ fn a_friction_element_starts_stuck_or_slipping_as_its_stretch_implies() {
     }))
     .unwrap();
     let rig = rigfit::model::compiled::CompiledRig::new(desc, "inline").unwrap();
-    let drive = rigfit::model::Drive::Velocity;
+    let drive = rigfit::base::Drive::Velocity;
     let modes = |s: f64, v: f64| rig.stepper(&[s, v], &drive).unwrap().modes;
     // Inside ±f_c/k_t = ±0.2 mm: stuck, whatever the velocity; at the limit
     // exactly: still stuck; past it: slipping in the spring's direction.

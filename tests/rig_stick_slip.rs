@@ -2,8 +2,9 @@
 //! hand-derived cases: a block held by a tangential spring sticks until the
 //! spring force reaches the slip force, then slips under a constant net force.
 
+use rigfit::base::Drive;
+use rigfit::model::RigModel;
 use rigfit::model::compiled::CompiledRig;
-use rigfit::model::{Drive, RigModel};
 use rigfit::rig::desc::DriveLaw;
 
 const M: f64 = 1.0;

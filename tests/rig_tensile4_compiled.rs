@@ -1,42 +1,53 @@
-//! `rigs/tensile4.json`, compiled, against the hand-written tensile model (the
-//! oracle) and against itself at finer steps: where the two agree on the
+//! `rigs/tensile4.json`, compiled, against the hand-written oracle
+//! (tests/oracle) and against itself at finer steps: where the two agree on the
 //! physics they agree to rounding, the located switches (slack engagement,
-//! yield, fracture) make the compiled run fourth order in dt, and the hand
-//! model's unlocated ones leave it first order.
+//! yield, fracture) make the compiled run fourth order in dt, and the oracle's
+//! unlocated ones leave it first order.
+
+mod oracle;
+mod tensile_common;
 
 use std::ops::ControlFlow;
 
-use rigfit::compile::liveness::fitted_variant;
+use oracle::tensile::{REFERENCE, ix};
+use rigfit::base::SampleGrid;
+use rigfit::base::{Drive, PiecewiseLinear};
+use rigfit::compile::analysis::liveness::fitted_variant;
 use rigfit::compile::{EventStepper, Program, Tape};
-use rigfit::fixtures::{REFERENCE_DT, REFERENCE_SAMPLES};
-use rigfit::integrate::SampleGrid;
 use rigfit::model::compiled::CompiledRig;
-use rigfit::model::tensile::ix;
-use rigfit::model::{Drive, PiecewiseLinear, RigModel, tensile};
+use rigfit::model::{RigModel, param_index};
+use tensile_common::{REFERENCE_DT, REFERENCE_SAMPLES, tensile4};
 
-fn compiled() -> CompiledRig {
-    CompiledRig::new(
-        rigfit::rig::shipped("tensile4").unwrap(),
-        "rigs/tensile4.json",
-    )
-    .unwrap()
+fn compiled() -> &'static CompiledRig {
+    tensile4()
 }
 
-fn history(
-    model: &dyn RigModel,
-    p: &[f64],
-    drive: &Drive,
-    substeps: usize,
-    out: usize,
-) -> Vec<f64> {
-    let grid = SampleGrid {
+/// The reference grid with `substeps` RK4 steps per sample.
+fn grid(substeps: usize) -> SampleGrid {
+    SampleGrid {
         t0: 0.0,
         dt: REFERENCE_DT,
         samples: REFERENCE_SAMPLES,
         substeps,
-    };
+    }
+}
+
+/// Output `out` of the compiled rig at every sample of the reference grid.
+fn history(p: &[f64], drive: &Drive, substeps: usize, out: usize) -> Vec<f64> {
+    let grid = grid(substeps);
     let mut h = Vec::with_capacity(grid.samples);
-    model.simulate(p, drive, &grid, &mut |s| {
+    compiled().simulate(p, drive, &grid, &mut |s| {
+        h.push(s.outputs[out]);
+        ControlFlow::Continue(())
+    });
+    h
+}
+
+/// The same from the hand-written oracle.
+fn oracle_history(p: &[f64], drive: &Drive, substeps: usize, out: usize) -> Vec<f64> {
+    let grid = grid(substeps);
+    let mut h = Vec::with_capacity(grid.samples);
+    oracle::tensile::simulate(p, drive, &grid, |s| {
         h.push(s.outputs[out]);
         ControlFlow::Continue(())
     });
@@ -44,79 +55,117 @@ fn history(
 }
 
 fn rel_rms(a: &[f64], b: &[f64]) -> f64 {
+    assert_eq!(a.len(), b.len());
     let num: f64 = a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum();
     let den: f64 = b.iter().map(|y| y * y).sum();
     (num / den).sqrt()
 }
 
 #[test]
-fn the_compiled_rig_has_the_hand_models_parameters() {
+fn the_compiled_rig_has_the_oracles_parameters_outputs_and_states() {
     let c = compiled();
-    // The same parameters, except that only the hand-written model reads an
-    // omitted e_fracture as "never breaks" (a JSON rig file cannot hold ∞).
-    let strip = |p: &[rigfit::model::ParamInfo]| -> Vec<_> {
-        p.iter()
-            .map(|i| {
-                (
-                    i.name,
-                    i.unit,
-                    i.scope,
-                    i.scale,
-                    (i.name != "e_fracture").then_some(i.default),
-                )
-            })
-            .collect()
-    };
-    assert_eq!(strip(c.params()), strip(tensile::TENSILE4.params()));
-    assert_eq!(c.output_names(), tensile::TENSILE4.output_names());
-    assert_eq!(c.state_names().len(), 8);
+    // The oracle's parameter vector order (`ix`), name by name.
+    let order = [
+        ("m1", ix::M1),
+        ("m2", ix::M2),
+        ("m3", ix::M3),
+        ("m4", ix::M4),
+        ("k1", ix::K1),
+        ("c1", ix::C1),
+        ("c1_post", ix::C1_POST),
+        ("k_lin", ix::K_LIN),
+        ("e_yield", ix::E_YIELD),
+        ("a0", ix::A0),
+        ("a1", ix::A0 + 1),
+        ("a2", ix::A0 + 2),
+        ("a3", ix::A0 + 3),
+        ("a4", ix::A0 + 4),
+        ("a5", ix::A0 + 5),
+        ("e_fracture", ix::E_FRACTURE),
+        ("c2", ix::C2),
+        ("k3", ix::K3),
+        ("c3", ix::C3),
+        ("slack_a", ix::SLACK_A),
+        ("slack_b", ix::SLACK_B),
+        ("slack_c", ix::SLACK_C),
+        ("k4_lin", ix::K4_LIN),
+        ("c4", ix::C4),
+        ("gap", ix::GAP),
+        ("velocity", ix::VELOCITY),
+        ("ramp", ix::RAMP),
+    ];
+    assert_eq!(c.params().len(), REFERENCE.len());
+    for (name, i) in order {
+        assert_eq!(param_index(c, name), Some(i), "{name}");
+    }
+    // The oracle's outputs: load-cell force (fitted), then specimen force.
+    let names: Vec<&str> = c.output_names().iter().map(|o| o.0).collect();
+    assert_eq!(names, ["load_cell_force", "specimen_force"]);
+    assert!(c.output_names().iter().all(|o| o.1 == "N"));
+    // The oracle's state: displacements y1..y4, then velocities v1..v4.
+    assert_eq!(
+        c.state_names(),
+        [
+            "x_load_cell",
+            "x_specimen",
+            "x_bar",
+            "x_actuator",
+            "v_load_cell",
+            "v_specimen",
+            "v_bar",
+            "v_actuator"
+        ]
+    );
+    assert!(c.check(&REFERENCE).is_ok());
 }
 
 #[test]
-fn without_switches_inside_the_run_both_models_agree_to_rounding() {
+fn without_switches_inside_the_run_the_rig_and_the_oracle_agree_to_rounding() {
     // No gap, elastic throughout (e_yield and e_fracture out of reach): the only
     // switch is the slack engagement at t = 0, the same on both.
-    let mut p = tensile::REFERENCE;
-    p[tensile::ix::GAP] = 0.0;
-    p[tensile::ix::E_YIELD] = 1.0;
-    p[tensile::ix::E_FRACTURE] = 1.0;
-    let hand = history(&tensile::TENSILE4, &p, &Drive::Velocity, 1, 0);
-    let comp = history(&compiled(), &p, &Drive::Velocity, 1, 0);
-    let e = rel_rms(&comp, &hand);
-    println!("relative RMS difference {e:.3e}");
-    assert!(e < 1e-12, "{e}");
+    let mut p = REFERENCE;
+    p[ix::GAP] = 0.0;
+    p[ix::E_YIELD] = 1.0;
+    p[ix::E_FRACTURE] = 1.0;
+    for out in [0, 1] {
+        let hand = oracle_history(&p, &Drive::Velocity, 1, out);
+        let comp = history(&p, &Drive::Velocity, 1, out);
+        let e = rel_rms(&comp, &hand);
+        println!("output {out}: relative RMS difference {e:.3e}");
+        assert!(e < 1e-12, "output {out}: {e}");
+    }
 }
 
 #[test]
-fn force_driven_runs_agree_with_the_hand_model() {
-    let mut p = tensile::REFERENCE;
-    p[tensile::ix::GAP] = 0.0;
-    p[tensile::ix::E_YIELD] = 1.0;
-    p[tensile::ix::E_FRACTURE] = 1.0;
+fn force_driven_runs_agree_with_the_oracle() {
+    let mut p = REFERENCE;
+    p[ix::GAP] = 0.0;
+    p[ix::E_YIELD] = 1.0;
+    p[ix::E_FRACTURE] = 1.0;
     let drive = Drive::Force(PiecewiseLinear {
         t: vec![0.0, 1e-3, 2.5e-3],
         value: vec![0.0, 3e4, 3e4],
     });
-    let hand = history(&tensile::TENSILE4, &p, &drive, 4, 0);
-    let comp = history(&compiled(), &p, &drive, 4, 0);
+    let hand = oracle_history(&p, &drive, 4, 0);
+    let comp = history(&p, &drive, 4, 0);
     let e = rel_rms(&comp, &hand);
     println!("relative RMS difference {e:.3e}");
     assert!(e < 1e-10, "{e}");
 }
 
 /// Errors of the reference run at 1, 2, 4, 8 steps per sample against 256.
-fn errors(model: &dyn RigModel) -> Vec<f64> {
-    let p = tensile::REFERENCE;
-    let fine = history(model, &p, &Drive::Velocity, 256, 0);
+fn errors(run: impl Fn(&[f64], &Drive, usize, usize) -> Vec<f64>) -> Vec<f64> {
+    let p = REFERENCE;
+    let fine = run(&p, &Drive::Velocity, 256, 0);
     [1, 2, 4, 8]
         .iter()
-        .map(|&s| rel_rms(&history(model, &p, &Drive::Velocity, s, 0), &fine))
+        .map(|&s| rel_rms(&run(&p, &Drive::Velocity, s, 0), &fine))
         .collect()
 }
 
 #[test]
 fn located_switches_make_the_reference_run_fourth_order() {
-    let e = errors(&compiled());
+    let e = errors(history);
     let orders: Vec<f64> = e.windows(2).map(|w| (w[0] / w[1]).log2()).collect();
     println!("compiled: errors {e:?}, orders {orders:.2?}");
     for o in &orders {
@@ -127,9 +176,9 @@ fn located_switches_make_the_reference_run_fourth_order() {
         "relative RMS error at the automatic step: {}",
         e[0]
     );
-    // The hand model, with only fracture located, for the record.
-    let h = errors(&tensile::TENSILE4);
-    println!("hand-written: errors {h:?}");
+    // The oracle, with only fracture located, for the record.
+    let h = errors(oracle_history);
+    println!("hand-written oracle: errors {h:?}");
     assert!(
         h[0] > 10.0 * e[0],
         "the located switches gain little: {h:?} vs {e:?}"
@@ -139,7 +188,7 @@ fn located_switches_make_the_reference_run_fourth_order() {
 #[test]
 fn the_located_switches_fire_in_the_order_the_physics_says() {
     let c = compiled();
-    let p = tensile::REFERENCE;
+    let p = REFERENCE;
     let drive = Drive::Velocity;
     let mut st = c.stepper(&p, &drive).unwrap();
     let mut y = vec![0.0; 8];
@@ -168,7 +217,7 @@ fn the_located_switches_fire_in_the_order_the_physics_says() {
 }
 
 // Fitness runs skip the switches that can no longer reach the load cell
-// (src/compile/liveness.rs): once the specimen breaks, the slack adapter's
+// (src/compile/analysis/liveness.rs): once the specimen breaks, the slack adapter's
 // contact and the specimen's yield are not located any more. Checked on the
 // f64 reference against the program with every switch, over candidates whose
 // sliding bar bounces on the adapter after the break: the skipped switches are
@@ -203,18 +252,14 @@ fn run(prog: &Program, p: &[f64]) -> (Vec<f64>, Vec<(String, f64)>) {
 
 #[test]
 fn fitness_runs_skip_only_the_switches_after_the_break() {
-    let rig = CompiledRig::new(
-        rigfit::rig::shipped("tensile4").unwrap(),
-        "rigs/tensile4.json",
-    )
-    .unwrap();
+    let rig = compiled();
     let prog = &rig.lowered.programs[0];
     let fit = fitted_variant(prog);
     let mut skipped_somewhere = 0;
     let mut worst: f64 = 0.0;
     for c4 in [1e3, 1e4, 1e5] {
         for gap in [0.0, 2.5e-5, 5e-5] {
-            let mut p = tensile::REFERENCE;
+            let mut p = REFERENCE;
             p[ix::C4] = c4;
             p[ix::GAP] = gap;
             let (f_all, all) = run(prog, &p);

@@ -9,9 +9,9 @@ use std::f64::consts::PI;
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use rigfit::precal::PrecalError;
-use rigfit::precal::csv_input::{parse_two_columns, read_two_columns};
-use rigfit::precal::ringdown::{RingdownOptions, analyse};
+use rigfit::identify::PrecalError;
+use rigfit::identify::csv_input::{parse_two_columns, read_two_columns};
+use rigfit::identify::ringdown::{RingdownOptions, analyse};
 
 const M1: f64 = 7.9;
 const K1: f64 = 8.4e9;

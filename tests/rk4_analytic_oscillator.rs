@@ -1,12 +1,15 @@
-//! Proves the RK4 reference reproduces the closed-form damped single-mass
-//! oscillator in all three damping regimes, both by plain steps and through
-//! `Integrator::run` on a `SampleGrid` with a prologue (which checks the grid's
-//! step times too).
+//! Proves the classic RK4 of the hand-written oracle (tests/oracle) reproduces
+//! the closed-form damped single-mass oscillator in all three damping regimes,
+//! both by plain steps and through `Integrator::run` on rigfit's `SampleGrid`
+//! with a prologue (which checks the grid's step times, `walk_grid`'s, too).
+
+mod oracle;
 
 use std::ops::ControlFlow;
 
-use rigfit::integrate::test_systems::{DampedOscillator, Damping, integrate_fixed};
-use rigfit::integrate::{Integrator, SampleGrid};
+use oracle::rk4::Integrator;
+use oracle::systems::{DampedOscillator, Damping, integrate_fixed};
+use rigfit::base::SampleGrid;
 
 /// Load-cell-like oscillator: 7.9 kg on 8.4e9 N/m (≈ 5.19 kHz), `c` chosen for the
 /// regime.

@@ -1,11 +1,17 @@
-//! Proves that the f64 RK4 reference is fourth order: halving the step cuts the
-//! global error by ~16× (observed order in [3.8, 4.2]) on smooth problems — two
-//! canonical systems with closed forms and a smooth stretch of the tensile rig.
+//! Proves that classic RK4 is fourth order: halving the step cuts the global
+//! error by ~16× (observed order in [3.8, 4.2]) on smooth problems — two
+//! canonical systems with closed forms on the hand-written oracle's RK4
+//! (tests/oracle), and a smooth stretch of the tensile rig both on the oracle
+//! and on the compiled rig's own stepper (the product's f64 reference).
 
-use rigfit::integrate::Integrator;
-use rigfit::integrate::test_systems::{CubicDecay, ForcedOscillator, integrate_fixed};
-use rigfit::model::{Drive, tensile};
-use tensile::{TensileSystem, ix};
+mod oracle;
+mod tensile_common;
+
+use oracle::rk4::Integrator;
+use oracle::systems::{CubicDecay, ForcedOscillator, integrate_fixed};
+use oracle::tensile::{REFERENCE, TensileSystem, ix};
+use rigfit::base::Drive;
+use tensile_common::tensile4;
 
 /// Observed orders `log2(e_h / e_{h/2})` of a sequence of errors at halving steps.
 fn orders(errors: &[f64]) -> Vec<f64> {
@@ -58,8 +64,8 @@ fn nonlinear_cubic_decay_is_fourth_order() {
     assert_fourth_order("cubic decay", &errors);
 }
 
-/// State after `t_end` of the reference rig with `gap = 0`, integrated with `h`.
-fn tensile_state(params: &[f64], h: f64, t_end: f64) -> Vec<f64> {
+/// State after `t_end` of the oracle's tensile rig, integrated with `h`.
+fn oracle_state(params: &[f64], h: f64, t_end: f64) -> Vec<f64> {
     let drive = Drive::Velocity;
     let mut sys = TensileSystem::new(params, &drive);
     let mut y = vec![0.0; 8];
@@ -71,6 +77,21 @@ fn tensile_state(params: &[f64], h: f64, t_end: f64) -> Vec<f64> {
     y
 }
 
+/// The same on the compiled rig's stepper.
+fn compiled_state(params: &[f64], h: f64, t_end: f64) -> Vec<f64> {
+    let drive = Drive::Velocity;
+    let mut st = tensile4()
+        .stepper(params, &drive)
+        .expect("a velocity drive");
+    let mut y = st.y0.clone();
+    let n = (t_end / h).round() as usize;
+    for i in 0..n {
+        st.step(i as f64 * h, h, &mut y);
+    }
+    assert!(!st.chattered);
+    y
+}
+
 /// The tensile rig is piecewise smooth: slack engagement (the damper force
 /// `c4·(v4 − v3)` switches on at `d = 0`), the yield kink and the slack knee `d*`
 /// are not located inside the step. With `gap = 0` and the ramped drive
@@ -78,24 +99,33 @@ fn tensile_state(params: &[f64], h: f64, t_end: f64) -> Vec<f64> {
 /// first 10 µs the adapter stays below `d*` (≈ 20.6 µm) and the specimen far below
 /// yield, so the right-hand side is smooth and the order must be 4.
 ///
-/// Slots 3 and 7 (actuator) are excluded: in velocity drive they integrate the
-/// prescribed `v4`, `a4`, which jump at `t = 0`, and nothing reads them — the
-/// model overwrites them from the closed-form drive in `full_state`.
+/// Slots 3 and 7 (actuator) are excluded: in velocity drive the oracle
+/// integrates the prescribed `v4`, `a4` there, which jump at `t = 0`, and
+/// nothing reads them — it overwrites them from the closed-form drive in
+/// `full_state` (the compiled rig does not integrate them at all).
 #[test]
 fn tensile_smooth_stretch_is_fourth_order() {
-    let mut p = tensile::REFERENCE;
+    let mut p = REFERENCE;
     p[ix::GAP] = 0.0;
     let t_end = 10e-6;
-    let fine = tensile_state(&p, 0.2e-6 / 256.0, t_end);
-    let errors: Vec<f64> = [0.2e-6, 0.1e-6, 0.05e-6, 0.025e-6]
-        .iter()
-        .map(|&h| {
-            let y = tensile_state(&p, h, t_end);
-            [0usize, 1, 2, 4, 5, 6]
-                .iter()
-                .map(|&i| ((y[i] - fine[i]) / fine[i].abs()).abs())
-                .fold(0.0, f64::max)
-        })
-        .collect();
-    assert_fourth_order("tensile, gap = 0, first 10 µs", &errors);
+    for (what, state) in [
+        (
+            "oracle tensile, gap = 0, first 10 µs",
+            oracle_state as fn(&[f64], f64, f64) -> Vec<f64>,
+        ),
+        ("compiled tensile4, gap = 0, first 10 µs", compiled_state),
+    ] {
+        let fine = state(&p, 0.2e-6 / 256.0, t_end);
+        let errors: Vec<f64> = [0.2e-6, 0.1e-6, 0.05e-6, 0.025e-6]
+            .iter()
+            .map(|&h| {
+                let y = state(&p, h, t_end);
+                [0usize, 1, 2, 4, 5, 6]
+                    .iter()
+                    .map(|&i| ((y[i] - fine[i]) / fine[i].abs()).abs())
+                    .fold(0.0, f64::max)
+            })
+            .collect();
+        assert_fourth_order(what, &errors);
+    }
 }

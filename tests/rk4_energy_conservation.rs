@@ -1,5 +1,6 @@
-//! Proves the RK4 reference conserves the energy of an undamped chain to the
-//! accuracy its stability function predicts, over hundreds of periods.
+//! Proves the classic RK4 of the hand-written oracle (tests/oracle) conserves
+//! the energy of an undamped chain to the accuracy its stability function
+//! predicts, over hundreds of periods.
 //!
 //! Tolerance, and why: RK4 is not symplectic. On a mode of angular frequency ω
 //! its amplification factor is `R(iωh)`, `R(z) = 1 + z + z²/2 + z³/6 + z⁴/24`, with
@@ -11,9 +12,11 @@
 //! initial energy — round-off over ~10⁵ steps is far below that — which fails on
 //! any error in the integrator beyond the method's own dissipation.
 
-use rigfit::integrate::test_systems::{LinearChain, integrate_fixed};
+mod oracle;
+
+use oracle::systems::{LinearChain, integrate_fixed};
 use rigfit::model::Linearised;
-use rigfit::modes::ModeReport;
+use rigfit::model::modes::ModeReport;
 
 /// A five-mass chain with rig-like masses and stiffnesses, fixed–free.
 fn chain() -> LinearChain {

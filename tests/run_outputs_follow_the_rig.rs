@@ -117,7 +117,7 @@ fn run_writes_every_output_file_for_one_and_three_outputs() {
         let r: Value =
             serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap())
                 .unwrap();
-        assert_eq!(r["model"], rig["id"]);
+        assert_eq!(r["rig"], rig["id"]);
         assert_eq!(r["generations"], 3);
         assert_eq!(r["experiments"][0]["csv"], "sweep.csv");
         assert_eq!(r["experiments"][0]["plot"], "fit_sweep.svg");

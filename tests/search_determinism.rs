@@ -1,7 +1,7 @@
 //! Proves the search is a pure function of its seed and costs: the same seed
 //! gives a bit-identical outcome, a different seed a different one.
 
-use rigfit::model::Scale;
+use rigfit::base::Scale;
 use rigfit::search::{Executor, FnCost, GeneSpec, GeneticAlgorithm, InitKind, SearchOutcome};
 
 mod common;

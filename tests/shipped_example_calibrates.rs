@@ -3,6 +3,8 @@
 //! on it to within 5 %) lands within 3 % of the value that made the record —
 //! at least the load-cell stiffness, its post-fracture damping and the fracture
 //! elongation.
+mod oracle;
+mod tensile_common;
 
 mod gpu_common;
 

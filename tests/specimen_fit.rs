@@ -3,9 +3,9 @@
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use rigfit::precal::PrecalError;
-use rigfit::precal::csv_input::{parse_two_columns, read_two_columns};
-use rigfit::precal::specimen::{SpecimenFitOptions, YieldChoice, fit};
+use rigfit::identify::PrecalError;
+use rigfit::identify::csv_input::{parse_two_columns, read_two_columns};
+use rigfit::identify::specimen::{SpecimenFitOptions, YieldChoice, fit};
 
 const K_LIN: f64 = 8.63e7;
 const E_YIELD: f64 = 5.4e-5;

@@ -1,21 +1,27 @@
-//! Proves `Tensile4::omega_bound`, the Gershgorin bound used to choose or refuse
-//! the RK4 step: for random parameter vectors inside the bounds, and tangent
-//! stiffnesses anywhere on the specimen and slack-adapter laws, the largest
-//! |eigenvalue| of the linearised first-order system `[[0, I], [−M⁻¹K, −M⁻¹C]]`
-//! never exceeds it; RK4 with `h·bound ≤ 2` is stable on that system, and a step
-//! far above it blows up.
+//! Proves the compiled tensile rig's `omega_bound`, the bound used to choose or
+//! refuse the RK4 step: for random parameter vectors inside the bounds, and
+//! tangent stiffnesses anywhere on the specimen and slack-adapter laws, the
+//! largest |eigenvalue| of the linearised first-order system
+//! `[[0, I], [−M⁻¹K, −M⁻¹C]]` never exceeds it; RK4 with `h·bound ≤ 2` is stable
+//! on that system, and a step far above it blows up. The matrices come from the
+//! hand-written oracle (tests/oracle), independent of the compiled rig.
+
+mod oracle;
+mod tensile_common;
 
 use nalgebra::DMatrix;
+use oracle::systems::{LinearSystem, integrate_fixed};
+use oracle::tensile::{MAX_POLY_DEGREE, REFERENCE, ix, linearise, slack_knee};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use rigfit::integrate::test_systems::{LinearSystem, integrate_fixed};
-use rigfit::model::{Drive, PiecewiseLinear, RigModel, tensile};
-use tensile::{MAX_POLY_DEGREE, TENSILE4, ix, slack_knee};
+use rigfit::base::{Drive, PiecewiseLinear};
+use rigfit::model::RigModel;
+use tensile_common::tensile4;
 
 /// Search bounds around the reference: ×0.5…×2 on every positive parameter,
 /// explicit ranges where the reference is zero or signed.
 fn bounds() -> (Vec<f64>, Vec<f64>) {
-    let r = tensile::REFERENCE;
+    let r = REFERENCE;
     let (mut lo, mut hi): (Vec<f64>, Vec<f64>) = r.iter().map(|&x| (0.5 * x, 2.0 * x)).unzip();
     let mut set = |i: usize, a: f64, b: f64| {
         lo[i] = a;
@@ -49,9 +55,10 @@ fn first_order(m: &[f64], k: &[f64], c: &[f64]) -> (f64, Vec<f64>) {
     (lam, a.transpose().as_slice().to_vec())
 }
 
-/// M, tangent K and C of `p` at specimen strain `e` and slack opening `d`. The
-/// damping matrix has the springs' topology, so it is assembled by `linearise`
-/// with the dampers put in the springs' slots.
+/// M, tangent K and C of `p` at specimen strain `e` and slack opening `d`, from
+/// the oracle's linearisation with the tangent stiffnesses put in the springs'
+/// slots. The damping matrix has the springs' topology, so it is assembled the
+/// same way with the dampers in the springs' slots.
 fn matrices(
     p: &[f64],
     drive: &Drive,
@@ -76,26 +83,41 @@ fn matrices(
     if d <= ds {
         q[ix::K4_LIN] = p[ix::SLACK_A] * (p[ix::SLACK_B] * d).exp() + p[ix::SLACK_C];
     }
-    let lin = TENSILE4.linearise(&q, drive);
+    let lin = linearise(&q, drive);
     let mut cq = p.to_vec();
     cq[ix::K1] = if broken { p[ix::C1_POST] } else { p[ix::C1] };
     cq[ix::K_LIN] = p[ix::C2];
     cq[ix::K3] = p[ix::C3];
     cq[ix::K4_LIN] = p[ix::C4];
-    let c = TENSILE4.linearise(&cq, drive).stiffness;
+    let c = linearise(&cq, drive).stiffness;
     (lin.mass, lin.stiffness, c)
+}
+
+fn force_drive() -> Drive {
+    Drive::Force(PiecewiseLinear {
+        t: vec![0.0],
+        value: vec![0.0],
+    })
 }
 
 #[test]
 fn bound_covers_every_eigenvalue_inside_the_bounds() {
     let (lo, hi) = bounds();
-    let force = Drive::Force(PiecewiseLinear {
-        t: vec![0.0],
-        value: vec![0.0],
-    });
+    let rig = tensile4();
     let mut rng = ChaCha8Rng::seed_from_u64(2024);
-    for drive in [Drive::Velocity, force] {
-        let (bound, limiter) = TENSILE4.omega_bound(&lo, &hi, &drive);
+    for drive in [Drive::Velocity, force_drive()] {
+        let (bound, limiter) = rig.omega_bound(&lo, &hi, &drive);
+        assert!(bound.is_finite(), "{drive:?}: bound {bound}");
+        // The limiter names a parameter or an element law of the rig.
+        assert!(
+            rig.params().iter().any(|p| p.name == limiter)
+                || rig
+                    .desc
+                    .elements
+                    .iter()
+                    .any(|e| limiter.starts_with(e.name.as_str())),
+            "limiter {limiter:?}"
+        );
         let mut tightest: f64 = 0.0;
         for _ in 0..400 {
             let p: Vec<f64> = lo
@@ -149,9 +171,9 @@ fn rk4_region_contains_the_left_half_disk_of_radius_two() {
 
 #[test]
 fn rk4_is_stable_at_the_bound_and_blows_up_far_above_it() {
-    let p = tensile::REFERENCE;
+    let p = REFERENCE;
     let drive = Drive::Velocity;
-    let (bound, _) = TENSILE4.omega_bound(&p, &p, &drive);
+    let (bound, _) = tensile4().omega_bound(&p, &p, &drive);
     // Pre-fracture, engaged beyond the slack knee: K from k_lin and k4_lin.
     let (m, k, c) = matrices(&p, &drive, 0.0, f64::INFINITY, false);
     let (lam, a) = first_order(&m, &k, &c);
@@ -159,6 +181,7 @@ fn rk4_is_stable_at_the_bound_and_blows_up_far_above_it() {
         "reference: true max |λ| {lam:.4e}, bound {bound:.4e} (ratio {:.3})",
         lam / bound
     );
+    assert!(lam <= bound, "|λ| = {lam:e} exceeds bound {bound:e}");
     let y0: Vec<f64> = (0..6).map(|i| 1e-6 * (1.0 + i as f64)).collect();
     let norm = |y: &[f64]| y.iter().map(|x| x * x).sum::<f64>().sqrt();
     let mut sys = LinearSystem { a };
@@ -189,20 +212,22 @@ fn rk4_is_stable_at_the_bound_and_blows_up_far_above_it() {
 
 /// Regression: `check` accepts `slack_c < −slack_a`, where the slack adapter's
 /// tangent stiffness at engagement, `a + c`, is negative and can exceed `k4_lin`
-/// in magnitude. The bound used to take `max(k4_lin, a + c)` with sign and so
-/// missed it (8.67e4 rad/s against a true 9.86e4 rad/s for the case below).
+/// in magnitude. A bound taking `max(k4_lin, a + c)` with sign misses it
+/// (8.67e4 rad/s against a true 9.86e4 rad/s for the case below).
 #[test]
 fn bound_covers_a_negative_slack_tangent() {
-    let mut p = tensile::REFERENCE.to_vec();
+    let mut p = REFERENCE.to_vec();
     p[ix::SLACK_C] = -5e9;
     p[ix::C1] = 0.0;
     p[ix::C1_POST] = 0.0;
     p[ix::C4] = 0.0;
-    assert!(TENSILE4.check(&p).is_ok());
-    let drive = Drive::Velocity;
-    let (bound, _) = TENSILE4.omega_bound(&p, &p, &drive);
-    let (m, k, c) = matrices(&p, &drive, 0.0, 1e-12, false);
-    let (lam, _) = first_order(&m, &k, &c);
-    println!("slack_c = −5e9 N/m: bound {bound:.4e}, true max |λ| {lam:.4e}");
-    assert!(lam <= bound, "|λ| = {lam:e} exceeds bound {bound:e}");
+    let rig = tensile4();
+    assert!(rig.check(&p).is_ok());
+    for drive in [Drive::Velocity, force_drive()] {
+        let (bound, _) = rig.omega_bound(&p, &p, &drive);
+        let (m, k, c) = matrices(&p, &drive, 0.0, 1e-12, false);
+        let (lam, _) = first_order(&m, &k, &c);
+        println!("{drive:?}, slack_c = −5e9 N/m: bound {bound:.4e}, true max |λ| {lam:.4e}");
+        assert!(lam <= bound, "|λ| = {lam:e} exceeds bound {bound:e}");
+    }
 }

@@ -1,6 +1,8 @@
 //! The RK4 step rule (issue 6): `"auto"` picks the fewest substeps with
 //! `h·ω_bound ≤ 2`, an explicit count that breaks it is refused naming the
 //! limiting parameter, and the chosen step keeps a stiff run from blowing up.
+mod oracle;
+mod tensile_common;
 
 mod campaign_common;
 use campaign_common as common;
@@ -136,7 +138,7 @@ fn param_file_rechecks_the_step() {
     );
     assert!(err.contains("limited by 'c1'"), "{err}");
     assert_eq!(
-        c.base[0][rigfit::model::tensile::ix::C1],
+        c.base[0][tensile_common::ix::C1],
         5.5e5,
         "unchanged after refusal"
     );

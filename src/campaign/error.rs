@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::data::DataError;
+use crate::base::data::DataError;
 
 /// A campaign (or parameter file) that cannot be used.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -164,7 +164,7 @@ pub(crate) fn parse_json<T: serde::de::DeserializeOwned>(
     if let Some((at, c)) = text.char_indices().find(|(_, c)| !c.is_whitespace()) {
         if c != '{' {
             let (line, column) = line_column(text, at);
-            let found = crate::text::echo(&text[at..].chars().take(20).collect::<String>());
+            let found = crate::base::text::echo(&text[at..].chars().take(20).collect::<String>());
             return Err(CampaignError::Schema {
                 file: file.to_path_buf(),
                 line,
@@ -186,7 +186,7 @@ pub(crate) fn parse_json<T: serde::de::DeserializeOwned>(
 }
 
 /// A JSON path as `experiments[0].params.k1`; a key that is not a short plain
-/// name is quoted, escaped and cut short (see [`crate::text::echo`]).
+/// name is quoted, escaped and cut short (see [`crate::base::text::echo`]).
 fn json_path(path: &serde_path_to_error::Path) -> String {
     use serde_path_to_error::Segment;
     let mut out = String::new();
@@ -197,7 +197,7 @@ fn json_path(path: &serde_path_to_error::Path) -> String {
                 if !out.is_empty() {
                     out.push('.');
                 }
-                let plain = key.len() <= crate::text::ECHO_CHARS
+                let plain = key.len() <= crate::base::text::ECHO_CHARS
                     && !key.is_empty()
                     && !key
                         .chars()
@@ -205,7 +205,7 @@ fn json_path(path: &serde_path_to_error::Path) -> String {
                 if plain {
                     out.push_str(key);
                 } else {
-                    out.push_str(&crate::text::echo(key));
+                    out.push_str(&crate::base::text::echo(key));
                 }
             }
             Segment::Unknown => {
@@ -246,9 +246,9 @@ fn json_error(file: &Path, path: String, inner: serde_json::Error) -> CampaignEr
     let full = inner.to_string();
     let suffix = format!(" at line {line} column {column}");
     // serde quotes values and keys whole: cut them as every echo is cut.
-    let mut message = plain_types(&crate::text::shorten_quotes(
+    let mut message = plain_types(&crate::base::text::shorten_quotes(
         full.strip_suffix(&suffix).unwrap_or(&full),
-        crate::text::ECHO_CHARS,
+        crate::base::text::ECHO_CHARS,
     ));
     if message == "trailing characters" {
         message = "expected the end of the file after the JSON object, found more text".into();

@@ -4,7 +4,7 @@
 //! Each state named in an experiment's `"initial"` becomes an
 //! experiment-scope parameter of the compiled rig, `initial_<state>` (default
 //! 0), which the lowering reads as that state's initial value
-//! ([`crate::compile::lower::initial_param`]). The campaign's entry then turns
+//! ([`crate::compile::front::initial_param`]). The campaign's entry then turns
 //! into that parameter's value in the experiment's own `params`: a number
 //! (fixed), a range (free: the experiment's own gene, searched, polished and
 //! given an interval like any other), or a number read from the data file.
@@ -18,10 +18,10 @@ use super::CampaignError;
 use super::error::invalid;
 use super::raw::{RawExperiment, RawInitial, RawInitialData, RawParam};
 use super::resolve::check_value;
-use crate::compile::lower::initial_param;
-use crate::data::{Column, CsvSpec, parse_csv};
+use crate::base::data::{Column, CsvSpec, parse_csv};
+use crate::base::{Drive, ParamScope, Scale};
+use crate::compile::front::initial_param;
 use crate::model::compiled::CompiledRig;
-use crate::model::{Drive, ParamScope, Scale};
 use crate::rig::desc::{ParamDesc, RigDesc};
 
 /// Declares `initial_<state>` for every state some experiment names, after
@@ -38,9 +38,12 @@ pub(crate) fn declare(
             let Some(k) = states.iter().position(|s| s == key) else {
                 return Err(invalid(
                     file,
-                    format!("experiments[{e}].initial.{}", crate::text::echo_bare(key)),
+                    format!(
+                        "experiments[{e}].initial.{}",
+                        crate::base::text::echo_bare(key)
+                    ),
                     format!("a state of rig '{}' ({})", desc.id, states.join(", ")),
-                    crate::text::echo(key),
+                    crate::base::text::echo(key),
                 ));
             };
             wanted[k] = true;
@@ -62,23 +65,6 @@ pub(crate) fn declare(
         });
     }
     Ok(())
-}
-
-/// Refuses `"initial"` in a campaign whose model is not a compiled rig.
-pub(crate) fn refuse_builtin(
-    file: &Path,
-    experiments: &[RawExperiment],
-    model: &str,
-) -> Result<(), CampaignError> {
-    match experiments.iter().position(|x| !x.initial.is_empty()) {
-        None => Ok(()),
-        Some(e) => Err(invalid(
-            file,
-            format!("experiments[{e}].initial"),
-            "a compiled rig (\"rig\"): a built-in model starts at rest",
-            format!("\"model\": {}", crate::text::echo(model)),
-        )),
-    }
 }
 
 /// Experiment `e`'s `params` with its initial states added as
@@ -201,7 +187,7 @@ fn from_data(
         source: Box::new(source),
     };
     let text = std::fs::read(&data_file).map_err(|err| {
-        data_err(crate::data::DataError::Io {
+        data_err(crate::base::data::DataError::Io {
             file: data_file.clone(),
             message: err.to_string(),
         })

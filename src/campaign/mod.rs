@@ -7,7 +7,7 @@
 //! {
 //!   "name": "aa2024-t3-synthetic",
 //!   "description": "optional free text",
-//!   "model": "tensile4",
+//!   "rig": "tensile4",
 //!   "params": {
 //!     "m1": 7.9,
 //!     "k1": {"min": 2e9, "max": 3e10, "scale": "log", "init": 8e9},
@@ -51,8 +51,9 @@ pub use run_length::{
 };
 pub use stability::{MAX_AUTO_SUBSTEPS, STABILITY_LIMIT, SolverSettings};
 
+use crate::base::Scale;
 use crate::eval::{Batch, DIVERGED, Problem, Scores};
-use crate::model::{RigModel, Scale};
+use crate::model::RigModel;
 use crate::search::GaSettings;
 
 /// What a gene sets.

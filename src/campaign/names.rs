@@ -7,7 +7,7 @@ use std::path::Path;
 
 use super::CampaignError;
 use super::error::invalid;
-use crate::text::echo;
+use crate::base::text::echo;
 
 /// Longest campaign or experiment name, in characters. Output file names add at
 /// most 8 bytes to it, far below the 255 bytes most file systems allow.

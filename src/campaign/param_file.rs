@@ -11,7 +11,8 @@ use super::raw::RawSubsteps;
 use super::resolve::unknown_param;
 use super::stability::choose;
 use super::{Campaign, CampaignError, Source};
-use crate::model::{ParamScope, param_index};
+use crate::base::ParamScope;
+use crate::model::param_index;
 
 /// `{"params": {...}}`; other keys (a `result.json`'s) are ignored.
 #[derive(Debug, Deserialize)]

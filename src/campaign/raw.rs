@@ -9,9 +9,9 @@ use std::path::PathBuf;
 use serde::de::{self, MapAccess, Visitor, value::MapAccessDeserializer};
 use serde::{Deserialize, Deserializer};
 
-use crate::data::Column;
+use crate::base::Scale;
+use crate::base::data::Column;
 use crate::eval::{Backend, PrecisionChoice};
-use crate::model::Scale;
 use crate::search::GaSettings;
 
 /// The whole campaign file.
@@ -24,9 +24,10 @@ pub struct RawCampaign {
     /// `"description"`: optional free text.
     #[serde(default)]
     pub description: Option<String>,
-    /// `"model"`: a built-in model's id, e.g. `"tensile4"`; or give `"rig"`.
+    /// `"model"`: the key of the retired hand-written tensile model, kept only
+    /// to refuse it with the replacement (`"rig": "tensile4"`) named.
     #[serde(default)]
-    pub model: Option<String>,
+    pub model: Option<serde_json::Value>,
     /// `"rig"`: a rig description (see `rigs/`): a shipped rig's id, a rig file
     /// (relative to the campaign's folder) or the rig itself, inline.
     #[serde(default)]
@@ -161,7 +162,7 @@ where
                 if out.contains_key(&key) {
                     return Err(de::Error::custom(format!(
                         "parameter '{}' is given twice; give each parameter once",
-                        crate::text::echo_bare(&key)
+                        crate::base::text::echo_bare(&key)
                     )));
                 }
                 let value = map.next_value()?;

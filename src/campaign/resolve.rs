@@ -7,7 +7,8 @@ use std::path::Path;
 use super::error::invalid;
 use super::raw::RawParam;
 use super::{CampaignError, Gene, GeneTarget, Source};
-use crate::model::{ParamInfo, ParamScope, RigModel, Scale, param_index};
+use crate::base::{ParamInfo, ParamScope, Scale};
+use crate::model::{RigModel, param_index};
 
 /// A checked parameter value.
 #[derive(Debug, Clone, PartialEq)]
@@ -158,8 +159,8 @@ pub(crate) fn unknown_param(
     // Both echo the key: escaped and cut short, whatever the file holds.
     CampaignError::UnknownParam {
         file: file.to_path_buf(),
-        path: crate::text::echo_bare(path),
-        name: crate::text::echo_bare(name),
+        path: crate::base::text::echo_bare(path),
+        name: crate::base::text::echo_bare(name),
         model: model.id().to_string(),
         hint,
     }

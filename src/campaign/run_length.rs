@@ -117,7 +117,7 @@ impl Campaign {
                  found {:.3e}: experiment '{}' runs from t = 0 to {:e} s in steps of {:e} s, \
                  about {} per candidate on one CPU core{hint}",
                 r.steps_per_candidate,
-                crate::text::echo_bare(&x.name),
+                crate::base::text::echo_bare(&x.name),
                 x.t_end_s,
                 x.step_s,
                 human_duration(r.cpu_core_seconds_per_candidate)

@@ -257,7 +257,7 @@ fn memory_size(s: &str) -> Result<f64, String> {
     rigfit::job::memory::parse_bytes(s).ok_or_else(|| {
         format!(
             "expected a size > 0 in bytes or with K, M, G or T (512M, 2G), found {}",
-            rigfit::text::echo(s)
+            rigfit::base::text::echo(s)
         )
     })
 }
@@ -268,7 +268,7 @@ fn positive(s: &str) -> Result<f64, String> {
         Ok(v) if v > 0.0 && v.is_finite() => Ok(v),
         _ => Err(format!(
             "expected a number > 0, found {}",
-            rigfit::text::echo(s)
+            rigfit::base::text::echo(s)
         )),
     }
 }

@@ -9,12 +9,12 @@ use rand_chacha::ChaCha8Rng;
 
 use super::args::{CheckArgs, ModesArgs, SimulateArgs};
 use super::{BadInput, Output};
+use rigfit::base::fsutil::atomic_write;
+use rigfit::base::noise::gaussian;
 use rigfit::campaign::Campaign;
 use rigfit::eval::{Problem, simulate_history};
-use rigfit::fixtures::gaussian;
-use rigfit::fsutil::atomic_write;
 use rigfit::job::memory::{self, MemoryEstimate, human_bytes};
-use rigfit::modes::ModeReport;
+use rigfit::model::modes::ModeReport;
 
 fn load(path: &std::path::Path, params: Option<&std::path::Path>) -> Result<Campaign> {
     let mut c = Campaign::load(path)?;
@@ -67,7 +67,7 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
             let _ = writeln!(
                 s,
                 "# SYNTHETIC measurement: made by `rigfit simulate` from campaign {} (experiment {}),\n\
-                 # model {}, Gaussian noise sigma = {sigma} {} on output {}, seed {}. Not a measured record.",
+                 # rig {}, Gaussian noise sigma = {sigma} {} on output {}, seed {}. Not a measured record.",
                 c.name,
                 exp.name,
                 c.model.id(),
@@ -225,7 +225,7 @@ pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
         .then(|| MemoryEstimate::of(&c, Some(8)));
     let available = memory::available_memory();
     out.json(&serde_json::json!({
-        "campaign": c.name, "model": c.model.id(), "experiments": c.problem.experiments.len(),
+        "campaign": c.name, "rig": c.model.id(), "experiments": c.problem.experiments.len(),
         "genes": c.genes.iter().map(|g| &g.name).collect::<Vec<_>>(),
         "substeps": c.solver.substeps, "warnings": c.warnings, "run_length": length,
         "memory": {"cpu": cpu_memory, "gpu": gpu_memory, "available_bytes": available},
@@ -233,7 +233,7 @@ pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
     }))?;
     out.say(|| {
         let mut s = format!(
-            "{}: valid — model {}, {} experiment(s), {} free parameter(s), {} RK4 steps per sample ({})",
+            "{}: valid — rig {}, {} experiment(s), {} free parameter(s), {} RK4 steps per sample ({})",
             args.campaign.display(),
             c.model.id(),
             c.problem.experiments.len(),

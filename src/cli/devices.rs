@@ -10,7 +10,7 @@ use rigfit::gpu::list_adapters;
 pub fn devices(out: &Output) -> Result<()> {
     let adapters = list_adapters();
     let cores = std::thread::available_parallelism().map_or(1, usize::from);
-    let native = rigfit::compile::native::check_native_lanes();
+    let native = rigfit::compile::back::native::check_native_lanes();
     let cpu_line = match &native {
         Ok((cc, version)) => format!(
             "CPU: {cores} cores; compiled rigs' lanes run native code, built by `{cc}` ({version})"

@@ -8,14 +8,14 @@ use clap::{Args, Subcommand, ValueEnum};
 
 use super::Output;
 use super::precal::{deliver, in_file};
-use rigfit::precal::identify::columns::{Table, sample_interval};
-use rigfit::precal::identify::dpe::{self, DpeOptions, GridOptions, Term};
-use rigfit::precal::identify::frf;
-use rigfit::precal::identify::idim::{self, IdimOptions};
-use rigfit::precal::identify::modal::{self, ModalOptions, Response};
-use rigfit::precal::identify::nimiso::{self, NimisoOptions, Nonlinearity};
-use rigfit::precal::identify::plot::{Panel, panels_svg};
-use rigfit::precal::identify::rfs::{self, RfsOptions};
+use rigfit::identify::columns::{Table, sample_interval};
+use rigfit::identify::dpe::{self, DpeOptions, GridOptions, Term};
+use rigfit::identify::frf;
+use rigfit::identify::idim::{self, IdimOptions};
+use rigfit::identify::modal::{self, ModalOptions, Response};
+use rigfit::identify::nimiso::{self, NimisoOptions, Nonlinearity};
+use rigfit::identify::plot::{Panel, panels_svg};
+use rigfit::identify::rfs::{self, RfsOptions};
 
 /// `rigfit identify`.
 #[derive(Debug, Args)]
@@ -446,7 +446,7 @@ pub fn identify(args: &IdentifyArgs, out: &Output) -> Result<()> {
 fn write_svg(path: Option<&Path>, title: &str, panels: &[Panel], columns: usize) -> Result<()> {
     if let Some(path) = path {
         let svg = panels_svg(title, panels, columns)?;
-        rigfit::fsutil::atomic_write(path, svg.as_bytes())
+        rigfit::base::fsutil::atomic_write(path, svg.as_bytes())
             .with_context(|| format!("writing `{}`", path.display()))?;
     }
     Ok(())
@@ -574,7 +574,7 @@ fn frf_cmd(a: &FrfArgs, out: &Output) -> Result<()> {
                 fitted.arg()
             );
         }
-        rigfit::fsutil::atomic_write(path, text.as_bytes())
+        rigfit::base::fsutil::atomic_write(path, text.as_bytes())
             .with_context(|| format!("writing `{}`", path.display()))?;
     }
     write_svg(
@@ -739,7 +739,7 @@ fn nimiso_cmd(a: &NimisoArgs, out: &Output) -> Result<()> {
 }
 
 fn arx_cmd(a: &ArxArgs, out: &Output) -> Result<()> {
-    use rigfit::precal::identify::transmissibility::{self as tr, ArxForm};
+    use rigfit::identify::transmissibility::{self as tr, ArxForm};
     let bad = |e| in_file(&a.data, e);
     if a.names.len() != 2 {
         anyhow::bail!(super::BadInput(format!(
@@ -796,7 +796,7 @@ fn arx_cmd(a: &ArxArgs, out: &Output) -> Result<()> {
                 l.explained
             );
         }
-        rigfit::fsutil::atomic_write(path, text.as_bytes())
+        rigfit::base::fsutil::atomic_write(path, text.as_bytes())
             .with_context(|| format!("writing `{}`", path.display()))?;
     }
     write_svg(
@@ -864,7 +864,7 @@ fn arx_cmd(a: &ArxArgs, out: &Output) -> Result<()> {
 }
 
 fn impedance_cmd(a: &ImpedanceArgs, out: &Output) -> Result<()> {
-    use rigfit::precal::identify::impedance::{self, ImpactRecord};
+    use rigfit::identify::impedance::{self, ImpactRecord};
     let read = |path: &Path| -> Result<(Table, f64)> {
         let bad = |e| in_file(path, e);
         let table = Table::read(path).map_err(bad)?;
@@ -960,7 +960,7 @@ fn impedance_cmd(a: &ImpedanceArgs, out: &Output) -> Result<()> {
 }
 
 fn sensitivity_cmd(a: &SensitivityArgs, out: &Output) -> Result<()> {
-    use rigfit::precal::identify::transmissibility as tr;
+    use rigfit::identify::transmissibility as tr;
     let spectra = |path: &Path| -> Result<tr::BlockSpectra> {
         let bad = |e| in_file(path, e);
         let table = Table::read(path).map_err(bad)?;

@@ -67,7 +67,7 @@ pub fn print_stdout(text: &str) {
 /// Writes a campaign fragment atomically.
 pub fn write_fragment(path: &Path, fragment: &serde_json::Value) -> Result<()> {
     let text = serde_json::to_string_pretty(fragment)? + "\n";
-    rigfit::fsutil::atomic_write(path, text.as_bytes())
+    rigfit::base::fsutil::atomic_write(path, text.as_bytes())
         .with_context(|| format!("writing `{}`", path.display()))
 }
 
@@ -94,8 +94,8 @@ pub fn dispatch(cli: Cli) -> Result<ExitCode> {
 pub fn exit_code(err: &anyhow::Error) -> u8 {
     let bad_input = err.chain().any(|e| {
         e.is::<rigfit::campaign::CampaignError>()
-            || e.is::<rigfit::data::DataError>()
-            || e.is::<rigfit::precal::PrecalError>()
+            || e.is::<rigfit::base::data::DataError>()
+            || e.is::<rigfit::identify::PrecalError>()
             || e.is::<BadInput>()
             || matches!(
                 e.downcast_ref::<rigfit::job::JobError>(),

@@ -6,9 +6,9 @@ use anyhow::{Context, Result};
 
 use super::args::{FitSpecimenArgs, RingdownArgs};
 use super::{BadInput, Output, write_fragment};
-use rigfit::precal::csv_input::read_two_columns;
-use rigfit::precal::ringdown::{self, RingdownOptions};
-use rigfit::precal::specimen::{self, SpecimenFitOptions};
+use rigfit::identify::csv_input::read_two_columns;
+use rigfit::identify::ringdown::{self, RingdownOptions};
+use rigfit::identify::specimen::{self, SpecimenFitOptions};
 
 /// Fits the specimen law and prints or writes the campaign fragment.
 pub fn fit_specimen(args: &FitSpecimenArgs, out: &Output) -> Result<()> {
@@ -60,12 +60,12 @@ pub fn ringdown_cmd(args: &RingdownArgs, out: &Output) -> Result<()> {
     };
     let r = ringdown::analyse(&data.x, &data.y, &opts).map_err(|e| in_file(&args.data, e))?;
     if let Some(path) = &args.svg {
-        let svg = rigfit::precal::identify::plot::panels_svg(
+        let svg = rigfit::identify::plot::panels_svg(
             &format!("ringdown of {}", args.data.display()),
             &ringdown::figure(&r, &data.x, &data.y),
             2,
         )?;
-        rigfit::fsutil::atomic_write(path, svg.as_bytes())
+        rigfit::base::fsutil::atomic_write(path, svg.as_bytes())
             .with_context(|| format!("writing `{}`", path.display()))?;
     }
     let fragment = r.to_campaign_fragment();
@@ -157,6 +157,6 @@ pub(super) fn deliver(
 }
 
 /// A pre-calibration error as one line that names the input file.
-pub(super) fn in_file(path: &Path, e: rigfit::precal::PrecalError) -> anyhow::Error {
+pub(super) fn in_file(path: &Path, e: rigfit::identify::PrecalError) -> anyhow::Error {
     BadInput(format!("{}: {e}", path.display())).into()
 }

@@ -164,7 +164,7 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     out.note(&format!(
         "{} on {} ({}, {}), {} RK4 steps per sample ({}), {:.3e} steps per candidate, \
          memory {} of {}",
-        rigfit::text::echo_bare(&c.name),
+        rigfit::base::text::echo_bare(&c.name),
         info.backend,
         info.device,
         format!("{:?}", info.precision).to_lowercase(),

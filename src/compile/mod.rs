@@ -8,31 +8,21 @@
 //!                                                                                └► GpuRig ─► WGSL (shared/rig_run.wgsl)
 //! ```
 
-pub mod events;
-pub mod expr;
-pub mod initial;
-pub mod interval;
+pub mod analysis;
+pub mod back;
+pub mod exec;
+pub mod front;
 pub mod ir;
-pub mod lane_code;
-pub mod lanes;
-pub mod liveness;
-pub mod lower;
-pub mod math;
-pub mod native;
-pub mod native_c;
 pub mod program;
-pub mod tangent;
-pub mod tape;
-pub mod wgsl;
 
-pub use events::{EventStepper, Fired, MAX_EVENTS_PER_STEP};
-pub use initial::initial_state;
+pub use back::c::Arith;
+pub use back::native::{Native, NativeError};
+pub use back::wgsl::{EmitError, GpuRig};
+pub use exec::events::{EventStepper, Fired, MAX_EVENTS_PER_STEP};
+pub use exec::initial::initial_state;
+pub use exec::lane_code::LaneCode;
+pub use exec::lanes::{Isa, LANES, LaneRunner};
+pub use exec::tape::{Frame, Point, Tape};
+pub use front::{Lowered, lower};
 pub use ir::{Graph, Id, Input, Op};
-pub use lane_code::LaneCode;
-pub use lanes::{Isa, LANES, LaneRunner};
-pub use lower::{Lowered, lower};
-pub use native::{Native, NativeError};
-pub use native_c::Arith;
 pub use program::{Direction, ModeVar, Program, Transition};
-pub use tape::{Frame, Point, Tape};
-pub use wgsl::{EmitError, GpuRig};

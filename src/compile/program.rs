@@ -3,7 +3,7 @@
 //! located switches as [`Transition`]s of discrete mode variables.
 
 use super::ir::{Graph, Id, Op, operands};
-use crate::model::PiecewiseLinear;
+use crate::base::PiecewiseLinear;
 
 /// Which way an event function must go for its transition to fire.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -63,10 +63,8 @@ impl CpuEvaluator {
                     .simulate_fitted(&[], &exp.drive, &grid, true, &mut |_, _| {});
             if !built {
                 return Err(EvalError::Unsupported(format!(
-                    "f32 on the CPU needs a compiled rig (a campaign's \"rig\"; the hand-written \
-                     \"model\": \"{}\" has no f32 CPU path) whose lane code the C compiler builds \
-                     (`cc`, or RIGFIT_CC; not with RIGFIT_NATIVE=off); experiment {} has none",
-                    self.problem.model.id(),
+                    "f32 on the CPU needs the rig's lane code built by the C compiler (`cc`, or \
+                     RIGFIT_CC; not with RIGFIT_NATIVE=off); experiment {} has none",
                     exp.name
                 )));
             }

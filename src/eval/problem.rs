@@ -3,8 +3,9 @@
 use std::ops::Range;
 
 use super::{Batch, EvalError};
-use crate::integrate::SampleGrid;
-use crate::model::{Drive, RigModel};
+use crate::base::Drive;
+use crate::base::SampleGrid;
+use crate::model::RigModel;
 
 /// One measured experiment, ready to score against.
 #[derive(Debug, Clone)]

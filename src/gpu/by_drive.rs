@@ -39,7 +39,10 @@ pub fn kernel_groups(problem: &Problem) -> Result<Vec<KernelGroup>, GpuError> {
             .model
             .gpu(&exp.drive)
             .ok_or(GpuError::UnsupportedModel(id))?;
-        match groups.iter_mut().find(|k| k.model.same(&g)) {
+        match groups
+            .iter_mut()
+            .find(|k| std::sync::Arc::ptr_eq(&k.model, &g))
+        {
             Some(k) => k.experiments.push(e),
             None => groups.push(KernelGroup {
                 model: g,

@@ -2,7 +2,7 @@
 //! evaluator and test that runs on it.
 
 use super::GpuError;
-use crate::text::echo_bare;
+use crate::base::text::echo_bare;
 
 /// One adapter as `rigfit devices` prints it.
 #[derive(Debug, Clone, PartialEq, Eq)]

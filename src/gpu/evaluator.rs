@@ -11,10 +11,11 @@
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
+use crate::base::Drive;
 use crate::eval::{
     Batch, DIVERGED, EvalError, Evaluator, EvaluatorInfo, History, Precision, Problem, Scores,
 };
-use crate::model::{Drive, GpuModel};
+use crate::model::GpuModel;
 
 use super::layout::{BLOCK_SAMPLES, Settings};
 use super::pack::{
@@ -168,7 +169,7 @@ impl GpuEvaluator {
         let packed = pack_problem(&problem, &model);
         let shape = ProblemShape {
             force_drive: force,
-            record_vec4s: record_vec4s(&ctx, &model, &packed, precision, options),
+            record_vec4s: record_vec4s(&ctx, &packed, precision, options),
         };
         let fitness_layout = pipeline::layout(&ctx, "fitness layout", &FITNESS_BINDINGS);
         let fitness_kernel = pipeline::build(
@@ -261,7 +262,7 @@ impl GpuEvaluator {
     }
 
     fn stride(&self) -> u64 {
-        super::layout::run_stride(self.model.slots().len()) as u64
+        super::layout::run_stride(self.model.slot_names().len()) as u64
     }
 
     /// Makes room for `runs` runs and uploads the batch's parameters; returns
@@ -709,17 +710,16 @@ fn device_error(e: GpuError) -> EvalError {
     }
 }
 
-/// The vec4s of the compiled rigs' uniform copy of the measured data: `None`
-/// for a hand-written model, when `options` turn it off, or when the data do
-/// not fit the device's largest uniform binding.
+/// The vec4s of the uniform copy of the measured data: `None` when `options`
+/// turn it off, or when the data do not fit the device's largest uniform
+/// binding.
 fn record_vec4s(
     ctx: &GpuContext,
-    model: &GpuModel,
     packed: &PackedProblem,
     precision: Precision,
     options: GpuOptions,
 ) -> Option<u32> {
-    if !options.uniform_record || !matches!(model, GpuModel::Compiled(_)) {
+    if !options.uniform_record {
         return None;
     }
     let n = packed.data.len().div_ceil(4).max(1) as u64;
@@ -779,7 +779,7 @@ impl Evaluator for GpuEvaluator {
             return Ok(Vec::new());
         }
         let raw = self.run_histories(batch, which).map_err(device_error)?;
-        let (n_out, n_state) = self.model.hist_layout(
+        let (n_out, n_state) = (
             self.problem.model.output_names().len(),
             self.problem.model.state_names().len(),
         );

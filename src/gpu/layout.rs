@@ -60,15 +60,12 @@ pub const DRIVE_FORCE: u32 = 1;
 
 /// Progress flag: the run has finished (or diverged).
 pub const FLAG_DONE: u32 = 1;
-/// Progress flag: the specimen has fractured (hand-written kernels).
-pub const FLAG_BROKEN: u32 = 2;
 /// Progress flag: a step took more than `MAX_EVENTS_PER_STEP` located switches
 /// (compiled rigs); the run counts as diverged.
 pub const FLAG_CHATTER: u32 = 4;
 
-/// Samples per block of the sampled run loop (`shaders/shared/run.wgsl`): the
-/// loop's trip count is `BLOCK_SAMPLES · substeps` steps, and a chunk is a whole
-/// number of blocks.
+/// Samples per chunk unit: a chunk of dispatches is a whole number of these
+/// (and so of [`RIG_BLOCK_SAMPLES`]).
 pub const BLOCK_SAMPLES: u32 = 32;
 
 /// Samples per block of the compiled rigs' run loop
@@ -81,13 +78,6 @@ pub const BLOCK_SAMPLES: u32 = 32;
 /// GPU").
 pub const RIG_BLOCK_SAMPLES: u32 = 16;
 const _: () = assert!(BLOCK_SAMPLES % RIG_BLOCK_SAMPLES == 0);
-
-/// Values per run in the hand-written kernels' state buffer: 8 states, the
-/// residual sum, one spare (a compiled rig's is `GpuRig::state_stride`).
-pub const STATE_STRIDE: u32 = 10;
-/// Values per sample in a hand-written kernel's history record: t, 2 outputs,
-/// 8 full states (a compiled rig's is `GpuRig::hist_values`).
-pub const HIST_VALUES: u32 = 11;
 
 /// The grid header at the start of every run's parameter block, in order; the
 /// model's slots follow at [`RUN_HEADER`]. Each becomes `const R_<NAME>: u32`.
@@ -109,17 +99,11 @@ pub fn shared_constants(
 ) -> Vec<(String, u32)> {
     let mut c: Vec<(String, u32)> = vec![
         (
-            "CROSSING_ITERATIONS".into(),
-            crate::integrate::CROSSING_ITERATIONS as u32,
-        ),
-        (
             "LOCATE_ITERATIONS".into(),
-            crate::compile::events::LOCATE_ITERATIONS as u32,
+            crate::compile::exec::events::LOCATE_ITERATIONS as u32,
         ),
-        ("BLOCK_SAMPLES".into(), BLOCK_SAMPLES),
         ("RIG_BLOCK_SAMPLES".into(), RIG_BLOCK_SAMPLES),
         ("FLAG_DONE".into(), FLAG_DONE),
-        ("FLAG_BROKEN".into(), FLAG_BROKEN),
         ("FLAG_CHATTER".into(), FLAG_CHATTER),
         (
             "MAX_EVENTS".into(),

@@ -1,8 +1,9 @@
 //! Host-side packing: experiments, measured data and per-run parameters in the
 //! layouts of `layout.rs`, and conversion of f64 values to the kernel's `real`.
 
+use crate::base::Drive;
 use crate::eval::{Batch, Precision, Problem};
-use crate::model::{Drive, GpuModel};
+use crate::model::GpuModel;
 
 use super::layout::{DRIVE_FORCE, DRIVE_VELOCITY, ExpInfo, RUN_HEADER, run_stride};
 
@@ -83,7 +84,7 @@ pub fn pack_runs(
     out: &mut Vec<f64>,
 ) -> usize {
     out.clear();
-    let stride = run_stride(model.slots().len()) as usize;
+    let stride = run_stride(model.slot_names().len()) as usize;
     out.reserve(stride * batch.candidates * problem.experiments.len());
     let mut max_steps = 0;
     for i in 0..batch.candidates {

@@ -12,10 +12,6 @@ use super::layout::shared_constants;
 pub const SHARED_BINDINGS: &str = include_str!("../../shaders/shared/bindings.wgsl");
 /// exp / expm1 from +, *, floor and ldexp.
 pub const SHARED_EXP: &str = include_str!("../../shaders/shared/exp.wgsl");
-/// RK4 with in-step switch location.
-pub const SHARED_RK4: &str = include_str!("../../shaders/shared/rk4.wgsl");
-/// The chunked run loop.
-pub const SHARED_RUN: &str = include_str!("../../shaders/shared/run.wgsl");
 /// Table lookup (the force drive, the rigs' tables).
 pub const SHARED_TABLE: &str = include_str!("../../shaders/shared/table.wgsl");
 /// ln, sin and cos for the compiled rigs.
@@ -23,24 +19,18 @@ pub const SHARED_MATH: &str = include_str!("../../shaders/shared/math.wgsl");
 /// The run loop of the compiled rigs (any state size, located switches).
 pub const SHARED_RIG_RUN: &str = include_str!("../../shaders/shared/rig_run.wgsl");
 /// Fitness kernel of the compiled rigs.
-pub const KERNEL_RIG_FITNESS: &str = include_str!("../../shaders/rig_fitness.wgsl");
+pub const KERNEL_FITNESS: &str = include_str!("../../shaders/rig_fitness.wgsl");
 /// History kernel of the compiled rigs.
-pub const KERNEL_RIG_HISTORY: &str = include_str!("../../shaders/rig_history.wgsl");
-/// The tensile4 model.
-pub const MODEL_TENSILE4: &str = include_str!("../../shaders/model_tensile4.wgsl");
-/// Fitness kernel.
-pub const KERNEL_FITNESS: &str = include_str!("../../shaders/rk4_fitness.wgsl");
-/// History kernel.
-pub const KERNEL_HISTORY: &str = include_str!("../../shaders/rk4_history.wgsl");
+pub const KERNEL_HISTORY: &str = include_str!("../../shaders/rig_history.wgsl");
 /// exp/expm1 probe kernel (tests).
 pub const KERNEL_EXP_PROBE: &str = include_str!("../../shaders/exp_probe.wgsl");
 
 /// The compute kernels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Kernel {
-    /// `rk4_fitness.wgsl`: one fitness value per run.
+    /// `rig_fitness.wgsl`: one fitness value per run.
     Fitness,
-    /// `rk4_history.wgsl`: full histories of selected candidates.
+    /// `rig_history.wgsl`: full histories of selected candidates.
     History,
     /// `exp_probe.wgsl`: exp/expm1 at given points.
     ExpProbe,
@@ -62,8 +52,8 @@ impl Kernel {
     /// File name under `shaders/`, for messages.
     pub fn file(self) -> &'static str {
         match self {
-            Kernel::Fitness => "rk4_fitness.wgsl",
-            Kernel::History => "rk4_history.wgsl",
+            Kernel::Fitness => "rig_fitness.wgsl",
+            Kernel::History => "rig_history.wgsl",
             Kernel::ExpProbe => "exp_probe.wgsl",
         }
     }
@@ -148,8 +138,8 @@ pub fn prelude(model: &GpuModel, precision: Precision, force_drive: bool) -> Str
     s.push_str(&format!("const FORCE_DRIVE: bool = {force_drive};\n"));
     // Where the compiled rigs' crossing search stops (locate_crossing).
     let tol = match precision {
-        Precision::F64 => crate::compile::events::LOCATE_TOLERANCE,
-        Precision::F32 => crate::compile::events::LOCATE_TOLERANCE_F32,
+        Precision::F64 => crate::compile::exec::events::LOCATE_TOLERANCE,
+        Precision::F32 => crate::compile::exec::events::LOCATE_TOLERANCE_F32,
     };
     s.push_str(&format!(
         "const LOCATE_TOLERANCE: real = {};\n",
@@ -165,8 +155,11 @@ pub fn prelude(model: &GpuModel, precision: Precision, force_drive: bool) -> Str
         "const REAL_MAX: real = {};\n",
         real_literal(max, precision)
     ));
-    for (name, value) in shared_constants(&model.slots(), model.state_stride(), model.hist_values())
-    {
+    for (name, value) in shared_constants(
+        &model.slot_names(),
+        model.state_stride(),
+        model.hist_values(),
+    ) {
         s.push_str(&format!("const {name}: u32 = {value}u;\n"));
     }
     s
@@ -225,22 +218,7 @@ pub fn source(
             parts.push(SHARED_MATH.to_string());
             parts.push(KERNEL_EXP_PROBE.to_string());
         }
-        (_, GpuModel::Handwritten { wgsl, .. }) => {
-            parts.extend(
-                [SHARED_BINDINGS, SHARED_TABLE, SHARED_RK4, SHARED_RUN, wgsl]
-                    .iter()
-                    .map(|s| s.to_string()),
-            );
-            parts.push(param_fn(baked, precision));
-            parts.push(
-                match kernel {
-                    Kernel::Fitness => KERNEL_FITNESS,
-                    _ => KERNEL_HISTORY,
-                }
-                .to_string(),
-            );
-        }
-        (_, GpuModel::Compiled(rig)) => {
+        (_, rig) => {
             parts.extend(
                 [SHARED_MATH, SHARED_BINDINGS, SHARED_TABLE, SHARED_RIG_RUN]
                     .iter()
@@ -261,8 +239,8 @@ pub fn source(
             }
             parts.push(
                 match kernel {
-                    Kernel::Fitness => KERNEL_RIG_FITNESS,
-                    _ => KERNEL_RIG_HISTORY,
+                    Kernel::Fitness => KERNEL_FITNESS,
+                    _ => KERNEL_HISTORY,
                 }
                 .to_string(),
             );

@@ -16,8 +16,8 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::{CHECKPOINT_FILE, JobError};
+use crate::base::fsutil::atomic_write;
 use crate::campaign::{Campaign, file_stem};
-use crate::fsutil::atomic_write;
 
 /// The manifest: every file name rigfit has written (or was about to write)
 /// in the folder.

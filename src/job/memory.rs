@@ -155,10 +155,11 @@ fn evaluation_bytes_per_candidate(campaign: &Campaign, gpu_real: Option<usize>) 
                 .iter()
                 .map(|g| {
                     g.experiments.len() as f64
-                        * run(g.model.slots().len(), g.model.state_stride() as usize)
+                        * run(g.model.slot_names().len(), g.model.state_stride() as usize)
                 })
                 .sum(),
-            Err(_) => ne as f64 * run(p, crate::gpu::layout::STATE_STRIDE as usize),
+            // No kernels for this rig: the job runs on the CPU.
+            Err(_) => 0.0,
         }
     });
     ne as f64 * cpu + gpu + 8.0
@@ -188,7 +189,7 @@ fn history_bytes_per_candidate(campaign: &Campaign, gpu_real: Option<usize>) -> 
         let values = crate::gpu::kernel_groups(&campaign.problem)
             .ok()
             .and_then(|g| g.iter().map(|k| k.model.hist_values()).max())
-            .unwrap_or(crate::gpu::layout::HIST_VALUES);
+            .unwrap_or(0);
         values as usize * (2 * real + 8)
     });
     (samples * (values * 8 + gpu)) as f64

@@ -7,9 +7,9 @@ use std::path::Path;
 use serde::Serialize;
 
 use super::JobError;
+use crate::base::fsutil::atomic_write;
 use crate::campaign::{Campaign, GeneTarget, file_stem};
 use crate::eval::{Batch, Evaluator, History, score_one};
-use crate::fsutil::atomic_write;
 use crate::report::plots;
 use crate::search::{
     GeneSpec, PolishOutcome, PolishStop, SearchOutcome, StartReport, Uncertainty, write_history_csv,
@@ -115,8 +115,8 @@ pub struct JobSummary {
     pub campaign: String,
     /// Campaign file.
     pub campaign_file: String,
-    /// Model id.
-    pub model: String,
+    /// The rig's id.
+    pub rig: String,
     /// Search seed.
     pub seed: u64,
     /// `"gpu"` or `"cpu"`.
@@ -247,7 +247,7 @@ pub fn write_outputs(
         rigfit_version: env!("CARGO_PKG_VERSION").into(),
         campaign: campaign.name.clone(),
         campaign_file: campaign.path.display().to_string(),
-        model: campaign.model.id().into(),
+        rig: campaign.model.id().into(),
         seed: campaign.search.seed,
         backend: info.backend,
         device: info.device,

@@ -3,11 +3,12 @@
 
 use std::ops::ControlFlow;
 
-use super::{Drive, FittedSample, Linearised, ParamInfo, Report, RigModel, Sample};
+use super::{Linearised, RigModel};
+use crate::base::{Drive, FittedSample, ParamInfo, Report, Sample};
+use crate::base::{SampleGrid, walk_grid};
 use crate::compile::Arith;
-use crate::compile::native::{Native, NativeSlot};
+use crate::compile::back::native::{Native, NativeSlot};
 use crate::compile::{EventStepper, GpuRig, LANES, LaneCode, LaneRunner, Lowered, Tape, lower};
-use crate::integrate::{SampleGrid, walk_grid};
 use crate::rig::RigError;
 use crate::rig::desc::{Coef, DamperLaw, FrictionLaw, GapKind, RigDesc, SpringLaw};
 
@@ -32,7 +33,7 @@ pub struct CompiledRig {
     /// Each program prepared for the GPU kernels (`None`: it cannot run there).
     gpu: Vec<Option<std::sync::Arc<GpuRig>>>,
     /// Each program's fitness variant, where it skips switches that can no
-    /// longer reach the fitted output ([`crate::compile::liveness`]); `None`
+    /// longer reach the fitted output ([`crate::compile::analysis::liveness`]); `None`
     /// where it would skip none.
     fitted: Vec<Option<Fitted>>,
 }
@@ -105,7 +106,7 @@ impl CompiledRig {
         let variants: Vec<Option<crate::compile::Program>> = lowered
             .programs
             .iter()
-            .map(crate::compile::liveness::skipping_variant)
+            .map(crate::compile::analysis::liveness::skipping_variant)
             .collect();
         let gpu = lowered
             .programs
@@ -274,14 +275,11 @@ impl CompiledRig {
 
     /// Largest tangent stiffness (N/m) and damping (N·s/m) of element `i` over
     /// the parameter box, with the names that set them.
-    fn element_bound(&self, i: usize, lo: &[f64], hi: &[f64]) -> (f64, f64, String) {
+    fn element_bound(&self, i: usize, lo: &[f64], hi: &[f64]) -> (f64, f64, String, String) {
         let e = &self.desc.elements[i];
         let (ex, rx) = self.reach(lo, hi);
         let b = |c: &Coef| self.coef_bound(c, lo, hi);
-        let name = |c: &Coef| match c {
-            Coef::Param(n) => n.clone(),
-            _ => e.name.clone(),
-        };
+        let name = |c: &Coef| limiting_name(c, &b).unwrap_or_else(|| e.name.clone());
         let (mut k, mut kname) = (0.0, e.name.clone());
         if let Some(s) = &e.spring {
             let (kk, nn) = match s {
@@ -322,6 +320,16 @@ impl CompiledRig {
             k = b(k_t);
             kname = name(k_t);
         }
+        // The damper's own parameter names its tangent (the element where
+        // it has none, or several).
+        let cname = match &e.damper {
+            Some(
+                DamperLaw::Viscous { c }
+                | DamperLaw::PowerLaw { c, .. }
+                | DamperLaw::Saturating { c, .. },
+            ) => name(c),
+            _ => e.name.clone(),
+        };
         let c = match &e.damper {
             None => 0.0,
             Some(DamperLaw::Viscous { c }) => b(c),
@@ -345,7 +353,24 @@ impl CompiledRig {
                 self.expression_tangent(force, "v", rx, lo, hi)
             }
         };
-        (k, c, kname)
+        (k, c, kname, cname)
+    }
+}
+
+/// The parameter that sets a coefficient's largest value: its own, or for a
+/// coefficient that switches when an element breaks, the larger side's.
+fn limiting_name(c: &Coef, bound: &dyn Fn(&Coef) -> f64) -> Option<String> {
+    match c {
+        Coef::Number(_) => None,
+        Coef::Param(n) => Some(n.clone()),
+        Coef::Switch(s) => {
+            let side = if bound(&s.before) >= bound(&s.after) {
+                &s.before
+            } else {
+                &s.after
+            };
+            limiting_name(side, bound)
+        }
     }
 }
 
@@ -361,7 +386,7 @@ impl CompiledRig {
     /// with every parameter at its lower and then at its upper bound: central
     /// differences at 401 points. A sampled estimate, not a rigorous bound.
     fn expression_tangent(&self, src: &str, var: &str, reach: f64, lo: &[f64], hi: &[f64]) -> f64 {
-        let Ok(e) = crate::compile::expr::parse(src) else {
+        let Ok(e) = crate::compile::front::expr::parse(src) else {
             return 0.0;
         };
         let mut best: f64 = 0.0;
@@ -405,7 +430,7 @@ impl CompiledRig {
         // element's largest tangent stiffness and damping over the box and the
         // reach. A node whose motion the drive prescribes (its displacement
         // slot's derivative is the constant 0) is not integrated: no row.
-        let bounds: Vec<(f64, f64, String)> = (0..self.desc.elements.len())
+        let bounds: Vec<(f64, f64, String, String)> = (0..self.desc.elements.len())
             .map(|i| self.element_bound(i, lower, upper))
             .collect();
         let prog = self.program_for(drive).map(|i| &self.lowered.programs[i]);
@@ -425,6 +450,7 @@ impl CompiledRig {
             let m = self.coef_lower(&node.mass, lower);
             let (mut kr, mut cr) = (0.0, 0.0);
             let mut stiffest = (0.0, String::new());
+            let mut most_damped = (0.0, String::new());
             for (e, b) in self.desc.elements.iter().zip(&bounds) {
                 if e.between.contains(&node.name) {
                     let both = 1.0 + f64::from(u8::from(!e.between.iter().any(|x| x == "ground")));
@@ -433,11 +459,21 @@ impl CompiledRig {
                     if b.0 >= stiffest.0 {
                         stiffest = (b.0, b.2.clone());
                     }
+                    if b.1 > most_damped.0 {
+                        most_damped = (b.1, b.3.clone());
+                    }
                 }
             }
             let lam = cr / m + (kr / m).sqrt();
             if lam > best.0 || !lam.is_finite() {
-                best = (lam, leak(&stiffest.1));
+                // The row's damping term names the bound where it is the
+                // larger part of it.
+                let limiter = if cr / m > (kr / m).sqrt() && !most_damped.1.is_empty() {
+                    &most_damped.1
+                } else {
+                    &stiffest.1
+                };
+                best = (lam, leak(limiter));
             }
         }
         // A backlash element's play relaxes at the rate F_s'/c (its row of
@@ -486,8 +522,8 @@ impl CompiledRig {
         lower: &[f64],
         upper: &[f64],
         t_end: f64,
-    ) -> crate::compile::interval::InputBox {
-        use crate::compile::interval::{Interval, all_modes};
+    ) -> crate::compile::analysis::interval::InputBox {
+        use crate::compile::analysis::interval::{Interval, all_modes};
         let (e, r) = self.reach(lower, upper);
         let nodes = self.desc.nodes.len();
         let y = (0..prog.deriv.len())
@@ -500,7 +536,7 @@ impl CompiledRig {
                 Interval::new(-w, w)
             })
             .collect();
-        crate::compile::interval::InputBox {
+        crate::compile::analysis::interval::InputBox {
             slots: lower
                 .iter()
                 .zip(upper)
@@ -510,7 +546,7 @@ impl CompiledRig {
             y,
             modes: all_modes(prog),
             force: match drive {
-                Drive::Force(tab) => Some(crate::compile::interval::table_hull(tab)),
+                Drive::Force(tab) => Some(crate::compile::analysis::interval::table_hull(tab)),
                 Drive::Velocity => None,
             },
         }
@@ -519,7 +555,7 @@ impl CompiledRig {
     /// The stability bound from the compiled graph: every entry of the
     /// derivative's Jacobian enclosed by interval forward-mode tangents over
     /// [`Self::input_box`], and the spectral radius of every matrix in that
-    /// enclosure bounded by [`crate::compile::interval::spectral_bound`]
+    /// enclosure bounded by [`crate::compile::analysis::interval::spectral_bound`]
     /// (a row-scaled Gershgorin bound). The name is the parameter whose range
     /// drives it most: the one that, fixed at its more favourable end, lowers
     /// the bound most. Infinite where an entry is unbounded over the box (a
@@ -533,11 +569,11 @@ impl CompiledRig {
         drive: &Drive,
         t_end: f64,
     ) -> Option<(f64, &'static str)> {
-        use crate::compile::interval::{Interval, deriv_jacobian_box, spectral_bound};
+        use crate::compile::analysis::interval::{Interval, deriv_jacobian_box, spectral_bound};
         let prog = &self.lowered.programs[self.program_for(drive)?];
         let n = prog.deriv.len();
         let bx = self.input_box(prog, drive, lower, upper, t_end);
-        let bound = |bx: &crate::compile::interval::InputBox| {
+        let bound = |bx: &crate::compile::analysis::interval::InputBox| {
             spectral_bound(&deriv_jacobian_box(prog, bx), n)
         };
         let all = bound(&bx);
@@ -744,7 +780,7 @@ impl RigModel for CompiledRig {
 
     fn gpu(&self, drive: &Drive) -> Option<super::GpuModel> {
         let i = self.program_for(drive)?;
-        self.gpu[i].clone().map(super::GpuModel::Compiled)
+        self.gpu[i].clone()
     }
 
     fn linearisation_point(&self) -> String {
@@ -815,7 +851,7 @@ impl RigModel for CompiledRig {
             .collect();
         let d = free.len();
         let modes = st.modes.clone();
-        let jac = crate::compile::tangent::deriv_jacobian(
+        let jac = crate::compile::analysis::tangent::deriv_jacobian(
             prog,
             &self.tapes[pi],
             &mut st.frame,

@@ -8,7 +8,7 @@
 
 use serde::Deserialize;
 
-use crate::model::{ParamScope, Scale};
+use crate::base::{ParamScope, Scale};
 
 /// A whole rig file.
 #[derive(Debug, Clone, Deserialize)]
@@ -199,7 +199,7 @@ pub enum SpringLaw {
         beta: Coef,
     },
     /// A formula of the elongation `x` (m) and the rig's parameters, in N
-    /// (`"k*x + k3*x^3"`; see `crate::compile::expr` for the grammar).
+    /// (`"k*x + k3*x^3"`; see `crate::compile::front::expr` for the grammar).
     Expression {
         /// The formula.
         force: String,
@@ -239,7 +239,7 @@ pub enum DamperLaw {
         c_compression: Coef,
     },
     /// A formula of the rate `v` (m/s) and the rig's parameters, in N
-    /// (`"c*v*abs(v)"`; see `crate::compile::expr` for the grammar).
+    /// (`"c*v*abs(v)"`; see `crate::compile::front::expr` for the grammar).
     Expression {
         /// The formula.
         force: String,

@@ -138,7 +138,7 @@ pub fn resolve(
                     campaign.display().to_string(),
                     "rig",
                     format!("a shipped rig ({}) or a readable rig file", ids.join(", ")),
-                    format!("{} ({e})", crate::text::echo(s)),
+                    format!("{} ({e})", crate::base::text::echo(s)),
                 )
             })?;
             let src = RigSource::File(path);

@@ -12,13 +12,13 @@ use serde_json::{Map, Number, Value};
 
 use super::SearchError;
 use super::state::SearchState;
-use crate::fsutil::atomic_write;
+use crate::base::fsutil::atomic_write;
 
 const FORMAT: &str = "rigfit-search-checkpoint";
 const VERSION: u32 = 1;
 
 /// What a checkpoint must agree with to be resumed: ordered `key → value` items
-/// ("model" → "tensile4", "data.sha" → …). The search adds its own items (genes,
+/// ("rig" → "tensile4", "data.sha" → …). The search adds its own items (genes,
 /// population, seed, operators) to whatever the caller passes.
 #[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Fingerprint {
@@ -356,10 +356,10 @@ mod tests {
     #[test]
     fn changes_name_keys() {
         let a = Fingerprint::new()
-            .with("model", "tensile4")
+            .with("rig", "tensile4")
             .with("data", "abc");
         let b = Fingerprint::new()
-            .with("model", "tensile4")
+            .with("rig", "tensile4")
             .with("data", "abd")
             .with("x", "1");
         let ch = b.changes_from(&a);

@@ -41,7 +41,7 @@ pub const DIVERGED_WARN_SHARE: f64 = 0.25;
 ///
 /// ```
 /// use std::sync::{Arc, atomic::AtomicBool};
-/// use rigfit::model::Scale;
+/// use rigfit::base::Scale;
 /// use rigfit::search::*;
 ///
 /// # let dir = tempfile::tempdir().unwrap();
@@ -52,7 +52,7 @@ pub const DIVERGED_WARN_SHARE: f64 = 0.25;
 /// let build = || {
 ///     let ga = GeneticAlgorithm::new(settings.clone(), genes.clone()).unwrap();
 ///     Executor::new(ga, FnCost(|g: &[f64]| g[0].ln().powi(2)))
-///         .fingerprint(Fingerprint::new().with("model", "demo"))
+///         .fingerprint(Fingerprint::new().with("rig", "demo"))
 ///         .checkpoint_to(&checkpoint)
 ///         .interrupt(Arc::new(AtomicBool::new(false)))
 ///         .observe(ProgressObserver::new(20, true), ObserverMode::Always)

@@ -185,7 +185,7 @@ impl GeneticAlgorithm {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::Scale;
+    use crate::base::Scale;
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
 

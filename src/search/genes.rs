@@ -8,7 +8,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::SearchError;
-use crate::model::Scale;
+use crate::base::Scale;
 
 /// One free parameter of the search.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

@@ -11,7 +11,7 @@
 //!   distinct candidates, and the [`Uncertainty`] of each gene at the optimum.
 //!
 //! ```
-//! use rigfit::model::Scale;
+//! use rigfit::base::Scale;
 //! use rigfit::search::{Executor, FnCost, GaSettings, GeneSpec, GeneticAlgorithm, TerminationReason};
 //! let settings: GaSettings =
 //!     serde_json::from_str(r#"{"population": 40, "generations": 60, "seed": 7}"#).unwrap();

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use super::SearchError;
 use super::genes::GeneSpec;
 use super::report::{GenerationReport, SearchOutcome};
-use crate::fsutil::atomic_write;
+use crate::base::fsutil::atomic_write;
 
 /// Watches a search, one generation at a time.
 pub trait Observer {

@@ -112,7 +112,7 @@ pub struct PolishOutcome {
 /// Levenberg–Marquardt from several starts at once; see the module docs.
 ///
 /// ```
-/// use rigfit::model::Scale;
+/// use rigfit::base::Scale;
 /// use rigfit::search::{FnResiduals, GeneSpec, Polish, PolishSettings};
 /// // y = a·exp(−t/τ) sampled without noise: the polish recovers a and τ.
 /// let t: Vec<f64> = (0..40).map(|k| k as f64 * 0.1).collect();
@@ -583,7 +583,7 @@ pub fn distinct_starts(genes: &[GeneSpec], outcome: &SearchOutcome, k: usize) ->
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::Scale;
+    use crate::base::Scale;
 
     fn decay(g: &[f64], t: f64) -> f64 {
         g[0] * (-t / g[1]).exp() + g[2]

@@ -196,7 +196,7 @@ pub fn elite_spread(sorted: &[Vec<f64>], genes: &[GeneSpec]) -> Vec<EliteSpread>
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::Scale;
+    use crate::base::Scale;
 
     #[test]
     fn nan_and_diverged_sort_last_and_do_not_poison_median() {

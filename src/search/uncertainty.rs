@@ -20,7 +20,7 @@ use nalgebra::{DMatrix, SymmetricEigen};
 use serde::Serialize;
 
 use super::genes::GeneSpec;
-use crate::model::Scale;
+use crate::base::Scale;
 
 /// Two-sided 95 % quantile of the normal distribution. The residual count of a
 /// record is in the thousands, where Student's t is the normal to three digits.
@@ -307,7 +307,7 @@ mod tests {
         for _ in 0..trials {
             let mut noisy = |t: &[f64], s: f64| -> Vec<f64> {
                 t.iter()
-                    .map(|t| truth[0] + truth[1] * t + s * crate::fixtures::gaussian(&mut rng))
+                    .map(|t| truth[0] + truth[1] * t + s * crate::base::noise::gaussian(&mut rng))
                     .collect()
             };
             let (ya, yb) = (noisy(&ta, sa), noisy(&tb, sb));

@@ -25,7 +25,7 @@ pub fn example() -> Value {
     json!({
         "name": "aa2024-t3-synthetic",
         "description": "test campaign",
-        "model": "tensile4",
+        "rig": "tensile4",
         "params": {
             "m1": 7.9, "m2": 0.14, "m3": 0.48,
             "k1": {"min": 2e9, "max": 3e10, "scale": "log", "init": 8e9},

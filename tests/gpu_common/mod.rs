@@ -1,17 +1,17 @@
 //! Helpers shared by the GPU tests: getting a device (fail or skip loudly), and
 //! seeded candidate batches spread around the reference rig.
-
 #![allow(dead_code, reason = "each test file uses a different subset")]
 
 use std::io::Write;
 
+use crate::tensile_common::{REFERENCE, ix};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use rigfit::base::Drive;
 use rigfit::eval::Precision;
 use rigfit::eval::{Batch, ExperimentData, Problem, simulate_history};
 use rigfit::gpu::{GpuContext, GpuEvaluator, GpuOptions, gpu_required};
-use rigfit::model::tensile::{REFERENCE, ix};
-use rigfit::model::{Drive, RigModel};
+use rigfit::model::RigModel;
 
 /// The default GPU context; `None` (with a loud message) when there is no
 /// adapter, or a panic when `RIGFIT_REQUIRE_GPU=1`.

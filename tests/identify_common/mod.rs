@@ -1,7 +1,8 @@
-//! Synthetic records for the identification tests, made with rigfit's own RK4
-//! integrator: a base-excited single-degree-of-freedom rig (document 000) and a
-//! force-driven chain of masses, both driven by multisines whose value is known
-//! exactly at every RK4 stage.
+//! Synthetic records for the identification tests, made with the classic RK4
+//! of the hand-written oracle (tests/oracle/rk4.rs): a base-excited
+//! single-degree-of-freedom rig (document 000) and a force-driven chain of
+//! masses, both driven by multisines whose value is known exactly at every RK4
+//! stage.
 
 #![allow(dead_code, reason = "each test file uses a part of the helpers")]
 
@@ -10,7 +11,12 @@ use std::ops::ControlFlow;
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use rigfit::integrate::{Integrator, SampleGrid, System};
+use rigfit::base::SampleGrid;
+
+#[path = "../oracle/rk4.rs"]
+mod rk4;
+
+pub use rk4::{Integrator, System};
 
 /// `Σ A·sin(2π f_k t + φ_k)` over evenly spaced lines `f_k` in `[f_lo, f_hi]`,
 /// random phases, scaled to the RMS asked for.

@@ -8,12 +8,13 @@
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 
+use rigfit::base::Drive;
+use rigfit::base::SampleGrid;
 use rigfit::campaign::Campaign;
 use rigfit::eval::{CpuEvaluator, Evaluator};
-use rigfit::integrate::SampleGrid;
 use rigfit::job::{self, JobOptions, JobSummary};
+use rigfit::model::RigModel;
 use rigfit::model::compiled::CompiledRig;
-use rigfit::model::{Drive, RigModel};
 use serde_json::Value;
 
 /// `campaigns/NAME`.

@@ -1,0 +1,426 @@
+//! Measured force histories: a small CSV loader that returns uniformly sampled
+//! data or an error naming the file, the line and what was expected.
+//!
+//! Accepted files:
+//! - lines starting with `#` (after leading blanks) and blank lines are skipped
+//!   anywhere;
+//! - the separator is the first of `,`, `;` or tab found on the first row; with
+//!   `;` a decimal comma (`1,5`) is also accepted;
+//! - a header row of column names is required when a column is chosen by name;
+//!   when both columns are chosen by index the first row is a header unless every
+//!   field of it is a number;
+//! - time must increase strictly; cells must be finite numbers;
+//! - sampling that is not uniform (interval jitter above [`JITTER_TOLERANCE`] of
+//!   the median interval) is resampled to the median interval by linear
+//!   interpolation, with a warning.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use crate::base::text::echo_bare;
+
+/// Relative jitter of the sample interval (against the median interval) above
+/// which a record is resampled.
+pub const JITTER_TOLERANCE: f64 = 1.0e-3;
+
+/// Most that resampling may multiply a record's sample count by; beyond that
+/// the record has gaps and is refused.
+pub const MAX_RESAMPLE_GROWTH: usize = 10;
+
+/// Selects a CSV column.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Column {
+    /// By header name.
+    Name(String),
+    /// By 0-based position.
+    Index(usize),
+}
+
+impl fmt::Display for Column {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Column::Name(n) => write!(f, "'{}'", crate::base::text::echo_bare(n)),
+            Column::Index(i) => write!(f, "#{i}"),
+        }
+    }
+}
+
+/// Which columns hold time and force, and their unit conversions.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CsvSpec {
+    /// Time column (default: the first, index 0).
+    pub time: Column,
+    /// Force column (default: the second, index 1).
+    pub force: Column,
+    /// Multiplier turning the time column into seconds (1e-3 for ms).
+    pub time_scale: f64,
+    /// Multiplier turning the force column into newtons (1e3 for kN).
+    pub force_scale: f64,
+}
+
+impl Default for CsvSpec {
+    fn default() -> Self {
+        Self {
+            time: Column::Index(0),
+            force: Column::Index(1),
+            time_scale: 1.0,
+            force_scale: 1.0,
+        }
+    }
+}
+
+/// A uniformly sampled force history.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Series {
+    /// Sample times (s), `t[k] = t[0] + k·dt`.
+    pub t: Vec<f64>,
+    /// Force at each sample (N).
+    pub force: Vec<f64>,
+    /// Sample interval (s).
+    pub dt: f64,
+    /// Set when the record was resampled; says by how much it jittered.
+    pub warning: Option<String>,
+}
+
+/// Why a measured-data file was refused. Every message names the file and, where
+/// there is one, the line (1-based, counting comment lines).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum DataError {
+    /// The file could not be read.
+    #[error("{}: cannot read: {message}", file.display())]
+    Io {
+        /// The data file.
+        file: PathBuf,
+        /// The system's reason.
+        message: String,
+    },
+    /// A cell or row is not what was expected.
+    #[error("{}:{line}: {what}: expected {expected}, found {found}", file.display())]
+    Cell {
+        /// The data file.
+        file: PathBuf,
+        /// 1-based line number.
+        line: usize,
+        /// Which cell or row (e.g. `column 2 ('force_N')`).
+        what: String,
+        /// What was expected.
+        expected: String,
+        /// What was found.
+        found: String,
+    },
+    /// A named column is not in the header, or an index is past the last column.
+    #[error("{}:{line}: no column {column}; the header has {available}", file.display())]
+    MissingColumn {
+        /// The data file.
+        file: PathBuf,
+        /// Line of the header (or first data row).
+        line: usize,
+        /// The requested column.
+        column: String,
+        /// The columns present.
+        available: String,
+    },
+    /// The sampling cannot be made uniform (a gap far longer than the median
+    /// interval, or times beyond the range of `f64` arithmetic).
+    #[error("{}: expected {expected}, found {found}", file.display())]
+    Sampling {
+        /// The data file.
+        file: PathBuf,
+        /// What was expected.
+        expected: String,
+        /// What was found.
+        found: String,
+    },
+    /// The file holds fewer than two samples.
+    #[error("{}: expected at least 2 samples, found {found}", file.display())]
+    TooFewSamples {
+        /// The data file.
+        file: PathBuf,
+        /// Number of samples found.
+        found: usize,
+    },
+}
+
+/// Reads and parses a measured-data file (see the module docs for the format).
+pub fn load_csv(path: &Path, spec: &CsvSpec) -> Result<Series, DataError> {
+    let text = std::fs::read_to_string(path).map_err(|e| DataError::Io {
+        file: path.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    parse_csv(&text, path, spec)
+}
+
+fn cell_err(file: &Path, line: usize, what: String, expected: &str, found: String) -> DataError {
+    DataError::Cell {
+        file: file.to_path_buf(),
+        line,
+        what,
+        expected: expected.into(),
+        found,
+    }
+}
+
+/// Parses CSV text; `file` is only used in messages.
+pub fn parse_csv(text: &str, file: &Path, spec: &CsvSpec) -> Result<Series, DataError> {
+    // A spreadsheet's "CSV UTF-8" starts with a byte-order mark; it is not part
+    // of the first column's name.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    // Old Mac files end lines with CR alone.
+    let cr_only;
+    let text = if text.contains('\r') && !text.contains('\n') {
+        cr_only = text.replace('\r', "\n");
+        cr_only.as_str()
+    } else {
+        text
+    };
+    let mut rows = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.trim()))
+        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'))
+        .peekable();
+    let Some(&(first_line, first)) = rows.peek() else {
+        return Err(DataError::TooFewSamples {
+            file: file.into(),
+            found: 0,
+        });
+    };
+    let sep = [',', ';', '\t']
+        .into_iter()
+        .find(|c| first.contains(*c))
+        .unwrap_or(',');
+    let split = |l: &str| -> Vec<String> {
+        split_fields(l, sep)
+            .into_iter()
+            .map(|f| f.trim().trim_matches('"').trim().to_string())
+            .collect()
+    };
+    let first_fields = split(first);
+    let by_name = matches!(spec.time, Column::Name(_)) || matches!(spec.force, Column::Name(_));
+    let has_header = by_name || first_fields.iter().any(|f| parse_number(f, sep).is_none());
+    let header: Vec<String> = if has_header {
+        rows.next();
+        first_fields
+    } else {
+        (0..first_fields.len()).map(|i| format!("#{i}")).collect()
+    };
+    let resolve = |c: &Column| -> Result<usize, DataError> {
+        let found = match c {
+            Column::Name(n) => header.iter().position(|h| h == n),
+            Column::Index(i) => (*i < header.len()).then_some(*i),
+        };
+        found.ok_or_else(|| DataError::MissingColumn {
+            file: file.into(),
+            line: first_line,
+            column: c.to_string(),
+            available: columns_list(&header),
+        })
+    };
+    let cols = [resolve(&spec.time)?, resolve(&spec.force)?];
+    let scales = [spec.time_scale, spec.force_scale];
+    let mut t: Vec<f64> = Vec::new();
+    let mut force: Vec<f64> = Vec::new();
+    for (line, row) in rows {
+        let fields: Vec<&str> = split_fields(row, sep);
+        let mut vals = [0.0; 2];
+        for (j, &c) in cols.iter().enumerate() {
+            let what = format!("column {} ('{}')", c + 1, echo_bare(&header[c]));
+            let Some(raw) = fields.get(c) else {
+                return Err(cell_err(
+                    file,
+                    line,
+                    "row".into(),
+                    &format!("at least {} fields", c + 1),
+                    format!("{} field(s)", fields.len()),
+                ));
+            };
+            let raw = raw.trim().trim_matches('"').trim();
+            let v = parse_number(raw, sep)
+                .ok_or_else(|| cell_err(file, line, what.clone(), "a number", quote(raw)))?;
+            if !v.is_finite() {
+                return Err(cell_err(file, line, what, "a finite number", quote(raw)));
+            }
+            vals[j] = v * scales[j];
+            if !vals[j].is_finite() {
+                let found = format!("{} × {}", quote(raw), scales[j]);
+                return Err(cell_err(
+                    file,
+                    line,
+                    what,
+                    "a finite number after scaling",
+                    found,
+                ));
+            }
+        }
+        if let Some(&prev) = t.last() {
+            if vals[0] <= prev {
+                let what = format!(
+                    "time column {} ('{}')",
+                    cols[0] + 1,
+                    echo_bare(&header[cols[0]])
+                );
+                let found = format!("{} s after {} s", vals[0], prev);
+                return Err(cell_err(
+                    file,
+                    line,
+                    what,
+                    "a strictly increasing time",
+                    found,
+                ));
+            }
+        }
+        t.push(vals[0]);
+        force.push(vals[1]);
+    }
+    if t.len() < 2 {
+        return Err(DataError::TooFewSamples {
+            file: file.into(),
+            found: t.len(),
+        });
+    }
+    uniform(t, force, file)
+}
+
+/// The fields of one row: split at `sep`, except inside double quotes (a
+/// header `"force, N"` is one field).
+fn split_fields(row: &str, sep: char) -> Vec<&str> {
+    let mut fields = Vec::new();
+    let (mut start, mut quoted) = (0, false);
+    for (i, c) in row.char_indices() {
+        if c == '"' {
+            quoted = !quoted;
+        } else if c == sep && !quoted {
+            fields.push(&row[start..i]);
+            start = i + c.len_utf8();
+        }
+    }
+    fields.push(&row[start..]);
+    fields
+}
+
+/// The header's columns for a message: each name escaped and cut, at most
+/// twelve of them.
+fn columns_list(header: &[String]) -> String {
+    const SHOWN: usize = 12;
+    let mut names: Vec<String> = header.iter().take(SHOWN).map(|h| echo_bare(h)).collect();
+    if header.len() > SHOWN {
+        names.push(format!("… {} more", header.len() - SHOWN));
+    }
+    format!("{} column(s): {}", header.len(), names.join(", "))
+}
+
+/// A cell as messages quote it: `'x'`, escaped and cut short.
+fn quote(raw: &str) -> String {
+    format!("'{}'", echo_bare(raw))
+}
+
+/// A number, accepting a decimal comma when the separator is `;`.
+fn parse_number(s: &str, sep: char) -> Option<f64> {
+    s.parse::<f64>().ok().or_else(|| {
+        (sep == ';' && s.contains(','))
+            .then(|| s.replace(',', ".").parse().ok())
+            .flatten()
+    })
+}
+
+/// Checks the sampling and resamples to the median interval when it jitters.
+fn uniform(t: Vec<f64>, force: Vec<f64>, file: &Path) -> Result<Series, DataError> {
+    let n = t.len();
+    let mut d: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
+    d.sort_by(f64::total_cmp);
+    let h = d.len() / 2;
+    let median = if d.len() % 2 == 0 {
+        0.5 * (d[h - 1] + d[h])
+    } else {
+        d[h]
+    };
+    let jitter = d
+        .iter()
+        .map(|x| (x - median).abs() / median)
+        .fold(0.0, f64::max);
+    if jitter <= JITTER_TOLERANCE {
+        let dt = (t[n - 1] - t[0]) / (n - 1) as f64;
+        let t = (0..n).map(|k| t[0] + k as f64 * dt).collect();
+        if dt.is_finite() && dt > 0.0 {
+            return Ok(Series {
+                t,
+                force,
+                dt,
+                warning: None,
+            });
+        }
+    }
+    let span = t[n - 1] - t[0];
+    let m = (span / median * (1.0 + 1e-9)).floor();
+    if !(m.is_finite() && m <= (MAX_RESAMPLE_GROWTH * n) as f64) {
+        return Err(DataError::Sampling {
+            file: file.into(),
+            expected: format!(
+                "a record without long gaps (resampling may at most multiply the sample \
+                 count by {MAX_RESAMPLE_GROWTH})"
+            ),
+            found: format!("{n} samples spanning {span:e} s at a median interval of {median:e} s"),
+        });
+    }
+    let m = m as usize + 1;
+    let new_t: Vec<f64> = (0..m).map(|k| t[0] + k as f64 * median).collect();
+    let mut j = 0;
+    let new_f = new_t
+        .iter()
+        .map(|&x| {
+            while j + 2 < n && t[j + 1] <= x {
+                j += 1;
+            }
+            let w = ((x - t[j]) / (t[j + 1] - t[j])).clamp(0.0, 1.0);
+            force[j] + w * (force[j + 1] - force[j])
+        })
+        .collect();
+    let warning = format!(
+        "{}: sampling is not uniform (interval jitter up to {:.3}% of the median \
+         interval {:.4e} s); resampled {} samples to {} at the median interval by \
+         linear interpolation",
+        file.display(),
+        jitter * 100.0,
+        median,
+        n,
+        m
+    );
+    Ok(Series {
+        t: new_t,
+        force: new_f,
+        dt: median,
+        warning: Some(warning),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quoted_fields_keep_their_separators() {
+        assert_eq!(split_fields("\"force, N\",t", ','), ["\"force, N\"", "t"]);
+        assert_eq!(split_fields("a;b;;", ';'), ["a", "b", "", ""]);
+    }
+
+    #[test]
+    fn decimal_comma_only_with_semicolons() {
+        assert_eq!(parse_number("1,5", ';'), Some(1.5));
+        assert_eq!(parse_number("1,5", ','), None);
+        assert_eq!(parse_number("-2.5e3", ','), Some(-2500.0));
+    }
+
+    #[test]
+    fn median_of_an_even_count_is_the_mean_of_the_middle_two() {
+        let s = uniform(vec![0.0, 1.0, 3.0], vec![0.0; 3], Path::new("x")).unwrap();
+        assert_eq!(s.dt, 1.5);
+        assert_eq!(s.t, [0.0, 1.5, 3.0]);
+    }
+
+    #[test]
+    fn a_long_gap_is_refused_rather_than_resampled() {
+        let t = vec![0.0, 1.0, 2.0, 1000.0];
+        let e = uniform(t, vec![0.0; 4], Path::new("x")).unwrap_err();
+        assert!(matches!(e, DataError::Sampling { .. }), "{e}");
+    }
+}

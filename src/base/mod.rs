@@ -1,0 +1,18 @@
+//! The shared vocabulary every layer above speaks: parameters and their
+//! scales, the sample grid and its walk, tables and drives, what a run reports
+//! at each sample, measured records, seeded noise, how messages quote input and
+//! how files are written. It imports nothing of the crate.
+
+pub mod data;
+mod drive;
+pub mod fsutil;
+mod grid;
+pub mod noise;
+mod params;
+mod sample;
+pub mod text;
+
+pub use drive::{Drive, PiecewiseLinear};
+pub use grid::{SampleGrid, walk_grid};
+pub use params::{ParamInfo, ParamScope, Scale};
+pub use sample::{FittedSample, Report, Sample, lane_bits};

@@ -1,0 +1,6 @@
+//! Analyses of a lowered program: interval bounds of its Jacobian, the events
+//! that can no longer reach the fitted output, forward-mode tangents.
+
+pub mod interval;
+pub mod liveness;
+pub mod tangent;

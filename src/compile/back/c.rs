@@ -1,0 +1,518 @@
+//! A program's lane code ([`crate::compile::exec::lane_code`]) written as C for the native
+//! lane ensemble ([`crate::compile::back::native`]): the same instructions on the same
+//! registers, but each register a local vector variable (GCC's vector
+//! extension: one block of eight f64 lanes, or two blocks as sixteen f32
+//! lanes, [`Arith`]) instead of a row of the register file, so the C
+//! compiler keeps the temporaries in vector registers and the lanes' loads
+//! and stores are left to the states, modes and per-run constants.
+//!
+//! In f64 the C evaluates every operation as the interpreter does: no
+//! contraction of a multiply and an add (`-ffp-contract=off`), `eˣ` and
+//! `eˣ − 1` as [`crate::compile::exec::math`]'s branch-free forms step for step, `ln`, `sin`
+//! and `cos` from the C library lane by lane (where Rust's `f64::ln`, `sin`,
+//! `cos` go), so each lane's bits are the scalar reference's. In f32 the
+//! same operations round to f32 (the register file still holds f64, so the
+//! runner around them is the same).
+//!
+//! Four functions, each over blocks `0..nb` of the register file (`R`, rows
+//! of [`BLOCKS`] blocks): `rig_rk4` (one RK4 step, the start kept in `Y`),
+//! and `rig_events`, `rig_report`, `rig_fitted` (one list, roots stored back
+//! where the interpreter leaves them).
+
+use std::fmt::Write;
+
+use crate::compile::exec::lane_code::{LaneCode, List, Reg};
+use crate::compile::exec::lanes::BLOCKS;
+use crate::compile::ir::{Id, Op, operands};
+use crate::compile::program::Direction;
+
+/// The arithmetic the C code computes in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Arith {
+    /// f64, eight lanes to a vector: bit for bit the scalar reference.
+    F64,
+    /// f32, sixteen lanes to a vector (two blocks of the f64 register file,
+    /// rounded on load): `eˣ` and `eˣ − 1` by the same reduction with an f32
+    /// polynomial, `ln`, `sin`, `cos` computed in f64 and rounded once.
+    F32,
+}
+
+/// The f64 arithmetic both precisions share: eight lanes of doubles, and
+/// [`crate::compile::exec::math`]'s `eˣ` and `eˣ − 1` step for step.
+const PRELUDE: &str = r#"#include <math.h>
+#define F static inline __attribute__((always_inline))
+typedef double d __attribute__((vector_size(64)));
+typedef long long dm __attribute__((vector_size(64)));
+typedef unsigned long long du __attribute__((vector_size(64)));
+F d dsplat(double x) { d r; for (int l = 0; l < 8; l++) r[l] = x; return r; }
+F d dpick(dm k, d a, d b) { return (d)((k & (dm)a) | (~k & (dm)b)); }
+F d dclamp(d x, double lo, double hi) { x = dpick(x < dsplat(lo), dsplat(lo), x); return dpick(x > dsplat(hi), dsplat(hi), x); }
+#define SHIFT 6755399441055744.0
+F d dpoly(d r) {
+  d r2 = r * r, r4 = r2 * r2, r8 = r4 * r4;
+  d a0 = 1.0 + 0.5 * r;
+  d a1 = (1.0 / 6.0) + (1.0 / 24.0) * r;
+  d a2 = (1.0 / 120.0) + (1.0 / 720.0) * r;
+  d a3 = (1.0 / 5040.0) + (1.0 / 40320.0) * r;
+  d a4 = (1.0 / 362880.0) + (1.0 / 3628800.0) * r;
+  d a5 = (1.0 / 39916800.0) + (1.0 / 479001600.0) * r;
+  d a6 = dsplat(1.0 / 6227020800.0);
+  d b0 = a0 + a1 * r2, b1 = a2 + a3 * r2, b2 = a4 + a5 * r2;
+  d d0 = b0 + b1 * r4, d1 = b2 + a6 * r4;
+  return (d0 + d1 * r8) * r;
+}
+#define LN2_HI 0x1.62e42fee00000p-1
+#define LN2_LO 1.9082149292705877e-10
+#define INV_LN2 1.4426950408889634
+#define EXP_MAX 709.782712893384
+F d dpow2(d k) { return (d)((du)(k + (1023.0 + SHIFT)) << 52); }
+F d dexp(d x) {
+  d c = dclamp(x, -746.0, EXP_MAX);
+  d k = (c * INV_LN2 + SHIFT) - SHIFT;
+  d r = (c - k * LN2_HI) - k * LN2_LO;
+  d k1 = (0.5 * k + SHIFT) - SHIFT;
+  d e = (dpoly(r) + 1.0) * dpow2(k1) * dpow2(k - k1);
+  return dpick(x < dsplat(-745.2), dsplat(0.0), dpick(x > dsplat(EXP_MAX), dsplat(__builtin_inf()), e));
+}
+F d dexpm1(d x) {
+  d c = dclamp(x, -41.0, 709.0);
+  d k = (c * INV_LN2 + SHIFT) - SHIFT;
+  d r = (c - k * LN2_HI) - k * LN2_LO;
+  d p = dpoly(r), t = dpow2(k);
+  d e = t * p + (t - 1.0);
+  return dpick(x < dsplat(-40.0), dsplat(-1.0), dpick(x > dsplat(EXP_MAX), dsplat(__builtin_inf()), e));
+}
+"#;
+
+/// One run's f64 arithmetic, for the derivative a redone step takes
+/// (`rig_deriv1`): the f64 `eˣ` and `eˣ − 1` above, and Rust's `min`, `max`,
+/// comparisons and select, on scalars.
+const SCALAR: &str = r#"/* e^x and e^x - 1 of one value: lane 0 of the eight-lane forms (as cheap as
+   a scalar copy of them on a vector unit, and the same arithmetic). */
+F double sexp(double x) { return dexp(dsplat(x))[0]; }
+F double sexpm1(double x) { return dexpm1(dsplat(x))[0]; }
+F double ssel(double c, double a, double b) { return c != 0.0 ? a : b; }
+F double sle(double a, double b) { return a <= b ? 1.0 : 0.0; }
+F double seq(double a, double b) { return a == b ? 1.0 : 0.0; }
+F double smin(double a, double b) { return a != a ? b : b != b ? a : a < b ? a : b; }
+F double smax(double a, double b) { return a != a ? b : b != b ? a : a > b ? a : b; }
+F double sabs(double a) { return fabs(a); }
+F double slog(double a) { return log(a); }
+F double ssin(double a) { return sin(a); }
+F double scos(double a) { return cos(a); }
+"#;
+
+/// The lane type `v` of [`Arith::F64`]: a block of the register file.
+const F64_LANES: &str = r#"typedef d v; typedef dm m; typedef du u;
+#define WV 8
+#define STEP 1
+#define LD(A, i) (A)[(i) * BLOCKS + b]
+#define ST(A, i, x) ((A)[(i) * BLOCKS + b] = (x))
+#define LDC LD
+F v vabs(v a) { return (v)((u)a & 0x7fffffffffffffffULL); }
+F v vexp(v x) { return dexp(x); }
+F v vexpm1(v x) { return dexpm1(x); }
+"#;
+
+/// The lane type `v` of [`Arith::F32`]: two blocks of the register file,
+/// rounded to f32.
+const F32_LANES: &str = r#"typedef float v __attribute__((vector_size(64)));
+typedef int m __attribute__((vector_size(64)));
+typedef unsigned int u __attribute__((vector_size(64)));
+typedef float h __attribute__((vector_size(32)));
+#define WV 16
+#define STEP 2
+F v join(d lo, d hi) {
+  return __builtin_shufflevector(__builtin_convertvector(lo, h), __builtin_convertvector(hi, h), 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+}
+F void split(v x, d *lo, d *hi) {
+  *lo = __builtin_convertvector(__builtin_shufflevector(x, x, 0, 1, 2, 3, 4, 5, 6, 7), d);
+  *hi = __builtin_convertvector(__builtin_shufflevector(x, x, 8, 9, 10, 11, 12, 13, 14, 15), d);
+}
+#define LD(A, i) join((A)[(i) * BLOCKS + b], (A)[(i) * BLOCKS + b + 1])
+#define ST(A, i, x) split((x), &(A)[(i) * BLOCKS + b], &(A)[(i) * BLOCKS + b + 1])
+/* A per-run constant's row holds its lanes as f32, packed at its start. */
+#define LDC(A, i) (((v *)&(A)[(i) * BLOCKS])[b / 2])
+F v fsplat(float x) { v r; for (int l = 0; l < 16; l++) r[l] = x; return r; }
+F v fpick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
+F v vabs(v a) { return (v)((u)a & 0x7fffffffu); }
+/* e^x and e^x - 1 in f32: the f64 forms' reduction with f32 constants
+   (1.5·2^23 shift, ln 2 split as 0x1.62e4p-1 + rest) and the degree-8
+   Taylor polynomial of e^r - 1, |r| <= ln2/2 (truncation below 1e-8). */
+#define FSHIFT 12582912.0f
+F v fpoly(v r) {
+  v r2 = r * r, r4 = r2 * r2;
+  v a0 = 1.0f + 0.5f * r, a1 = (1.0f / 6.0f) + (1.0f / 24.0f) * r;
+  v a2 = (1.0f / 120.0f) + (1.0f / 720.0f) * r, a3 = (1.0f / 5040.0f) + (1.0f / 40320.0f) * r;
+  return ((a0 + a1 * r2) + (a2 + a3 * r2) * r4) * r;
+}
+F void freduce(v c, v *k, v *r) {
+  *k = (c * 1.44269504f + FSHIFT) - FSHIFT;
+  *r = (c - *k * 0x1.62e4p-1f) - *k * 0x1.7f7d1cp-20f;
+}
+F v fpow2(v k) { return (v)((u)(k + (127.0f + FSHIFT)) << 23); }
+F v vexp(v x) {
+  v c = fpick(x < fsplat(-104.0f), fsplat(-104.0f), x); c = fpick(c > fsplat(88.7f), fsplat(88.7f), c);
+  v k, r; freduce(c, &k, &r);
+  v k1 = (0.5f * k + FSHIFT) - FSHIFT;
+  v e = (fpoly(r) + 1.0f) * fpow2(k1) * fpow2(k - k1);
+  return fpick(x < fsplat(-103.9f), fsplat(0.0f), fpick(x > fsplat(88.72f), fsplat(__builtin_inff()), e));
+}
+F v vexpm1(v x) {
+  v c = fpick(x < fsplat(-18.0f), fsplat(-18.0f), x); c = fpick(c > fsplat(88.0f), fsplat(88.0f), c);
+  v k, r; freduce(c, &k, &r);
+  v p = fpoly(r), t = fpow2(k);
+  return fpick(x < fsplat(-17.0f), fsplat(-1.0f), fpick(x > fsplat(88.72f), fsplat(__builtin_inff()), t * p + (t - 1.0f)));
+}
+"#;
+
+/// What both lane types share, written on `v`.
+const LANE_OPS: &str = r#"F v splat(double x) { v r; for (int l = 0; l < WV; l++) r[l] = x; return r; }
+F v pick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
+F v vsel(v c, v a, v b) { return pick(c != splat(0.0), a, b); }
+F v vle(v a, v b) { return (v)((a <= b) & (m)splat(1.0)); }
+F v veq(v a, v b) { return (v)((a == b) & (m)splat(1.0)); }
+/* Rust's f64::min / f64::max: a NaN operand gives the other. */
+F v vmin(v a, v b) { v r = pick(a < b, a, b); r = pick(a != a, b, r); return pick(b != b, a, r); }
+F v vmax(v a, v b) { v r = pick(a > b, a, b); r = pick(a != a, b, r); return pick(b != b, a, r); }
+F v vlog(v a) { v r; for (int l = 0; l < WV; l++) r[l] = log(a[l]); return r; }
+F v vsin(v a) { v r; for (int l = 0; l < WV; l++) r[l] = sin(a[l]); return r; }
+F v vcos(v a) { v r; for (int l = 0; l < WV; l++) r[l] = cos(a[l]); return r; }
+"#;
+
+/// One instruction as a C statement on the register locals `rN`, with the
+/// helpers for vectors (`p = 'v'`) or scalars (`'s'`).
+fn statement(dest: Reg, op: &Op, p: char) -> String {
+    let r = |i: Id| format!("r{i}");
+    let e = match *op {
+        Op::Add(a, b) => format!("{} + {}", r(a), r(b)),
+        Op::Sub(a, b) => format!("{} - {}", r(a), r(b)),
+        Op::Mul(a, b) => format!("{} * {}", r(a), r(b)),
+        Op::Div(a, b) => format!("{} / {}", r(a), r(b)),
+        Op::Min(a, b) => format!("{p}min({}, {})", r(a), r(b)),
+        Op::Max(a, b) => format!("{p}max({}, {})", r(a), r(b)),
+        Op::Le(a, b) => format!("{p}le({}, {})", r(a), r(b)),
+        Op::Eq(a, b) => format!("{p}eq({}, {})", r(a), r(b)),
+        Op::Neg(a) => format!("-{}", r(a)),
+        Op::Abs(a) => format!("{p}abs({})", r(a)),
+        Op::Exp(a) => format!("{p}exp({})", r(a)),
+        Op::Expm1(a) => format!("{p}expm1({})", r(a)),
+        Op::Ln(a) => format!("{p}log({})", r(a)),
+        Op::Sin(a) => format!("{p}sin({})", r(a)),
+        Op::Cos(a) => format!("{p}cos({})", r(a)),
+        Op::Select(c, a, b) => format!("{p}sel({}, {}, {})", r(c), r(a), r(b)),
+        Op::Const(_) | Op::In(_) => unreachable!("registers filled before the list runs"),
+    };
+    format!("    r{dest} = {e};\n")
+}
+
+/// The registers `list` reads before it writes them (its inputs), in order.
+fn inputs(list: &List) -> Vec<Reg> {
+    let mut written = std::collections::HashSet::new();
+    let mut read = vec![];
+    for ins in &list.code {
+        for o in operands(&ins.op) {
+            let o = o as Reg;
+            if !written.contains(&o) && !read.contains(&o) {
+                read.push(o);
+            }
+        }
+        written.insert(ins.dest);
+    }
+    for &root in &list.roots {
+        if !written.contains(&root) && !read.contains(&root) {
+            read.push(root);
+        }
+    }
+    read
+}
+
+/// Declares every register local the code uses.
+fn declare(out: &mut String, code: &LaneCode) {
+    let _ = writeln!(
+        out,
+        "    v {};",
+        (0..code.registers)
+            .map(|i| format!("r{i}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    // Unread locals are fine; silence the compiler about them.
+    let _ = writeln!(out, "    (void)r0;");
+}
+
+/// Loads input register `reg` of block `b`, unless it is the time or a table
+/// (`time`: its C value; `tables`: register → C value).
+fn load(
+    out: &mut String,
+    reg: Reg,
+    time: &str,
+    code: &LaneCode,
+    tables: &dyn Fn(Reg) -> Option<String>,
+) {
+    let src = if reg == code.time {
+        format!("splat({time})")
+    } else if let Some(t) = tables(reg) {
+        format!("splat({t})")
+    } else if code.constants.iter().any(|&(_, r)| r == reg) {
+        format!("LDC(R, {reg})")
+    } else {
+        format!("LD(R, {reg})")
+    };
+    let _ = writeln!(out, "    r{reg} = {src};");
+}
+
+/// Table values per derivative in `rig_rk4`'s `tab` (one past the highest
+/// table any list reads).
+pub fn table_stride(code: &LaneCode) -> usize {
+    [&code.deriv, &code.events, &code.report, &code.fitted]
+        .iter()
+        .flat_map(|l| l.tables.iter().map(|&(k, _)| k as usize + 1))
+        .max()
+        .unwrap_or(0)
+}
+
+/// Which of the derivative's instructions depend on time, tables and per-run
+/// constants alone (not on a state or a mode), and the constant registers
+/// those read. Where every lane holds the same value in each of those
+/// constants (as when the drive's parameters are fixed), `rig_rk4` computes
+/// these instructions once per call instead of once per block.
+pub fn hoistable(code: &LaneCode) -> (Vec<bool>, Vec<Reg>) {
+    let constant: std::collections::HashSet<Reg> = code.constants.iter().map(|&(_, r)| r).collect();
+    let mut tc = vec![false; code.registers];
+    tc[code.time as usize] = true;
+    for &(_, reg) in &code.deriv.tables {
+        tc[reg as usize] = true;
+    }
+    for &reg in &constant {
+        tc[reg as usize] = true;
+    }
+    let mut reads = vec![];
+    let flags = code
+        .deriv
+        .code
+        .iter()
+        .map(|ins| {
+            let ops = operands(&ins.op);
+            let t = ops.iter().all(|&o| tc[o as usize]);
+            if t {
+                for &o in &ops {
+                    let o = o as Reg;
+                    if constant.contains(&o) && !reads.contains(&o) {
+                        reads.push(o);
+                    }
+                }
+            }
+            tc[ins.dest as usize] = t;
+            t
+        })
+        .collect();
+    (flags, reads)
+}
+
+/// The time and table registers for `rig_rk4`'s derivative `stage` (0–3):
+/// `tt[stage]` and that stage's row of `tab`.
+fn stage_inputs(s: &mut String, code: &LaneCode, stage: usize) {
+    if code.deriv.uses_time {
+        let _ = writeln!(s, "    r{} = splat(tt[{stage}]);", code.time);
+    }
+    for &(k, reg) in &code.deriv.tables {
+        let _ = writeln!(
+            s,
+            "    r{reg} = splat(tab[{} + {k}]);",
+            stage * table_stride(code)
+        );
+    }
+}
+
+/// `rig_rk4`'s loop over blocks: hoisted (`Some`: which instructions were
+/// computed before the loop, into `u{stage}_{index}`) or not.
+fn rk4_loop(s: &mut String, code: &LaneCode, hoisted: Option<&[bool]>) {
+    let n = code.slopes.len();
+    s.push_str("  for (long b = 0; b < nb; b += STEP) {\n");
+    declare(s, code);
+    let _ = writeln!(
+        s,
+        "    v {};",
+        (0..n)
+            .map(|i| format!("y{i}, a{i}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    for &reg in &inputs(&code.deriv) {
+        if (reg as usize) < n
+            || reg == code.time
+            || code.deriv.tables.iter().any(|&(_, r)| r == reg)
+        {
+            continue;
+        }
+        load(s, reg, "", code, &|_| None);
+    }
+    for i in 0..n {
+        let _ = writeln!(s, "    y{i} = LD(R, {i}); ST(Y, {i}, y{i}); r{i} = y{i};");
+    }
+    for stage in 0..4 {
+        stage_inputs(s, code, stage);
+        for (j, ins) in code.deriv.code.iter().enumerate() {
+            if hoisted.is_some_and(|h| h[j]) {
+                let _ = writeln!(s, "    r{} = u{stage}_{j};", ins.dest);
+            } else {
+                s.push_str(&statement(ins.dest, &ins.op, 'v'));
+            }
+        }
+        for &(state, copy) in &code.slope_copies {
+            let _ = writeln!(s, "    r{copy} = r{state};");
+        }
+        for (i, &k) in code.slopes.iter().enumerate() {
+            let _ = match stage {
+                0 => writeln!(s, "    a{i} = r{k}; r{i} = y{i} + CH * r{k};"),
+                1 => writeln!(s, "    a{i} = a{i} + TWO * r{k}; r{i} = y{i} + CH * r{k};"),
+                2 => writeln!(s, "    a{i} = a{i} + TWO * r{k}; r{i} = y{i} + H * r{k};"),
+                _ => writeln!(s, "    r{i} = y{i} + H6 * (a{i} + r{k});"),
+            };
+        }
+    }
+    for i in 0..n {
+        let _ = writeln!(s, "    ST(R, {i}, r{i});");
+    }
+    s.push_str("  }\n");
+}
+
+/// The C source of `code`'s four functions.
+pub fn source(code: &LaneCode, arith: Arith) -> String {
+    let mut s = format!("#define BLOCKS {BLOCKS}\n");
+    s.push_str(PRELUDE);
+    s.push_str(match arith {
+        Arith::F64 => F64_LANES,
+        Arith::F32 => F32_LANES,
+    });
+    s.push_str(LANE_OPS);
+    let table_regs: Vec<(u32, Reg)> = [&code.deriv, &code.events, &code.report, &code.fitted]
+        .iter()
+        .flat_map(|l| l.tables.iter().copied())
+        .collect();
+    let table_of = |reg: Reg| table_regs.iter().find(|&&(_, r)| r == reg).map(|&(k, _)| k);
+
+    // rig_rk4: tt[4] the derivative's times, tab[4 * table_stride] the
+    // tables at them, ch = 0.5·h, h, h6 = h/6 (computed by the caller as the
+    // interpreter does); `hoist`: every constant `hoistable` lists is the
+    // same in every lane.
+    let (flags, reads) = hoistable(code);
+    s.push_str(
+        "void rig_rk4(d *restrict R, d *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist) {\n  const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);\n",
+    );
+    if flags.contains(&true) {
+        s.push_str("  if (hoist) {\n  const long b = 0;\n");
+        declare(&mut s, code);
+        for &reg in &reads {
+            load(&mut s, reg, "", code, &|_| None);
+        }
+        for stage in 0..4 {
+            stage_inputs(&mut s, code, stage);
+            for (j, ins) in code
+                .deriv
+                .code
+                .iter()
+                .enumerate()
+                .filter(|&(j, _)| flags[j])
+            {
+                s.push_str(&statement(ins.dest, &ins.op, 'v'));
+                let _ = writeln!(s, "    v u{stage}_{j} = r{};", ins.dest);
+            }
+        }
+        rk4_loop(&mut s, code, Some(&flags));
+        s.push_str("  return;\n  }\n");
+    }
+    rk4_loop(&mut s, code, None);
+    s.push_str("}\n");
+
+    // rig_deriv1: one run's derivative for its redone steps; `R` its scalar
+    // register file (states, modes and per-run constants at their
+    // registers), `out` the slopes.
+    s.push_str(SCALAR);
+    s.push_str(
+        "void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) {\n",
+    );
+    let _ = writeln!(
+        s,
+        "    double {};",
+        (0..code.registers)
+            .map(|i| format!("r{i}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    for &reg in &inputs(&code.deriv) {
+        let src = if reg == code.time {
+            "t".to_string()
+        } else if let Some(k) = table_of(reg) {
+            format!("tab[{k}]")
+        } else {
+            format!("R[{reg}]")
+        };
+        let _ = writeln!(s, "    r{reg} = {src};");
+    }
+    for ins in &code.deriv.code {
+        s.push_str(&statement(ins.dest, &ins.op, 's'));
+    }
+    for (i, &root) in code.deriv.roots.iter().enumerate() {
+        let _ = writeln!(s, "    out[{i}] = r{root};");
+    }
+    s.push_str("}\n");
+
+    for (name, list) in [
+        ("rig_events", &code.events),
+        ("rig_report", &code.report),
+        ("rig_fitted", &code.fitted),
+    ] {
+        let _ = writeln!(
+            s,
+            "void {name}(d *restrict R, long nb, double t, const double *tab, unsigned char *hit) {{\n  for (long b = 0; b < nb; b += STEP) {{"
+        );
+        declare(&mut s, code);
+        let tabs = |reg: Reg| table_of(reg).map(|k| format!("tab[{k}]"));
+        let mut loads = inputs(list);
+        if name == "rig_events" {
+            let guarded = code.guards.iter().flatten().map(|&(m, _)| m);
+            for mode in code.armed.iter().map(|a| a.0).chain(guarded) {
+                if !loads.contains(&mode) {
+                    loads.push(mode);
+                }
+            }
+        }
+        for &reg in &loads {
+            load(&mut s, reg, "t", code, &tabs);
+        }
+        for ins in &list.code {
+            s.push_str(&statement(ins.dest, &ins.op, 'v'));
+        }
+        for &root in &list.roots {
+            let _ = writeln!(s, "    ST(R, {root}, r{root});");
+        }
+        if name == "rig_events" {
+            // `LaneRunner`'s hit test: a bit per lane armed and past its
+            // switch (`Direction::past`).
+            s.push_str("    m k = (m){0};\n");
+            for ((&(mode, from, dir), &g), guard) in
+                code.armed.iter().zip(&list.roots).zip(&code.guards)
+            {
+                let past = match dir {
+                    Direction::Up => ">=",
+                    Direction::Down => "<=",
+                };
+                let guard: String = guard
+                    .iter()
+                    .map(|&(m, v)| format!(" & (r{m} == splat({v:?}))"))
+                    .collect();
+                let _ = writeln!(
+                    s,
+                    "    k |= (r{mode} == splat({from:?})) & (r{g} {past} splat(0.0)){guard};"
+                );
+            }
+            s.push_str(
+                "    unsigned long long bits = 0;\n    for (int l = 0; l < WV; l++) bits |= (unsigned long long)(k[l] & 1) << l;\n    hit[b] = bits & 0xff;\n    if (STEP == 2) hit[b + 1] = bits >> 8;\n",
+            );
+        }
+        s.push_str("  }\n}\n");
+    }
+    s
+}

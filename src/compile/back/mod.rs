@@ -1,0 +1,6 @@
+//! The back ends: a program written as C for the native lanes (and built and
+//! loaded), and as WGSL for the GPU kernels.
+
+pub mod c;
+pub mod native;
+pub mod wgsl;

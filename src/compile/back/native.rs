@@ -1,0 +1,397 @@
+//! The lane ensemble in native code: a program's lane code written as C
+//! ([`crate::compile::back::c`]), built by the system C compiler into a shared
+//! library in a directory of its own under the temporary folder, loaded, and
+//! the directory removed. [`crate::compile::exec::lanes::LaneRunner`] then runs its RK4 steps
+//! and its lists through the library's functions instead of interpreting
+//! them; every lane stays bit-identical to the scalar reference
+//! (`tests/rig_cpu_ensemble.rs`).
+//!
+//! The compiler is `RIGFIT_CC` or `cc`, run with `-O2 -march=native
+//! -ffp-contract=off` (the code is built for the processor that runs it, and
+//! no multiply and add is fused). One library per distinct source is built per
+//! process. Where no compiler works the ensemble interprets, and says why once.
+
+use std::collections::HashMap;
+use std::ffi::c_long;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::sync::{Arc, Mutex};
+
+use crate::compile::back::c::{self, Arith};
+use crate::compile::exec::lane_code::LaneCode;
+use crate::compile::exec::lanes::{BLOCKS, Reg};
+
+/// Why no native code could be had.
+#[derive(Debug, thiserror::Error)]
+pub enum NativeError {
+    /// Writing or reading the build directory failed.
+    #[error("native lane code: {what} {path}: {source}")]
+    Io {
+        /// What was being done.
+        what: &'static str,
+        /// The file or directory.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// The C compiler could not be run or refused the source.
+    #[error("native lane code: the C compiler `{cc}` {why}")]
+    Compiler {
+        /// The compiler's command.
+        cc: String,
+        /// What happened (its message, shortened).
+        why: String,
+    },
+    /// The built library would not load or lacks a function.
+    #[error("native lane code: loading {path}: {source}")]
+    Load {
+        /// The library.
+        path: PathBuf,
+        /// The loader's error.
+        source: libloading::Error,
+    },
+}
+
+type Rk4Fn =
+    unsafe extern "C" fn(*mut Reg, *mut Reg, c_long, *const f64, *const f64, f64, f64, f64, c_long);
+type ListFn = unsafe extern "C" fn(*mut Reg, c_long, f64, *const f64, *mut u8);
+type Deriv1Fn = unsafe extern "C" fn(*const f64, f64, *const f64, *mut f64);
+
+/// A loaded build of one program's lane code.
+pub struct Native {
+    rk4: Rk4Fn,
+    lists: [ListFn; 3],
+    deriv1: Deriv1Fn,
+    /// The lane code's register count and state count, which
+    /// [`Self::deriv1`]'s slices hold.
+    registers: usize,
+    states: usize,
+    /// Table values per derivative in [`Self::rk4`]'s `tab`.
+    pub(crate) table_stride: usize,
+    /// The per-run constants whose values, shared by every lane, let
+    /// [`Self::rk4`] compute the derivative's time-only part once per call
+    /// ([`c::hoistable`]).
+    pub(crate) hoist_reads: Vec<u16>,
+    /// The arithmetic it computes in.
+    pub arith: Arith,
+    /// Kept loaded for the functions above.
+    _lib: libloading::Library,
+}
+
+impl std::fmt::Debug for Native {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Native")
+            .field("table_stride", &self.table_stride)
+            .finish_non_exhaustive()
+    }
+}
+
+/// Which list [`Native::list`] runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum NativeList {
+    Events = 0,
+    Report = 1,
+    Fitted = 2,
+}
+
+impl Native {
+    /// The build of `code` in `arith`, compiled on first request in this
+    /// process.
+    pub fn build(code: &LaneCode, arith: Arith) -> Result<Arc<Self>, NativeError> {
+        static BUILT: Mutex<Option<HashMap<String, Arc<Native>>>> = Mutex::new(None);
+        let src = c::source(code, arith);
+        let mut built = BUILT.lock().unwrap_or_else(|e| e.into_inner());
+        let built = built.get_or_insert_with(HashMap::new);
+        if let Some(n) = built.get(&src) {
+            return Ok(n.clone());
+        }
+        let started = std::time::Instant::now();
+        let dir = scratch_dir()?;
+        let result = compile_and_load(&dir, &src, code, arith);
+        // Only the files written above are in it; the library stays mapped.
+        let _ = std::fs::remove_dir_all(&dir);
+        let n = Arc::new(result?);
+        log::info!(
+            "native lane code built ({arith:?}, {} registers) in {:.2} s",
+            code.registers,
+            started.elapsed().as_secs_f64()
+        );
+        built.insert(src, n.clone());
+        Ok(n)
+    }
+
+    /// One RK4 step of blocks `0..nb` of `r` (states in its first rows), the
+    /// start stored in `y`: derivatives at times `tt`, with table values `tab`
+    /// (`table_stride` per derivative), stage factors `ch = 0.5·h`, `h`, `h/6`;
+    /// `hoist` where every lane holds the same value in each of
+    /// `hoist_reads`.
+    #[expect(clippy::too_many_arguments, reason = "the C function's operands")]
+    #[expect(unsafe_code, reason = "calls the compiled C")]
+    pub(crate) fn rk4(
+        &self,
+        r: &mut [Reg],
+        y: &mut [Reg],
+        nb: usize,
+        tt: &[f64; 4],
+        tab: &[f64],
+        ch: f64,
+        h: f64,
+        h6: f64,
+        hoist: bool,
+    ) {
+        assert!(r.len() == self.registers && y.len() == self.states && nb <= BLOCKS);
+        assert!(tab.len() >= 4 * self.table_stride);
+        // SAFETY: the C reads and writes rows below the lane code's register
+        // count (`r`'s length) and `y`'s state rows, blocks below `nb` ≤
+        // BLOCKS (the f32 code also the block after each even one, still
+        // below BLOCKS); `tab` holds what it reads.
+        unsafe {
+            (self.rk4)(
+                r.as_mut_ptr(),
+                y.as_mut_ptr(),
+                nb as c_long,
+                tt.as_ptr(),
+                tab.as_ptr(),
+                ch,
+                h,
+                h6,
+                c_long::from(hoist),
+            );
+        }
+    }
+
+    /// Runs `which` list at time `t` (table values `tab`) over blocks `0..nb`;
+    /// the event list also sets, per block, the bit of each lane whose step
+    /// ended past an armed switch in `hit` (as `LaneRunner`'s test does).
+    #[expect(unsafe_code, reason = "calls the compiled C")]
+    pub(crate) fn list(
+        &self,
+        which: NativeList,
+        r: &mut [Reg],
+        nb: usize,
+        t: f64,
+        tab: &[f64],
+        hit: &mut [u8; BLOCKS],
+    ) {
+        assert!(r.len() == self.registers && nb <= BLOCKS);
+        assert!(tab.len() >= self.table_stride);
+        // SAFETY: as in `rk4`; `hit` has a byte for every block.
+        unsafe {
+            (self.lists[which as usize])(
+                r.as_mut_ptr(),
+                nb as c_long,
+                t,
+                tab.as_ptr(),
+                hit.as_mut_ptr(),
+            );
+        }
+    }
+
+    /// One run's derivative in f64 (whatever [`Self::arith`]), bit for bit
+    /// the scalar reference's: `r` the run's scalar register file (states,
+    /// modes and per-run constants at their registers), time `t`, table
+    /// values `tab`; the slopes into `out`.
+    #[expect(unsafe_code, reason = "calls the compiled C")]
+    pub(crate) fn deriv1(&self, r: &[f64], t: f64, tab: &[f64], out: &mut [f64]) {
+        assert!(r.len() == self.registers && out.len() == self.states);
+        assert!(tab.len() >= self.table_stride);
+        // SAFETY: the C reads registers below `registers`, tables below
+        // `table_stride`, and writes `states` slopes.
+        unsafe { (self.deriv1)(r.as_ptr(), t, tab.as_ptr(), out.as_mut_ptr()) }
+    }
+}
+
+/// A new directory of this process's own under the temporary folder, never
+/// named alike twice in one process: the dynamic loader takes a library path
+/// it has loaded before for that library, even once the file is gone.
+fn scratch_dir() -> Result<PathBuf, NativeError> {
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let base = std::env::temp_dir();
+    for _ in 0..1000 {
+        let k = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let dir = base.join(format!("rigfit-native-{}-{k}", std::process::id()));
+        match std::fs::create_dir(&dir) {
+            Ok(()) => return Ok(dir),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
+            Err(source) => {
+                return Err(NativeError::Io {
+                    what: "creating",
+                    path: dir,
+                    source,
+                });
+            }
+        }
+    }
+    Err(NativeError::Io {
+        what: "creating",
+        path: base,
+        source: std::io::Error::other("no free rigfit-native-* name"),
+    })
+}
+
+/// Builds `src` (the C of `code` in `arith`) in `dir` and loads its
+/// functions.
+#[expect(unsafe_code, reason = "loads the library just built and its functions")]
+fn compile_and_load(
+    dir: &Path,
+    src: &str,
+    code: &LaneCode,
+    arith: Arith,
+) -> Result<Native, NativeError> {
+    let c = dir.join("lanes.c");
+    let lib = dir.join("lanes.so");
+    std::fs::write(&c, src).map_err(|source| NativeError::Io {
+        what: "writing",
+        path: c.clone(),
+        source,
+    })?;
+    let cc = compiler();
+    let out = Command::new(&cc)
+        .args([
+            "-O2",
+            "-march=native",
+            "-ffp-contract=off",
+            "-fPIC",
+            "-shared",
+            "-w",
+            "-o",
+        ])
+        .arg(&lib)
+        .arg(&c)
+        .arg("-lm")
+        .output()
+        .map_err(|e| NativeError::Compiler {
+            cc: cc.clone(),
+            why: format!("could not be run: {e}"),
+        })?;
+    if !out.status.success() {
+        let msg = String::from_utf8_lossy(&out.stderr);
+        let first: Vec<&str> = msg.lines().take(3).collect();
+        return Err(NativeError::Compiler {
+            cc,
+            why: format!("failed ({}): {}", out.status, first.join(" / ")),
+        });
+    }
+    let load_err = |source| NativeError::Load {
+        path: lib.clone(),
+        source,
+    };
+    // SAFETY: the library is the C just written, which has no initialisers;
+    // each symbol is declared with the signature `native_c` writes for it.
+    unsafe {
+        let l = libloading::Library::new(&lib).map_err(load_err)?;
+        let rk4: Rk4Fn = *l.get::<Rk4Fn>(b"rig_rk4\0").map_err(load_err)?;
+        let list = |name: &[u8]| l.get::<ListFn>(name).map(|f| *f).map_err(load_err);
+        let lists = [
+            list(b"rig_events\0")?,
+            list(b"rig_report\0")?,
+            list(b"rig_fitted\0")?,
+        ];
+        let deriv1: Deriv1Fn = *l.get::<Deriv1Fn>(b"rig_deriv1\0").map_err(load_err)?;
+        Ok(Native {
+            rk4,
+            lists,
+            deriv1,
+            registers: code.registers,
+            states: code.slopes.len(),
+            table_stride: c::table_stride(code),
+            hoist_reads: c::hoistable(code).1,
+            arith,
+            _lib: l,
+        })
+    }
+}
+
+/// The C compiler: `RIGFIT_CC`, or `cc`.
+fn compiler() -> String {
+    std::env::var("RIGFIT_CC").unwrap_or_else(|_| "cc".into())
+}
+
+/// `RIGFIT_NATIVE`, read once per process: `None` never to build native
+/// code (`off`), else the candidate-steps a program runs before it is built
+/// for [`NativeSlot::get`] (0 for `always`, [`NATIVE_AFTER`] by default).
+fn policy() -> Option<u64> {
+    static POLICY: std::sync::OnceLock<Option<u64>> = std::sync::OnceLock::new();
+    *POLICY.get_or_init(|| match std::env::var("RIGFIT_NATIVE").as_deref() {
+        Ok("off") => None,
+        Ok("always") => Some(0),
+        _ => Some(NATIVE_AFTER),
+    })
+}
+
+/// Whether this machine builds native lane code, for `rigfit devices`: the
+/// C compiler and the first line of its `--version` where it builds the
+/// first shipped rig's lanes, else why not (`RIGFIT_NATIVE=off`
+/// included).
+pub fn check_native_lanes() -> Result<(String, String), String> {
+    if policy().is_none() {
+        return Err("RIGFIT_NATIVE=off".into());
+    }
+    let (id, _) = crate::rig::SHIPPED[0];
+    let desc = crate::rig::shipped(id).ok_or("the shipped rigs are missing")?;
+    let lowered = crate::compile::lower(&desc, id).map_err(|e| e.to_string())?;
+    let prog = &lowered.programs[0];
+    let tape = crate::compile::Tape::new(prog);
+    let code = LaneCode::new(prog, &tape);
+    Native::build(&code, Arith::F64).map_err(|e| e.to_string())?;
+    let cc = compiler();
+    let version = Command::new(&cc)
+        .arg("--version")
+        .output()
+        .ok()
+        .and_then(|o| String::from_utf8(o.stdout).ok())
+        .and_then(|v| v.lines().next().map(str::to_string))
+        .unwrap_or_default();
+    Ok((cc, version))
+}
+
+/// When the lane ensemble runs native code: `RIGFIT_NATIVE=off` never,
+/// `always` from the first batch, otherwise once a program has run
+/// [`NATIVE_AFTER`] candidate-steps in this process (building takes about a
+/// quarter of a second, as long as the interpreter takes for some 4·10⁶).
+pub const NATIVE_AFTER: u64 = 4_000_000;
+
+/// One program's native build, made when [`NATIVE_AFTER`] says so.
+#[derive(Debug, Default)]
+pub struct NativeSlot {
+    work: std::sync::atomic::AtomicU64,
+    built: std::sync::OnceLock<Option<Arc<Native>>>,
+}
+
+impl NativeSlot {
+    /// The build of `code` in `arith` now, whatever the work so far (`None`
+    /// where it cannot be had, or `RIGFIT_NATIVE=off`).
+    pub fn now(&self, code: &LaneCode, arith: Arith) -> Option<Arc<Native>> {
+        policy()?;
+        self.built
+            .get_or_init(|| match Native::build(code, arith) {
+                Ok(n) => Some(n),
+                Err(e) => {
+                    match arith {
+                        Arith::F64 => log::warn!("{e}; the lane ensemble interprets instead"),
+                        Arith::F32 => log::warn!("{e}; no f32 lanes"),
+                    }
+                    None
+                }
+            })
+            .clone()
+    }
+
+    /// The f64 build to run `work` more candidate-steps of `code` with, once
+    /// the program's work in this process has reached the policy's
+    /// threshold.
+    pub fn get(&self, code: &LaneCode, work: u64) -> Option<Arc<Native>> {
+        let after = policy()?;
+        if let Some(b) = self.built.get() {
+            return b.clone();
+        }
+        if self
+            .work
+            .fetch_add(work, std::sync::atomic::Ordering::Relaxed)
+            < after
+        {
+            return None;
+        }
+        self.now(code, Arith::F64)
+    }
+}

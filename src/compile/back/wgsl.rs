@@ -1,0 +1,784 @@
+//! The WGSL emitter: one [`Program`] written as the rig functions that the
+//! generic event run loop (`shaders/shared/rig_run.wgsl`) calls.
+//!
+//! Each function evaluates the operations its roots need, in graph order, the
+//! order [`crate::compile::exec::tape::Frame`] evaluates them on the CPU. Operations that
+//! depend on per-run values only (the program's run constants: parameters,
+//! `1/m`, a law's logarithm) are evaluated once per run on the host by the CPU
+//! reference's own code ([`GpuRig::pack`]) and uploaded as the run's slots, so
+//! the kernels read them as values and never recompute them; where every run of
+//! a batch has the same value, the specialised kernel folds it to a constant.
+//!
+//! What the emitted source defines (names prefixed `rig_` or `St`/`Md`/`Kc`):
+//! - `struct St` (continuous state, fields `s0…`), `struct Md` (mode
+//!   variables, `m0…`), `struct Kc` (the run's constants and table offsets);
+//! - `rig_load(base, ex) -> Kc`, `rig_state_load(sb)`, `rig_state_store(sb, y, md)`,
+//!   `rig_modes_load(sb)`, `rig_initial(base, &y, &md)` (the run's initial
+//!   state and modes, packed per run where the program has initial-state
+//!   parameters);
+//! - `st_axpy(y, a, k)` (`y + a·k`), `st_rk4(y, h6, k1, k2, k3, k4)`,
+//!   `st_hermite(y0, f0, y1, f1, c00, c10, c01, c11)`;
+//! - `rig_deriv(kc, t, y, md) -> St`, `rig_events(kc, t, y, md) -> Ev` (every
+//!   event function), `rig_hits(g0, g1, md) -> u32` (the armed transitions
+//!   that fire over a step from `g0` to `g1`, one bit each: the exact test of
+//!   the located-step path), `rig_bases_c`, `rig_window(kc, md)` and
+//!   `rig_outside(w, b)` (the flat loop's conservative test at every step:
+//!   [`Emitter::window`]), `rig_oriented(g, i) -> real` (transition `i`'s
+//!   event function oriented so that `>= 0` is past its switch, from
+//!   `rig_events`' values), `rig_fire(i, md)`;
+//! - `rig_output0_c(kc, t, y, md, ck) -> real` (the scored output) and
+//!   `rig_report_c(kc, t, y, md, ck) -> Rep` (every output, then the full state);
+//! - the drive clocks: `struct Ck`, `rig_clock(kc, t)` and
+//!   `rig_clock_shift(c, q)`. An `exp` or `expm1` whose exponent is `c·t` (`c`
+//!   a run constant; the velocity drive's ramp `e^{−v·t/r}`) is read from `ck`,
+//!   which the run loop computes once per step and carries to the stage times
+//!   by `m + q + m·q`. The derivative, the events and the outputs are emitted
+//!   as `rig_deriv_c`, `rig_events_c`, `rig_output0_c` and `rig_report_c`,
+//!   taking `ck`; `rig_deriv` and `rig_events` (for the located-switch path)
+//!   compute it at `t`, as the CPU reference computes the exponential.
+
+use std::fmt::Write as _;
+
+use crate::compile::exec::tape::{Frame, Tape};
+use crate::compile::ir::{Id, Input, Op, operands};
+use crate::compile::program::{Direction, Program, Transition};
+
+/// Most located switches one program may have on the GPU (`rig_hits` is a
+/// 32-bit mask).
+pub const MAX_TRANSITIONS: usize = 32;
+
+/// Why a program cannot run in the kernels.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum EmitError {
+    /// More transitions than [`MAX_TRANSITIONS`].
+    #[error("{0} located switches; the GPU kernels take at most {MAX_TRANSITIONS}")]
+    TooManyTransitions(usize),
+}
+
+/// A program prepared for the kernels: which run constants become slots, and the
+/// tables the data buffer must hold.
+#[derive(Debug, Clone)]
+pub struct GpuRig {
+    prog: Program,
+    tape: Tape,
+    /// Graph ids of the run constants the kernels read, in slot order.
+    pub slots: Vec<Id>,
+    /// Inline tables (index into `prog.tables`) with their offset in the data
+    /// buffer's prefix ([`GpuRig::table_data`]).
+    inline: Vec<(u32, u32, u32)>,
+    table_data: Vec<f64>,
+    /// The fitness kernel's program where it skips switches that can no
+    /// longer reach the fitted output ([`crate::compile::analysis::liveness`]); the same graph,
+    /// slots and tables, only the transitions' guards differ.
+    fitted: Option<Box<GpuRig>>,
+}
+
+/// Whether `id` is a run constant that a kernel reads as a slot (not a literal).
+fn is_slot(p: &Program, id: Id) -> bool {
+    p.run_constant[id as usize] && !matches!(p.graph.ops[id as usize], Op::Const(_))
+}
+
+impl GpuRig {
+    /// Prepares `prog` for the kernels, its fitness kernel skipping the
+    /// switches that can no longer reach the fitted output
+    /// ([`crate::compile::analysis::liveness::skipping_variant`]).
+    pub fn new(prog: &Program) -> Result<Self, EmitError> {
+        Self::with_fitted(
+            prog,
+            crate::compile::analysis::liveness::skipping_variant(prog),
+        )
+    }
+
+    /// Prepares `prog` for the kernels, with `fitted`, `prog`'s fitness
+    /// variant where it differs (the same graph; guards only), for the fitness
+    /// kernel.
+    pub fn with_fitted(prog: &Program, fitted: Option<Program>) -> Result<Self, EmitError> {
+        if prog.transitions.len() > MAX_TRANSITIONS {
+            return Err(EmitError::TooManyTransitions(prog.transitions.len()));
+        }
+        let tape = Tape::new(prog);
+        // Run constants read by a per-step operation or used as a root.
+        let mut roots: Vec<Id> = prog.deriv.clone();
+        roots.extend(prog.event_roots());
+        roots.extend(&prog.outputs);
+        roots.extend(&prog.full_state);
+        let live = prog.graph.live(&roots);
+        let mut wanted = vec![false; prog.graph.ops.len()];
+        for (i, op) in prog.graph.ops.iter().enumerate() {
+            if live[i] && !prog.run_constant[i] {
+                for o in operands(op) {
+                    wanted[o as usize] = true;
+                }
+            }
+        }
+        for &r in &roots {
+            wanted[r as usize] = true;
+        }
+        let slots: Vec<Id> = (0..prog.graph.ops.len() as Id)
+            .filter(|&i| wanted[i as usize] && is_slot(prog, i))
+            .collect();
+        let mut inline = Vec::new();
+        let mut table_data = Vec::new();
+        for (k, t) in prog.tables.iter().enumerate() {
+            if let Some(t) = t {
+                inline.push((k as u32, table_data.len() as u32, t.t.len() as u32));
+                table_data.extend_from_slice(&t.t);
+                table_data.extend_from_slice(&t.value);
+            }
+        }
+        let fitted = fitted.map(|variant| {
+            Box::new(Self {
+                prog: variant,
+                tape: tape.clone(),
+                slots: slots.clone(),
+                inline: inline.clone(),
+                table_data: table_data.clone(),
+                fitted: None,
+            })
+        });
+        Ok(Self {
+            prog: prog.clone(),
+            tape,
+            slots,
+            inline,
+            table_data,
+            fitted,
+        })
+    }
+
+    /// The rig as the fitness kernel runs it: with the switches that cannot
+    /// reach the fitted output skipped where they cannot.
+    pub fn fitted(&self) -> &GpuRig {
+        self.fitted.as_deref().unwrap_or(self)
+    }
+
+    /// The program.
+    pub fn program(&self) -> &Program {
+        &self.prog
+    }
+
+    /// Continuous states.
+    pub fn states(&self) -> usize {
+        self.prog.deriv.len()
+    }
+
+    /// Mode variables.
+    pub fn modes(&self) -> usize {
+        self.prog.mode_count()
+    }
+
+    /// Values per run in the state buffer: the states, the modes, the residual sum.
+    pub fn state_stride(&self) -> u32 {
+        (self.states() + self.modes() + 1) as u32
+    }
+
+    /// Values per history record: t, every output, the full state.
+    pub fn hist_values(&self) -> u32 {
+        (1 + self.prog.outputs.len() + self.prog.full_state.len()) as u32
+    }
+
+    /// The inline tables, breakpoint times then values per table, which the data
+    /// buffer holds first.
+    pub fn table_data(&self) -> &[f64] {
+        &self.table_data
+    }
+
+    /// Slot names (`K<id>`), for the prelude's `P_*` indices; a program with
+    /// initial-state parameters adds the run's initial state (`Y0_<i>`) and
+    /// initial modes (`M0_<j>`).
+    pub fn slot_names(&self) -> Vec<String> {
+        let mut names: Vec<String> = self.slots.iter().map(|i| format!("K{i}")).collect();
+        if self.prog.has_initial() {
+            names.extend((0..self.states()).map(|i| format!("Y0_{i}")));
+            names.extend((0..self.modes()).map(|j| format!("M0_{j}")));
+        }
+        names
+    }
+
+    /// Appends the run's slots for the full parameter vector `params`: the run
+    /// constants evaluated by the CPU reference's own code, then (with
+    /// initial-state parameters) the initial state and modes as the reference
+    /// chooses them ([`crate::compile::exec::initial`]; the event functions do not read the
+    /// experiment's table, which the host does not pass here).
+    pub fn pack(&self, params: &[f64], out: &mut Vec<f64>) {
+        let mut frame = Frame::new(&self.prog, &self.tape, params, None);
+        out.extend(self.slots.iter().map(|&i| frame.get(i)));
+        if self.prog.has_initial() {
+            let (y0, modes) =
+                crate::compile::exec::initial::initial_state(&self.prog, &self.tape, &mut frame);
+            out.extend(y0);
+            out.extend(modes.into_iter().map(f64::from));
+        }
+    }
+
+    /// The WGSL source of the rig functions; `literal` writes a constant in
+    /// the kernel's precision.
+    pub fn source(&self, literal: &dyn Fn(f64) -> String) -> String {
+        let mut e = Emitter {
+            rig: self,
+            literal,
+            clocks: vec![],
+        };
+        e.clocks = e.find_clocks();
+        e.emit()
+    }
+}
+
+struct Emitter<'a> {
+    rig: &'a GpuRig,
+    literal: &'a dyn Fn(f64) -> String,
+    /// The drive clocks: exponents `c·t` (operand id, `c` as WGSL) whose
+    /// `exp`/`expm1` the run loop carries from stage to stage.
+    clocks: Vec<(Id, String)>,
+}
+
+impl Emitter<'_> {
+    fn prog(&self) -> &Program {
+        &self.rig.prog
+    }
+
+    /// `c` as WGSL where operation `id` is `c·t` with `c` a run constant
+    /// (the time itself, or products, quotients and negations of it by run
+    /// constants).
+    fn time_coef(&self, id: Id) -> Option<String> {
+        let p = self.prog();
+        let rc = |k: Id| p.run_constant[k as usize];
+        match p.graph.ops[id as usize] {
+            Op::In(Input::Time) => Some("real(1.0)".into()),
+            Op::Neg(a) => self.time_coef(a).map(|c| format!("-({c})")),
+            Op::Mul(a, b) if rc(a) => self
+                .time_coef(b)
+                .map(|c| format!("{} * ({c})", self.name(a))),
+            Op::Mul(a, b) if rc(b) => self
+                .time_coef(a)
+                .map(|c| format!("({c}) * {}", self.name(b))),
+            Op::Div(a, b) if rc(b) => self
+                .time_coef(a)
+                .map(|c| format!("({c}) / {}", self.name(b))),
+            _ => None,
+        }
+    }
+
+    /// Every distinct exponent `c·t` of a live `exp`/`expm1`, in graph order.
+    fn find_clocks(&self) -> Vec<(Id, String)> {
+        let p = self.prog();
+        let mut roots: Vec<Id> = p.deriv.clone();
+        roots.extend(p.event_roots());
+        roots.extend(&p.outputs);
+        roots.extend(&p.full_state);
+        let live = p.graph.live(&roots);
+        let mut clocks: Vec<(Id, String)> = Vec::new();
+        for (i, op) in p.graph.ops.iter().enumerate() {
+            let (Op::Exp(a) | Op::Expm1(a)) = *op else {
+                continue;
+            };
+            if !live[i] || p.run_constant[i] || clocks.iter().any(|c| c.0 == a) {
+                continue;
+            }
+            if let Some(c) = self.time_coef(a) {
+                clocks.push((a, c));
+            }
+        }
+        clocks
+    }
+
+    /// The clock of exponent `a`, if it is one.
+    fn clock_of(&self, a: Id) -> Option<usize> {
+        self.clocks.iter().position(|c| c.0 == a)
+    }
+
+    /// How operation `id` is referred to inside a per-step function.
+    fn name(&self, id: Id) -> String {
+        let p = self.prog();
+        match p.graph.ops[id as usize] {
+            Op::Const(c) => (self.literal)(c),
+            _ if p.run_constant[id as usize] => format!("kc.k{id}"),
+            _ => format!("v{id}"),
+        }
+    }
+
+    /// The `let` lines of every per-step operation `roots` need, in graph order.
+    fn body(&self, roots: &[Id]) -> String {
+        let p = self.prog();
+        let live = p.graph.live(roots);
+        let mut s = String::new();
+        for (i, op) in p.graph.ops.iter().enumerate() {
+            if !live[i] || p.run_constant[i] {
+                continue;
+            }
+            let n = |id: Id| self.name(id);
+            let e = match *op {
+                Op::Const(_) => continue,
+                Op::In(Input::Time) => "t".into(),
+                Op::In(Input::Slot(_)) => unreachable!("slots are run constants"),
+                Op::In(Input::State(k)) => format!("y.s{k}"),
+                Op::In(Input::Mode(m)) => format!("real(md.m{m})"),
+                Op::In(Input::Table(k)) => format!("table_at(kc.toff{k}, kc.tlen{k}, t)"),
+                Op::Add(a, b) => format!("{} + {}", n(a), n(b)),
+                Op::Sub(a, b) => format!("{} - {}", n(a), n(b)),
+                Op::Mul(a, b) => format!("{} * {}", n(a), n(b)),
+                Op::Div(a, b) => format!("{} / {}", n(a), n(b)),
+                Op::Neg(a) => format!("-{}", n(a)),
+                Op::Abs(a) => format!("abs({})", n(a)),
+                Op::Min(a, b) => format!("min({}, {})", n(a), n(b)),
+                Op::Max(a, b) => format!("max({}, {})", n(a), n(b)),
+                Op::Exp(a) => match self.clock_of(a) {
+                    Some(j) => format!("ck.m{j} + real(1.0)"),
+                    None => format!("exp_r({})", n(a)),
+                },
+                Op::Expm1(a) => match self.clock_of(a) {
+                    Some(j) => format!("ck.m{j}"),
+                    None => format!("expm1_r({})", n(a)),
+                },
+                Op::Ln(a) => format!("ln_r({})", n(a)),
+                Op::Sin(a) => format!("sin_r({})", n(a)),
+                Op::Cos(a) => format!("cos_r({})", n(a)),
+                Op::Le(a, b) => format!("select(real(0.0), real(1.0), {} <= {})", n(a), n(b)),
+                Op::Eq(a, b) => format!("select(real(0.0), real(1.0), {} == {})", n(a), n(b)),
+                Op::Select(c, a, b) => {
+                    format!("select({}, {}, {} != real(0.0))", n(b), n(a), n(c))
+                }
+            };
+            let _ = writeln!(s, "    let v{i} = {e};");
+        }
+        s
+    }
+
+    fn fields(&self, prefix: &str, n: usize, ty: &str) -> String {
+        (0..n)
+            .map(|i| format!("    {prefix}{i}: {ty},\n"))
+            .collect()
+    }
+
+    fn emit(&self) -> String {
+        let p = self.prog();
+        let (ns, nm) = (self.rig.states(), self.rig.modes());
+        let mut s =
+            String::from("// Generated from the rig description by src/compile/back/wgsl.rs.\n\n");
+        let _ = writeln!(s, "const RIG_STATES: u32 = {ns}u;");
+        let _ = writeln!(s, "const RIG_MODES: u32 = {nm}u;");
+        let _ = writeln!(
+            s,
+            "const RIG_REPORT: u32 = {}u;\n",
+            self.rig.hist_values() - 1
+        );
+        let _ = write!(s, "struct St {{\n{}}}\n\n", self.fields("s", ns, "real"));
+        // WGSL has no empty structs: a rig without modes keeps one unused.
+        let _ = write!(
+            s,
+            "struct Md {{\n{}}}\n\n",
+            self.fields("m", nm.max(1), "u32")
+        );
+        let mut kc = String::new();
+        for &i in &self.rig.slots {
+            let _ = writeln!(kc, "    k{i}: real,");
+        }
+        for k in 0..p.tables.len() {
+            let _ = writeln!(kc, "    toff{k}: u32,\n    tlen{k}: u32,");
+        }
+        if kc.is_empty() {
+            kc.push_str("    unused: u32,\n");
+        }
+        let _ = write!(s, "struct Kc {{\n{kc}}}\n\n");
+        let _ = write!(
+            s,
+            "struct Rep {{\n    v: array<real, {}>,\n}}\n\n",
+            self.rig.hist_values() - 1
+        );
+        let _ = write!(
+            s,
+            "struct Ev {{\n    g: array<real, {}>,\n}}\n\n",
+            p.transitions.len().max(1)
+        );
+        s.push_str(&self.loaders());
+        s.push_str(&self.state_algebra());
+        s.push_str(&self.clock_functions());
+        s.push_str(&self.functions());
+        s
+    }
+
+    fn loaders(&self) -> String {
+        let p = self.prog();
+        let (ns, nm) = (self.rig.states(), self.rig.modes());
+        let mut s = String::from("fn rig_load(base: u32, ex: ExpInfo) -> Kc {\n    var kc: Kc;\n");
+        for &i in &self.rig.slots {
+            let _ = writeln!(s, "    kc.k{i} = param(base, P_K{i});");
+        }
+        for k in 0..p.tables.len() {
+            match self.rig.inline.iter().find(|t| t.0 == k as u32) {
+                Some(&(_, off, len)) => {
+                    let _ = writeln!(s, "    kc.toff{k} = {off}u;\n    kc.tlen{k} = {len}u;");
+                }
+                None => {
+                    let _ = writeln!(
+                        s,
+                        "    kc.toff{k} = ex.table_offset;\n    kc.tlen{k} = ex.table_len;"
+                    );
+                }
+            }
+        }
+        s.push_str("    return kc;\n}\n\n");
+        s.push_str("fn rig_state_load(sb: u32) -> St {\n    var y: St;\n");
+        for i in 0..ns {
+            let _ = writeln!(s, "    y.s{i} = state[sb + {i}u];");
+        }
+        s.push_str("    return y;\n}\n\n");
+        s.push_str("fn rig_modes_load(sb: u32) -> Md {\n    var md: Md;\n");
+        for j in 0..nm {
+            let _ = writeln!(s, "    md.m{j} = u32(state[sb + {}u]);", ns + j);
+        }
+        s.push_str("    return md;\n}\n\n");
+        // The run's start (`advance`, before its first step): the packed
+        // initial state and modes, or nothing (the cleared state buffer is
+        // rest in modes 0).
+        s.push_str("fn rig_initial(base: u32, y: ptr<function, St>, md: ptr<function, Md>) {\n");
+        if p.has_initial() {
+            for i in 0..ns {
+                let _ = writeln!(s, "    (*y).s{i} = param(base, P_Y0_{i});");
+            }
+            for j in 0..nm {
+                let _ = writeln!(s, "    (*md).m{j} = u32(param(base, P_M0_{j}));");
+            }
+        }
+        s.push_str("}\n\n");
+        s.push_str("fn rig_state_store(sb: u32, y: St, md: Md) {\n");
+        for i in 0..ns {
+            let _ = writeln!(s, "    state[sb + {i}u] = y.s{i};");
+        }
+        for j in 0..nm {
+            let _ = writeln!(s, "    state[sb + {}u] = real(md.m{j});", ns + j);
+        }
+        let _ = writeln!(s, "}}\n\nconst RIG_ACC: u32 = {}u;\n", ns + nm);
+        s
+    }
+
+    fn state_algebra(&self) -> String {
+        let ns = self.rig.states();
+        let each = |f: &dyn Fn(usize) -> String| -> String {
+            (0..ns)
+                .map(|i| format!("    r.s{i} = {};\n", f(i)))
+                .collect()
+        };
+        let mut s = String::new();
+        let _ = write!(
+            s,
+            "fn st_axpy(y: St, a: real, k: St) -> St {{\n    var r: St;\n{}    return r;\n}}\n\n",
+            each(&|i| format!("y.s{i} + a * k.s{i}"))
+        );
+        let _ = write!(
+            s,
+            "fn st_rk4(y: St, h6: real, k1: St, k2: St, k3: St, k4: St) -> St {{\n    var r: St;\n{}    return r;\n}}\n\n",
+            each(&|i| format!(
+                "y.s{i} + h6 * (((k1.s{i} + real(2.0) * k2.s{i}) + real(2.0) * k3.s{i}) + k4.s{i})"
+            ))
+        );
+        let _ = write!(
+            s,
+            "fn st_hermite(y0: St, f0: St, y1: St, f1: St, c00: real, c10: real, c01: real, c11: real) -> St {{\n    var r: St;\n{}    return r;\n}}\n\n",
+            each(&|i| format!("((c00 * y0.s{i} + c10 * f0.s{i}) + c01 * y1.s{i}) + c11 * f1.s{i}"))
+        );
+        s
+    }
+
+    fn functions(&self) -> String {
+        let p = self.prog();
+        let sig = "kc: Kc, t: real, y: St, md: Md, ck: Ck";
+        let mut s = String::new();
+        // Derivative.
+        let _ = write!(
+            s,
+            "fn rig_deriv_c({sig}) -> St {{\n{}    var r: St;\n",
+            self.body(&p.deriv)
+        );
+        for (i, &d) in p.deriv.iter().enumerate() {
+            let _ = writeln!(s, "    r.s{i} = {};", self.name(d));
+        }
+        s.push_str("    return r;\n}\n\n");
+        // Events: every event function, then which armed transitions fire
+        // over a step (Transition::fires).
+        let _ = write!(
+            s,
+            "fn rig_events_c({sig}) -> Ev {{\n{}    var r: Ev;\n",
+            self.body(&p.event_roots())
+        );
+        for (i, tr) in p.transitions.iter().enumerate() {
+            let _ = writeln!(s, "    r.g[{i}] = {};", self.name(tr.g));
+        }
+        s.push_str("    return r;\n}\n\n");
+        s.push_str("fn rig_hits(g0: Ev, g1: Ev, md: Md) -> u32 {\n    var hits = 0u;\n");
+        for (i, tr) in p.transitions.iter().enumerate() {
+            let g = |e: &str| oriented(tr.dir, &format!("{e}.g[{i}]"));
+            let _ = writeln!(
+                s,
+                "    hits |= select(0u, {}u, {} && {});",
+                1u64 << i,
+                armed(tr),
+                fires(&g("g1"), &g("g0"))
+            );
+        }
+        s.push_str("    return hits;\n}\n\n");
+        s.push_str(&self.window());
+        s.push_str("fn rig_oriented(g: Ev, i: u32) -> real {\n    switch i {\n");
+        for (i, tr) in p.transitions.iter().enumerate() {
+            let _ = writeln!(
+                s,
+                "        case {i}u: {{ return {}; }}",
+                oriented(tr.dir, &format!("g.g[{i}]"))
+            );
+        }
+        s.push_str("        default: { return real(0.0); }\n    }\n}\n\n");
+        s.push_str("fn rig_fire(i: u32, md: ptr<function, Md>) {\n    switch i {\n");
+        for (i, tr) in p.transitions.iter().enumerate() {
+            let _ = writeln!(
+                s,
+                "        case {i}u: {{ (*md).m{} = {}u; }}",
+                tr.var, tr.to
+            );
+        }
+        s.push_str("        default: {}\n    }\n}\n\n");
+        // Outputs.
+        let out0 = p.outputs.first().copied();
+        match out0 {
+            Some(o) => {
+                let _ = write!(
+                    s,
+                    "fn rig_output0_c({sig}) -> real {{\n{}    return {};\n}}\n\n",
+                    self.body(&[o]),
+                    self.name(o)
+                );
+            }
+            None => {
+                let _ = write!(
+                    s,
+                    "fn rig_output0_c({sig}) -> real {{\n    return real(0.0);\n}}\n\n"
+                );
+            }
+        }
+        let mut roots = p.outputs.clone();
+        roots.extend(&p.full_state);
+        let _ = write!(
+            s,
+            "fn rig_report_c({sig}) -> Rep {{\n{}    var r: Rep;\n",
+            self.body(&roots)
+        );
+        for (j, &id) in roots.iter().enumerate() {
+            let _ = writeln!(s, "    r.v[{j}] = {};", self.name(id));
+        }
+        s.push_str("    return r;\n}\n\n");
+        // The same at a time whose clocks are not at hand.
+        for (f, ty) in [("rig_deriv", "St"), ("rig_events", "Ev")] {
+            let _ = writeln!(
+                s,
+                "fn {f}(kc: Kc, t: real, y: St, md: Md) -> {ty} {{\n    return {f}_c(kc, t, y, md, rig_clock(kc, t));\n}}\n"
+            );
+        }
+        s
+    }
+
+    /// The flat loop's test, for its every step: whether an armed transition
+    /// may fire over the step. Each event function is split into a base and a
+    /// threshold where it is `base − c` with `c` a run constant (else the base
+    /// is the whole function and `c` is 0), and the transitions on one base
+    /// share a window: `struct Eb` (each base, from `rig_bases_c`), `struct
+    /// Win` and `rig_window(kc, md)` (per base, the least threshold of the
+    /// armed upward transitions and the greatest of the armed downward ones,
+    /// found once per block: the modes change only on a located step), and
+    /// `rig_outside(w, b)` (the base at or past an end of its window).
+    ///
+    /// The test is conservative, never exact: a transition that fires is past
+    /// its switch at the step's end (`fl(base − c) ≥ 0` upward, `≤ 0`
+    /// downward), and subtraction rounds monotonically, so the base is then
+    /// outside the window too. A step it flags where none fires costs the
+    /// located-step path one plain step (`rig_hits`, the exact test, finds
+    /// nothing); it never decides which transition fires. Two subtractions
+    /// and two comparisons per base, however many transitions share it (the
+    /// tensile rig's yield, its reverse and fracture all on the specimen's
+    /// elongation), joined by the non-short-circuit `|` (a short-circuit `||`
+    /// becomes a branch, which a CPU driver runs under a mask).
+    fn window(&self) -> String {
+        let p = self.prog();
+        let rc = |k: Id| p.run_constant[k as usize];
+        let mut bases: Vec<(Id, Vec<(usize, String)>)> = Vec::new();
+        for (i, tr) in p.transitions.iter().enumerate() {
+            let (b, c) = match p.graph.ops[tr.g as usize] {
+                Op::Sub(a, c) if rc(c) && !rc(a) => (a, self.name(c)),
+                _ => (tr.g, "real(0.0)".to_string()),
+            };
+            match bases.iter_mut().find(|e| e.0 == b) {
+                Some(e) => e.1.push((i, c)),
+                None => bases.push((b, vec![(i, c)])),
+            }
+        }
+        let roots: Vec<Id> = bases.iter().map(|e| e.0).collect();
+        let sig = "kc: Kc, t: real, y: St, md: Md, ck: Ck";
+        let mut s = format!(
+            "struct Eb {{\n{}}}\n\nfn rig_bases_c({sig}) -> Eb {{\n{}    var r: Eb;\n",
+            self.fields("b", roots.len().max(1), "real"),
+            self.body(&roots)
+        );
+        if roots.is_empty() {
+            s.push_str("    r.b0 = real(0.0);\n");
+        }
+        for (j, &b) in roots.iter().enumerate() {
+            let _ = writeln!(s, "    r.b{j} = {};", self.name(b));
+        }
+        let _ = write!(
+            s,
+            "    return r;\n}}\n\nstruct Win {{\n{}{}}}\n\nfn rig_window(kc: Kc, md: Md) -> Win {{\n    var w: Win;\n",
+            self.fields("lo", roots.len().max(1), "real"),
+            self.fields("hi", roots.len().max(1), "real"),
+        );
+        let mut terms = Vec::new();
+        for (j, (_, trs)) in bases.iter().enumerate() {
+            let _ = writeln!(s, "    w.lo{j} = -REAL_MAX;\n    w.hi{j} = REAL_MAX;");
+            for dir in [Direction::Up, Direction::Down] {
+                let mut any = false;
+                for (i, c) in trs.iter().filter(|(i, _)| p.transitions[*i].dir == dir) {
+                    let tr = &p.transitions[*i];
+                    let (side, pick) = match dir {
+                        Direction::Up => ("hi", "min"),
+                        Direction::Down => ("lo", "max"),
+                    };
+                    let _ = writeln!(
+                        s,
+                        "    w.{side}{j} = select(w.{side}{j}, {pick}(w.{side}{j}, {c}), {});",
+                        armed(tr)
+                    );
+                    any = true;
+                }
+                if any {
+                    terms.push(match dir {
+                        Direction::Up => format!("b.b{j} - w.hi{j} >= real(0.0)"),
+                        Direction::Down => format!("b.b{j} - w.lo{j} <= real(0.0)"),
+                    });
+                }
+            }
+        }
+        if roots.is_empty() {
+            s.push_str("    w.lo0 = -REAL_MAX;\n    w.hi0 = REAL_MAX;\n");
+        }
+        if terms.is_empty() {
+            terms.push("false".into());
+        }
+        let _ = write!(
+            s,
+            "    return w;\n}}\n\nfn rig_outside(w: Win, b: Eb) -> bool {{\n    return {};\n}}\n\n",
+            terms.join("\n        | ")
+        );
+        s
+    }
+
+    /// `struct Ck` (each clock's `expm1(c·t)`), `rig_clock(kc, t)` and
+    /// `rig_clock_shift(c, q)`, the clocks `δ` later from the clocks at `t`
+    /// and `q` (the clocks at `δ`): `e^{c(t+δ)} − 1 = m + q + m·q`, exact in
+    /// real arithmetic and without cancellation where both are small.
+    fn clock_functions(&self) -> String {
+        let mut s = String::from("struct Ck {\n");
+        if self.clocks.is_empty() {
+            s.push_str("    unused: real,\n");
+        }
+        for j in 0..self.clocks.len() {
+            let _ = writeln!(s, "    m{j}: real,");
+        }
+        s.push_str("}\n\nfn rig_clock(kc: Kc, t: real) -> Ck {\n    var c: Ck;\n");
+        if self.clocks.is_empty() {
+            s.push_str("    c.unused = t;\n");
+        }
+        for (j, (_, coef)) in self.clocks.iter().enumerate() {
+            let _ = writeln!(s, "    c.m{j} = expm1_r(({coef}) * t);");
+        }
+        s.push_str(
+            "    return c;\n}\n\nfn rig_clock_shift(c: Ck, q: Ck) -> Ck {\n    var r = c;\n",
+        );
+        for j in 0..self.clocks.len() {
+            let _ = writeln!(s, "    r.m{j} = (c.m{j} + q.m{j}) + c.m{j} * q.m{j};");
+        }
+        s.push_str("    return r;\n}\n\n");
+        s
+    }
+}
+
+/// Whether `tr` is armed at the modes `md` (`Transition::armed`): its
+/// variable at its `from` value and every pair of its guard held.
+fn armed(tr: &Transition) -> String {
+    std::iter::once((tr.var, tr.from))
+        .chain(tr.guard.iter().copied())
+        .map(|(v, x)| format!("md.m{v} == {x}u"))
+        .collect::<Vec<_>>()
+        .join(" && ")
+}
+
+/// An event value `g` oriented so that `>= 0` is past its switch
+/// (`Transition::oriented`): `g` for an upward switch, `−g` (exact) for a
+/// downward one.
+fn oriented(dir: Direction, g: &str) -> String {
+    match dir {
+        Direction::Up => g.to_string(),
+        Direction::Down => format!("-({g})"),
+    }
+}
+
+/// Whether an armed transition fires over a step, from its oriented event
+/// values at the step's end `o1` and start `o0` (`Transition::fires`): past
+/// the switch at the end, and before it at the start or further past.
+fn fires(o1: &str, o0: &str) -> String {
+    format!("{o1} >= real(0.0) && (!({o0} >= real(0.0)) || {o1} > {o0})")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rig::SHIPPED;
+
+    #[test]
+    fn transitions_on_one_base_share_a_window() {
+        let desc = crate::rig::shipped("tensile4").expect("a shipped rig");
+        let rig = crate::model::compiled::CompiledRig::new(desc, "tensile4").expect("compiles");
+        let prog = &rig.lowered.programs[0];
+        let src = GpuRig::new(prog)
+            .expect("emits")
+            .source(&|v| format!("real({v:e})"));
+        // Slack closing and opening on the adapter's gap; yield, its reverse
+        // and fracture on the specimen's elongation.
+        assert_eq!(prog.transitions.len(), 5);
+        let eb = &src[src.find("struct Eb {").expect("struct Eb")..];
+        assert_eq!(eb[..eb.find('}').unwrap()].matches(": real").count(), 2);
+        let out = &src[src.find("fn rig_outside(").expect("rig_outside")..];
+        let out = &out[..out.find('}').unwrap()];
+        assert_eq!(out.matches("w.hi").count(), 2, "{out}");
+        assert_eq!(out.matches("w.lo").count(), 2, "{out}");
+        assert!(!out.contains("||"), "short-circuit test: {out}");
+    }
+
+    #[test]
+    fn every_shipped_rig_emits_its_functions() {
+        for (id, _) in SHIPPED {
+            let desc = crate::rig::shipped(id).expect("a shipped rig");
+            let rig = crate::model::compiled::CompiledRig::new(desc, id).expect("compiles");
+            for prog in &rig.lowered.programs {
+                let g = GpuRig::new(prog).expect("emits");
+                let src = g.source(&|v| format!("real({v:e})"));
+                for f in [
+                    "fn rig_deriv",
+                    "fn rig_events",
+                    "fn rig_hits",
+                    "fn rig_window",
+                    "fn rig_outside",
+                    "fn rig_fire",
+                    "fn rig_report",
+                ] {
+                    assert!(src.contains(f), "{id}: {f} missing");
+                }
+                let mut out = Vec::new();
+                let params: Vec<f64> = rig
+                    .desc
+                    .params
+                    .iter()
+                    .map(|p| p.default.unwrap_or(1.0))
+                    .collect();
+                g.pack(&params, &mut out);
+                assert_eq!(out.len(), g.slots.len());
+            }
+        }
+    }
+}

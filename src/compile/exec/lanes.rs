@@ -1,0 +1,822 @@
+//! The CPU ensemble of a compiled rig: up to [`LANES`] runs of one experiment
+//! (one sample grid) advanced together. The tape's operations are translated
+//! once into a register program ([`crate::compile::exec::lane_code`]); every instruction is
+//! applied to all runs in blocks of [`W`] lanes (structure of arrays), so the
+//! compiler turns each into a few vector instructions, and `exp`/`expm1` are
+//! [`crate::compile::exec::math`]'s branch-free forms, which vectorise too.
+//!
+//! Between steps every lane's state sits in the state registers, where the
+//! event and report lists read it; RK4 reads each slope where the derivative
+//! left it and sums them as they come, so a step copies the state once (its
+//! start, kept for a lane that must redo it). A run reports every output and
+//! the full state, or output 0 alone ([`Report`]), with the list that
+//! computes just that.
+//!
+//! Plain steps, event checks and reports run over the lanes. A lane whose step
+//! ends past a switch is handed to its own [`EventStepper`], which redoes that
+//! step from its start with the switch located: the lanes evaluate the same
+//! operations in the same order as the scalar reference, so every lane's history
+//! is bit-identical to [`EventStepper`]'s (`tests/rig_cpu_ensemble.rs`).
+
+#![expect(
+    clippy::needless_range_loop,
+    reason = "lane loops index several arrays in step, the shape the vectoriser wants"
+)]
+
+use std::ops::ControlFlow;
+
+use crate::base::{FittedSample, PiecewiseLinear, Report, Sample, lane_bits};
+use crate::base::{SampleGrid, walk_grid};
+use crate::compile::back::c::Arith;
+use crate::compile::back::native::{Native, NativeList};
+use crate::compile::exec::events::EventStepper;
+use crate::compile::exec::lane_code::{Ins, LaneCode, List};
+use crate::compile::exec::tape::{Tape, table_value};
+use crate::compile::ir::{Id, Op, operands};
+use crate::compile::program::{Direction, Program};
+
+/// Lanes in one vector block.
+pub const W: usize = 8;
+/// Blocks in a register.
+pub(crate) const BLOCKS: usize = 8;
+/// Runs advanced together, at most.
+pub const LANES: usize = W * BLOCKS;
+// Lane sets are bits of a `u64`.
+const _: () = assert!(LANES <= 64);
+
+type Blk = [f64; W];
+/// One value of every lane, aligned to a cache line so no vector load or
+/// store straddles two.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(C, align(64))]
+pub(crate) struct Reg([Blk; BLOCKS]);
+
+impl std::ops::Index<usize> for Reg {
+    type Output = Blk;
+    #[inline(always)]
+    fn index(&self, b: usize) -> &Blk {
+        &self.0[b]
+    }
+}
+
+impl std::ops::IndexMut<usize> for Reg {
+    #[inline(always)]
+    fn index_mut(&mut self, b: usize) -> &mut Blk {
+        &mut self.0[b]
+    }
+}
+
+impl Reg {
+    /// Every lane `v`.
+    const fn splat(v: f64) -> Self {
+        Self([[v; W]; BLOCKS])
+    }
+
+    /// Whether lanes `0..lanes` hold the same bits.
+    fn agrees(&self, lanes: usize) -> bool {
+        let v0 = self[0][0].to_bits();
+        (0..lanes).all(|l| self[l / W][l % W].to_bits() == v0)
+    }
+}
+
+const ZERO: Reg = Reg::splat(0.0);
+
+/// `d = f(a, b)`, block by block (operands copied in, so `d` may be `a`).
+#[inline(always)]
+fn bin(r: &mut [Reg], nb: usize, d: usize, a: Id, b: Id, f: impl Fn(f64, f64) -> f64) {
+    for k in 0..nb {
+        let (x, y) = (r[a as usize][k], r[b as usize][k]);
+        let mut o = [0.0; W];
+        for l in 0..W {
+            o[l] = f(x[l], y[l]);
+        }
+        r[d][k] = o;
+    }
+}
+
+/// `d = f(a)`, block by block.
+#[inline(always)]
+fn un(r: &mut [Reg], nb: usize, d: usize, a: Id, f: impl Fn(f64) -> f64) {
+    for k in 0..nb {
+        let x = r[a as usize][k];
+        let mut o = [0.0; W];
+        for l in 0..W {
+            o[l] = f(x[l]);
+        }
+        r[d][k] = o;
+    }
+}
+
+/// Which blocks an instruction computes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Span {
+    /// Every active block.
+    Lanes,
+    /// Block 0 alone: a value every lane shares that only instructions of
+    /// the same kind read (in block 0).
+    One,
+    /// Block 0, then copied to the others, where a later instruction that
+    /// runs over every block, or the caller (a root), reads it.
+    OneCopied,
+}
+
+impl Span {
+    /// Each instruction's span in `list`, given which give every lane the
+    /// same value ([`List::uniform`]).
+    fn of(list: &List, uniform: &[bool]) -> Vec<Self> {
+        let code = &list.code;
+        (0..code.len())
+            .map(|j| {
+                if !uniform[j] {
+                    return Self::Lanes;
+                }
+                let d = code[j].dest;
+                for (later, &u) in code[j + 1..].iter().zip(&uniform[j + 1..]) {
+                    if !u && operands(&later.op).contains(&Id::from(d)) {
+                        return Self::OneCopied;
+                    }
+                    if later.dest == d {
+                        return Self::One;
+                    }
+                }
+                if list.roots.contains(&d) {
+                    Self::OneCopied
+                } else {
+                    Self::One
+                }
+            })
+            .collect()
+    }
+}
+
+/// Runs `code` (instruction by instruction over `span`'s blocks) over the
+/// first `nb` blocks of `r`.
+#[inline(always)]
+fn exec(code: &[Ins], span: &[Span], r: &mut [Reg], nb: usize) {
+    use crate::compile::exec::math::{exp, expm1};
+    for (&ins, &sp) in code.iter().zip(span) {
+        // A value every lane shares is computed in one block (and copied
+        // where a block of its own lane reads it).
+        let nb = if sp == Span::Lanes { nb } else { 1 };
+        let d = ins.dest as usize;
+        match ins.op {
+            Op::Add(a, b) => bin(r, nb, d, a, b, |x, y| x + y),
+            Op::Sub(a, b) => bin(r, nb, d, a, b, |x, y| x - y),
+            Op::Mul(a, b) => bin(r, nb, d, a, b, |x, y| x * y),
+            Op::Div(a, b) => bin(r, nb, d, a, b, |x, y| x / y),
+            Op::Min(a, b) => bin(r, nb, d, a, b, f64::min),
+            Op::Max(a, b) => bin(r, nb, d, a, b, f64::max),
+            Op::Le(a, b) => bin(r, nb, d, a, b, |x, y| if x <= y { 1.0 } else { 0.0 }),
+            Op::Eq(a, b) => bin(r, nb, d, a, b, |x, y| if x == y { 1.0 } else { 0.0 }),
+            Op::Neg(a) => un(r, nb, d, a, |x| -x),
+            Op::Abs(a) => un(r, nb, d, a, f64::abs),
+            Op::Exp(a) => un(r, nb, d, a, exp),
+            Op::Expm1(a) => un(r, nb, d, a, expm1),
+            Op::Ln(a) => un(r, nb, d, a, f64::ln),
+            Op::Sin(a) => un(r, nb, d, a, f64::sin),
+            Op::Cos(a) => un(r, nb, d, a, f64::cos),
+            Op::Select(c, a, b) => {
+                for k in 0..nb {
+                    let (s, x, y) = (r[c as usize][k], r[a as usize][k], r[b as usize][k]);
+                    let mut o = [0.0; W];
+                    for l in 0..W {
+                        o[l] = if s[l] != 0.0 { x[l] } else { y[l] };
+                    }
+                    r[d][k] = o;
+                }
+            }
+            Op::Const(_) | Op::In(_) => unreachable!("registers filled before the list runs"),
+        }
+        if sp == Span::OneCopied {
+            let b0 = r[d][0];
+            r[d].0[1..].fill(b0);
+        }
+    }
+}
+
+/// After one of RK4's first three derivatives, whose slopes are in the
+/// registers `slopes`: `acc = k` (the first) or `acc += 2·k`, and the next
+/// stage's input `y + c·k` into the state registers, lane by lane.
+#[inline(always)]
+fn stage(
+    r: &mut [Reg],
+    nb: usize,
+    y: &[Reg],
+    acc: &mut [Reg],
+    slopes: &[u16],
+    c: f64,
+    first: bool,
+) {
+    for i in 0..y.len() {
+        let s = slopes[i] as usize;
+        for b in 0..nb {
+            let (yb, kb, mut a) = (y[i][b], r[s][b], acc[i][b]);
+            let mut o = [0.0; W];
+            for l in 0..W {
+                a[l] = if first { kb[l] } else { a[l] + 2.0 * kb[l] };
+                o[l] = yb[l] + c * kb[l];
+            }
+            acc[i][b] = a;
+            r[i][b] = o;
+        }
+    }
+}
+
+/// RK4's last line after its fourth derivative: `y + c·(acc + k)` into the
+/// state registers, lane by lane, with `acc = k₀ + 2k₁ + 2k₂` summed in that
+/// order by [`stage`], so it rounds as `y + c·(k₀ + 2k₁ + 2k₂ + k₃)` does.
+#[inline(always)]
+fn finish(r: &mut [Reg], nb: usize, y: &[Reg], acc: &[Reg], slopes: &[u16], c: f64) {
+    for i in 0..y.len() {
+        let s = slopes[i] as usize;
+        for b in 0..nb {
+            let (yb, kb, a) = (y[i][b], r[s][b], acc[i][b]);
+            let mut o = [0.0; W];
+            for l in 0..W {
+                o[l] = yb[l] + c * (a[l] + kb[l]);
+            }
+            r[i][b] = o;
+        }
+    }
+}
+
+/// Sets the bit of each lane of the first `nb` blocks whose mode is `from`,
+/// whose guard holds (each (register, value) pair of `guard.0`, registers
+/// `guard.1`) and whose event function `g` is `past` its switch.
+#[inline(always)]
+fn mark(
+    hit: &mut [u8; BLOCKS],
+    nb: usize,
+    g: &Reg,
+    mode: &Reg,
+    from: f64,
+    guard: (&[(u16, f64)], &[Reg]),
+    past: impl Fn(f64) -> bool,
+) {
+    for b in 0..nb {
+        let (gb, mb) = (g[b], mode[b]);
+        let mut bits = 0;
+        for l in 0..W {
+            bits |= u8::from(past(gb[l]) & (mb[l] == from)) << l;
+        }
+        for &(r, v) in guard.0 {
+            let rb = guard.1[usize::from(r)][b];
+            for l in 0..W {
+                bits &= !(u8::from(rb[l] != v) << l);
+            }
+        }
+        hit[b] |= bits;
+    }
+}
+
+/// The vector instructions the lane loops are compiled for, picked at run
+/// time: the same source built three times, for AVX-512, AVX2 and the
+/// baseline. None of them fuses a multiply and an add (Rust never contracts
+/// floating-point expressions), so all three round exactly as the scalar
+/// reference does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Isa {
+    /// The target's baseline (SSE2 on x86-64).
+    Base,
+    /// 256-bit vectors.
+    Avx2,
+    /// 512-bit vectors.
+    Avx512,
+}
+
+#[cfg(target_arch = "x86_64")]
+mod wide {
+    use super::{Ins, Reg, Span, exec, finish, stage};
+
+    /// `f` built for AVX-512 (`wide`) and for AVX2 (`narrow`): the same
+    /// source, compiled with each feature enabled.
+    macro_rules! built_for {
+        ($($f:ident => $wide:ident, $narrow:ident ($($a:ident: $t:ty),*);)*) => {$(
+            #[target_feature(enable = "avx512f")]
+            pub fn $wide($($a: $t),*) {
+                $f($($a),*);
+            }
+            #[target_feature(enable = "avx2")]
+            pub fn $narrow($($a: $t),*) {
+                $f($($a),*);
+            }
+        )*};
+    }
+
+    built_for! {
+        exec => exec_512, exec_256(code: &[Ins], span: &[Span], r: &mut [Reg], nb: usize);
+        stage => stage_512, stage_256(
+            r: &mut [Reg], nb: usize, y: &[Reg], acc: &mut [Reg], slopes: &[u16], c: f64, first: bool
+        );
+        finish => finish_512, finish_256(
+            r: &mut [Reg], nb: usize, y: &[Reg], acc: &[Reg], slopes: &[u16], c: f64
+        );
+    }
+}
+
+impl Isa {
+    /// The widest this processor runs, or the one `RIGFIT_LANES_ISA`
+    /// (`base`, `avx2`, `avx512`) names if the processor has it; decided once
+    /// per process.
+    pub fn detect() -> Self {
+        static PICKED: std::sync::OnceLock<Isa> = std::sync::OnceLock::new();
+        *PICKED.get_or_init(|| {
+            let best = Self::widest();
+            match std::env::var("RIGFIT_LANES_ISA").as_deref() {
+                Ok("base") => Self::Base,
+                Ok("avx2") if best != Self::Base => Self::Avx2,
+                _ => best,
+            }
+        })
+    }
+
+    /// Every one this processor runs, narrowest first.
+    pub fn available() -> Vec<Self> {
+        let w = Self::widest();
+        [Self::Base, Self::Avx2, Self::Avx512]
+            .into_iter()
+            .filter(|&i| i == Self::Base || i == Self::Avx2 && w != Self::Base || i == w)
+            .collect()
+    }
+
+    fn widest() -> Self {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                return Self::Avx512;
+            }
+            if std::arch::is_x86_feature_detected!("avx2") {
+                return Self::Avx2;
+            }
+        }
+        Self::Base
+    }
+
+    #[expect(
+        unsafe_code,
+        reason = "calls the loops built for a feature `detect` found"
+    )]
+    fn exec(self, code: &[Ins], span: &[Span], r: &mut [Reg], nb: usize) {
+        match self {
+            // SAFETY: `detect` returns these only where the processor has them.
+            #[cfg(target_arch = "x86_64")]
+            Self::Avx512 => unsafe { wide::exec_512(code, span, r, nb) },
+            #[cfg(target_arch = "x86_64")]
+            Self::Avx2 => unsafe { wide::exec_256(code, span, r, nb) },
+            _ => exec(code, span, r, nb),
+        }
+    }
+
+    #[expect(
+        unsafe_code,
+        reason = "calls the loops built for a feature `detect` found"
+    )]
+    #[expect(clippy::too_many_arguments, reason = "the loop's operands, as `stage`")]
+    fn stage(
+        self,
+        r: &mut [Reg],
+        nb: usize,
+        y: &[Reg],
+        acc: &mut [Reg],
+        slopes: &[u16],
+        c: f64,
+        first: bool,
+    ) {
+        match self {
+            // SAFETY: as in `exec`.
+            #[cfg(target_arch = "x86_64")]
+            Self::Avx512 => unsafe { wide::stage_512(r, nb, y, acc, slopes, c, first) },
+            #[cfg(target_arch = "x86_64")]
+            Self::Avx2 => unsafe { wide::stage_256(r, nb, y, acc, slopes, c, first) },
+            _ => stage(r, nb, y, acc, slopes, c, first),
+        }
+    }
+
+    #[expect(
+        unsafe_code,
+        reason = "calls the loops built for a feature `detect` found"
+    )]
+    fn finish(self, r: &mut [Reg], nb: usize, y: &[Reg], acc: &[Reg], slopes: &[u16], c: f64) {
+        match self {
+            // SAFETY: as in `exec`.
+            #[cfg(target_arch = "x86_64")]
+            Self::Avx512 => unsafe { wide::finish_512(r, nb, y, acc, slopes, c) },
+            #[cfg(target_arch = "x86_64")]
+            Self::Avx2 => unsafe { wide::finish_256(r, nb, y, acc, slopes, c) },
+            _ => finish(r, nb, y, acc, slopes, c),
+        }
+    }
+}
+
+/// Up to [`LANES`] runs of one program on one grid.
+#[derive(Debug)]
+pub struct LaneRunner<'p> {
+    prog: &'p Program,
+    code: &'p LaneCode,
+    force: Option<&'p PiecewiseLinear>,
+    /// Active blocks.
+    nb: usize,
+    isa: Isa,
+    /// Per list (derivative, events, report, fitted output): each
+    /// instruction's span (every lane, or one value all share).
+    spans: [Vec<Span>; 4],
+    /// The register file; between steps its state registers hold every
+    /// lane's state, which the event and report lists read where it is.
+    regs: Vec<Reg>,
+    steppers: Vec<EventStepper<'p>>,
+    /// The state at the start of the step being taken.
+    y: Vec<Reg>,
+    /// RK4's running sum of slopes, `k₀ + 2k₁ + 2k₂`.
+    acc: Vec<Reg>,
+    /// Per block, a bit per lane whose step ended past an armed switch.
+    hit: [u8; BLOCKS],
+    /// One lane's state, for a step its stepper redoes, and where the lanes'
+    /// plain step ended.
+    lane_y: Vec<f64>,
+    lane_end: Vec<f64>,
+    /// The lane code built to native code, which then runs the steps and
+    /// lists instead of the interpreter.
+    native: Option<&'p Native>,
+    /// Table values for `native`'s calls.
+    tab: Vec<f64>,
+    /// Whether every active lane shares `native`'s `hoist_reads`.
+    hoist: bool,
+    /// A bit per lane whose stepper found its run chattering (its outputs
+    /// NaN from then on).
+    chattered: u64,
+    /// The number the observer is given for lane 0.
+    first: usize,
+}
+
+impl<'p> LaneRunner<'p> {
+    /// Runs of `prog` (translated to `code`) for each parameter vector of
+    /// `params` (at most [`LANES`]).
+    pub fn new(
+        prog: &'p Program,
+        tape: &'p Tape,
+        code: &'p LaneCode,
+        params: &[&[f64]],
+        force: Option<&'p PiecewiseLinear>,
+    ) -> Self {
+        assert!(!params.is_empty() && params.len() <= LANES);
+        let steppers: Vec<EventStepper<'p>> = params
+            .iter()
+            .map(|p| EventStepper::new(prog, tape, p, force))
+            .collect();
+        let nb = params.len().div_ceil(W);
+        let n = prog.deriv.len();
+        let mut regs = vec![ZERO; code.registers];
+        // Each run's constants, and the initial state and modes its stepper
+        // found; idle lanes repeat lane 0, so they compute something finite.
+        for l in 0..nb * W {
+            let s = steppers.get(l).unwrap_or(&steppers[0]);
+            let (b, j) = (l / W, l % W);
+            for &(id, reg) in &code.constants {
+                regs[reg as usize][b][j] = s.frame.get(id);
+            }
+            for (i, &v) in s.y0.iter().enumerate() {
+                regs[i][b][j] = v;
+            }
+            for (m, &v) in s.modes.iter().enumerate() {
+                regs[code.modes[m] as usize][b][j] = f64::from(v);
+            }
+        }
+        // Registers every active lane shares: time, tables and the per-run
+        // constants whose values agree (fixed parameters, literals).
+        let lists = [&code.deriv, &code.events, &code.report, &code.fitted];
+        let mut shared = vec![false; code.registers];
+        shared[code.time as usize] = true;
+        for l in lists {
+            for &(_, reg) in &l.tables {
+                shared[reg as usize] = true;
+            }
+        }
+        for &(_, reg) in &code.constants {
+            shared[reg as usize] = regs[reg as usize].agrees(nb * W);
+        }
+        let spans = lists.map(|l| Span::of(l, &l.uniform(&mut shared.clone())));
+        Self {
+            prog,
+            code,
+            force,
+            nb,
+            isa: Isa::detect(),
+            spans,
+            regs,
+            steppers,
+            y: vec![ZERO; n],
+            acc: vec![ZERO; n],
+            hit: [0; BLOCKS],
+            lane_y: vec![0.0; n],
+            lane_end: vec![0.0; n],
+            native: None,
+            tab: vec![],
+            hoist: false,
+            chattered: 0,
+            first: 0,
+        }
+    }
+
+    /// The same runs through `native`, the build of this runner's lane code
+    /// ([`Native::build`]), instead of the interpreter.
+    pub fn with_native(mut self, native: &'p Native) -> Self {
+        self.tab = vec![0.0; 4 * native.table_stride];
+        let lanes = self.nb * W;
+        self.hoist = native
+            .hoist_reads
+            .iter()
+            .all(|&reg| self.regs[reg as usize].agrees(lanes));
+        if native.arith == Arith::F32 {
+            // The f32 code reads each per-run constant as f32, its lanes
+            // packed at the start of its row, instead of rounding it at
+            // every step.
+            for &(_, reg) in &self.code.constants {
+                let row = &mut self.regs[reg as usize];
+                let lanes: Vec<f32> = row.0.iter().flatten().map(|&x| x as f32).collect();
+                let packed: &mut [f32] = bytemuck::cast_slice_mut(&mut row.0[..]);
+                packed[..lanes.len()].copy_from_slice(&lanes);
+            }
+        }
+        for st in &mut self.steppers {
+            st.with_native_deriv(self.code, native);
+        }
+        self.native = Some(native);
+        self
+    }
+
+    /// Lane `l` is run `first + l` to the observer (a group of a larger
+    /// batch).
+    pub fn numbered_from(mut self, first: usize) -> Self {
+        self.first = first;
+        self
+    }
+
+    /// `native`'s table values at each time of `tt`.
+    fn fill_tables(&mut self, tt: &[f64]) {
+        let stride = self.tab.len() / 4;
+        for (s, &t) in tt.iter().enumerate() {
+            for k in 0..stride {
+                self.tab[s * stride + k] = table_value(self.prog, self.force, k as u32, t);
+            }
+        }
+    }
+
+    /// The same runs on vector instructions `isa` (one of
+    /// [`Isa::available`]) instead of the widest.
+    pub fn with_isa(mut self, isa: Isa) -> Self {
+        assert!(
+            Isa::available().contains(&isa),
+            "{isa:?} is not available here"
+        );
+        self.isa = isa;
+        self
+    }
+
+    /// Fills the time and table registers for `list` (whose spans are
+    /// `self.spans[which]`) at `t`, then runs it.
+    fn eval(&mut self, list: &List, which: usize, t: f64) {
+        let nb = self.nb;
+        if let Some(native) = self.native {
+            let which = match which {
+                1 => NativeList::Events,
+                2 => NativeList::Report,
+                _ => NativeList::Fitted,
+            };
+            self.fill_tables(&[t]);
+            native.list(which, &mut self.regs, nb, t, &self.tab, &mut self.hit);
+            return;
+        }
+        if list.uses_time {
+            self.regs[self.code.time as usize].0[..nb].fill([t; W]);
+        }
+        for &(table, reg) in &list.tables {
+            let v = table_value(self.prog, self.force, table, t);
+            self.regs[reg as usize].0[..nb].fill([v; W]);
+        }
+        self.isa
+            .exec(&list.code, &self.spans[which], &mut self.regs, nb);
+    }
+
+    /// The derivative at the state registers' values, its slopes left in the
+    /// registers `code.slopes`.
+    fn deriv(&mut self, t: f64) {
+        let code = self.code;
+        self.eval(&code.deriv, 0, t);
+        for &(state, copy) in &code.slope_copies {
+            self.regs[copy as usize] = self.regs[state as usize];
+        }
+    }
+
+    /// One RK4 step of every lane from the state registers' values, its
+    /// start kept in `y`; written as `EventStepper`'s so the lanes round
+    /// alike.
+    fn rk4(&mut self, t: f64, h: f64) {
+        if let Some(native) = self.native {
+            let tt = [t, t + 0.5 * h, t + 0.5 * h, t + h];
+            self.fill_tables(&tt);
+            let (ch, h6) = (0.5 * h, h / 6.0);
+            native.rk4(
+                &mut self.regs,
+                &mut self.y,
+                self.nb,
+                &tt,
+                &self.tab,
+                ch,
+                h,
+                h6,
+                self.hoist,
+            );
+            return;
+        }
+        let (n, nb, isa, slopes) = (self.y.len(), self.nb, self.isa, &self.code.slopes);
+        self.y.copy_from_slice(&self.regs[..n]);
+        for (s, c) in [0.5 * h, 0.5 * h, h].into_iter().enumerate() {
+            self.deriv(if s == 0 { t } else { t + 0.5 * h });
+            isa.stage(
+                &mut self.regs,
+                nb,
+                &self.y,
+                &mut self.acc,
+                slopes,
+                c,
+                s == 0,
+            );
+        }
+        self.deriv(t + h);
+        isa.finish(&mut self.regs, nb, &self.y, &self.acc, slopes, h / 6.0);
+    }
+
+    /// Sets the bit in `hit` of each lane whose event function (in its
+    /// register) is past an armed switch.
+    fn mark_hits(&mut self) {
+        let (code, nb) = (self.code, self.nb);
+        for ((&(mode, from, dir), &g), guard) in
+            code.armed.iter().zip(&code.events.roots).zip(&code.guards)
+        {
+            let (g, mode) = (&self.regs[g as usize], &self.regs[mode as usize]);
+            let guard = (&guard[..], &self.regs[..]);
+            // `Transition::violated`, its direction fixed outside the loop.
+            match dir {
+                Direction::Up => mark(&mut self.hit, nb, g, mode, from, guard, |g| {
+                    Direction::Up.past(g)
+                }),
+                Direction::Down => {
+                    mark(&mut self.hit, nb, g, mode, from, guard, |g| {
+                        Direction::Down.past(g)
+                    });
+                }
+            }
+        }
+    }
+
+    /// One step of every lane from `t`; lanes past a switch are redone by
+    /// their own stepper with the switch located.
+    fn step(&mut self, t: f64, h: f64) {
+        let nb = self.nb;
+        self.rk4(t, h);
+        let code = self.code;
+        self.hit = [0; BLOCKS];
+        // Native code sets the hit bits as it computes the event functions.
+        self.eval(&code.events, 1, t + h);
+        if self.native.is_none() {
+            self.mark_hits();
+        }
+        if self.hit[..nb].iter().all(|&h| h == 0) {
+            return;
+        }
+        let mut lane_y = std::mem::take(&mut self.lane_y);
+        let mut lane_end = std::mem::take(&mut self.lane_end);
+        for l in 0..self.steppers.len() {
+            let (b, j) = (l / W, l % W);
+            if self.hit[b] >> j & 1 == 0 || self.chattered >> l & 1 == 1 {
+                continue;
+            }
+            for (s, v) in lane_y.iter_mut().enumerate() {
+                *v = self.y[s][b][j];
+            }
+            for (s, v) in lane_end.iter_mut().enumerate() {
+                *v = self.regs[s][b][j];
+            }
+            let st = &mut self.steppers[l];
+            st.step_ending_at(t, h, &mut lane_y, &lane_end);
+            for (s, v) in lane_y.iter().enumerate() {
+                self.regs[s][b][j] = *v;
+            }
+            for (m, &v) in st.modes.iter().enumerate() {
+                self.regs[self.code.modes[m] as usize][b][j] = f64::from(v);
+            }
+            self.chattered |= u64::from(st.chattered) << l;
+        }
+        self.lane_y = lane_y;
+        self.lane_end = lane_end;
+    }
+
+    /// Runs every lane over `grid`, handing output 0 of every lane to
+    /// `observe` at each sample (as [`crate::model::RigModel::simulate_fitted`]
+    /// does: lanes numbered from [`Self::numbered_from`], `live` a bit per
+    /// lane still observed), until no lane is left.
+    pub fn run_fitted(
+        &mut self,
+        grid: &SampleGrid,
+        observe: &mut dyn FnMut(&FittedSample<'_>, &mut u64),
+    ) {
+        let lanes = self.steppers.len();
+        let code = self.code;
+        let out = code.fitted.roots[0] as usize;
+        let mut live = lane_bits(lanes);
+        let mut values = vec![0.0; lanes];
+        walk_grid(
+            grid,
+            self,
+            |me, t, h| me.step(t, h),
+            |me, k, t| {
+                me.eval(&code.fitted, 3, t);
+                let row = &me.regs[out];
+                for (l, v) in values.iter_mut().enumerate() {
+                    *v = if me.chattered >> l & 1 == 1 {
+                        f64::NAN
+                    } else {
+                        row[l / W][l % W]
+                    };
+                }
+                let s = FittedSample {
+                    first: me.first,
+                    index: k,
+                    t,
+                    values: &values,
+                };
+                observe(&s, &mut live);
+                if live != 0 {
+                    ControlFlow::Continue(())
+                } else {
+                    ControlFlow::Break(())
+                }
+            },
+        );
+    }
+
+    /// Runs every lane over `grid`, calling `observe(lane, sample)` at every
+    /// sample until the lane's observer breaks, with what `report` asks for
+    /// in each sample (only the list that computes it runs).
+    pub fn run(
+        &mut self,
+        grid: &SampleGrid,
+        report: Report,
+        observe: &mut dyn FnMut(usize, &Sample<'_>) -> ControlFlow<()>,
+    ) {
+        let lanes = self.steppers.len();
+        let code = self.code;
+        let (list, which) = match report {
+            Report::Full => (&code.report, 2),
+            Report::Fitted => (&code.fitted, 3),
+        };
+        // A bit per lane whose observer has not broken.
+        let mut live = lane_bits(lanes);
+        let n_out = match report {
+            Report::Full => self.prog.outputs.len(),
+            Report::Fitted => list.roots.len(),
+        };
+        let mut outs = vec![0.0; n_out];
+        let mut full = vec![0.0; list.roots.len() - n_out];
+        let (outputs, state) = list.roots.split_at(n_out);
+        walk_grid(
+            grid,
+            self,
+            |me, t, h| me.step(t, h),
+            |me, k, t| {
+                me.eval(list, which, t);
+                let mut left = live;
+                while left != 0 {
+                    let l = left.trailing_zeros() as usize;
+                    left &= left - 1;
+                    let (b, j) = (l / W, l % W);
+                    let chattered = me.chattered >> l & 1 == 1;
+                    for (o, &reg) in outs.iter_mut().zip(outputs) {
+                        *o = if chattered {
+                            f64::NAN
+                        } else {
+                            me.regs[reg as usize][b][j]
+                        };
+                    }
+                    for (o, &reg) in full.iter_mut().zip(state) {
+                        *o = me.regs[reg as usize][b][j];
+                    }
+                    let s = Sample {
+                        index: k,
+                        t,
+                        state: &full,
+                        outputs: &outs,
+                    };
+                    if observe(me.first + l, &s).is_break() {
+                        live &= !(1 << l);
+                    }
+                }
+                if live != 0 {
+                    ControlFlow::Continue(())
+                } else {
+                    ControlFlow::Break(())
+                }
+            },
+        );
+    }
+}

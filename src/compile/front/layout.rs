@@ -1,0 +1,424 @@
+//! The rig-wide layout every drive mode shares: names, the state and mode
+//! variables each element owns, the checks of each element's description,
+//! and coefficients lowered to the graph.
+
+use std::collections::HashMap;
+
+use crate::compile::ir::{Graph, Id, Input};
+use crate::compile::program::ModeVar;
+use crate::rig::RigError;
+use crate::rig::desc::{
+    BacklashDesc, Coef, DamperLaw, DriveLaw, ElementDesc, GapKind, RigDesc, SpringLaw,
+};
+
+/// Rig-wide facts every drive mode shares.
+pub(super) struct Layout<'a> {
+    pub(super) desc: &'a RigDesc,
+    pub(super) file: String,
+    pub(super) params: HashMap<&'a str, u32>,
+    pub(super) nodes: HashMap<&'a str, usize>,
+    pub(super) elements: HashMap<&'a str, usize>,
+    /// Mode variable of each element's fracture, contact, yield, friction.
+    pub(super) break_var: Vec<Option<u32>>,
+    pub(super) contact_var: Vec<Option<u32>>,
+    pub(super) yield_var: Vec<Option<u32>>,
+    pub(super) friction_var: Vec<Option<(u32, u32)>>,
+    /// Mode variable and play-state slot of each backlash element.
+    pub(super) backlash_var: Vec<Option<(u32, u32)>>,
+    /// Mode variable of each drive's pulse (half-sine: before, on, after).
+    pub(super) drive_var: Vec<Option<u32>>,
+    pub(super) modes: Vec<ModeVar>,
+    pub(super) states: Vec<String>,
+}
+
+impl<'a> Layout<'a> {
+    pub(super) fn err(
+        &self,
+        path: impl Into<String>,
+        expected: impl Into<String>,
+        found: impl Into<String>,
+    ) -> RigError {
+        RigError::new(self.file.clone(), path, expected, found)
+    }
+
+    pub(super) fn new(desc: &'a RigDesc, file: String) -> Result<Self, RigError> {
+        let mut me = Layout {
+            desc,
+            file,
+            params: HashMap::new(),
+            nodes: HashMap::new(),
+            elements: HashMap::new(),
+            break_var: vec![],
+            contact_var: vec![],
+            yield_var: vec![],
+            friction_var: vec![],
+            backlash_var: vec![],
+            drive_var: vec![],
+            modes: vec![],
+            states: vec![],
+        };
+        let ident = |s: &str| {
+            !s.is_empty()
+                && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+                && !s.starts_with(|c: char| c.is_ascii_digit())
+        };
+        if !ident(&desc.id) {
+            return Err(me.err(
+                "id",
+                "an identifier (letters, digits, '_')",
+                format!("{:?}", desc.id),
+            ));
+        }
+        for (i, p) in desc.params.iter().enumerate() {
+            let path = format!("params[{i}].name");
+            if !ident(&p.name) {
+                return Err(me.err(
+                    path,
+                    "an identifier (letters, digits, '_')",
+                    format!("{:?}", p.name),
+                ));
+            }
+            if me.params.insert(&p.name, i as u32).is_some() {
+                return Err(me.err(
+                    path,
+                    "a unique parameter name",
+                    format!("{:?} a second time", p.name),
+                ));
+            }
+            if let Some(d) = p.default
+                && !d.is_finite()
+            {
+                return Err(me.err(
+                    format!("params[{i}].default"),
+                    "a finite number",
+                    d.to_string(),
+                ));
+            }
+        }
+        if desc.nodes.is_empty() {
+            return Err(me.err("nodes", "at least one node", "an empty list"));
+        }
+        for (i, n) in desc.nodes.iter().enumerate() {
+            let path = format!("nodes[{i}].name");
+            if !ident(&n.name) || n.name == "ground" {
+                return Err(me.err(
+                    path,
+                    "an identifier other than \"ground\"",
+                    format!("{:?}", n.name),
+                ));
+            }
+            if me.nodes.insert(&n.name, i).is_some() {
+                return Err(me.err(
+                    path,
+                    "a unique node name",
+                    format!("{:?} a second time", n.name),
+                ));
+            }
+            if let Coef::Number(m) = n.mass
+                && !(m > 0.0 && m.is_finite())
+            {
+                return Err(me.err(format!("nodes[{i}].mass"), "a mass > 0 (kg)", m.to_string()));
+            }
+        }
+        let n = desc.nodes.len();
+        me.states = desc.nodes.iter().map(|x| format!("x_{}", x.name)).collect();
+        me.states
+            .extend(desc.nodes.iter().map(|x| format!("v_{}", x.name)));
+        if desc.elements.is_empty() {
+            return Err(me.err("elements", "at least one element", "an empty list"));
+        }
+        let mut touched = vec![false; n];
+        for (i, e) in desc.elements.iter().enumerate() {
+            let path = format!("elements[{i}]");
+            if !ident(&e.name) {
+                return Err(me.err(
+                    format!("{path}.name"),
+                    "an identifier",
+                    format!("{:?}", e.name),
+                ));
+            }
+            if me.elements.insert(&e.name, i).is_some() {
+                return Err(me.err(
+                    format!("{path}.name"),
+                    "a unique element name",
+                    format!("{:?} a second time", e.name),
+                ));
+            }
+            for (s, end) in e.between.iter().enumerate() {
+                if end != "ground" {
+                    let Some(&k) = me.nodes.get(end.as_str()) else {
+                        return Err(me.err(
+                            format!("{path}.between[{s}]"),
+                            "a node name or \"ground\"",
+                            format!("{end:?}"),
+                        ));
+                    };
+                    touched[k] = true;
+                }
+            }
+            if e.between[0] == e.between[1] {
+                return Err(me.err(
+                    format!("{path}.between"),
+                    "two different ends",
+                    format!("{:?} twice", e.between[0]),
+                ));
+            }
+            if e.spring.is_none() && e.damper.is_none() && e.friction.is_none() {
+                return Err(me.err(path, "a \"spring\", \"damper\" or \"friction\" law", "none"));
+            }
+            if e.gap.is_some() && e.spring.is_none() && e.friction.is_none() {
+                return Err(me.err(
+                    format!("{path}.gap"),
+                    "a gap on an element with a spring (a damper alone behind a gap has no contact force to close on)",
+                    "a gap on a damper",
+                ));
+            }
+            if e.gap.is_some() && e.friction.is_some() {
+                return Err(me.err(
+                    format!("{path}.gap"),
+                    "no gap on a friction element",
+                    "both",
+                ));
+            }
+            let var = |me: &mut Self, suffix: &str, values: Vec<&'static str>| {
+                me.modes.push(ModeVar {
+                    name: format!("{}.{suffix}", e.name),
+                    values,
+                });
+                Some(me.modes.len() as u32 - 1)
+            };
+            let b = if e.breaks_at.is_some() {
+                var(&mut me, "fracture", vec!["intact", "broken"])
+            } else {
+                None
+            };
+            me.break_var.push(b);
+            let c = match e.gap.as_ref().map(|g| g.kind) {
+                Some(GapKind::FreePlay) => {
+                    var(&mut me, "contact", vec!["open", "tension", "compression"])
+                }
+                Some(_) => var(&mut me, "contact", vec!["open", "closed"]),
+                None => None,
+            };
+            me.contact_var.push(c);
+            let y = if matches!(e.spring, Some(SpringLaw::LinearThenPolynomial { .. })) {
+                var(&mut me, "yield", vec!["elastic", "plastic"])
+            } else {
+                None
+            };
+            me.yield_var.push(y);
+            let f = if e.friction.is_some() {
+                let v = var(
+                    &mut me,
+                    "friction",
+                    vec!["stuck", "slip_forward", "slip_backward"],
+                )
+                .unwrap();
+                me.states.push(format!("s_{}", e.name));
+                Some((v, me.states.len() as u32 - 1))
+            } else {
+                None
+            };
+            me.friction_var.push(f);
+            let p = if let Some(bd) = &e.backlash {
+                me.check_backlash(e, bd, &path)?;
+                let v = var(&mut me, "backlash", vec!["play", "tension", "compression"]).unwrap();
+                me.states.push(format!("p_{}", e.name));
+                Some((v, me.states.len() as u32 - 1))
+            } else {
+                None
+            };
+            me.backlash_var.push(p);
+        }
+        for (i, d) in desc.drives.iter().enumerate() {
+            let v = if matches!(d.law, DriveLaw::HalfSine { .. }) {
+                me.modes.push(ModeVar {
+                    name: format!("drives[{i}].pulse"),
+                    values: vec!["before", "on", "after"],
+                });
+                Some(me.modes.len() as u32 - 1)
+            } else {
+                None
+            };
+            me.drive_var.push(v);
+        }
+        for (k, t) in touched.iter().enumerate() {
+            if !t {
+                return Err(me.err(
+                    format!("nodes[{k}]"),
+                    "a node joined to the network by at least one element",
+                    format!("{:?} touches no element", desc.nodes[k].name),
+                ));
+            }
+        }
+        Ok(me)
+    }
+
+    /// What a backlash element needs: a spring and a viscous damper (the play
+    /// moves with `ṗ = ė + F_s/c`, singular for `c = 0`), no gap and no
+    /// friction, a half-width ≥ 0. Literal coefficients are checked here; a
+    /// damping parameter is checked per run (`CompiledRig::check`).
+    pub(super) fn check_backlash(
+        &self,
+        e: &ElementDesc,
+        bd: &BacklashDesc,
+        path: &str,
+    ) -> Result<(), RigError> {
+        let at = format!("{path}.backlash");
+        if e.gap.is_some() {
+            return Err(self.err(
+                at,
+                "no gap on a backlash element (the play is its gap)",
+                "both",
+            ));
+        }
+        if e.friction.is_some() {
+            return Err(self.err(at, "no friction on a backlash element", "both"));
+        }
+        if e.spring.is_none() || e.damper.is_none() {
+            let found = if e.spring.is_none() {
+                "no spring"
+            } else {
+                "no damper"
+            };
+            return Err(self.err(
+                at,
+                "a backlash element with both a spring and a viscous damper",
+                found,
+            ));
+        }
+        let Some(DamperLaw::Viscous { c }) = &e.damper else {
+            return Err(self.err(
+                format!("{path}.damper"),
+                "a viscous damper on a backlash element (the play's motion divides by c)",
+                "another damper law",
+            ));
+        };
+        if let Some(v) = literals(c).into_iter().find(|v| *v <= 0.0) {
+            return Err(self.err(
+                format!("{path}.damper.c"),
+                "a damping > 0 (N·s/m) on a backlash element (the play's motion divides by c)",
+                v.to_string(),
+            ));
+        }
+        if let Some(v) = literals(&bd.half_width).into_iter().find(|v| *v < 0.0) {
+            return Err(self.err(
+                format!("{at}.half_width"),
+                "a half-width ≥ 0 (m)",
+                v.to_string(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Lowers a coefficient at `path`.
+    /// An expression law: `src` lowered with `var` (`x` or `v`) bound to its
+    /// value and every other name a parameter; errors name the column.
+    pub(super) fn expression(
+        &self,
+        g: &mut Graph,
+        src: &str,
+        var: (&str, Id),
+        path: &str,
+    ) -> Result<Id, RigError> {
+        let expected = format!(
+            "a formula of {} and the rig's parameters (+ - * / ^, abs, sign, exp, ln, sqrt, sin, cos, tanh, min, max, spow)",
+            var.0
+        );
+        let short: String = src.chars().take(60).collect();
+        let at = |e: crate::compile::front::expr::ExprError| {
+            self.err(
+                path,
+                expected.clone(),
+                format!("{short:?}, column {}: {}", e.column, e.message),
+            )
+        };
+        let e = crate::compile::front::expr::parse(src).map_err(at)?;
+        let params = &self.params;
+        e.lower(g, &mut |g, name| {
+            if name == var.0 {
+                return Ok(var.1);
+            }
+            match params.get(name) {
+                Some(&i) => Ok(g.input(Input::Slot(i))),
+                None => {
+                    let mut names: Vec<&str> = params.keys().copied().collect();
+                    names.push(var.0);
+                    names.sort_unstable();
+                    let near = names
+                        .iter()
+                        .min_by_key(|n| strsim::levenshtein(n, name))
+                        .map(|n| format!(" (did you mean '{n}'?)"))
+                        .unwrap_or_default();
+                    Err(format!(
+                        "unknown name '{name}': not '{}' nor a parameter declared in \"params\"{near}",
+                        var.0
+                    ))
+                }
+            }
+        })
+        .map_err(at)
+    }
+
+    pub(super) fn coef(&self, g: &mut Graph, c: &Coef, path: &str) -> Result<Id, RigError> {
+        match c {
+            Coef::Number(v) if v.is_finite() => Ok(g.c(*v)),
+            Coef::Number(v) => Err(self.err(path, "a finite number", v.to_string())),
+            Coef::Param(name) => match self.params.get(name.as_str()) {
+                Some(&i) => Ok(g.input(Input::Slot(i))),
+                None => {
+                    let mut names: Vec<&str> = self.params.keys().copied().collect();
+                    names.sort_unstable();
+                    let near = names
+                        .iter()
+                        .copied()
+                        .min_by(|a, b| {
+                            strsim::levenshtein(a, name).cmp(&strsim::levenshtein(b, name))
+                        })
+                        .map(|n| format!(" (did you mean {n:?}?)"))
+                        .unwrap_or_default();
+                    Err(self.err(
+                        path,
+                        "a parameter declared in \"params\"",
+                        format!("{name:?}{near}"),
+                    ))
+                }
+            },
+            Coef::Switch(s) => {
+                let Some(&el) = self.elements.get(s.broken.as_str()) else {
+                    return Err(self.err(
+                        format!("{path}.broken"),
+                        "an element name",
+                        format!("{:?}", s.broken),
+                    ));
+                };
+                let Some(var) = self.break_var[el] else {
+                    return Err(self.err(
+                        format!("{path}.broken"),
+                        "an element with \"breaks_at\"",
+                        format!("{:?}, which never breaks", s.broken),
+                    ));
+                };
+                let before = self.coef(g, &s.before, &format!("{path}.before"))?;
+                let after = self.coef(g, &s.after, &format!("{path}.after"))?;
+                let m = g.input(Input::Mode(var));
+                let one = g.c(1.0);
+                let broken = g.eq(m, one);
+                Ok(g.select(broken, after, before))
+            }
+        }
+    }
+}
+
+/// The numbers written into a coefficient (both sides of a switch).
+pub(super) fn literals(c: &Coef) -> Vec<f64> {
+    match c {
+        Coef::Number(v) => vec![*v],
+        Coef::Param(_) => vec![],
+        Coef::Switch(s) => {
+            let mut v = literals(&s.before);
+            v.extend(literals(&s.after));
+            v
+        }
+    }
+}

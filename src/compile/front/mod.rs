@@ -1,0 +1,372 @@
+//! Rig description → [`Program`]s: every element law lowered to the IR, every
+//! switch a [`Transition`]. Checks the description on the way and names the
+//! JSON path of anything wrong.
+//!
+//! State layout: node displacements in node order, then node velocities, then
+//! the elements' internal states (the stretch of each friction element's
+//! tangential spring, the play position of each backlash element) in element
+//! order.
+
+mod drive;
+mod element;
+pub mod expr;
+mod layout;
+
+use super::program::{ModeVar, Program, Transition};
+use crate::base::PiecewiseLinear;
+use crate::compile::ir::{Graph, Id, Input};
+use crate::rig::RigError;
+use crate::rig::desc::{DriveLaw, Quantity, RigDesc};
+use drive::{moves_the_base, signal, table_drive};
+use element::element_force;
+use layout::Layout;
+
+/// The whole rig, checked: names, modes, one [`Program`] per drive mode.
+#[derive(Debug, Clone)]
+pub struct Lowered {
+    /// State names (`x_load_cell`, `v_load_cell`, `z_friction`, …).
+    pub states: Vec<String>,
+    /// Mode variables.
+    pub modes: Vec<ModeVar>,
+    /// Drive modes, `"velocity"` first.
+    pub programs: Vec<Program>,
+}
+
+/// Highest polynomial degree a law accepts.
+pub const MAX_DEGREE: usize = 5;
+
+/// One node's motion in a drive mode: (x, v) ids and how it is moved.
+#[derive(Clone, Copy)]
+struct Motion {
+    x: Id,
+    v: Id,
+    /// Acceleration where prescribed.
+    a: Option<Id>,
+}
+
+/// The parameter that holds state `state`'s initial value (`initial_v_mass`).
+pub fn initial_param(state: &str) -> String {
+    format!("initial_{state}")
+}
+
+/// The state names of `desc` (`x_<node>`, `v_<node>`, `s_<friction element>`,
+/// `p_<backlash element>`), in state order, with the description checked as far as the layout needs.
+pub fn state_names(desc: &RigDesc, file: &str) -> Result<Vec<String>, RigError> {
+    Ok(Layout::new(desc, file.to_string())?.states)
+}
+
+/// Lowers `desc` (read from `file`) for every drive mode it declares.
+pub fn lower(desc: &RigDesc, file: &str) -> Result<Lowered, RigError> {
+    let lay = Layout::new(desc, file.to_string())?;
+    let mut modes: Vec<String> = vec!["velocity".into()];
+    for (i, d) in desc.drives.iter().enumerate() {
+        if d.mode != "velocity" && d.mode != "force" {
+            return Err(lay.err(
+                format!("drives[{i}].mode"),
+                "\"velocity\" or \"force\"",
+                format!("{:?}", d.mode),
+            ));
+        }
+        if !modes.contains(&d.mode) {
+            modes.push(d.mode.clone());
+        }
+    }
+    if desc.outputs.is_empty() {
+        return Err(lay.err(
+            "outputs",
+            "at least one output (output 0 is fitted)",
+            "an empty list",
+        ));
+    }
+    let programs = modes
+        .iter()
+        .map(|m| lower_mode(&lay, m))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(Lowered {
+        states: lay.states.clone(),
+        modes: lay.modes.clone(),
+        programs,
+    })
+}
+
+fn lower_mode(lay: &Layout, mode: &str) -> Result<Program, RigError> {
+    let desc = lay.desc;
+    let n = desc.nodes.len();
+    let mut g = Graph::new();
+    let mut tables: Vec<Option<PiecewiseLinear>> = vec![];
+    let t = g.input(Input::Time);
+    let zero = g.c(0.0);
+    let one = g.c(1.0);
+    let mut motion: Vec<Motion> = (0..n)
+        .map(|k| Motion {
+            x: g.input(Input::State(k as u32)),
+            v: g.input(Input::State((n + k) as u32)),
+            a: None,
+        })
+        .collect();
+    let mut external: Vec<Vec<Id>> = vec![vec![]; n];
+    let mut base_accel: Vec<Id> = vec![];
+    let mut trans: Vec<Transition> = vec![];
+
+    for (i, d) in desc.drives.iter().enumerate() {
+        if d.mode != mode {
+            continue;
+        }
+        let path = format!("drives[{i}]");
+        let node = match (&d.node, &d.law) {
+            (_, law) if moves_the_base(law) => None,
+            (Some(name), _) => match lay.nodes.get(name.as_str()) {
+                Some(&k) => Some(k),
+                None => {
+                    return Err(lay.err(
+                        format!("{path}.node"),
+                        "a node name",
+                        format!("{name:?}"),
+                    ));
+                }
+            },
+            (None, _) => {
+                return Err(lay.err(format!("{path}.node"), "the node the drive acts on", "none"));
+            }
+        };
+        match &d.law {
+            DriveLaw::VelocityRamp { velocity, ramp } => {
+                let k = node.expect("checked");
+                if motion[k].a.is_some() {
+                    return Err(lay.err(
+                        format!("{path}.node"),
+                        "one prescribed motion per node",
+                        "a second one",
+                    ));
+                }
+                let v = lay.coef(&mut g, velocity, &format!("{path}.law.velocity"))?;
+                let r = lay.coef(&mut g, ramp, &format!("{path}.law.ramp"))?;
+                let rest = g.le(t, zero);
+                let no_ramp = g.le(r, zero);
+                let vr = g.div(v, r);
+                let v_over_r = g.select(no_ramp, zero, vr);
+                let e = g.mul(v_over_r, t);
+                let e = g.neg(e);
+                let m = g.push(crate::compile::ir::Op::Expm1(e));
+                let vt = g.mul(v, t);
+                let rm = g.mul(r, m);
+                let ramped_x = g.add(vt, rm);
+                let vm = g.mul(v, m);
+                let ramped_v = g.neg(vm);
+                let vvr = g.mul(v, v_over_r);
+                let m1 = g.add(m, one);
+                let ramped_a = g.mul(vvr, m1);
+                let x = g.select(no_ramp, vt, ramped_x);
+                let vel = g.select(no_ramp, v, ramped_v);
+                let acc = g.select(no_ramp, zero, ramped_a);
+                motion[k] = Motion {
+                    x: g.select(rest, zero, x),
+                    v: g.select(rest, zero, vel),
+                    a: Some(g.select(rest, zero, acc)),
+                };
+            }
+            DriveLaw::ForceTable { t: tt, value, gain } => {
+                let k = node.expect("checked");
+                let f = table_drive(lay, &mut g, &mut tables, &path, mode, tt, value, gain)?;
+                external[k].push(f);
+            }
+            DriveLaw::BaseAccelerationTable { t: tt, value, gain } => {
+                if d.node.is_some() {
+                    return Err(lay.err(
+                        format!("{path}.node"),
+                        "no node (the base moves every node)",
+                        "a node",
+                    ));
+                }
+                let a = table_drive(lay, &mut g, &mut tables, &path, mode, tt, value, gain)?;
+                base_accel.push(a);
+            }
+            DriveLaw::Sine { quantity, .. }
+            | DriveLaw::Chirp { quantity, .. }
+            | DriveLaw::HalfSine { quantity, .. } => {
+                if *quantity == Quantity::BaseAcceleration && d.node.is_some() {
+                    return Err(lay.err(
+                        format!("{path}.node"),
+                        "no node (the base moves every node)",
+                        "a node",
+                    ));
+                }
+                let (s, ds, dds) = signal(lay, &mut g, &d.law, i, &path, t, &mut trans)?;
+                match (quantity, node) {
+                    (Quantity::Force, Some(k)) => external[k].push(s),
+                    (Quantity::Displacement, Some(k)) => {
+                        if motion[k].a.is_some() {
+                            return Err(lay.err(
+                                format!("{path}.node"),
+                                "one prescribed motion per node",
+                                "a second one",
+                            ));
+                        }
+                        motion[k] = Motion {
+                            x: s,
+                            v: ds,
+                            a: Some(dds),
+                        };
+                    }
+                    _ => base_accel.push(s),
+                }
+            }
+        }
+    }
+
+    // Element forces.
+    let mut forces: Vec<Id> = vec![];
+    let mut internal: Vec<(u32, Id)> = vec![];
+    let ground = Motion {
+        x: zero,
+        v: zero,
+        a: Some(zero),
+    };
+    for (i, e) in desc.elements.iter().enumerate() {
+        let end = |s: &str| {
+            if s == "ground" {
+                ground
+            } else {
+                motion[lay.nodes[s]]
+            }
+        };
+        let (a, b) = (end(&e.between[0]), end(&e.between[1]));
+        let el = g.sub(b.x, a.x);
+        let rate = g.sub(b.v, a.v);
+        let f = element_force(lay, &mut g, e, i, el, rate, &mut trans, &mut internal)?;
+        forces.push(f);
+    }
+
+    // Node accelerations.
+    let mut deriv = vec![zero; lay.states.len()];
+    let mut accel: Vec<Id> = vec![zero; n];
+    for k in 0..n {
+        let node = &desc.nodes[k];
+        if let Some(a) = motion[k].a {
+            accel[k] = a;
+            continue;
+        }
+        let mut sum = zero;
+        for (i, e) in desc.elements.iter().enumerate() {
+            if e.between[0] == node.name {
+                sum = g.add(sum, forces[i]);
+            }
+            if e.between[1] == node.name {
+                sum = g.sub(sum, forces[i]);
+            }
+        }
+        for &f in &external[k] {
+            sum = g.add(sum, f);
+        }
+        let m = lay.coef(&mut g, &node.mass, &format!("nodes[{k}].mass"))?;
+        let inv_m = g.div(one, m);
+        let mut acc = g.mul(sum, inv_m);
+        for &ab in &base_accel {
+            acc = g.sub(acc, ab);
+        }
+        accel[k] = acc;
+        deriv[k] = motion[k].v;
+        deriv[n + k] = acc;
+    }
+    for (slot, dz) in internal {
+        deriv[slot as usize] = dz;
+    }
+    let mut full_state: Vec<Id> = (0..lay.states.len())
+        .map(|s| g.input(Input::State(s as u32)))
+        .collect();
+    for k in 0..n {
+        full_state[k] = motion[k].x;
+        full_state[n + k] = motion[k].v;
+    }
+
+    // Outputs.
+    let mut outputs = vec![];
+    for (o, out) in desc.outputs.iter().enumerate() {
+        if out.sum.is_empty() {
+            return Err(lay.err(
+                format!("outputs[{o}].sum"),
+                "at least one term",
+                "an empty list",
+            ));
+        }
+        let mut sum = zero;
+        for (j, term) in out.sum.iter().enumerate() {
+            let path = format!("outputs[{o}].sum[{j}]");
+            let picks = [
+                term.force.as_ref().map(|s| ("force", s)),
+                term.displacement.as_ref().map(|s| ("displacement", s)),
+                term.velocity.as_ref().map(|s| ("velocity", s)),
+                term.acceleration.as_ref().map(|s| ("acceleration", s)),
+            ];
+            let picked: Vec<_> = picks.iter().flatten().collect();
+            if picked.len() != 1 {
+                return Err(lay.err(
+                    path,
+                    "exactly one of force, displacement, velocity, acceleration",
+                    format!("{}", picked.len()),
+                ));
+            }
+            let (what, name) = *picked[0];
+            let v = if what == "force" {
+                match lay.elements.get(name.as_str()) {
+                    Some(&i) => forces[i],
+                    None => {
+                        return Err(lay.err(
+                            format!("{path}.force"),
+                            "an element name",
+                            format!("{name:?}"),
+                        ));
+                    }
+                }
+            } else {
+                let Some(&k) = lay.nodes.get(name.as_str()) else {
+                    return Err(lay.err(
+                        format!("{path}.{what}"),
+                        "a node name",
+                        format!("{name:?}"),
+                    ));
+                };
+                match what {
+                    "displacement" => motion[k].x,
+                    "velocity" => motion[k].v,
+                    _ => accel[k],
+                }
+            };
+            if !term.gain.is_finite() {
+                return Err(lay.err(
+                    format!("{path}.gain"),
+                    "a finite number",
+                    term.gain.to_string(),
+                ));
+            }
+            let gain = g.c(term.gain);
+            let v = g.mul(gain, v);
+            sum = g.add(sum, v);
+        }
+        outputs.push(sum);
+    }
+
+    // A state starts from the rig's `initial_<state>` parameter where it has
+    // one (a campaign's `"initial"` declares it), else at rest.
+    let initial = lay
+        .states
+        .iter()
+        .map(|s| match lay.params.get(initial_param(s).as_str()) {
+            Some(&i) => g.input(Input::Slot(i)),
+            None => zero,
+        })
+        .collect();
+    let mut p = Program {
+        mode: mode.to_string(),
+        graph: g,
+        deriv,
+        outputs,
+        full_state,
+        transitions: trans,
+        run_constant: vec![],
+        tables,
+        initial,
+    };
+    p.mark_run_constants();
+    Ok(p)
+}

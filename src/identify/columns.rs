@@ -1,0 +1,187 @@
+//! A reader for the multi-column CSV records the identification tools take:
+//! one column per channel, chosen by header name or by 1-based position.
+//!
+//! Rules (as for [`crate::identify::csv_input`]): fields separated by a comma,
+//! semicolon, tab or blanks; blank lines and lines starting with `#` are skipped;
+//! the first remaining line is a header when any of its fields is not a number;
+//! every other line must hold as many finite numbers as the first. Errors name the
+//! 1-based line.
+
+use std::path::Path;
+
+use super::PrecalError;
+
+/// A table of numeric columns.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Table {
+    /// Column names from the header row (empty when there was none).
+    pub header: Vec<String>,
+    /// The columns, each as long as the record.
+    pub columns: Vec<Vec<f64>>,
+}
+
+impl Table {
+    /// Reads a table from a file.
+    ///
+    /// # Errors
+    /// [`PrecalError::Io`] and the parsing errors of [`Table::parse`].
+    pub fn read(path: &Path) -> Result<Self, PrecalError> {
+        let text = std::fs::read_to_string(path).map_err(|source| PrecalError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Self::parse(&text)
+    }
+
+    /// Parses CSV text (see the module docs for the rules).
+    ///
+    /// # Errors
+    /// [`PrecalError::ColumnCount`], [`PrecalError::NotNumeric`],
+    /// [`PrecalError::NotFinite`], and [`PrecalError::TooFewPoints`] for a table
+    /// without data rows.
+    pub fn parse(text: &str) -> Result<Self, PrecalError> {
+        let mut header = Vec::new();
+        let mut columns: Vec<Vec<f64>> = Vec::new();
+        let mut first = true;
+        for (index, raw) in text.lines().enumerate() {
+            let line = index + 1;
+            let trimmed = raw.trim();
+            if trimmed.is_empty() || trimmed.starts_with('#') {
+                continue;
+            }
+            let fields: Vec<&str> = trimmed
+                .split(|c: char| c == ',' || c == ';' || c.is_whitespace())
+                .filter(|f| !f.is_empty())
+                .collect();
+            if first {
+                first = false;
+                if fields.iter().any(|f| f.parse::<f64>().is_err()) {
+                    header = fields.iter().map(|f| f.to_string()).collect();
+                    columns = vec![Vec::new(); fields.len()];
+                    continue;
+                }
+                columns = vec![Vec::new(); fields.len()];
+            }
+            if fields.len() != columns.len() {
+                return Err(PrecalError::ColumnCount {
+                    line,
+                    expected: columns.len(),
+                    found: fields.len(),
+                });
+            }
+            for (column, (field, col)) in fields.iter().zip(columns.iter_mut()).enumerate() {
+                let v: f64 = field.parse().map_err(|_| PrecalError::NotNumeric {
+                    line,
+                    column: column + 1,
+                    found: field.to_string(),
+                })?;
+                if !v.is_finite() {
+                    return Err(PrecalError::NotFinite {
+                        line,
+                        column: column + 1,
+                        found: field.to_string(),
+                    });
+                }
+                col.push(v);
+            }
+        }
+        if columns.first().is_none_or(Vec::is_empty) {
+            return Err(PrecalError::TooFewPoints {
+                what: "data rows",
+                needed: 1,
+                found: 0,
+            });
+        }
+        Ok(Self { header, columns })
+    }
+
+    /// The column named `key` in the header, or at 1-based position `key`.
+    ///
+    /// # Errors
+    /// [`PrecalError::InvalidOption`] naming the columns there are.
+    pub fn column(&self, key: &str) -> Result<&[f64], PrecalError> {
+        let by_name = self.header.iter().position(|h| h == key);
+        let index = match by_name {
+            Some(i) => Some(i),
+            None => key
+                .parse::<usize>()
+                .ok()
+                .and_then(|i| i.checked_sub(1))
+                .filter(|&i| i < self.columns.len()),
+        };
+        index.map(|i| self.columns[i].as_slice()).ok_or_else(|| {
+            let known = if self.header.is_empty() {
+                format!("positions 1..={}", self.columns.len())
+            } else {
+                self.header.join(", ")
+            };
+            PrecalError::InvalidOption {
+                name: "column",
+                reason: format!("no column {key:?} (there are: {known})"),
+            }
+        })
+    }
+}
+
+/// The sample interval of uniformly spaced time stamps: the mean step, after
+/// checking that no step strays from it by more than 1 %.
+///
+/// # Errors
+/// [`PrecalError::TooFewPoints`] for fewer than two samples and
+/// [`PrecalError::NonUniformTime`] for uneven spacing.
+pub fn sample_interval(t: &[f64]) -> Result<f64, PrecalError> {
+    if t.len() < 2 {
+        return Err(PrecalError::TooFewPoints {
+            what: "time stamps",
+            needed: 2,
+            found: t.len(),
+        });
+    }
+    let dt = (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64;
+    for (index, w) in t.windows(2).enumerate() {
+        let step = w[1] - w[0];
+        if dt.is_nan() || dt <= 0.0 || (step - dt).abs() > 0.01 * dt {
+            return Err(PrecalError::NonUniformTime {
+                index: index + 1,
+                step,
+                expected: dt,
+            });
+        }
+    }
+    Ok(dt)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn columns_by_name_and_position() {
+        let t = Table::parse("# c\nt, x;y\n0 1 2\n1,3,4\n").unwrap();
+        assert_eq!(t.column("x").unwrap(), &[1.0, 3.0]);
+        assert_eq!(t.column("3").unwrap(), &[2.0, 4.0]);
+        let e = t.column("z").unwrap_err().to_string();
+        assert!(e.contains("t, x, y"), "{e}");
+        assert!(matches!(
+            Table::parse("0,1\n2\n"),
+            Err(PrecalError::ColumnCount { line: 2, .. })
+        ));
+        assert!(matches!(
+            Table::parse("a,b\n1,nan\n"),
+            Err(PrecalError::NotFinite {
+                line: 2,
+                column: 2,
+                ..
+            })
+        ));
+    }
+
+    #[test]
+    fn sample_interval_checks_spacing() {
+        assert!((sample_interval(&[0.0, 0.1, 0.2, 0.3]).unwrap() - 0.1).abs() < 1e-15);
+        assert!(matches!(
+            sample_interval(&[0.0, 0.1, 0.25, 0.3]),
+            Err(PrecalError::NonUniformTime { index: 2, .. })
+        ));
+    }
+}

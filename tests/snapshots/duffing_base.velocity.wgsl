@@ -1,0 +1,201 @@
+// Generated from the rig description by src/compile/wgsl.rs.
+
+const RIG_STATES: u32 = 2u;
+const RIG_MODES: u32 = 0u;
+const RIG_REPORT: u32 = 4u;
+
+struct St {
+    s0: real,
+    s1: real,
+}
+
+struct Md {
+    m0: u32,
+}
+
+struct Kc {
+    k8: real,
+    k9: real,
+    k14: real,
+    k18: real,
+    toff0: u32,
+    tlen0: u32,
+}
+
+struct Rep {
+    v: array<real, 4>,
+}
+
+struct Ev {
+    g: array<real, 1>,
+}
+
+fn rig_load(base: u32, ex: ExpInfo) -> Kc {
+    var kc: Kc;
+    kc.k8 = param(base, P_K8);
+    kc.k9 = param(base, P_K9);
+    kc.k14 = param(base, P_K14);
+    kc.k18 = param(base, P_K18);
+    kc.toff0 = 0u;
+    kc.tlen0 = 251u;
+    return kc;
+}
+
+fn rig_state_load(sb: u32) -> St {
+    var y: St;
+    y.s0 = state[sb + 0u];
+    y.s1 = state[sb + 1u];
+    return y;
+}
+
+fn rig_modes_load(sb: u32) -> Md {
+    var md: Md;
+    return md;
+}
+
+fn rig_initial(base: u32, y: ptr<function, St>, md: ptr<function, Md>) {
+}
+
+fn rig_state_store(sb: u32, y: St, md: Md) {
+    state[sb + 0u] = y.s0;
+    state[sb + 1u] = y.s1;
+}
+
+const RIG_ACC: u32 = 2u;
+
+fn st_axpy(y: St, a: real, k: St) -> St {
+    var r: St;
+    r.s0 = y.s0 + a * k.s0;
+    r.s1 = y.s1 + a * k.s1;
+    return r;
+}
+
+fn st_rk4(y: St, h6: real, k1: St, k2: St, k3: St, k4: St) -> St {
+    var r: St;
+    r.s0 = y.s0 + h6 * (((k1.s0 + real(2.0) * k2.s0) + real(2.0) * k3.s0) + k4.s0);
+    r.s1 = y.s1 + h6 * (((k1.s1 + real(2.0) * k2.s1) + real(2.0) * k3.s1) + k4.s1);
+    return r;
+}
+
+fn st_hermite(y0: St, f0: St, y1: St, f1: St, c00: real, c10: real, c01: real, c11: real) -> St {
+    var r: St;
+    r.s0 = ((c00 * y0.s0 + c10 * f0.s0) + c01 * y1.s0) + c11 * f1.s0;
+    r.s1 = ((c00 * y0.s1 + c10 * f0.s1) + c01 * y1.s1) + c11 * f1.s1;
+    return r;
+}
+
+struct Ck {
+    unused: real,
+}
+
+fn rig_clock(kc: Kc, t: real) -> Ck {
+    var c: Ck;
+    c.unused = t;
+    return c;
+}
+
+fn rig_clock_shift(c: Ck, q: Ck) -> Ck {
+    var r = c;
+    return r;
+}
+
+fn rig_deriv_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> St {
+    let v3 = y.s0;
+    let v4 = y.s1;
+    let v5 = table_at(kc.toff0, kc.tlen0, t);
+    let v6 = real(0e0) - v3;
+    let v7 = real(0e0) - v4;
+    let v10 = kc.k9 * v6;
+    let v11 = v10 * v6;
+    let v12 = v11 + kc.k8;
+    let v13 = v12 * v6;
+    let v15 = kc.k14 * v7;
+    let v16 = v13 + v15;
+    let v19 = v16 * kc.k18;
+    let v20 = v19 - v5;
+    var r: St;
+    r.s0 = v4;
+    r.s1 = v20;
+    return r;
+}
+
+fn rig_events_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Ev {
+    var r: Ev;
+    return r;
+}
+
+fn rig_hits(g0: Ev, g1: Ev, md: Md) -> u32 {
+    var hits = 0u;
+    return hits;
+}
+
+struct Eb {
+    b0: real,
+}
+
+fn rig_bases_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Eb {
+    var r: Eb;
+    r.b0 = real(0.0);
+    return r;
+}
+
+struct Win {
+    lo0: real,
+    hi0: real,
+}
+
+fn rig_window(kc: Kc, md: Md) -> Win {
+    var w: Win;
+    w.lo0 = -REAL_MAX;
+    w.hi0 = REAL_MAX;
+    return w;
+}
+
+fn rig_outside(w: Win, b: Eb) -> bool {
+    return false;
+}
+
+fn rig_oriented(g: Ev, i: u32) -> real {
+    switch i {
+        default: { return real(0.0); }
+    }
+}
+
+fn rig_fire(i: u32, md: ptr<function, Md>) {
+    switch i {
+        default: {}
+    }
+}
+
+fn rig_output0_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> real {
+    let v3 = y.s0;
+    return v3;
+}
+
+fn rig_report_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Rep {
+    let v3 = y.s0;
+    let v4 = y.s1;
+    let v6 = real(0e0) - v3;
+    let v7 = real(0e0) - v4;
+    let v10 = kc.k9 * v6;
+    let v11 = v10 * v6;
+    let v12 = v11 + kc.k8;
+    let v13 = v12 * v6;
+    let v15 = kc.k14 * v7;
+    let v16 = v13 + v15;
+    var r: Rep;
+    r.v[0] = v3;
+    r.v[1] = v16;
+    r.v[2] = v3;
+    r.v[3] = v4;
+    return r;
+}
+
+fn rig_deriv(kc: Kc, t: real, y: St, md: Md) -> St {
+    return rig_deriv_c(kc, t, y, md, rig_clock(kc, t));
+}
+
+fn rig_events(kc: Kc, t: real, y: St, md: Md) -> Ev {
+    return rig_events_c(kc, t, y, md, rig_clock(kc, t));
+}
+

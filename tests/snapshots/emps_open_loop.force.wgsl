@@ -1,0 +1,248 @@
+// Generated from the rig description by src/compile/wgsl.rs.
+
+const RIG_STATES: u32 = 4u;
+const RIG_MODES: u32 = 0u;
+const RIG_REPORT: u32 = 7u;
+
+struct St {
+    s0: real,
+    s1: real,
+    s2: real,
+    s3: real,
+}
+
+struct Md {
+    m0: u32,
+}
+
+struct Kc {
+    k8: real,
+    k10: real,
+    k19: real,
+    k21: real,
+    k22: real,
+    k34: real,
+    k40: real,
+    toff0: u32,
+    tlen0: u32,
+}
+
+struct Rep {
+    v: array<real, 7>,
+}
+
+struct Ev {
+    g: array<real, 1>,
+}
+
+fn rig_load(base: u32, ex: ExpInfo) -> Kc {
+    var kc: Kc;
+    kc.k8 = param(base, P_K8);
+    kc.k10 = param(base, P_K10);
+    kc.k19 = param(base, P_K19);
+    kc.k21 = param(base, P_K21);
+    kc.k22 = param(base, P_K22);
+    kc.k34 = param(base, P_K34);
+    kc.k40 = param(base, P_K40);
+    kc.toff0 = ex.table_offset;
+    kc.tlen0 = ex.table_len;
+    return kc;
+}
+
+fn rig_state_load(sb: u32) -> St {
+    var y: St;
+    y.s0 = state[sb + 0u];
+    y.s1 = state[sb + 1u];
+    y.s2 = state[sb + 2u];
+    y.s3 = state[sb + 3u];
+    return y;
+}
+
+fn rig_modes_load(sb: u32) -> Md {
+    var md: Md;
+    return md;
+}
+
+fn rig_initial(base: u32, y: ptr<function, St>, md: ptr<function, Md>) {
+}
+
+fn rig_state_store(sb: u32, y: St, md: Md) {
+    state[sb + 0u] = y.s0;
+    state[sb + 1u] = y.s1;
+    state[sb + 2u] = y.s2;
+    state[sb + 3u] = y.s3;
+}
+
+const RIG_ACC: u32 = 4u;
+
+fn st_axpy(y: St, a: real, k: St) -> St {
+    var r: St;
+    r.s0 = y.s0 + a * k.s0;
+    r.s1 = y.s1 + a * k.s1;
+    r.s2 = y.s2 + a * k.s2;
+    r.s3 = y.s3 + a * k.s3;
+    return r;
+}
+
+fn st_rk4(y: St, h6: real, k1: St, k2: St, k3: St, k4: St) -> St {
+    var r: St;
+    r.s0 = y.s0 + h6 * (((k1.s0 + real(2.0) * k2.s0) + real(2.0) * k3.s0) + k4.s0);
+    r.s1 = y.s1 + h6 * (((k1.s1 + real(2.0) * k2.s1) + real(2.0) * k3.s1) + k4.s1);
+    r.s2 = y.s2 + h6 * (((k1.s2 + real(2.0) * k2.s2) + real(2.0) * k3.s2) + k4.s2);
+    r.s3 = y.s3 + h6 * (((k1.s3 + real(2.0) * k2.s3) + real(2.0) * k3.s3) + k4.s3);
+    return r;
+}
+
+fn st_hermite(y0: St, f0: St, y1: St, f1: St, c00: real, c10: real, c01: real, c11: real) -> St {
+    var r: St;
+    r.s0 = ((c00 * y0.s0 + c10 * f0.s0) + c01 * y1.s0) + c11 * f1.s0;
+    r.s1 = ((c00 * y0.s1 + c10 * f0.s1) + c01 * y1.s1) + c11 * f1.s1;
+    r.s2 = ((c00 * y0.s2 + c10 * f0.s2) + c01 * y1.s2) + c11 * f1.s2;
+    r.s3 = ((c00 * y0.s3 + c10 * f0.s3) + c01 * y1.s3) + c11 * f1.s3;
+    return r;
+}
+
+struct Ck {
+    unused: real,
+}
+
+fn rig_clock(kc: Kc, t: real) -> Ck {
+    var c: Ck;
+    c.unused = t;
+    return c;
+}
+
+fn rig_clock_shift(c: Ck, q: Ck) -> Ck {
+    var r = c;
+    return r;
+}
+
+fn rig_deriv_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> St {
+    let v0 = t;
+    let v4 = y.s2;
+    let v7 = table_at(kc.toff0, kc.tlen0, t);
+    let v9 = kc.k8 * v7;
+    let v11 = select(real(0.0), real(1.0), v0 <= real(0e0));
+    let v16 = select(kc.k10, real(0e0), v11 != real(0.0));
+    let v18 = v4 - v16;
+    let v20 = kc.k19 * v18;
+    let v23 = v18 / kc.k22;
+    let v26 = real(2e0) * v23;
+    let v27 = min(v26, real(4e1));
+    let v29 = max(v27, real(-4e1));
+    let v30 = expm1_r(v29);
+    let v31 = v30 + real(2e0);
+    let v32 = v30 / v31;
+    let v33 = kc.k21 * v32;
+    let v35 = real(0e0) - v20;
+    let v36 = v35 - v33;
+    let v37 = v36 - kc.k34;
+    let v38 = v37 + v9;
+    let v41 = v38 * kc.k40;
+    var r: St;
+    r.s0 = v4;
+    r.s1 = real(0e0);
+    r.s2 = v41;
+    r.s3 = real(0e0);
+    return r;
+}
+
+fn rig_events_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Ev {
+    var r: Ev;
+    return r;
+}
+
+fn rig_hits(g0: Ev, g1: Ev, md: Md) -> u32 {
+    var hits = 0u;
+    return hits;
+}
+
+struct Eb {
+    b0: real,
+}
+
+fn rig_bases_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Eb {
+    var r: Eb;
+    r.b0 = real(0.0);
+    return r;
+}
+
+struct Win {
+    lo0: real,
+    hi0: real,
+}
+
+fn rig_window(kc: Kc, md: Md) -> Win {
+    var w: Win;
+    w.lo0 = -REAL_MAX;
+    w.hi0 = REAL_MAX;
+    return w;
+}
+
+fn rig_outside(w: Win, b: Eb) -> bool {
+    return false;
+}
+
+fn rig_oriented(g: Ev, i: u32) -> real {
+    switch i {
+        default: { return real(0.0); }
+    }
+}
+
+fn rig_fire(i: u32, md: ptr<function, Md>) {
+    switch i {
+        default: {}
+    }
+}
+
+fn rig_output0_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> real {
+    let v0 = t;
+    let v3 = y.s0;
+    let v11 = select(real(0.0), real(1.0), v0 <= real(0e0));
+    let v14 = kc.k10 * v0;
+    let v15 = select(v14, real(0e0), v11 != real(0.0));
+    let v43 = real(-1e0) * v15;
+    let v44 = v3 + v43;
+    return v44;
+}
+
+fn rig_report_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Rep {
+    let v0 = t;
+    let v3 = y.s0;
+    let v4 = y.s2;
+    let v11 = select(real(0.0), real(1.0), v0 <= real(0e0));
+    let v14 = kc.k10 * v0;
+    let v15 = select(v14, real(0e0), v11 != real(0.0));
+    let v16 = select(kc.k10, real(0e0), v11 != real(0.0));
+    let v18 = v4 - v16;
+    let v23 = v18 / kc.k22;
+    let v26 = real(2e0) * v23;
+    let v27 = min(v26, real(4e1));
+    let v29 = max(v27, real(-4e1));
+    let v30 = expm1_r(v29);
+    let v31 = v30 + real(2e0);
+    let v32 = v30 / v31;
+    let v33 = kc.k21 * v32;
+    let v43 = real(-1e0) * v15;
+    let v44 = v3 + v43;
+    let v45 = real(-1e0) * v16;
+    let v46 = v4 + v45;
+    var r: Rep;
+    r.v[0] = v44;
+    r.v[1] = v46;
+    r.v[2] = v33;
+    r.v[3] = v3;
+    r.v[4] = v15;
+    r.v[5] = v4;
+    r.v[6] = v16;
+    return r;
+}
+
+fn rig_deriv(kc: Kc, t: real, y: St, md: Md) -> St {
+    return rig_deriv_c(kc, t, y, md, rig_clock(kc, t));
+}
+
+fn rig_events(kc: Kc, t: real, y: St, md: Md) -> Ev {
+    return rig_events_c(kc, t, y, md, rig_clock(kc, t));
+}
+

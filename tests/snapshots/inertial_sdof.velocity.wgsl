@@ -1,0 +1,300 @@
+// Generated from the rig description by src/compile/wgsl.rs.
+
+const RIG_STATES: u32 = 2u;
+const RIG_MODES: u32 = 0u;
+const RIG_REPORT: u32 = 6u;
+
+struct St {
+    s0: real,
+    s1: real,
+}
+
+struct Md {
+    m0: u32,
+}
+
+struct Kc {
+    k6: real,
+    k7: real,
+    k8: real,
+    k33: real,
+    k34: real,
+    k39: real,
+    k42: real,
+    k43: real,
+    k55: real,
+    k56: real,
+    k69: real,
+    k81: real,
+}
+
+struct Rep {
+    v: array<real, 6>,
+}
+
+struct Ev {
+    g: array<real, 1>,
+}
+
+fn rig_load(base: u32, ex: ExpInfo) -> Kc {
+    var kc: Kc;
+    kc.k6 = param(base, P_K6);
+    kc.k7 = param(base, P_K7);
+    kc.k8 = param(base, P_K8);
+    kc.k33 = param(base, P_K33);
+    kc.k34 = param(base, P_K34);
+    kc.k39 = param(base, P_K39);
+    kc.k42 = param(base, P_K42);
+    kc.k43 = param(base, P_K43);
+    kc.k55 = param(base, P_K55);
+    kc.k56 = param(base, P_K56);
+    kc.k69 = param(base, P_K69);
+    kc.k81 = param(base, P_K81);
+    return kc;
+}
+
+fn rig_state_load(sb: u32) -> St {
+    var y: St;
+    y.s0 = state[sb + 0u];
+    y.s1 = state[sb + 1u];
+    return y;
+}
+
+fn rig_modes_load(sb: u32) -> Md {
+    var md: Md;
+    return md;
+}
+
+fn rig_initial(base: u32, y: ptr<function, St>, md: ptr<function, Md>) {
+}
+
+fn rig_state_store(sb: u32, y: St, md: Md) {
+    state[sb + 0u] = y.s0;
+    state[sb + 1u] = y.s1;
+}
+
+const RIG_ACC: u32 = 2u;
+
+fn st_axpy(y: St, a: real, k: St) -> St {
+    var r: St;
+    r.s0 = y.s0 + a * k.s0;
+    r.s1 = y.s1 + a * k.s1;
+    return r;
+}
+
+fn st_rk4(y: St, h6: real, k1: St, k2: St, k3: St, k4: St) -> St {
+    var r: St;
+    r.s0 = y.s0 + h6 * (((k1.s0 + real(2.0) * k2.s0) + real(2.0) * k3.s0) + k4.s0);
+    r.s1 = y.s1 + h6 * (((k1.s1 + real(2.0) * k2.s1) + real(2.0) * k3.s1) + k4.s1);
+    return r;
+}
+
+fn st_hermite(y0: St, f0: St, y1: St, f1: St, c00: real, c10: real, c01: real, c11: real) -> St {
+    var r: St;
+    r.s0 = ((c00 * y0.s0 + c10 * f0.s0) + c01 * y1.s0) + c11 * f1.s0;
+    r.s1 = ((c00 * y0.s1 + c10 * f0.s1) + c01 * y1.s1) + c11 * f1.s1;
+    return r;
+}
+
+struct Ck {
+    unused: real,
+}
+
+fn rig_clock(kc: Kc, t: real) -> Ck {
+    var c: Ck;
+    c.unused = t;
+    return c;
+}
+
+fn rig_clock_shift(c: Ck, q: Ck) -> Ck {
+    var r = c;
+    return r;
+}
+
+fn rig_deriv_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> St {
+    let v0 = t;
+    let v3 = y.s0;
+    let v4 = y.s1;
+    let v10 = kc.k8 * v0;
+    let v11 = real(5e-1) * v10;
+    let v12 = kc.k7 + v11;
+    let v13 = v12 * v0;
+    let v14 = real(6.283185307179586e0) * v13;
+    let v18 = select(real(0.0), real(1.0), v0 <= real(0e0));
+    let v19 = select(real(1e0), real(0e0), v18 != real(0.0));
+    let v20 = sin_r(v14);
+    let v22 = kc.k6 * v20;
+    let v30 = select(real(0e0), v22, v19 != real(0.0));
+    let v35 = kc.k34 * v3;
+    let v36 = v35 * v3;
+    let v37 = v36 + kc.k33;
+    let v38 = v37 * v3;
+    let v40 = kc.k39 * v4;
+    let v41 = v38 + v40;
+    let v44 = abs(v3);
+    let v45 = select(real(0.0), real(1.0), v44 <= real(0e0));
+    let v46 = select(v44, real(1e0), v45 != real(0.0));
+    let v47 = ln_r(v46);
+    let v48 = kc.k43 * v47;
+    let v49 = exp_r(v48);
+    let v50 = select(v49, real(0e0), v45 != real(0.0));
+    let v51 = select(real(0.0), real(1.0), v3 <= real(0e0));
+    let v52 = -v50;
+    let v53 = select(v50, v52, v51 != real(0.0));
+    let v54 = kc.k42 * v53;
+    let v57 = abs(v4);
+    let v58 = select(real(0.0), real(1.0), v57 <= real(0e0));
+    let v59 = select(v57, real(1e0), v58 != real(0.0));
+    let v60 = ln_r(v59);
+    let v61 = kc.k56 * v60;
+    let v62 = exp_r(v61);
+    let v63 = select(v62, real(0e0), v58 != real(0.0));
+    let v64 = select(real(0.0), real(1.0), v4 <= real(0e0));
+    let v65 = -v63;
+    let v66 = select(v63, v65, v64 != real(0.0));
+    let v67 = kc.k55 * v66;
+    let v68 = v54 + v67;
+    let v71 = real(3e0) * v60;
+    let v72 = exp_r(v71);
+    let v73 = select(v72, real(0e0), v58 != real(0.0));
+    let v74 = -v73;
+    let v75 = select(v73, v74, v64 != real(0.0));
+    let v76 = kc.k69 * v75;
+    let v77 = real(0e0) - v41;
+    let v78 = v77 - v68;
+    let v79 = v78 - v76;
+    let v82 = v79 * kc.k81;
+    let v83 = v82 - v30;
+    var r: St;
+    r.s0 = v4;
+    r.s1 = v83;
+    return r;
+}
+
+fn rig_events_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Ev {
+    var r: Ev;
+    return r;
+}
+
+fn rig_hits(g0: Ev, g1: Ev, md: Md) -> u32 {
+    var hits = 0u;
+    return hits;
+}
+
+struct Eb {
+    b0: real,
+}
+
+fn rig_bases_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Eb {
+    var r: Eb;
+    r.b0 = real(0.0);
+    return r;
+}
+
+struct Win {
+    lo0: real,
+    hi0: real,
+}
+
+fn rig_window(kc: Kc, md: Md) -> Win {
+    var w: Win;
+    w.lo0 = -REAL_MAX;
+    w.hi0 = REAL_MAX;
+    return w;
+}
+
+fn rig_outside(w: Win, b: Eb) -> bool {
+    return false;
+}
+
+fn rig_oriented(g: Ev, i: u32) -> real {
+    switch i {
+        default: { return real(0.0); }
+    }
+}
+
+fn rig_fire(i: u32, md: ptr<function, Md>) {
+    switch i {
+        default: {}
+    }
+}
+
+fn rig_output0_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> real {
+    let v3 = y.s0;
+    return v3;
+}
+
+fn rig_report_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Rep {
+    let v0 = t;
+    let v3 = y.s0;
+    let v4 = y.s1;
+    let v10 = kc.k8 * v0;
+    let v11 = real(5e-1) * v10;
+    let v12 = kc.k7 + v11;
+    let v13 = v12 * v0;
+    let v14 = real(6.283185307179586e0) * v13;
+    let v18 = select(real(0.0), real(1.0), v0 <= real(0e0));
+    let v19 = select(real(1e0), real(0e0), v18 != real(0.0));
+    let v20 = sin_r(v14);
+    let v22 = kc.k6 * v20;
+    let v30 = select(real(0e0), v22, v19 != real(0.0));
+    let v35 = kc.k34 * v3;
+    let v36 = v35 * v3;
+    let v37 = v36 + kc.k33;
+    let v38 = v37 * v3;
+    let v40 = kc.k39 * v4;
+    let v41 = v38 + v40;
+    let v44 = abs(v3);
+    let v45 = select(real(0.0), real(1.0), v44 <= real(0e0));
+    let v46 = select(v44, real(1e0), v45 != real(0.0));
+    let v47 = ln_r(v46);
+    let v48 = kc.k43 * v47;
+    let v49 = exp_r(v48);
+    let v50 = select(v49, real(0e0), v45 != real(0.0));
+    let v51 = select(real(0.0), real(1.0), v3 <= real(0e0));
+    let v52 = -v50;
+    let v53 = select(v50, v52, v51 != real(0.0));
+    let v54 = kc.k42 * v53;
+    let v57 = abs(v4);
+    let v58 = select(real(0.0), real(1.0), v57 <= real(0e0));
+    let v59 = select(v57, real(1e0), v58 != real(0.0));
+    let v60 = ln_r(v59);
+    let v61 = kc.k56 * v60;
+    let v62 = exp_r(v61);
+    let v63 = select(v62, real(0e0), v58 != real(0.0));
+    let v64 = select(real(0.0), real(1.0), v4 <= real(0e0));
+    let v65 = -v63;
+    let v66 = select(v63, v65, v64 != real(0.0));
+    let v67 = kc.k55 * v66;
+    let v68 = v54 + v67;
+    let v71 = real(3e0) * v60;
+    let v72 = exp_r(v71);
+    let v73 = select(v72, real(0e0), v58 != real(0.0));
+    let v74 = -v73;
+    let v75 = select(v73, v74, v64 != real(0.0));
+    let v76 = kc.k69 * v75;
+    let v77 = real(0e0) - v41;
+    let v78 = v77 - v68;
+    let v79 = v78 - v76;
+    let v82 = v79 * kc.k81;
+    let v83 = v82 - v30;
+    let v84 = v41 + v68;
+    let v85 = v84 + v76;
+    var r: Rep;
+    r.v[0] = v3;
+    r.v[1] = v85;
+    r.v[2] = v4;
+    r.v[3] = v83;
+    r.v[4] = v3;
+    r.v[5] = v4;
+    return r;
+}
+
+fn rig_deriv(kc: Kc, t: real, y: St, md: Md) -> St {
+    return rig_deriv_c(kc, t, y, md, rig_clock(kc, t));
+}
+
+fn rig_events(kc: Kc, t: real, y: St, md: Md) -> Ev {
+    return rig_events_c(kc, t, y, md, rig_clock(kc, t));
+}
+

@@ -1,0 +1,422 @@
+// Generated from the rig description by src/compile/wgsl.rs.
+
+const RIG_STATES: u32 = 6u;
+const RIG_MODES: u32 = 1u;
+const RIG_REPORT: u32 = 12u;
+
+struct St {
+    s0: real,
+    s1: real,
+    s2: real,
+    s3: real,
+    s4: real,
+    s5: real,
+}
+
+struct Md {
+    m0: u32,
+}
+
+struct Kc {
+    k10: real,
+    k11: real,
+    k12: real,
+    k21: real,
+    k39: real,
+    k41: real,
+    k46: real,
+    k48: real,
+    k49: real,
+    k50: real,
+    k54: real,
+    k63: real,
+    k70: real,
+    k79: real,
+    k84: real,
+}
+
+struct Rep {
+    v: array<real, 12>,
+}
+
+struct Ev {
+    g: array<real, 4>,
+}
+
+fn rig_load(base: u32, ex: ExpInfo) -> Kc {
+    var kc: Kc;
+    kc.k10 = param(base, P_K10);
+    kc.k11 = param(base, P_K11);
+    kc.k12 = param(base, P_K12);
+    kc.k21 = param(base, P_K21);
+    kc.k39 = param(base, P_K39);
+    kc.k41 = param(base, P_K41);
+    kc.k46 = param(base, P_K46);
+    kc.k48 = param(base, P_K48);
+    kc.k49 = param(base, P_K49);
+    kc.k50 = param(base, P_K50);
+    kc.k54 = param(base, P_K54);
+    kc.k63 = param(base, P_K63);
+    kc.k70 = param(base, P_K70);
+    kc.k79 = param(base, P_K79);
+    kc.k84 = param(base, P_K84);
+    return kc;
+}
+
+fn rig_state_load(sb: u32) -> St {
+    var y: St;
+    y.s0 = state[sb + 0u];
+    y.s1 = state[sb + 1u];
+    y.s2 = state[sb + 2u];
+    y.s3 = state[sb + 3u];
+    y.s4 = state[sb + 4u];
+    y.s5 = state[sb + 5u];
+    return y;
+}
+
+fn rig_modes_load(sb: u32) -> Md {
+    var md: Md;
+    md.m0 = u32(state[sb + 6u]);
+    return md;
+}
+
+fn rig_initial(base: u32, y: ptr<function, St>, md: ptr<function, Md>) {
+}
+
+fn rig_state_store(sb: u32, y: St, md: Md) {
+    state[sb + 0u] = y.s0;
+    state[sb + 1u] = y.s1;
+    state[sb + 2u] = y.s2;
+    state[sb + 3u] = y.s3;
+    state[sb + 4u] = y.s4;
+    state[sb + 5u] = y.s5;
+    state[sb + 6u] = real(md.m0);
+}
+
+const RIG_ACC: u32 = 7u;
+
+fn st_axpy(y: St, a: real, k: St) -> St {
+    var r: St;
+    r.s0 = y.s0 + a * k.s0;
+    r.s1 = y.s1 + a * k.s1;
+    r.s2 = y.s2 + a * k.s2;
+    r.s3 = y.s3 + a * k.s3;
+    r.s4 = y.s4 + a * k.s4;
+    r.s5 = y.s5 + a * k.s5;
+    return r;
+}
+
+fn st_rk4(y: St, h6: real, k1: St, k2: St, k3: St, k4: St) -> St {
+    var r: St;
+    r.s0 = y.s0 + h6 * (((k1.s0 + real(2.0) * k2.s0) + real(2.0) * k3.s0) + k4.s0);
+    r.s1 = y.s1 + h6 * (((k1.s1 + real(2.0) * k2.s1) + real(2.0) * k3.s1) + k4.s1);
+    r.s2 = y.s2 + h6 * (((k1.s2 + real(2.0) * k2.s2) + real(2.0) * k3.s2) + k4.s2);
+    r.s3 = y.s3 + h6 * (((k1.s3 + real(2.0) * k2.s3) + real(2.0) * k3.s3) + k4.s3);
+    r.s4 = y.s4 + h6 * (((k1.s4 + real(2.0) * k2.s4) + real(2.0) * k3.s4) + k4.s4);
+    r.s5 = y.s5 + h6 * (((k1.s5 + real(2.0) * k2.s5) + real(2.0) * k3.s5) + k4.s5);
+    return r;
+}
+
+fn st_hermite(y0: St, f0: St, y1: St, f1: St, c00: real, c10: real, c01: real, c11: real) -> St {
+    var r: St;
+    r.s0 = ((c00 * y0.s0 + c10 * f0.s0) + c01 * y1.s0) + c11 * f1.s0;
+    r.s1 = ((c00 * y0.s1 + c10 * f0.s1) + c01 * y1.s1) + c11 * f1.s1;
+    r.s2 = ((c00 * y0.s2 + c10 * f0.s2) + c01 * y1.s2) + c11 * f1.s2;
+    r.s3 = ((c00 * y0.s3 + c10 * f0.s3) + c01 * y1.s3) + c11 * f1.s3;
+    r.s4 = ((c00 * y0.s4 + c10 * f0.s4) + c01 * y1.s4) + c11 * f1.s4;
+    r.s5 = ((c00 * y0.s5 + c10 * f0.s5) + c01 * y1.s5) + c11 * f1.s5;
+    return r;
+}
+
+struct Ck {
+    unused: real,
+}
+
+fn rig_clock(kc: Kc, t: real) -> Ck {
+    var c: Ck;
+    c.unused = t;
+    return c;
+}
+
+fn rig_clock_shift(c: Ck, q: Ck) -> Ck {
+    var r = c;
+    return r;
+}
+
+fn rig_deriv_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> St {
+    let v0 = t;
+    let v5 = y.s1;
+    let v6 = y.s4;
+    let v7 = y.s2;
+    let v8 = y.s5;
+    let v14 = kc.k12 * v0;
+    let v15 = real(5e-1) * v14;
+    let v16 = kc.k11 + v15;
+    let v17 = v16 * v0;
+    let v18 = real(6.283185307179586e0) * v17;
+    let v19 = kc.k11 + v14;
+    let v20 = real(6.283185307179586e0) * v19;
+    let v22 = select(real(0.0), real(1.0), v0 <= real(0e0));
+    let v23 = select(real(1e0), real(0e0), v22 != real(0.0));
+    let v24 = sin_r(v18);
+    let v25 = cos_r(v18);
+    let v26 = kc.k10 * v24;
+    let v27 = v25 * v20;
+    let v28 = kc.k10 * v27;
+    let v34 = select(real(0e0), v26, v23 != real(0.0));
+    let v35 = select(real(0e0), v28, v23 != real(0.0));
+    let v37 = v5 - v34;
+    let v38 = v6 - v35;
+    let v40 = kc.k39 * v37;
+    let v42 = kc.k41 * v38;
+    let v43 = v40 + v42;
+    let v44 = v7 - v5;
+    let v45 = v8 - v6;
+    let v47 = kc.k46 * v44;
+    let v51 = abs(v45);
+    let v52 = select(real(0.0), real(1.0), v51 <= kc.k50);
+    let v53 = kc.k48 * v45;
+    let v55 = v51 - kc.k50;
+    let v56 = kc.k49 * v55;
+    let v57 = kc.k54 + v56;
+    let v58 = select(real(0.0), real(1.0), v45 <= real(0e0));
+    let v59 = -v57;
+    let v60 = select(v57, v59, v58 != real(0.0));
+    let v61 = select(v60, v53, v52 != real(0.0));
+    let v62 = v47 + v61;
+    let v64 = v44 - kc.k63;
+    let v65 = v44 + kc.k63;
+    let v66 = real(md.m0);
+    let v67 = select(real(0.0), real(1.0), v66 == real(1e0));
+    let v69 = select(real(0.0), real(1.0), v66 == real(2e0));
+    let v71 = kc.k70 * v64;
+    let v72 = kc.k70 * v65;
+    let v73 = select(real(0e0), v72, v69 != real(0.0));
+    let v74 = select(v73, v71, v67 != real(0.0));
+    let v76 = v62 - v43;
+    let v77 = v76 + v74;
+    let v80 = v77 * kc.k79;
+    let v81 = real(0e0) - v62;
+    let v82 = v81 - v74;
+    let v85 = v82 * kc.k84;
+    var r: St;
+    r.s0 = real(0e0);
+    r.s1 = v6;
+    r.s2 = v8;
+    r.s3 = real(0e0);
+    r.s4 = v80;
+    r.s5 = v85;
+    return r;
+}
+
+fn rig_events_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Ev {
+    let v5 = y.s1;
+    let v7 = y.s2;
+    let v44 = v7 - v5;
+    let v64 = v44 - kc.k63;
+    let v65 = v44 + kc.k63;
+    var r: Ev;
+    r.g[0] = v64;
+    r.g[1] = v64;
+    r.g[2] = v65;
+    r.g[3] = v65;
+    return r;
+}
+
+fn rig_hits(g0: Ev, g1: Ev, md: Md) -> u32 {
+    var hits = 0u;
+    hits |= select(0u, 1u, md.m0 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
+    hits |= select(0u, 2u, md.m0 == 1u && -(g1.g[1]) >= real(0.0) && (!(-(g0.g[1]) >= real(0.0)) || -(g1.g[1]) > -(g0.g[1])));
+    hits |= select(0u, 4u, md.m0 == 0u && -(g1.g[2]) >= real(0.0) && (!(-(g0.g[2]) >= real(0.0)) || -(g1.g[2]) > -(g0.g[2])));
+    hits |= select(0u, 8u, md.m0 == 2u && g1.g[3] >= real(0.0) && (!(g0.g[3] >= real(0.0)) || g1.g[3] > g0.g[3]));
+    return hits;
+}
+
+struct Eb {
+    b0: real,
+    b1: real,
+}
+
+fn rig_bases_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Eb {
+    let v5 = y.s1;
+    let v7 = y.s2;
+    let v44 = v7 - v5;
+    let v65 = v44 + kc.k63;
+    var r: Eb;
+    r.b0 = v44;
+    r.b1 = v65;
+    return r;
+}
+
+struct Win {
+    lo0: real,
+    lo1: real,
+    hi0: real,
+    hi1: real,
+}
+
+fn rig_window(kc: Kc, md: Md) -> Win {
+    var w: Win;
+    w.lo0 = -REAL_MAX;
+    w.hi0 = REAL_MAX;
+    w.hi0 = select(w.hi0, min(w.hi0, kc.k63), md.m0 == 0u);
+    w.lo0 = select(w.lo0, max(w.lo0, kc.k63), md.m0 == 1u);
+    w.lo1 = -REAL_MAX;
+    w.hi1 = REAL_MAX;
+    w.hi1 = select(w.hi1, min(w.hi1, real(0.0)), md.m0 == 2u);
+    w.lo1 = select(w.lo1, max(w.lo1, real(0.0)), md.m0 == 0u);
+    return w;
+}
+
+fn rig_outside(w: Win, b: Eb) -> bool {
+    return b.b0 - w.hi0 >= real(0.0)
+        | b.b0 - w.lo0 <= real(0.0)
+        | b.b1 - w.hi1 >= real(0.0)
+        | b.b1 - w.lo1 <= real(0.0);
+}
+
+fn rig_oriented(g: Ev, i: u32) -> real {
+    switch i {
+        case 0u: { return g.g[0]; }
+        case 1u: { return -(g.g[1]); }
+        case 2u: { return -(g.g[2]); }
+        case 3u: { return g.g[3]; }
+        default: { return real(0.0); }
+    }
+}
+
+fn rig_fire(i: u32, md: ptr<function, Md>) {
+    switch i {
+        case 0u: { (*md).m0 = 1u; }
+        case 1u: { (*md).m0 = 0u; }
+        case 2u: { (*md).m0 = 2u; }
+        case 3u: { (*md).m0 = 0u; }
+        default: {}
+    }
+}
+
+fn rig_output0_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> real {
+    let v5 = y.s1;
+    let v6 = y.s4;
+    let v7 = y.s2;
+    let v8 = y.s5;
+    let v44 = v7 - v5;
+    let v45 = v8 - v6;
+    let v47 = kc.k46 * v44;
+    let v51 = abs(v45);
+    let v52 = select(real(0.0), real(1.0), v51 <= kc.k50);
+    let v53 = kc.k48 * v45;
+    let v55 = v51 - kc.k50;
+    let v56 = kc.k49 * v55;
+    let v57 = kc.k54 + v56;
+    let v58 = select(real(0.0), real(1.0), v45 <= real(0e0));
+    let v59 = -v57;
+    let v60 = select(v57, v59, v58 != real(0.0));
+    let v61 = select(v60, v53, v52 != real(0.0));
+    let v62 = v47 + v61;
+    let v64 = v44 - kc.k63;
+    let v65 = v44 + kc.k63;
+    let v66 = real(md.m0);
+    let v67 = select(real(0.0), real(1.0), v66 == real(1e0));
+    let v69 = select(real(0.0), real(1.0), v66 == real(2e0));
+    let v71 = kc.k70 * v64;
+    let v72 = kc.k70 * v65;
+    let v73 = select(real(0e0), v72, v69 != real(0.0));
+    let v74 = select(v73, v71, v67 != real(0.0));
+    let v81 = real(0e0) - v62;
+    let v82 = v81 - v74;
+    let v85 = v82 * kc.k84;
+    return v85;
+}
+
+fn rig_report_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Rep {
+    let v0 = t;
+    let v5 = y.s1;
+    let v6 = y.s4;
+    let v7 = y.s2;
+    let v8 = y.s5;
+    let v14 = kc.k12 * v0;
+    let v15 = real(5e-1) * v14;
+    let v16 = kc.k11 + v15;
+    let v17 = v16 * v0;
+    let v18 = real(6.283185307179586e0) * v17;
+    let v19 = kc.k11 + v14;
+    let v20 = real(6.283185307179586e0) * v19;
+    let v22 = select(real(0.0), real(1.0), v0 <= real(0e0));
+    let v23 = select(real(1e0), real(0e0), v22 != real(0.0));
+    let v24 = sin_r(v18);
+    let v25 = cos_r(v18);
+    let v26 = kc.k10 * v24;
+    let v27 = v25 * v20;
+    let v28 = kc.k10 * v27;
+    let v29 = v20 * v20;
+    let v30 = v24 * v29;
+    let v31 = v25 * kc.k21;
+    let v32 = v31 - v30;
+    let v33 = kc.k10 * v32;
+    let v34 = select(real(0e0), v26, v23 != real(0.0));
+    let v35 = select(real(0e0), v28, v23 != real(0.0));
+    let v36 = select(real(0e0), v33, v23 != real(0.0));
+    let v37 = v5 - v34;
+    let v38 = v6 - v35;
+    let v40 = kc.k39 * v37;
+    let v42 = kc.k41 * v38;
+    let v43 = v40 + v42;
+    let v44 = v7 - v5;
+    let v45 = v8 - v6;
+    let v47 = kc.k46 * v44;
+    let v51 = abs(v45);
+    let v52 = select(real(0.0), real(1.0), v51 <= kc.k50);
+    let v53 = kc.k48 * v45;
+    let v55 = v51 - kc.k50;
+    let v56 = kc.k49 * v55;
+    let v57 = kc.k54 + v56;
+    let v58 = select(real(0.0), real(1.0), v45 <= real(0e0));
+    let v59 = -v57;
+    let v60 = select(v57, v59, v58 != real(0.0));
+    let v61 = select(v60, v53, v52 != real(0.0));
+    let v62 = v47 + v61;
+    let v64 = v44 - kc.k63;
+    let v65 = v44 + kc.k63;
+    let v66 = real(md.m0);
+    let v67 = select(real(0.0), real(1.0), v66 == real(1e0));
+    let v69 = select(real(0.0), real(1.0), v66 == real(2e0));
+    let v71 = kc.k70 * v64;
+    let v72 = kc.k70 * v65;
+    let v73 = select(real(0e0), v72, v69 != real(0.0));
+    let v74 = select(v73, v71, v67 != real(0.0));
+    let v76 = v62 - v43;
+    let v77 = v76 + v74;
+    let v80 = v77 * kc.k79;
+    let v81 = real(0e0) - v62;
+    let v82 = v81 - v74;
+    let v85 = v82 * kc.k84;
+    let v86 = v62 + v74;
+    let v88 = real(-1e0) * v5;
+    let v89 = v7 + v88;
+    let v90 = real(-1e0) * v6;
+    let v91 = v8 + v90;
+    var r: Rep;
+    r.v[0] = v85;
+    r.v[1] = v80;
+    r.v[2] = v36;
+    r.v[3] = v86;
+    r.v[4] = v89;
+    r.v[5] = v91;
+    r.v[6] = v34;
+    r.v[7] = v5;
+    r.v[8] = v7;
+    r.v[9] = v35;
+    r.v[10] = v6;
+    r.v[11] = v8;
+    return r;
+}
+
+fn rig_deriv(kc: Kc, t: real, y: St, md: Md) -> St {
+    return rig_deriv_c(kc, t, y, md, rig_clock(kc, t));
+}
+
+fn rig_events(kc: Kc, t: real, y: St, md: Md) -> Ev {
+    return rig_events_c(kc, t, y, md, rig_clock(kc, t));
+}
+

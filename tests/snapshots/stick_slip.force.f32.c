@@ -1,0 +1,260 @@
+#define BLOCKS 8
+#include <math.h>
+#define F static inline __attribute__((always_inline))
+typedef double d __attribute__((vector_size(64)));
+typedef long long dm __attribute__((vector_size(64)));
+typedef unsigned long long du __attribute__((vector_size(64)));
+F d dsplat(double x) { d r; for (int l = 0; l < 8; l++) r[l] = x; return r; }
+F d dpick(dm k, d a, d b) { return (d)((k & (dm)a) | (~k & (dm)b)); }
+F d dclamp(d x, double lo, double hi) { x = dpick(x < dsplat(lo), dsplat(lo), x); return dpick(x > dsplat(hi), dsplat(hi), x); }
+#define SHIFT 6755399441055744.0
+F d dpoly(d r) {
+  d r2 = r * r, r4 = r2 * r2, r8 = r4 * r4;
+  d a0 = 1.0 + 0.5 * r;
+  d a1 = (1.0 / 6.0) + (1.0 / 24.0) * r;
+  d a2 = (1.0 / 120.0) + (1.0 / 720.0) * r;
+  d a3 = (1.0 / 5040.0) + (1.0 / 40320.0) * r;
+  d a4 = (1.0 / 362880.0) + (1.0 / 3628800.0) * r;
+  d a5 = (1.0 / 39916800.0) + (1.0 / 479001600.0) * r;
+  d a6 = dsplat(1.0 / 6227020800.0);
+  d b0 = a0 + a1 * r2, b1 = a2 + a3 * r2, b2 = a4 + a5 * r2;
+  d d0 = b0 + b1 * r4, d1 = b2 + a6 * r4;
+  return (d0 + d1 * r8) * r;
+}
+#define LN2_HI 0x1.62e42fee00000p-1
+#define LN2_LO 1.9082149292705877e-10
+#define INV_LN2 1.4426950408889634
+#define EXP_MAX 709.782712893384
+F d dpow2(d k) { return (d)((du)(k + (1023.0 + SHIFT)) << 52); }
+F d dexp(d x) {
+  d c = dclamp(x, -746.0, EXP_MAX);
+  d k = (c * INV_LN2 + SHIFT) - SHIFT;
+  d r = (c - k * LN2_HI) - k * LN2_LO;
+  d k1 = (0.5 * k + SHIFT) - SHIFT;
+  d e = (dpoly(r) + 1.0) * dpow2(k1) * dpow2(k - k1);
+  return dpick(x < dsplat(-745.2), dsplat(0.0), dpick(x > dsplat(EXP_MAX), dsplat(__builtin_inf()), e));
+}
+F d dexpm1(d x) {
+  d c = dclamp(x, -41.0, 709.0);
+  d k = (c * INV_LN2 + SHIFT) - SHIFT;
+  d r = (c - k * LN2_HI) - k * LN2_LO;
+  d p = dpoly(r), t = dpow2(k);
+  d e = t * p + (t - 1.0);
+  return dpick(x < dsplat(-40.0), dsplat(-1.0), dpick(x > dsplat(EXP_MAX), dsplat(__builtin_inf()), e));
+}
+typedef float v __attribute__((vector_size(64)));
+typedef int m __attribute__((vector_size(64)));
+typedef unsigned int u __attribute__((vector_size(64)));
+typedef float h __attribute__((vector_size(32)));
+#define WV 16
+#define STEP 2
+F v join(d lo, d hi) {
+  return __builtin_shufflevector(__builtin_convertvector(lo, h), __builtin_convertvector(hi, h), 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+}
+F void split(v x, d *lo, d *hi) {
+  *lo = __builtin_convertvector(__builtin_shufflevector(x, x, 0, 1, 2, 3, 4, 5, 6, 7), d);
+  *hi = __builtin_convertvector(__builtin_shufflevector(x, x, 8, 9, 10, 11, 12, 13, 14, 15), d);
+}
+#define LD(A, i) join((A)[(i) * BLOCKS + b], (A)[(i) * BLOCKS + b + 1])
+#define ST(A, i, x) split((x), &(A)[(i) * BLOCKS + b], &(A)[(i) * BLOCKS + b + 1])
+/* A per-run constant's row holds its lanes as f32, packed at its start. */
+#define LDC(A, i) (((v *)&(A)[(i) * BLOCKS])[b / 2])
+F v fsplat(float x) { v r; for (int l = 0; l < 16; l++) r[l] = x; return r; }
+F v fpick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
+F v vabs(v a) { return (v)((u)a & 0x7fffffffu); }
+/* e^x and e^x - 1 in f32: the f64 forms' reduction with f32 constants
+   (1.5·2^23 shift, ln 2 split as 0x1.62e4p-1 + rest) and the degree-8
+   Taylor polynomial of e^r - 1, |r| <= ln2/2 (truncation below 1e-8). */
+#define FSHIFT 12582912.0f
+F v fpoly(v r) {
+  v r2 = r * r, r4 = r2 * r2;
+  v a0 = 1.0f + 0.5f * r, a1 = (1.0f / 6.0f) + (1.0f / 24.0f) * r;
+  v a2 = (1.0f / 120.0f) + (1.0f / 720.0f) * r, a3 = (1.0f / 5040.0f) + (1.0f / 40320.0f) * r;
+  return ((a0 + a1 * r2) + (a2 + a3 * r2) * r4) * r;
+}
+F void freduce(v c, v *k, v *r) {
+  *k = (c * 1.44269504f + FSHIFT) - FSHIFT;
+  *r = (c - *k * 0x1.62e4p-1f) - *k * 0x1.7f7d1cp-20f;
+}
+F v fpow2(v k) { return (v)((u)(k + (127.0f + FSHIFT)) << 23); }
+F v vexp(v x) {
+  v c = fpick(x < fsplat(-104.0f), fsplat(-104.0f), x); c = fpick(c > fsplat(88.7f), fsplat(88.7f), c);
+  v k, r; freduce(c, &k, &r);
+  v k1 = (0.5f * k + FSHIFT) - FSHIFT;
+  v e = (fpoly(r) + 1.0f) * fpow2(k1) * fpow2(k - k1);
+  return fpick(x < fsplat(-103.9f), fsplat(0.0f), fpick(x > fsplat(88.72f), fsplat(__builtin_inff()), e));
+}
+F v vexpm1(v x) {
+  v c = fpick(x < fsplat(-18.0f), fsplat(-18.0f), x); c = fpick(c > fsplat(88.0f), fsplat(88.0f), c);
+  v k, r; freduce(c, &k, &r);
+  v p = fpoly(r), t = fpow2(k);
+  return fpick(x < fsplat(-17.0f), fsplat(-1.0f), fpick(x > fsplat(88.72f), fsplat(__builtin_inff()), t * p + (t - 1.0f)));
+}
+F v splat(double x) { v r; for (int l = 0; l < WV; l++) r[l] = x; return r; }
+F v pick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
+F v vsel(v c, v a, v b) { return pick(c != splat(0.0), a, b); }
+F v vle(v a, v b) { return (v)((a <= b) & (m)splat(1.0)); }
+F v veq(v a, v b) { return (v)((a == b) & (m)splat(1.0)); }
+/* Rust's f64::min / f64::max: a NaN operand gives the other. */
+F v vmin(v a, v b) { v r = pick(a < b, a, b); r = pick(a != a, b, r); return pick(b != b, a, r); }
+F v vmax(v a, v b) { v r = pick(a > b, a, b); r = pick(a != a, b, r); return pick(b != b, a, r); }
+F v vlog(v a) { v r; for (int l = 0; l < WV; l++) r[l] = log(a[l]); return r; }
+F v vsin(v a) { v r; for (int l = 0; l < WV; l++) r[l] = sin(a[l]); return r; }
+F v vcos(v a) { v r; for (int l = 0; l < WV; l++) r[l] = cos(a[l]); return r; }
+void rig_rk4(d *restrict R, d *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist) {
+  const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);
+  for (long b = 0; b < nb; b += STEP) {
+    v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13;
+    (void)r0;
+    v y0, a0, y1, a1, y2, a2;
+    r6 = LDC(R, 6);
+    r7 = LDC(R, 7);
+    r4 = LD(R, 4);
+    r8 = LDC(R, 8);
+    r9 = LDC(R, 9);
+    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
+    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
+    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
+    r5 = splat(tab[0 + 0]);
+    r11 = r6 - r1;
+    r12 = r7 * r2;
+    r13 = veq(r4, r6);
+    r13 = vsel(r13, r11, r6);
+    r11 = r8 * r11;
+    r11 = r12 + r11;
+    r11 = r11 + r5;
+    r11 = r11 * r9;
+    a0 = r1; r0 = y0 + CH * r1;
+    a1 = r11; r1 = y1 + CH * r11;
+    a2 = r13; r2 = y2 + CH * r13;
+    r5 = splat(tab[1 + 0]);
+    r11 = r6 - r1;
+    r12 = r7 * r2;
+    r13 = veq(r4, r6);
+    r13 = vsel(r13, r11, r6);
+    r11 = r8 * r11;
+    r11 = r12 + r11;
+    r11 = r11 + r5;
+    r11 = r11 * r9;
+    a0 = a0 + TWO * r1; r0 = y0 + CH * r1;
+    a1 = a1 + TWO * r11; r1 = y1 + CH * r11;
+    a2 = a2 + TWO * r13; r2 = y2 + CH * r13;
+    r5 = splat(tab[2 + 0]);
+    r11 = r6 - r1;
+    r12 = r7 * r2;
+    r13 = veq(r4, r6);
+    r13 = vsel(r13, r11, r6);
+    r11 = r8 * r11;
+    r11 = r12 + r11;
+    r11 = r11 + r5;
+    r11 = r11 * r9;
+    a0 = a0 + TWO * r1; r0 = y0 + H * r1;
+    a1 = a1 + TWO * r11; r1 = y1 + H * r11;
+    a2 = a2 + TWO * r13; r2 = y2 + H * r13;
+    r5 = splat(tab[3 + 0]);
+    r11 = r6 - r1;
+    r12 = r7 * r2;
+    r13 = veq(r4, r6);
+    r13 = vsel(r13, r11, r6);
+    r11 = r8 * r11;
+    r11 = r12 + r11;
+    r11 = r11 + r5;
+    r11 = r11 * r9;
+    r0 = y0 + H6 * (a0 + r1);
+    r1 = y1 + H6 * (a1 + r11);
+    r2 = y2 + H6 * (a2 + r13);
+    ST(R, 0, r0);
+    ST(R, 1, r1);
+    ST(R, 2, r2);
+  }
+}
+/* e^x and e^x - 1 of one value: lane 0 of the eight-lane forms (as cheap as
+   a scalar copy of them on a vector unit, and the same arithmetic). */
+F double sexp(double x) { return dexp(dsplat(x))[0]; }
+F double sexpm1(double x) { return dexpm1(dsplat(x))[0]; }
+F double ssel(double c, double a, double b) { return c != 0.0 ? a : b; }
+F double sle(double a, double b) { return a <= b ? 1.0 : 0.0; }
+F double seq(double a, double b) { return a == b ? 1.0 : 0.0; }
+F double smin(double a, double b) { return a != a ? b : b != b ? a : a < b ? a : b; }
+F double smax(double a, double b) { return a != a ? b : b != b ? a : a > b ? a : b; }
+F double sabs(double a) { return fabs(a); }
+F double slog(double a) { return log(a); }
+F double ssin(double a) { return sin(a); }
+F double scos(double a) { return cos(a); }
+void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) {
+    double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13;
+    r6 = R[6];
+    r1 = R[1];
+    r7 = R[7];
+    r2 = R[2];
+    r4 = R[4];
+    r8 = R[8];
+    r5 = tab[0];
+    r9 = R[9];
+    r11 = r6 - r1;
+    r12 = r7 * r2;
+    r13 = seq(r4, r6);
+    r13 = ssel(r13, r11, r6);
+    r11 = r8 * r11;
+    r11 = r12 + r11;
+    r11 = r11 + r5;
+    r11 = r11 * r9;
+    out[0] = r1;
+    out[1] = r11;
+    out[2] = r13;
+}
+void rig_events(d *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+  for (long b = 0; b < nb; b += STEP) {
+    v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13;
+    (void)r0;
+    r6 = LDC(R, 6);
+    r1 = LD(R, 1);
+    r7 = LDC(R, 7);
+    r2 = LD(R, 2);
+    r10 = LDC(R, 10);
+    r4 = LD(R, 4);
+    r11 = r6 - r1;
+    r12 = r7 * r2;
+    r13 = r12 - r10;
+    r12 = r12 + r10;
+    ST(R, 13, r13);
+    ST(R, 12, r12);
+    ST(R, 11, r11);
+    ST(R, 11, r11);
+    m k = (m){0};
+    k |= (r4 == splat(0.0)) & (r13 >= splat(0.0));
+    k |= (r4 == splat(0.0)) & (r12 <= splat(0.0));
+    k |= (r4 == splat(1.0)) & (r11 <= splat(0.0));
+    k |= (r4 == splat(2.0)) & (r11 >= splat(0.0));
+    unsigned long long bits = 0;
+    for (int l = 0; l < WV; l++) bits |= (unsigned long long)(k[l] & 1) << l;
+    hit[b] = bits & 0xff;
+    if (STEP == 2) hit[b + 1] = bits >> 8;
+  }
+}
+void rig_report(d *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+  for (long b = 0; b < nb; b += STEP) {
+    v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13;
+    (void)r0;
+    r7 = LDC(R, 7);
+    r2 = LD(R, 2);
+    r0 = LD(R, 0);
+    r1 = LD(R, 1);
+    r11 = r7 * r2;
+    ST(R, 11, r11);
+    ST(R, 0, r0);
+    ST(R, 0, r0);
+    ST(R, 1, r1);
+    ST(R, 2, r2);
+  }
+}
+void rig_fitted(d *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+  for (long b = 0; b < nb; b += STEP) {
+    v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13;
+    (void)r0;
+    r7 = LDC(R, 7);
+    r2 = LD(R, 2);
+    r11 = r7 * r2;
+    ST(R, 11, r11);
+  }
+}

@@ -1,0 +1,251 @@
+// Generated from the rig description by src/compile/wgsl.rs.
+
+const RIG_STATES: u32 = 3u;
+const RIG_MODES: u32 = 1u;
+const RIG_REPORT: u32 = 5u;
+
+struct St {
+    s0: real,
+    s1: real,
+    s2: real,
+}
+
+struct Md {
+    m0: u32,
+}
+
+struct Kc {
+    k8: real,
+    k9: real,
+    k17: real,
+    k22: real,
+    toff0: u32,
+    tlen0: u32,
+}
+
+struct Rep {
+    v: array<real, 5>,
+}
+
+struct Ev {
+    g: array<real, 4>,
+}
+
+fn rig_load(base: u32, ex: ExpInfo) -> Kc {
+    var kc: Kc;
+    kc.k8 = param(base, P_K8);
+    kc.k9 = param(base, P_K9);
+    kc.k17 = param(base, P_K17);
+    kc.k22 = param(base, P_K22);
+    kc.toff0 = 0u;
+    kc.tlen0 = 2u;
+    return kc;
+}
+
+fn rig_state_load(sb: u32) -> St {
+    var y: St;
+    y.s0 = state[sb + 0u];
+    y.s1 = state[sb + 1u];
+    y.s2 = state[sb + 2u];
+    return y;
+}
+
+fn rig_modes_load(sb: u32) -> Md {
+    var md: Md;
+    md.m0 = u32(state[sb + 3u]);
+    return md;
+}
+
+fn rig_initial(base: u32, y: ptr<function, St>, md: ptr<function, Md>) {
+}
+
+fn rig_state_store(sb: u32, y: St, md: Md) {
+    state[sb + 0u] = y.s0;
+    state[sb + 1u] = y.s1;
+    state[sb + 2u] = y.s2;
+    state[sb + 3u] = real(md.m0);
+}
+
+const RIG_ACC: u32 = 4u;
+
+fn st_axpy(y: St, a: real, k: St) -> St {
+    var r: St;
+    r.s0 = y.s0 + a * k.s0;
+    r.s1 = y.s1 + a * k.s1;
+    r.s2 = y.s2 + a * k.s2;
+    return r;
+}
+
+fn st_rk4(y: St, h6: real, k1: St, k2: St, k3: St, k4: St) -> St {
+    var r: St;
+    r.s0 = y.s0 + h6 * (((k1.s0 + real(2.0) * k2.s0) + real(2.0) * k3.s0) + k4.s0);
+    r.s1 = y.s1 + h6 * (((k1.s1 + real(2.0) * k2.s1) + real(2.0) * k3.s1) + k4.s1);
+    r.s2 = y.s2 + h6 * (((k1.s2 + real(2.0) * k2.s2) + real(2.0) * k3.s2) + k4.s2);
+    return r;
+}
+
+fn st_hermite(y0: St, f0: St, y1: St, f1: St, c00: real, c10: real, c01: real, c11: real) -> St {
+    var r: St;
+    r.s0 = ((c00 * y0.s0 + c10 * f0.s0) + c01 * y1.s0) + c11 * f1.s0;
+    r.s1 = ((c00 * y0.s1 + c10 * f0.s1) + c01 * y1.s1) + c11 * f1.s1;
+    r.s2 = ((c00 * y0.s2 + c10 * f0.s2) + c01 * y1.s2) + c11 * f1.s2;
+    return r;
+}
+
+struct Ck {
+    unused: real,
+}
+
+fn rig_clock(kc: Kc, t: real) -> Ck {
+    var c: Ck;
+    c.unused = t;
+    return c;
+}
+
+fn rig_clock_shift(c: Ck, q: Ck) -> Ck {
+    var r = c;
+    return r;
+}
+
+fn rig_deriv_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> St {
+    let v4 = y.s1;
+    let v5 = table_at(kc.toff0, kc.tlen0, t);
+    let v7 = real(0e0) - v4;
+    let v10 = y.s2;
+    let v11 = kc.k9 * v10;
+    let v14 = real(md.m0);
+    let v15 = select(real(0.0), real(1.0), v14 == real(0e0));
+    let v16 = select(real(0e0), v7, v15 != real(0.0));
+    let v18 = kc.k17 * v7;
+    let v19 = v11 + v18;
+    let v20 = v19 + v5;
+    let v23 = v20 * kc.k22;
+    var r: St;
+    r.s0 = v4;
+    r.s1 = v23;
+    r.s2 = v16;
+    return r;
+}
+
+fn rig_events_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Ev {
+    let v4 = y.s1;
+    let v7 = real(0e0) - v4;
+    let v10 = y.s2;
+    let v11 = kc.k9 * v10;
+    let v12 = v11 - kc.k8;
+    let v13 = v11 + kc.k8;
+    var r: Ev;
+    r.g[0] = v12;
+    r.g[1] = v13;
+    r.g[2] = v7;
+    r.g[3] = v7;
+    return r;
+}
+
+fn rig_hits(g0: Ev, g1: Ev, md: Md) -> u32 {
+    var hits = 0u;
+    hits |= select(0u, 1u, md.m0 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
+    hits |= select(0u, 2u, md.m0 == 0u && -(g1.g[1]) >= real(0.0) && (!(-(g0.g[1]) >= real(0.0)) || -(g1.g[1]) > -(g0.g[1])));
+    hits |= select(0u, 4u, md.m0 == 1u && -(g1.g[2]) >= real(0.0) && (!(-(g0.g[2]) >= real(0.0)) || -(g1.g[2]) > -(g0.g[2])));
+    hits |= select(0u, 8u, md.m0 == 2u && g1.g[3] >= real(0.0) && (!(g0.g[3] >= real(0.0)) || g1.g[3] > g0.g[3]));
+    return hits;
+}
+
+struct Eb {
+    b0: real,
+    b1: real,
+    b2: real,
+}
+
+fn rig_bases_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Eb {
+    let v4 = y.s1;
+    let v7 = real(0e0) - v4;
+    let v10 = y.s2;
+    let v11 = kc.k9 * v10;
+    let v13 = v11 + kc.k8;
+    var r: Eb;
+    r.b0 = v11;
+    r.b1 = v13;
+    r.b2 = v7;
+    return r;
+}
+
+struct Win {
+    lo0: real,
+    lo1: real,
+    lo2: real,
+    hi0: real,
+    hi1: real,
+    hi2: real,
+}
+
+fn rig_window(kc: Kc, md: Md) -> Win {
+    var w: Win;
+    w.lo0 = -REAL_MAX;
+    w.hi0 = REAL_MAX;
+    w.hi0 = select(w.hi0, min(w.hi0, kc.k8), md.m0 == 0u);
+    w.lo1 = -REAL_MAX;
+    w.hi1 = REAL_MAX;
+    w.lo1 = select(w.lo1, max(w.lo1, real(0.0)), md.m0 == 0u);
+    w.lo2 = -REAL_MAX;
+    w.hi2 = REAL_MAX;
+    w.hi2 = select(w.hi2, min(w.hi2, real(0.0)), md.m0 == 2u);
+    w.lo2 = select(w.lo2, max(w.lo2, real(0.0)), md.m0 == 1u);
+    return w;
+}
+
+fn rig_outside(w: Win, b: Eb) -> bool {
+    return b.b0 - w.hi0 >= real(0.0)
+        | b.b1 - w.lo1 <= real(0.0)
+        | b.b2 - w.hi2 >= real(0.0)
+        | b.b2 - w.lo2 <= real(0.0);
+}
+
+fn rig_oriented(g: Ev, i: u32) -> real {
+    switch i {
+        case 0u: { return g.g[0]; }
+        case 1u: { return -(g.g[1]); }
+        case 2u: { return -(g.g[2]); }
+        case 3u: { return g.g[3]; }
+        default: { return real(0.0); }
+    }
+}
+
+fn rig_fire(i: u32, md: ptr<function, Md>) {
+    switch i {
+        case 0u: { (*md).m0 = 1u; }
+        case 1u: { (*md).m0 = 2u; }
+        case 2u: { (*md).m0 = 0u; }
+        case 3u: { (*md).m0 = 0u; }
+        default: {}
+    }
+}
+
+fn rig_output0_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> real {
+    let v10 = y.s2;
+    let v11 = kc.k9 * v10;
+    return v11;
+}
+
+fn rig_report_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Rep {
+    let v3 = y.s0;
+    let v4 = y.s1;
+    let v10 = y.s2;
+    let v11 = kc.k9 * v10;
+    var r: Rep;
+    r.v[0] = v11;
+    r.v[1] = v3;
+    r.v[2] = v3;
+    r.v[3] = v4;
+    r.v[4] = v10;
+    return r;
+}
+
+fn rig_deriv(kc: Kc, t: real, y: St, md: Md) -> St {
+    return rig_deriv_c(kc, t, y, md, rig_clock(kc, t));
+}
+
+fn rig_events(kc: Kc, t: real, y: St, md: Md) -> Ev {
+    return rig_events_c(kc, t, y, md, rig_clock(kc, t));
+}
+

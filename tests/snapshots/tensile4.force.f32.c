@@ -1,0 +1,638 @@
+#define BLOCKS 8
+#include <math.h>
+#define F static inline __attribute__((always_inline))
+typedef double d __attribute__((vector_size(64)));
+typedef long long dm __attribute__((vector_size(64)));
+typedef unsigned long long du __attribute__((vector_size(64)));
+F d dsplat(double x) { d r; for (int l = 0; l < 8; l++) r[l] = x; return r; }
+F d dpick(dm k, d a, d b) { return (d)((k & (dm)a) | (~k & (dm)b)); }
+F d dclamp(d x, double lo, double hi) { x = dpick(x < dsplat(lo), dsplat(lo), x); return dpick(x > dsplat(hi), dsplat(hi), x); }
+#define SHIFT 6755399441055744.0
+F d dpoly(d r) {
+  d r2 = r * r, r4 = r2 * r2, r8 = r4 * r4;
+  d a0 = 1.0 + 0.5 * r;
+  d a1 = (1.0 / 6.0) + (1.0 / 24.0) * r;
+  d a2 = (1.0 / 120.0) + (1.0 / 720.0) * r;
+  d a3 = (1.0 / 5040.0) + (1.0 / 40320.0) * r;
+  d a4 = (1.0 / 362880.0) + (1.0 / 3628800.0) * r;
+  d a5 = (1.0 / 39916800.0) + (1.0 / 479001600.0) * r;
+  d a6 = dsplat(1.0 / 6227020800.0);
+  d b0 = a0 + a1 * r2, b1 = a2 + a3 * r2, b2 = a4 + a5 * r2;
+  d d0 = b0 + b1 * r4, d1 = b2 + a6 * r4;
+  return (d0 + d1 * r8) * r;
+}
+#define LN2_HI 0x1.62e42fee00000p-1
+#define LN2_LO 1.9082149292705877e-10
+#define INV_LN2 1.4426950408889634
+#define EXP_MAX 709.782712893384
+F d dpow2(d k) { return (d)((du)(k + (1023.0 + SHIFT)) << 52); }
+F d dexp(d x) {
+  d c = dclamp(x, -746.0, EXP_MAX);
+  d k = (c * INV_LN2 + SHIFT) - SHIFT;
+  d r = (c - k * LN2_HI) - k * LN2_LO;
+  d k1 = (0.5 * k + SHIFT) - SHIFT;
+  d e = (dpoly(r) + 1.0) * dpow2(k1) * dpow2(k - k1);
+  return dpick(x < dsplat(-745.2), dsplat(0.0), dpick(x > dsplat(EXP_MAX), dsplat(__builtin_inf()), e));
+}
+F d dexpm1(d x) {
+  d c = dclamp(x, -41.0, 709.0);
+  d k = (c * INV_LN2 + SHIFT) - SHIFT;
+  d r = (c - k * LN2_HI) - k * LN2_LO;
+  d p = dpoly(r), t = dpow2(k);
+  d e = t * p + (t - 1.0);
+  return dpick(x < dsplat(-40.0), dsplat(-1.0), dpick(x > dsplat(EXP_MAX), dsplat(__builtin_inf()), e));
+}
+typedef float v __attribute__((vector_size(64)));
+typedef int m __attribute__((vector_size(64)));
+typedef unsigned int u __attribute__((vector_size(64)));
+typedef float h __attribute__((vector_size(32)));
+#define WV 16
+#define STEP 2
+F v join(d lo, d hi) {
+  return __builtin_shufflevector(__builtin_convertvector(lo, h), __builtin_convertvector(hi, h), 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+}
+F void split(v x, d *lo, d *hi) {
+  *lo = __builtin_convertvector(__builtin_shufflevector(x, x, 0, 1, 2, 3, 4, 5, 6, 7), d);
+  *hi = __builtin_convertvector(__builtin_shufflevector(x, x, 8, 9, 10, 11, 12, 13, 14, 15), d);
+}
+#define LD(A, i) join((A)[(i) * BLOCKS + b], (A)[(i) * BLOCKS + b + 1])
+#define ST(A, i, x) split((x), &(A)[(i) * BLOCKS + b], &(A)[(i) * BLOCKS + b + 1])
+/* A per-run constant's row holds its lanes as f32, packed at its start. */
+#define LDC(A, i) (((v *)&(A)[(i) * BLOCKS])[b / 2])
+F v fsplat(float x) { v r; for (int l = 0; l < 16; l++) r[l] = x; return r; }
+F v fpick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
+F v vabs(v a) { return (v)((u)a & 0x7fffffffu); }
+/* e^x and e^x - 1 in f32: the f64 forms' reduction with f32 constants
+   (1.5·2^23 shift, ln 2 split as 0x1.62e4p-1 + rest) and the degree-8
+   Taylor polynomial of e^r - 1, |r| <= ln2/2 (truncation below 1e-8). */
+#define FSHIFT 12582912.0f
+F v fpoly(v r) {
+  v r2 = r * r, r4 = r2 * r2;
+  v a0 = 1.0f + 0.5f * r, a1 = (1.0f / 6.0f) + (1.0f / 24.0f) * r;
+  v a2 = (1.0f / 120.0f) + (1.0f / 720.0f) * r, a3 = (1.0f / 5040.0f) + (1.0f / 40320.0f) * r;
+  return ((a0 + a1 * r2) + (a2 + a3 * r2) * r4) * r;
+}
+F void freduce(v c, v *k, v *r) {
+  *k = (c * 1.44269504f + FSHIFT) - FSHIFT;
+  *r = (c - *k * 0x1.62e4p-1f) - *k * 0x1.7f7d1cp-20f;
+}
+F v fpow2(v k) { return (v)((u)(k + (127.0f + FSHIFT)) << 23); }
+F v vexp(v x) {
+  v c = fpick(x < fsplat(-104.0f), fsplat(-104.0f), x); c = fpick(c > fsplat(88.7f), fsplat(88.7f), c);
+  v k, r; freduce(c, &k, &r);
+  v k1 = (0.5f * k + FSHIFT) - FSHIFT;
+  v e = (fpoly(r) + 1.0f) * fpow2(k1) * fpow2(k - k1);
+  return fpick(x < fsplat(-103.9f), fsplat(0.0f), fpick(x > fsplat(88.72f), fsplat(__builtin_inff()), e));
+}
+F v vexpm1(v x) {
+  v c = fpick(x < fsplat(-18.0f), fsplat(-18.0f), x); c = fpick(c > fsplat(88.0f), fsplat(88.0f), c);
+  v k, r; freduce(c, &k, &r);
+  v p = fpoly(r), t = fpow2(k);
+  return fpick(x < fsplat(-17.0f), fsplat(-1.0f), fpick(x > fsplat(88.72f), fsplat(__builtin_inff()), t * p + (t - 1.0f)));
+}
+F v splat(double x) { v r; for (int l = 0; l < WV; l++) r[l] = x; return r; }
+F v pick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
+F v vsel(v c, v a, v b) { return pick(c != splat(0.0), a, b); }
+F v vle(v a, v b) { return (v)((a <= b) & (m)splat(1.0)); }
+F v veq(v a, v b) { return (v)((a == b) & (m)splat(1.0)); }
+/* Rust's f64::min / f64::max: a NaN operand gives the other. */
+F v vmin(v a, v b) { v r = pick(a < b, a, b); r = pick(a != a, b, r); return pick(b != b, a, r); }
+F v vmax(v a, v b) { v r = pick(a > b, a, b); r = pick(a != a, b, r); return pick(b != b, a, r); }
+F v vlog(v a) { v r; for (int l = 0; l < WV; l++) r[l] = log(a[l]); return r; }
+F v vsin(v a) { v r; for (int l = 0; l < WV; l++) r[l] = sin(a[l]); return r; }
+F v vcos(v a) { v r; for (int l = 0; l < WV; l++) r[l] = cos(a[l]); return r; }
+void rig_rk4(d *restrict R, d *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist) {
+  const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);
+  for (long b = 0; b < nb; b += STEP) {
+    v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49;
+    (void)r0;
+    v y0, a0, y1, a1, y2, a2, y3, a3, y4, a4, y5, a5, y6, a6, y7, a7;
+    r13 = LDC(R, 13);
+    r9 = LD(R, 9);
+    r14 = LDC(R, 14);
+    r15 = LDC(R, 15);
+    r16 = LDC(R, 16);
+    r17 = LDC(R, 17);
+    r18 = LDC(R, 18);
+    r19 = LDC(R, 19);
+    r20 = LDC(R, 20);
+    r21 = LDC(R, 21);
+    r22 = LDC(R, 22);
+    r23 = LDC(R, 23);
+    r10 = LD(R, 10);
+    r24 = LDC(R, 24);
+    r25 = LDC(R, 25);
+    r26 = LDC(R, 26);
+    r27 = LDC(R, 27);
+    r28 = LDC(R, 28);
+    r11 = LD(R, 11);
+    r29 = LDC(R, 29);
+    r30 = LDC(R, 30);
+    r31 = LDC(R, 31);
+    r32 = LDC(R, 32);
+    r33 = LDC(R, 33);
+    r34 = LDC(R, 34);
+    r35 = LDC(R, 35);
+    r36 = LDC(R, 36);
+    r37 = LDC(R, 37);
+    r38 = LDC(R, 38);
+    r39 = LDC(R, 39);
+    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
+    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
+    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
+    y3 = LD(R, 3); ST(Y, 3, y3); r3 = y3;
+    y4 = LD(R, 4); ST(Y, 4, y4); r4 = y4;
+    y5 = LD(R, 5); ST(Y, 5, y5); r5 = y5;
+    y6 = LD(R, 6); ST(Y, 6, y6); r6 = y6;
+    y7 = LD(R, 7); ST(Y, 7, y7); r7 = y7;
+    r12 = splat(tab[0 + 0]);
+    r42 = r13 * r0;
+    r43 = veq(r9, r14);
+    r44 = vsel(r43, r15, r16);
+    r44 = r44 * r4;
+    r44 = r42 + r44;
+    r42 = r1 - r0;
+    r45 = r5 - r4;
+    r46 = r17 * r42;
+    r46 = r46 + r18;
+    r46 = r46 * r42;
+    r46 = r46 + r19;
+    r46 = r46 * r42;
+    r46 = r46 + r20;
+    r46 = r46 * r42;
+    r46 = r46 + r21;
+    r46 = r46 * r42;
+    r46 = r46 + r22;
+    r42 = r23 * r42;
+    r47 = veq(r10, r14);
+    r47 = vsel(r47, r46, r42);
+    r45 = r24 * r45;
+    r45 = r47 + r45;
+    r45 = vsel(r43, r25, r45);
+    r43 = r2 - r1;
+    r47 = r6 - r5;
+    r43 = r26 * r43;
+    r47 = r27 * r47;
+    r47 = r43 + r47;
+    r43 = r3 - r2;
+    r42 = r7 - r6;
+    r43 = r43 - r28;
+    r46 = veq(r11, r14);
+    r48 = r29 * r43;
+    r48 = vexpm1(r48);
+    r48 = r30 * r48;
+    r49 = r31 * r43;
+    r49 = r48 + r49;
+    r48 = r43 - r32;
+    r48 = r33 * r48;
+    r48 = r34 + r48;
+    r43 = vle(r43, r32);
+    r43 = vsel(r43, r49, r48);
+    r42 = r35 * r42;
+    r42 = r43 + r42;
+    r42 = vsel(r46, r42, r25);
+    r44 = r45 - r44;
+    r44 = r44 * r36;
+    r45 = r47 - r45;
+    r45 = r45 * r37;
+    r47 = r42 - r47;
+    r47 = r47 * r38;
+    r42 = r12 - r42;
+    r42 = r42 * r39;
+    a0 = r4; r0 = y0 + CH * r4;
+    a1 = r5; r1 = y1 + CH * r5;
+    a2 = r6; r2 = y2 + CH * r6;
+    a3 = r7; r3 = y3 + CH * r7;
+    a4 = r44; r4 = y4 + CH * r44;
+    a5 = r45; r5 = y5 + CH * r45;
+    a6 = r47; r6 = y6 + CH * r47;
+    a7 = r42; r7 = y7 + CH * r42;
+    r12 = splat(tab[1 + 0]);
+    r42 = r13 * r0;
+    r43 = veq(r9, r14);
+    r44 = vsel(r43, r15, r16);
+    r44 = r44 * r4;
+    r44 = r42 + r44;
+    r42 = r1 - r0;
+    r45 = r5 - r4;
+    r46 = r17 * r42;
+    r46 = r46 + r18;
+    r46 = r46 * r42;
+    r46 = r46 + r19;
+    r46 = r46 * r42;
+    r46 = r46 + r20;
+    r46 = r46 * r42;
+    r46 = r46 + r21;
+    r46 = r46 * r42;
+    r46 = r46 + r22;
+    r42 = r23 * r42;
+    r47 = veq(r10, r14);
+    r47 = vsel(r47, r46, r42);
+    r45 = r24 * r45;
+    r45 = r47 + r45;
+    r45 = vsel(r43, r25, r45);
+    r43 = r2 - r1;
+    r47 = r6 - r5;
+    r43 = r26 * r43;
+    r47 = r27 * r47;
+    r47 = r43 + r47;
+    r43 = r3 - r2;
+    r42 = r7 - r6;
+    r43 = r43 - r28;
+    r46 = veq(r11, r14);
+    r48 = r29 * r43;
+    r48 = vexpm1(r48);
+    r48 = r30 * r48;
+    r49 = r31 * r43;
+    r49 = r48 + r49;
+    r48 = r43 - r32;
+    r48 = r33 * r48;
+    r48 = r34 + r48;
+    r43 = vle(r43, r32);
+    r43 = vsel(r43, r49, r48);
+    r42 = r35 * r42;
+    r42 = r43 + r42;
+    r42 = vsel(r46, r42, r25);
+    r44 = r45 - r44;
+    r44 = r44 * r36;
+    r45 = r47 - r45;
+    r45 = r45 * r37;
+    r47 = r42 - r47;
+    r47 = r47 * r38;
+    r42 = r12 - r42;
+    r42 = r42 * r39;
+    a0 = a0 + TWO * r4; r0 = y0 + CH * r4;
+    a1 = a1 + TWO * r5; r1 = y1 + CH * r5;
+    a2 = a2 + TWO * r6; r2 = y2 + CH * r6;
+    a3 = a3 + TWO * r7; r3 = y3 + CH * r7;
+    a4 = a4 + TWO * r44; r4 = y4 + CH * r44;
+    a5 = a5 + TWO * r45; r5 = y5 + CH * r45;
+    a6 = a6 + TWO * r47; r6 = y6 + CH * r47;
+    a7 = a7 + TWO * r42; r7 = y7 + CH * r42;
+    r12 = splat(tab[2 + 0]);
+    r42 = r13 * r0;
+    r43 = veq(r9, r14);
+    r44 = vsel(r43, r15, r16);
+    r44 = r44 * r4;
+    r44 = r42 + r44;
+    r42 = r1 - r0;
+    r45 = r5 - r4;
+    r46 = r17 * r42;
+    r46 = r46 + r18;
+    r46 = r46 * r42;
+    r46 = r46 + r19;
+    r46 = r46 * r42;
+    r46 = r46 + r20;
+    r46 = r46 * r42;
+    r46 = r46 + r21;
+    r46 = r46 * r42;
+    r46 = r46 + r22;
+    r42 = r23 * r42;
+    r47 = veq(r10, r14);
+    r47 = vsel(r47, r46, r42);
+    r45 = r24 * r45;
+    r45 = r47 + r45;
+    r45 = vsel(r43, r25, r45);
+    r43 = r2 - r1;
+    r47 = r6 - r5;
+    r43 = r26 * r43;
+    r47 = r27 * r47;
+    r47 = r43 + r47;
+    r43 = r3 - r2;
+    r42 = r7 - r6;
+    r43 = r43 - r28;
+    r46 = veq(r11, r14);
+    r48 = r29 * r43;
+    r48 = vexpm1(r48);
+    r48 = r30 * r48;
+    r49 = r31 * r43;
+    r49 = r48 + r49;
+    r48 = r43 - r32;
+    r48 = r33 * r48;
+    r48 = r34 + r48;
+    r43 = vle(r43, r32);
+    r43 = vsel(r43, r49, r48);
+    r42 = r35 * r42;
+    r42 = r43 + r42;
+    r42 = vsel(r46, r42, r25);
+    r44 = r45 - r44;
+    r44 = r44 * r36;
+    r45 = r47 - r45;
+    r45 = r45 * r37;
+    r47 = r42 - r47;
+    r47 = r47 * r38;
+    r42 = r12 - r42;
+    r42 = r42 * r39;
+    a0 = a0 + TWO * r4; r0 = y0 + H * r4;
+    a1 = a1 + TWO * r5; r1 = y1 + H * r5;
+    a2 = a2 + TWO * r6; r2 = y2 + H * r6;
+    a3 = a3 + TWO * r7; r3 = y3 + H * r7;
+    a4 = a4 + TWO * r44; r4 = y4 + H * r44;
+    a5 = a5 + TWO * r45; r5 = y5 + H * r45;
+    a6 = a6 + TWO * r47; r6 = y6 + H * r47;
+    a7 = a7 + TWO * r42; r7 = y7 + H * r42;
+    r12 = splat(tab[3 + 0]);
+    r42 = r13 * r0;
+    r43 = veq(r9, r14);
+    r44 = vsel(r43, r15, r16);
+    r44 = r44 * r4;
+    r44 = r42 + r44;
+    r42 = r1 - r0;
+    r45 = r5 - r4;
+    r46 = r17 * r42;
+    r46 = r46 + r18;
+    r46 = r46 * r42;
+    r46 = r46 + r19;
+    r46 = r46 * r42;
+    r46 = r46 + r20;
+    r46 = r46 * r42;
+    r46 = r46 + r21;
+    r46 = r46 * r42;
+    r46 = r46 + r22;
+    r42 = r23 * r42;
+    r47 = veq(r10, r14);
+    r47 = vsel(r47, r46, r42);
+    r45 = r24 * r45;
+    r45 = r47 + r45;
+    r45 = vsel(r43, r25, r45);
+    r43 = r2 - r1;
+    r47 = r6 - r5;
+    r43 = r26 * r43;
+    r47 = r27 * r47;
+    r47 = r43 + r47;
+    r43 = r3 - r2;
+    r42 = r7 - r6;
+    r43 = r43 - r28;
+    r46 = veq(r11, r14);
+    r48 = r29 * r43;
+    r48 = vexpm1(r48);
+    r48 = r30 * r48;
+    r49 = r31 * r43;
+    r49 = r48 + r49;
+    r48 = r43 - r32;
+    r48 = r33 * r48;
+    r48 = r34 + r48;
+    r43 = vle(r43, r32);
+    r43 = vsel(r43, r49, r48);
+    r42 = r35 * r42;
+    r42 = r43 + r42;
+    r42 = vsel(r46, r42, r25);
+    r44 = r45 - r44;
+    r44 = r44 * r36;
+    r45 = r47 - r45;
+    r45 = r45 * r37;
+    r47 = r42 - r47;
+    r47 = r47 * r38;
+    r42 = r12 - r42;
+    r42 = r42 * r39;
+    r0 = y0 + H6 * (a0 + r4);
+    r1 = y1 + H6 * (a1 + r5);
+    r2 = y2 + H6 * (a2 + r6);
+    r3 = y3 + H6 * (a3 + r7);
+    r4 = y4 + H6 * (a4 + r44);
+    r5 = y5 + H6 * (a5 + r45);
+    r6 = y6 + H6 * (a6 + r47);
+    r7 = y7 + H6 * (a7 + r42);
+    ST(R, 0, r0);
+    ST(R, 1, r1);
+    ST(R, 2, r2);
+    ST(R, 3, r3);
+    ST(R, 4, r4);
+    ST(R, 5, r5);
+    ST(R, 6, r6);
+    ST(R, 7, r7);
+  }
+}
+/* e^x and e^x - 1 of one value: lane 0 of the eight-lane forms (as cheap as
+   a scalar copy of them on a vector unit, and the same arithmetic). */
+F double sexp(double x) { return dexp(dsplat(x))[0]; }
+F double sexpm1(double x) { return dexpm1(dsplat(x))[0]; }
+F double ssel(double c, double a, double b) { return c != 0.0 ? a : b; }
+F double sle(double a, double b) { return a <= b ? 1.0 : 0.0; }
+F double seq(double a, double b) { return a == b ? 1.0 : 0.0; }
+F double smin(double a, double b) { return a != a ? b : b != b ? a : a < b ? a : b; }
+F double smax(double a, double b) { return a != a ? b : b != b ? a : a > b ? a : b; }
+F double sabs(double a) { return fabs(a); }
+F double slog(double a) { return log(a); }
+F double ssin(double a) { return sin(a); }
+F double scos(double a) { return cos(a); }
+void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) {
+    double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49;
+    r13 = R[13];
+    r0 = R[0];
+    r9 = R[9];
+    r14 = R[14];
+    r15 = R[15];
+    r16 = R[16];
+    r4 = R[4];
+    r1 = R[1];
+    r5 = R[5];
+    r17 = R[17];
+    r18 = R[18];
+    r19 = R[19];
+    r20 = R[20];
+    r21 = R[21];
+    r22 = R[22];
+    r23 = R[23];
+    r10 = R[10];
+    r24 = R[24];
+    r25 = R[25];
+    r2 = R[2];
+    r6 = R[6];
+    r26 = R[26];
+    r27 = R[27];
+    r3 = R[3];
+    r7 = R[7];
+    r28 = R[28];
+    r11 = R[11];
+    r29 = R[29];
+    r30 = R[30];
+    r31 = R[31];
+    r32 = R[32];
+    r33 = R[33];
+    r34 = R[34];
+    r35 = R[35];
+    r36 = R[36];
+    r37 = R[37];
+    r38 = R[38];
+    r12 = tab[0];
+    r39 = R[39];
+    r42 = r13 * r0;
+    r43 = seq(r9, r14);
+    r44 = ssel(r43, r15, r16);
+    r44 = r44 * r4;
+    r44 = r42 + r44;
+    r42 = r1 - r0;
+    r45 = r5 - r4;
+    r46 = r17 * r42;
+    r46 = r46 + r18;
+    r46 = r46 * r42;
+    r46 = r46 + r19;
+    r46 = r46 * r42;
+    r46 = r46 + r20;
+    r46 = r46 * r42;
+    r46 = r46 + r21;
+    r46 = r46 * r42;
+    r46 = r46 + r22;
+    r42 = r23 * r42;
+    r47 = seq(r10, r14);
+    r47 = ssel(r47, r46, r42);
+    r45 = r24 * r45;
+    r45 = r47 + r45;
+    r45 = ssel(r43, r25, r45);
+    r43 = r2 - r1;
+    r47 = r6 - r5;
+    r43 = r26 * r43;
+    r47 = r27 * r47;
+    r47 = r43 + r47;
+    r43 = r3 - r2;
+    r42 = r7 - r6;
+    r43 = r43 - r28;
+    r46 = seq(r11, r14);
+    r48 = r29 * r43;
+    r48 = sexpm1(r48);
+    r48 = r30 * r48;
+    r49 = r31 * r43;
+    r49 = r48 + r49;
+    r48 = r43 - r32;
+    r48 = r33 * r48;
+    r48 = r34 + r48;
+    r43 = sle(r43, r32);
+    r43 = ssel(r43, r49, r48);
+    r42 = r35 * r42;
+    r42 = r43 + r42;
+    r42 = ssel(r46, r42, r25);
+    r44 = r45 - r44;
+    r44 = r44 * r36;
+    r45 = r47 - r45;
+    r45 = r45 * r37;
+    r47 = r42 - r47;
+    r47 = r47 * r38;
+    r42 = r12 - r42;
+    r42 = r42 * r39;
+    out[0] = r4;
+    out[1] = r5;
+    out[2] = r6;
+    out[3] = r7;
+    out[4] = r44;
+    out[5] = r45;
+    out[6] = r47;
+    out[7] = r42;
+}
+void rig_events(d *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+  for (long b = 0; b < nb; b += STEP) {
+    v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49;
+    (void)r0;
+    r1 = LD(R, 1);
+    r0 = LD(R, 0);
+    r40 = LDC(R, 40);
+    r41 = LDC(R, 41);
+    r3 = LD(R, 3);
+    r2 = LD(R, 2);
+    r28 = LDC(R, 28);
+    r10 = LD(R, 10);
+    r9 = LD(R, 9);
+    r11 = LD(R, 11);
+    r42 = r1 - r0;
+    r43 = r42 - r40;
+    r42 = r42 - r41;
+    r44 = r3 - r2;
+    r44 = r44 - r28;
+    ST(R, 43, r43);
+    ST(R, 43, r43);
+    ST(R, 42, r42);
+    ST(R, 44, r44);
+    ST(R, 44, r44);
+    m k = (m){0};
+    k |= (r10 == splat(0.0)) & (r43 >= splat(0.0));
+    k |= (r10 == splat(1.0)) & (r43 <= splat(0.0));
+    k |= (r9 == splat(0.0)) & (r42 >= splat(0.0));
+    k |= (r11 == splat(0.0)) & (r44 >= splat(0.0));
+    k |= (r11 == splat(1.0)) & (r44 <= splat(0.0));
+    unsigned long long bits = 0;
+    for (int l = 0; l < WV; l++) bits |= (unsigned long long)(k[l] & 1) << l;
+    hit[b] = bits & 0xff;
+    if (STEP == 2) hit[b + 1] = bits >> 8;
+  }
+}
+void rig_report(d *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+  for (long b = 0; b < nb; b += STEP) {
+    v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49;
+    (void)r0;
+    r13 = LDC(R, 13);
+    r0 = LD(R, 0);
+    r9 = LD(R, 9);
+    r14 = LDC(R, 14);
+    r15 = LDC(R, 15);
+    r16 = LDC(R, 16);
+    r4 = LD(R, 4);
+    r1 = LD(R, 1);
+    r5 = LD(R, 5);
+    r17 = LDC(R, 17);
+    r18 = LDC(R, 18);
+    r19 = LDC(R, 19);
+    r20 = LDC(R, 20);
+    r21 = LDC(R, 21);
+    r22 = LDC(R, 22);
+    r23 = LDC(R, 23);
+    r10 = LD(R, 10);
+    r24 = LDC(R, 24);
+    r25 = LDC(R, 25);
+    r2 = LD(R, 2);
+    r3 = LD(R, 3);
+    r6 = LD(R, 6);
+    r7 = LD(R, 7);
+    r42 = r13 * r0;
+    r43 = veq(r9, r14);
+    r44 = vsel(r43, r15, r16);
+    r44 = r44 * r4;
+    r44 = r42 + r44;
+    r42 = r1 - r0;
+    r45 = r5 - r4;
+    r46 = r17 * r42;
+    r46 = r46 + r18;
+    r46 = r46 * r42;
+    r46 = r46 + r19;
+    r46 = r46 * r42;
+    r46 = r46 + r20;
+    r46 = r46 * r42;
+    r46 = r46 + r21;
+    r46 = r46 * r42;
+    r46 = r46 + r22;
+    r42 = r23 * r42;
+    r47 = veq(r10, r14);
+    r47 = vsel(r47, r46, r42);
+    r45 = r24 * r45;
+    r45 = r47 + r45;
+    r45 = vsel(r43, r25, r45);
+    ST(R, 44, r44);
+    ST(R, 45, r45);
+    ST(R, 0, r0);
+    ST(R, 1, r1);
+    ST(R, 2, r2);
+    ST(R, 3, r3);
+    ST(R, 4, r4);
+    ST(R, 5, r5);
+    ST(R, 6, r6);
+    ST(R, 7, r7);
+  }
+}
+void rig_fitted(d *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+  for (long b = 0; b < nb; b += STEP) {
+    v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49;
+    (void)r0;
+    r13 = LDC(R, 13);
+    r0 = LD(R, 0);
+    r9 = LD(R, 9);
+    r14 = LDC(R, 14);
+    r15 = LDC(R, 15);
+    r16 = LDC(R, 16);
+    r4 = LD(R, 4);
+    r42 = r13 * r0;
+    r43 = veq(r9, r14);
+    r43 = vsel(r43, r15, r16);
+    r43 = r43 * r4;
+    r43 = r42 + r43;
+    ST(R, 43, r43);
+  }
+}
