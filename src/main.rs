@@ -13,7 +13,7 @@ fn main() -> ExitCode {
         Err(e) => {
             let _ = e.print();
             return if e.use_stderr() {
-                ExitCode::from(cli::EXIT_BAD_INPUT)
+                ExitCode::from(cli::exit::EXIT_BAD_INPUT)
             } else {
                 ExitCode::SUCCESS
             };
@@ -25,33 +25,6 @@ fn main() -> ExitCode {
     let json = cli.json;
     match cli::dispatch(cli) {
         Ok(code) => code,
-        Err(err) => {
-            let code = cli::exit_code(&err);
-            // Every message is bounded, whatever a library quoted from the
-            // input (the sources cut their own echoes to 60 characters).
-            let bound = |s: String| {
-                rigfit::base::text::shorten_quotes(&s, 4 * rigfit::base::text::ECHO_CHARS)
-            };
-            let message = bound(err.to_string());
-            let mut shown = message.clone();
-            let mut causes = Vec::new();
-            eprintln!("rigfit: error: {message}");
-            for cause in err.chain().skip(1) {
-                // A message that already quotes its cause needs no second copy.
-                let text = bound(cause.to_string());
-                if !shown.contains(&text) {
-                    eprintln!("  caused by: {text}");
-                    shown.push_str(&text);
-                    causes.push(text);
-                }
-            }
-            if json {
-                let doc = serde_json::json!({
-                    "error": message, "causes": causes, "exit_code": code,
-                });
-                cli::print_stdout(&serde_json::to_string_pretty(&doc).unwrap_or_default());
-            }
-            ExitCode::from(code)
-        }
+        Err(err) => cli::exit::report(&err, json),
     }
 }

@@ -4,14 +4,14 @@
 //! `campaigns/*.json`, the campaign loads (the validation `rigfit check` and
 //! `rigfit run` do before any work) and the estimates are its free genes.
 
-mod seed_rigs_common;
+mod paper_rigs_common;
 
 use std::f64::consts::PI;
 use std::path::Path;
 
+use paper_rigs_common::{outputs, params, rig, shipped, truth};
 use rigfit::campaign::Campaign;
 use rigfit::model::compiled::CompiledRig;
-use seed_rigs_common::{outputs, params, rig, shipped, truth};
 use serde_json::Value;
 
 /// Runs `rigfit identify ARGS… --out FRAGMENT` and returns the fragment.

@@ -1,18 +1,18 @@
-//! Document 003's impedance method on the shipped `bearing_2dof` rig: two
+//! The bearing rig thesis chapter ("Experimental Investigations of Lubricated Bearing Stiffness")'s impedance method on the shipped `bearing_2dof` rig: two
 //! hammer impacts simulated by rigfit (one in x, one in y, as the document's
 //! two linearly independent tests) give the 2 × 2 impedance and receptance
 //! matrices, and their curve fits return the rig's mass, direct and cross
 //! stiffness and damping; the command writes a fragment the shipped campaign
 //! takes.
 
-mod seed_rigs_common;
+mod paper_rigs_common;
 
 use std::f64::consts::PI;
 
+use paper_rigs_common::{outputs, params, rig, shipped, truth};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rigfit::identify::impedance::{self, ImpactRecord};
-use seed_rigs_common::{outputs, params, rig, shipped, truth};
 
 const FS: f64 = 3906.25;
 /// Samples per record (0.13 s): the ringing has died out well before, and a

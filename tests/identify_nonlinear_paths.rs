@@ -1,4 +1,4 @@
-//! Bendat's reverse-path nonlinear MISO analysis (document 004, Eq. 1) splits a
+//! Bendat's reverse-path nonlinear MISO analysis (the friction rig paper ("Non-linear signal analysis applied to surface wear condition monitoring in reciprocating sliding testing machines"), Eq. 1) splits a
 //! force-driven Duffing oscillator simulated with rigfit's integrator into its
 //! linear impedance and its cubic path, and recovers m, c, k and k3.
 

@@ -1,4 +1,4 @@
-//! Restoring-force surface and direct parameter estimation (document 000,
+//! Restoring-force surface and direct parameter estimation (the inertial fatigue rig paper ("A New Fatigue Testing Rig Based on Inertial Forces"),
 //! §3.2–3.3) recover the laws of synthetic base-excited records made with
 //! rigfit's integrator.
 
@@ -8,7 +8,7 @@ use identify_common::{BaseExcited, Multisine, simulate};
 use rigfit::identify::dpe::{self, DpeOptions, GridOptions, Term, signed_power};
 use rigfit::identify::rfs::{self, RfsOptions};
 
-/// Simulates `m·ẍ + R(x, ẋ) = −m·a` under a 5–60 Hz multisine (document 000's
+/// Simulates `m·ẍ + R(x, ẋ) = −m·a` under a 5–60 Hz multisine (the inertial fatigue rig paper's
 /// band) and returns `(t, x, a)` at `fs`.
 fn record(
     m: f64,
@@ -73,7 +73,7 @@ fn duffing_with_viscous_and_coulomb_damping_is_recovered() {
     assert!(kf1_entry["min"].as_f64().unwrap() < kf1 && kf1_entry["max"].as_f64().unwrap() > kf1);
 }
 
-/// Document 000, Table 1, 15 psi row: the laws with power-law damping and
+/// The inertial fatigue rig paper, Table 1, 15 psi row: the laws with power-law damping and
 /// stiffness. The mass is not given; §4.2 implies about 9 kg. The exponent grid
 /// must find α = 0.64 and β = 1.81 and the least squares the six coefficients.
 #[test]

@@ -1,4 +1,4 @@
-//! Document 002's frequency-domain tools on records of the shipped
+//! The vehicle suspension paper (data interrogation for vehicle suspensions, ASME, 2005)'s frequency-domain tools on records of the shipped
 //! `quarter_car` rig simulated by rigfit: the element fit of a low-order
 //! transmissibility model returns the strut's and the tire's stiffness and
 //! damping, the experimental sensitivity (Eq. 7a/11, 8a) measures a change of
@@ -6,14 +6,14 @@
 //! auto-regressive terms of the nonlinear ARX model (Eq. 6) grow with the
 //! strut's nonlinearity (§3.3).
 
-mod seed_rigs_common;
+mod paper_rigs_common;
 
+use paper_rigs_common::{outputs, params, rig, truth};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rigfit::identify::transmissibility::{
     self as tr, ArxForm, block_spectra, element_fit, segment_for_averages,
 };
-use seed_rigs_common::{outputs, params, rig, truth};
 use serde_json::Value;
 
 const FS: f64 = 600.0;
@@ -208,7 +208,7 @@ fn the_sensitivity_command_gives_the_changed_stiffness_as_a_fragment() {
     let after = fragment["params"]["k2"].as_f64().unwrap();
     // A loosening: the first-order estimate of a 3 % drop.
     assert!((after / (0.97 * k2) - 1.0).abs() < 0.003, "{after}");
-    let path = seed_rigs_common::shipped("quarter_car_synthetic.json");
+    let path = paper_rigs_common::shipped("quarter_car_synthetic.json");
     let mut c: Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
     c["params"]["k2"] = fragment["params"]["k2"].clone();
     rigfit::campaign::Campaign::from_str(&c.to_string(), path.parent().unwrap(), "quarter_car")

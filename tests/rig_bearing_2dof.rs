@@ -1,12 +1,12 @@
-//! `rigs/bearing_2dof.json` (seed document 003): the shipped campaign recovers
+//! `rigs/bearing_2dof.json` (the bearing rig thesis chapter ("Experimental Investigations of Lubricated Bearing Stiffness")): the shipped campaign recovers
 //! the bearing's direct and cross stiffness and damping from two hammer impacts
 //! (x, then y) seen by the x sensor, down to the noise floor; and the document's
 //! logarithmic decrement, applied to the rig's ringdown, returns the damping
 //! ratio the rig was given, the document's ζ = 0.195 (Table 4).
 
-mod seed_rigs_common;
+mod paper_rigs_common;
 
-use seed_rigs_common::{outputs, params, recover, rig, truth};
+use paper_rigs_common::{outputs, params, recover, rig, truth};
 
 #[test]
 fn the_shipped_campaign_recovers_the_bearing_coefficients_at_the_noise_floor() {

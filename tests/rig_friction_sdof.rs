@@ -1,11 +1,11 @@
-//! `rigs/friction_sdof.json` (seed document 004, Case A): the shipped campaign
+//! `rigs/friction_sdof.json` (the friction rig paper ("Non-linear signal analysis applied to surface wear condition monitoring in reciprocating sliding testing machines"), Case A): the shipped campaign
 //! recovers the suspension and the friction contact from its synthetic
 //! load-cell record down to the noise floor, and the rig reproduces the
 //! document's tangential contact stiffness read the document's way (§5.1).
 
-mod seed_rigs_common;
+mod paper_rigs_common;
 
-use seed_rigs_common::{outputs, params, recover, rig, truth};
+use paper_rigs_common::{outputs, params, recover, rig, truth};
 
 #[test]
 fn the_shipped_campaign_recovers_the_suspension_and_the_contact_at_the_noise_floor() {

@@ -1,11 +1,11 @@
-//! `rigs/inertial_sdof.json` (seed document 000): the shipped campaign recovers
+//! `rigs/inertial_sdof.json` (the inertial fatigue rig paper ("A New Fatigue Testing Rig Based on Inertial Forces")): the shipped campaign recovers
 //! the six coefficients of the document's Eq. 7 from a synthetic eddy-current
 //! record down to the noise floor, and the rig with Table 1's 15 psi laws
 //! reproduces the document's nonlinearity index at its typical load (§4.4).
 
-mod seed_rigs_common;
+mod paper_rigs_common;
 
-use seed_rigs_common::{outputs, params, recover, rig, truth};
+use paper_rigs_common::{outputs, params, recover, rig, truth};
 
 #[test]
 fn the_shipped_campaign_recovers_the_six_coefficients_at_the_noise_floor() {

@@ -1,13 +1,13 @@
-//! `rigs/quarter_car.json` (seed document 002): the shipped campaign recovers
+//! `rigs/quarter_car.json` (the vehicle suspension paper (data interrogation for vehicle suspensions, ASME, 2005)): the shipped campaign recovers
 //! the strut (spring, saturating damper, backlash) from a synthetic sprung-mass
 //! acceleration record down to the noise floor; the rig's drive at the
 //! document's Table 1 settings sweeps to 15 Hz in its 360,000 samples, and the
 //! document's restoring force (Eq. 1, from the sprung mass's accelerometer
 //! alone) is the strut's force.
 
-mod seed_rigs_common;
+mod paper_rigs_common;
 
-use seed_rigs_common::{outputs, params, recover, rig, truth};
+use paper_rigs_common::{outputs, params, recover, rig, truth};
 
 #[test]
 fn the_shipped_campaign_recovers_the_strut_at_the_noise_floor() {

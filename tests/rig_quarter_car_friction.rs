@@ -1,4 +1,4 @@
-//! `rigs/quarter_car_friction.json` (seed document 002's quarter car with the
+//! `rigs/quarter_car_friction.json` (the vehicle suspension paper (data interrogation for vehicle suspensions, ASME, 2005)'s quarter car with the
 //! strut seal's Coulomb friction, a `stick_slip` element in the strut): the
 //! shipped campaign recovers the strut, the seal's slip
 //! force and its tangential stiffness from a synthetic sprung-mass
@@ -6,9 +6,9 @@
 //! chatters (the firing rule of `Transition::fires` holds a seal that sticks
 //! at the slip limit at a turning point).
 
-mod seed_rigs_common;
+mod paper_rigs_common;
 
-use seed_rigs_common::recover;
+use paper_rigs_common::recover;
 
 #[test]
 fn the_shipped_campaign_recovers_the_strut_and_its_seal_without_chattering() {

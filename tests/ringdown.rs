@@ -3,7 +3,7 @@
 //! a hammer impact of the shipped bearing rig (no fracture) its three damping
 //! estimates agree, and its words are a ringdown's, not a fracture's.
 
-mod seed_rigs_common;
+mod paper_rigs_common;
 
 use std::f64::consts::PI;
 
@@ -311,7 +311,7 @@ fn six_samples_per_cycle_envelope_recovers_light_damping_and_agreement_is_report
 /// ringdown.
 #[test]
 fn a_hammer_ringdown_of_the_bearing_rig_is_reported_in_a_ringdowns_words() {
-    use seed_rigs_common::{outputs, params, rig, truth};
+    use paper_rigs_common::{outputs, params, rig, truth};
     let rig = rig("bearing_2dof");
     let mut v = truth("bearing_2dof_reference_params.json");
     let (m, kx) = (v["m"].as_f64().unwrap(), v["k_x"].as_f64().unwrap());

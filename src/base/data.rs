@@ -150,6 +150,20 @@ pub fn load_csv(path: &Path, spec: &CsvSpec) -> Result<Series, DataError> {
     parse_csv(&text, path, spec)
 }
 
+/// The lines of CSV text that hold a header or data: each line neither blank
+/// nor starting with `#` (after leading blanks), trimmed, with its 1-based line
+/// number. A spreadsheet's "CSV UTF-8" starts with a byte-order mark; it is
+/// dropped, not read as part of the first column's name. The one line walk of
+/// every CSV reader in the crate (this file's and `crate::identify::columns`).
+pub(crate) fn content_lines(text: &str) -> impl Iterator<Item = (usize, &str)> {
+    text.strip_prefix('\u{feff}')
+        .unwrap_or(text)
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l.trim()))
+        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'))
+}
+
 fn cell_err(file: &Path, line: usize, what: String, expected: &str, found: String) -> DataError {
     DataError::Cell {
         file: file.to_path_buf(),
@@ -162,9 +176,6 @@ fn cell_err(file: &Path, line: usize, what: String, expected: &str, found: Strin
 
 /// Parses CSV text; `file` is only used in messages.
 pub fn parse_csv(text: &str, file: &Path, spec: &CsvSpec) -> Result<Series, DataError> {
-    // A spreadsheet's "CSV UTF-8" starts with a byte-order mark; it is not part
-    // of the first column's name.
-    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     // Old Mac files end lines with CR alone.
     let cr_only;
     let text = if text.contains('\r') && !text.contains('\n') {
@@ -173,12 +184,7 @@ pub fn parse_csv(text: &str, file: &Path, spec: &CsvSpec) -> Result<Series, Data
     } else {
         text
     };
-    let mut rows = text
-        .lines()
-        .enumerate()
-        .map(|(i, l)| (i + 1, l.trim()))
-        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'))
-        .peekable();
+    let mut rows = content_lines(text).peekable();
     let Some(&(first_line, first)) = rows.peek() else {
         return Err(DataError::TooFewSamples {
             file: file.into(),

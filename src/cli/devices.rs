@@ -2,7 +2,7 @@
 
 use anyhow::Result;
 
-use super::Output;
+use super::output::Output;
 use rigfit::gpu::list_adapters;
 
 /// Lists every adapter wgpu can see, with its f64 support, and whether the

@@ -17,6 +17,7 @@ use crate::eval::{
 };
 use crate::model::GpuModel;
 
+use super::evaluator::gpu_info;
 use super::{GpuContext, GpuError, GpuEvaluator, GpuOptions};
 
 /// The experiments of a problem that run on one set of kernels.
@@ -135,11 +136,7 @@ fn sub_batch(batch: &Batch, experiments: &[usize]) -> Batch {
 
 impl Evaluator for GpuByDrive {
     fn info(&self) -> EvaluatorInfo {
-        EvaluatorInfo {
-            backend: "gpu".into(),
-            device: self.ctx.describe(),
-            precision: self.precision,
-        }
+        gpu_info(&self.ctx, self.precision)
     }
 
     fn fitness(&mut self, batch: &Batch) -> Result<Scores, EvalError> {

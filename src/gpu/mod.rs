@@ -70,11 +70,15 @@
 
 mod by_drive;
 mod context;
+mod dispatch;
 mod evaluator;
+mod fitness_pass;
+mod history_pass;
 pub mod layout;
 mod pack;
 pub mod pipeline;
 mod probe;
+mod run_buffers;
 pub mod shaders;
 pub mod specialise;
 

@@ -62,15 +62,7 @@ pub fn probe_math(
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("exp probe"),
             });
-        {
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("exp probe"),
-                timestamp_writes: None,
-            });
-            pass.set_pipeline(&kernel.pipeline);
-            pass.set_bind_group(0, &bind, &[]);
-            pass.dispatch_workgroups(groups, 1, 1);
-        }
+        super::dispatch::encode_dispatches(&mut enc, "exp probe", &kernel, &[(&bind, groups)], 1);
         enc.copy_buffer_to_buffer(&out, 0, &readback, 0, size);
         ctx.queue.submit([enc.finish()]);
         readback

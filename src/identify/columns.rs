@@ -1,15 +1,20 @@
-//! A reader for the multi-column CSV records the identification tools take:
-//! one column per channel, chosen by header name or by 1-based position.
+//! The one CSV reader of the identification tools: records with one column per
+//! channel, chosen by header name or by 1-based position ([`Table`]); the
+//! two-column reader of `fit-specimen` and `ringdown`
+//! ([`crate::identify::csv_input`]) is this reader held to two columns.
 //!
-//! Rules (as for [`crate::identify::csv_input`]): fields separated by a comma,
-//! semicolon, tab or blanks; blank lines and lines starting with `#` are skipped;
+//! Rules: the lines are those of the measured-record reader
+//! ([`crate::base::data`]): blank lines and lines starting with `#` are skipped,
+//! a byte-order mark is dropped. Fields are separated by commas, semicolons or
+//! tabs when a line holds any (an empty field is a field), by blanks otherwise;
 //! the first remaining line is a header when any of its fields is not a number;
-//! every other line must hold as many finite numbers as the first. Errors name the
-//! 1-based line.
+//! every line must hold as many fields as the first (or as the caller asks) and
+//! every data field a finite number. Errors name the 1-based line and column.
 
 use std::path::Path;
 
 use super::PrecalError;
+use crate::base::data::content_lines;
 
 /// A table of numeric columns.
 #[derive(Debug, Clone, PartialEq)]
@@ -26,11 +31,7 @@ impl Table {
     /// # Errors
     /// [`PrecalError::Io`] and the parsing errors of [`Table::parse`].
     pub fn read(path: &Path) -> Result<Self, PrecalError> {
-        let text = std::fs::read_to_string(path).map_err(|source| PrecalError::Io {
-            path: path.to_path_buf(),
-            source,
-        })?;
-        Self::parse(&text)
+        Self::parse(&read_text(path)?)
     }
 
     /// Parses CSV text (see the module docs for the rules).
@@ -40,59 +41,15 @@ impl Table {
     /// [`PrecalError::NotFinite`], and [`PrecalError::TooFewPoints`] for a table
     /// without data rows.
     pub fn parse(text: &str) -> Result<Self, PrecalError> {
-        let mut header = Vec::new();
-        let mut columns: Vec<Vec<f64>> = Vec::new();
-        let mut first = true;
-        for (index, raw) in text.lines().enumerate() {
-            let line = index + 1;
-            let trimmed = raw.trim();
-            if trimmed.is_empty() || trimmed.starts_with('#') {
-                continue;
-            }
-            let fields: Vec<&str> = trimmed
-                .split(|c: char| c == ',' || c == ';' || c.is_whitespace())
-                .filter(|f| !f.is_empty())
-                .collect();
-            if first {
-                first = false;
-                if fields.iter().any(|f| f.parse::<f64>().is_err()) {
-                    header = fields.iter().map(|f| f.to_string()).collect();
-                    columns = vec![Vec::new(); fields.len()];
-                    continue;
-                }
-                columns = vec![Vec::new(); fields.len()];
-            }
-            if fields.len() != columns.len() {
-                return Err(PrecalError::ColumnCount {
-                    line,
-                    expected: columns.len(),
-                    found: fields.len(),
-                });
-            }
-            for (column, (field, col)) in fields.iter().zip(columns.iter_mut()).enumerate() {
-                let v: f64 = field.parse().map_err(|_| PrecalError::NotNumeric {
-                    line,
-                    column: column + 1,
-                    found: field.to_string(),
-                })?;
-                if !v.is_finite() {
-                    return Err(PrecalError::NotFinite {
-                        line,
-                        column: column + 1,
-                        found: field.to_string(),
-                    });
-                }
-                col.push(v);
-            }
-        }
-        if columns.first().is_none_or(Vec::is_empty) {
+        let table = parse_rows(text, None)?;
+        if table.columns.first().is_none_or(Vec::is_empty) {
             return Err(PrecalError::TooFewPoints {
                 what: "data rows",
                 needed: 1,
                 found: 0,
             });
         }
-        Ok(Self { header, columns })
+        Ok(table)
     }
 
     /// The column named `key` in the header, or at 1-based position `key`.
@@ -121,6 +78,73 @@ impl Table {
             }
         })
     }
+}
+
+/// The header (empty when there was none) and the numeric columns of CSV text
+/// (see the module docs), every line `width` fields wide, or as wide as the
+/// first when `None`. A text without data rows gives empty columns.
+pub(crate) fn parse_rows(text: &str, width: Option<usize>) -> Result<Table, PrecalError> {
+    let mut header = Vec::new();
+    let mut columns: Vec<Vec<f64>> = vec![Vec::new(); width.unwrap_or(0)];
+    let mut rows = content_lines(text).peekable();
+    if let Some(&(_, first)) = rows.peek() {
+        let fields = split_fields(first);
+        let expected = width.unwrap_or(fields.len());
+        columns = vec![Vec::new(); expected];
+        if fields.len() == expected && fields.iter().any(|f| f.parse::<f64>().is_err()) {
+            header = fields.iter().map(|f| f.to_string()).collect();
+            rows.next();
+        }
+    }
+    for (line, row) in rows {
+        let fields = split_fields(row);
+        if fields.len() != columns.len() {
+            return Err(PrecalError::ColumnCount {
+                line,
+                expected: columns.len(),
+                found: fields.len(),
+            });
+        }
+        for (column, (field, col)) in fields.iter().zip(columns.iter_mut()).enumerate() {
+            col.push(parse_field(field, line, column + 1)?);
+        }
+    }
+    Ok(Table { header, columns })
+}
+
+/// The text of `path`, or [`PrecalError::Io`] naming it.
+pub(crate) fn read_text(path: &Path) -> Result<String, PrecalError> {
+    std::fs::read_to_string(path).map_err(|source| PrecalError::Io {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+/// A line's fields: split at commas, semicolons and tabs when it holds any,
+/// else at blanks.
+fn split_fields(line: &str) -> Vec<&str> {
+    if line.contains([',', ';', '\t']) {
+        line.split([',', ';', '\t']).map(str::trim).collect()
+    } else {
+        line.split_whitespace().collect()
+    }
+}
+
+/// A field as a finite number, or the error naming its line and column.
+fn parse_field(text: &str, line: usize, column: usize) -> Result<f64, PrecalError> {
+    let value: f64 = text.parse().map_err(|_| PrecalError::NotNumeric {
+        line,
+        column,
+        found: text.to_string(),
+    })?;
+    if !value.is_finite() {
+        return Err(PrecalError::NotFinite {
+            line,
+            column,
+            found: text.to_string(),
+        });
+    }
+    Ok(value)
 }
 
 /// The sample interval of uniformly spaced time stamps: the mean step, after

@@ -1,17 +1,15 @@
-//! A small reader for the two-column CSV files of the pre-calibration tools:
+//! The two-column CSV files of the pre-calibration tools:
 //! `elongation (m), force (N)` for `fit-specimen`, `time (s), force (N)` for
-//! `ringdown`.
-//!
-//! Rules: fields separated by a comma, semicolon, tab or blanks; blank lines and
-//! lines starting with `#` are skipped; the first remaining line is a header when
-//! any of its fields is not a number; every other line must hold exactly two
-//! finite numbers (NaN and infinities are refused). Errors name the 1-based line.
+//! `ringdown`, read by the identification tools' one reader
+//! ([`crate::identify::columns`], whose rules apply) held to two columns: every
+//! line, the header too, must hold exactly two fields.
 
 use std::path::Path;
 
 use serde::Serialize;
 
 use super::PrecalError;
+use super::columns::{Table, parse_rows, read_text};
 
 /// Two numeric columns read from a file.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -26,69 +24,22 @@ pub struct TwoColumns {
 
 /// Reads a two-column CSV file.
 pub fn read_two_columns(path: &Path) -> Result<TwoColumns, PrecalError> {
-    let text = std::fs::read_to_string(path).map_err(|source| PrecalError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    parse_two_columns(&text)
+    parse_two_columns(&read_text(path)?)
 }
 
 /// Parses two-column CSV text (see the module docs for the rules).
 pub fn parse_two_columns(text: &str) -> Result<TwoColumns, PrecalError> {
-    let mut out = TwoColumns {
-        header: None,
-        x: Vec::new(),
-        y: Vec::new(),
-    };
-    let mut first = true;
-    for (index, raw) in text.lines().enumerate() {
-        let line = index + 1;
-        let trimmed = raw.trim();
-        if trimmed.is_empty() || trimmed.starts_with('#') {
-            continue;
-        }
-        let fields = split_fields(trimmed);
-        if fields.len() != 2 {
-            return Err(PrecalError::ColumnCount {
-                line,
-                expected: 2,
-                found: fields.len(),
-            });
-        }
-        let is_header = first && fields.iter().any(|f| f.parse::<f64>().is_err());
-        first = false;
-        if is_header {
-            out.header = Some([fields[0].to_string(), fields[1].to_string()]);
-            continue;
-        }
-        out.x.push(parse_field(fields[0], line, 1)?);
-        out.y.push(parse_field(fields[1], line, 2)?);
-    }
-    Ok(out)
-}
-
-fn split_fields(line: &str) -> Vec<&str> {
-    if line.contains([',', ';', '\t']) {
-        line.split([',', ';', '\t']).map(str::trim).collect()
-    } else {
-        line.split_whitespace().collect()
-    }
-}
-
-fn parse_field(text: &str, line: usize, column: usize) -> Result<f64, PrecalError> {
-    let value: f64 = text.parse().map_err(|_| PrecalError::NotNumeric {
-        line,
-        column,
-        found: text.to_string(),
-    })?;
-    if !value.is_finite() {
-        return Err(PrecalError::NotFinite {
-            line,
-            column,
-            found: text.to_string(),
-        });
-    }
-    Ok(value)
+    let Table {
+        mut header,
+        mut columns,
+    } = parse_rows(text, Some(2))?;
+    let y = columns.pop().unwrap_or_default();
+    let x = columns.pop().unwrap_or_default();
+    let header = (header.len() == 2).then(|| {
+        let second = header.pop().unwrap_or_default();
+        [header.pop().unwrap_or_default(), second]
+    });
+    Ok(TwoColumns { header, x, y })
 }
 
 #[cfg(test)]

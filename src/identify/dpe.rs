@@ -1,5 +1,5 @@
-//! Direct parameter estimation on the restoring-force surface (document 000,
-//! §3.3 "Parameter Estimation", Eq. 6–7).
+//! Direct parameter estimation on the restoring-force surface (*A New Fatigue Testing
+//! Rig Based on Inertial Forces*, §3.3 "Parameter Estimation", Eq. 6–7).
 //!
 //! The restoring force is written as a sum of chosen terms, linear in their
 //! coefficients once the exponents are fixed:
@@ -9,17 +9,17 @@
 //! K(x) = kf1·x + kf2·x³ + kf3·|x|^β·sgn x
 //! ```
 //!
-//! (document 000 names the damping exponent α and the stiffness exponent β; its
-//! Eq. 6 prints `ẋ` in the stiffness terms, which the sentence after it corrects
-//! to `x`). For fixed `(α, β)` the coefficients solve the over-determined system
-//! Eq. 7 by least squares. The exponents are found as the document does (its
-//! ref. [21]): a grid of step `h` around a centre `(α₀, β₀)`; the centre moves to
-//! the grid point of least squared error; the step is halved; this repeats until
-//! the step is below a tolerance. The document gives neither the grid's extent,
-//! its start nor the tolerance: rigfit uses a 5 × 5 grid (±2h), `h₀ = 0.25`,
-//! centre `(1, 2)` and tolerance 10⁻³, with α kept in `[0, 2]` and β in `[1, 3]`.
-//! A grid point where the terms are linearly dependent (α = 1 beside a viscous
-//! term, β = 3 beside a cubic one, …) is skipped.
+//! (*A New Fatigue Testing Rig Based on Inertial Forces* names the damping exponent α
+//! and the stiffness exponent β; its Eq. 6 prints `ẋ` in the stiffness terms, which the
+//! sentence after it corrects to `x`). For fixed `(α, β)` the coefficients solve the
+//! over-determined system Eq. 7 by least squares. The exponents are found as the paper
+//! does (its ref. [21]): a grid of step `h` around a centre `(α₀, β₀)`; the centre moves
+//! to the grid point of least squared error; the step is halved; this repeats until the
+//! step is below a tolerance. The paper gives neither the grid's extent, its start nor
+//! the tolerance: rigfit uses a 5 × 5 grid (±2h), `h₀ = 0.25`, centre `(1, 2)` and
+//! tolerance 10⁻³, with α kept in `[0, 2]` and β in `[1, 3]`. A grid point where the
+//! terms are linearly dependent (α = 1 beside a viscous term, β = 3 beside a cubic one,
+//! …) is skipped.
 
 use serde::Serialize;
 use serde_json::{Value, json};
@@ -27,6 +27,7 @@ use serde_json::{Value, json};
 use super::PrecalError;
 use super::lsq::{LinearFit, least_squares};
 use super::rfs::Surface;
+use super::signal::sign;
 
 /// A term of the restoring force.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -97,17 +98,6 @@ impl Term {
             Term::Cubic => x * x * x,
             Term::PowerStiffness => signed_power(x, beta),
         }
-    }
-}
-
-/// `sgn(v)` with `sgn(0) = 0`.
-fn sign(v: f64) -> f64 {
-    if v > 0.0 {
-        1.0
-    } else if v < 0.0 {
-        -1.0
-    } else {
-        0.0
     }
 }
 
@@ -449,7 +439,8 @@ pub fn estimate(surface: &Surface, opts: &DpeOptions) -> Result<DpeReport, Preca
 
 /// Panels of the restoring-force figure: the stiffness slice (`|ẋ|` within 5 %
 /// of its range) with `K(x)`, the damping slice (`|x|` within 5 %) with `C(ẋ)`,
-/// and the samples' spread over the phase plane (document 000, Fig. 6–7).
+/// and the samples' spread over the phase plane (*A New Fatigue Testing Rig Based on
+/// Inertial Forces*, Fig. 6–7).
 pub fn figure(surface: &Surface, report: &DpeReport) -> Vec<super::plot::Panel> {
     use super::plot::{FIT, MEASURED, Panel, Series, Style, thin};
     let curve = |xs: &[f64], f: &dyn Fn(f64) -> f64| -> Vec<(f64, f64)> {

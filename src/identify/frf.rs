@@ -1,8 +1,9 @@
 //! Frequency-response estimates H1 and H2 with coherence, from an input record
 //! `u` (force) and an output record `y` (response), by Welch averaging
-//! (document 003, "impact tests": spectra averaged before the FRFs, coherence
-//! `γ² = |S_Fx|²/(S_FF·S_xx)`, 1 for an undisturbed measurement; document 002,
-//! §2.1.2 uses the same averaged spectra).
+//! (*Experimental Investigations of Lubricated Bearing Stiffness*, "impact tests":
+//! spectra averaged before the FRFs, coherence `γ² = |S_Fx|²/(S_FF·S_xx)`, 1 for
+//! an undisturbed measurement; *Data interrogation for vehicle suspensions*,
+//! §2.1.2, uses the same averaged spectra).
 //!
 //! Each segment has its mean removed and a Hann window applied; segments overlap
 //! by half; `U_k`, `Y_k` are their DFTs (rustfft), and
@@ -19,11 +20,10 @@
 //! segments; a lightly damped mode needs a resolution `fs/segment_len` well
 //! below its half-power bandwidth `2ζf_n`.
 
-use rustfft::FftPlanner;
 use rustfft::num_complex::Complex64;
-use serde::Serialize;
 
-use super::psd::{Segments, averaged_segments};
+pub use super::psd::WelchSettings;
+use super::psd::{averaged_segments, check_rate};
 use super::{PrecalError, check_inputs};
 
 /// Frequency-response estimates on the one-sided bins `k·fs/segment_len`.
@@ -45,23 +45,6 @@ pub struct Frf {
     pub settings: WelchSettings,
 }
 
-/// How the spectra were averaged.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct WelchSettings {
-    /// Window (`"hann"`).
-    pub window: &'static str,
-    /// Samples per segment.
-    pub segment_len: usize,
-    /// Segments averaged.
-    pub n_segments: usize,
-    /// Overlap (fraction).
-    pub overlap: f64,
-    /// Sample rate (Hz).
-    pub sample_rate_hz: f64,
-    /// Resolution `fs / segment_len` (Hz).
-    pub resolution_hz: f64,
-}
-
 /// Estimates H1, H2 and the coherence from `u` and `y` sampled at `fs` (Hz).
 ///
 /// # Errors
@@ -75,36 +58,16 @@ pub fn estimate(
     segment_len: Option<usize>,
 ) -> Result<Frf, PrecalError> {
     check_inputs("input and output", u, y)?;
-    if !(fs > 0.0 && fs.is_finite()) {
-        return Err(PrecalError::InvalidOption {
-            name: "sample rate",
-            reason: format!("{fs} Hz is not positive"),
-        });
-    }
-    let Segments {
-        len,
-        step,
-        count: n_segments,
-        window,
-    } = averaged_segments(u.len(), segment_len, 8, "samples for two averaged segments")?;
-    let w2: f64 = window.iter().map(|w| w * w).sum();
-    let fft = FftPlanner::new().plan_fft_forward(len);
-    let bins = len / 2 + 1;
+    check_rate(fs)?;
+    let seg = averaged_segments(u.len(), segment_len, 8, "samples for two averaged segments")?;
+    let (len, n_segments, bins) = (seg.len, seg.count, seg.bins());
+    let w2: f64 = seg.window.iter().map(|w| w * w).sum();
+    let fft = seg.plan();
     let (mut suu, mut syy) = (vec![0.0; bins], vec![0.0; bins]);
     let mut suy = vec![Complex64::new(0.0, 0.0); bins];
-    let segment = |x: &[f64], s: usize| -> Vec<Complex64> {
-        let seg = &x[s * step..s * step + len];
-        let mean = seg.iter().sum::<f64>() / len as f64;
-        seg.iter()
-            .zip(&window)
-            .map(|(v, w)| Complex64::new((v - mean) * w, 0.0))
-            .collect()
-    };
     for s in 0..n_segments {
-        let mut bu = segment(u, s);
-        let mut by = segment(y, s);
-        fft.process(&mut bu);
-        fft.process(&mut by);
+        let bu = seg.dft(&*fft, u, s, |d| d);
+        let by = seg.dft(&*fft, y, s, |d| d);
         for k in 0..bins {
             suu[k] += bu[k].norm_sqr();
             syy[k] += by[k].norm_sqr();
@@ -120,20 +83,13 @@ pub fn estimate(
         }
     };
     let mut out = Frf {
-        freqs: (0..bins).map(|k| k as f64 * fs / len as f64).collect(),
+        freqs: seg.freqs(fs),
         h1: Vec::with_capacity(bins),
         h2: Vec::with_capacity(bins),
         coherence: Vec::with_capacity(bins),
         s_uu: Vec::with_capacity(bins),
         s_yy: Vec::with_capacity(bins),
-        settings: WelchSettings {
-            window: "hann",
-            segment_len: len,
-            n_segments,
-            overlap: 0.5,
-            sample_rate_hz: fs,
-            resolution_hz: fs / len as f64,
-        },
+        settings: seg.settings(fs),
     };
     for k in 0..bins {
         let c = one_sided(k);

@@ -1,7 +1,8 @@
 //! Inverse-model least squares for a driven mass with viscous and Coulomb
 //! friction (IDIM-LS): the recipe of the EMPS benchmark (Janot, Gautier, Brunot,
-//! 2019, "Data set and reference models of EMPS"), for document 004's friction
-//! rigs (§2 Eq. 2 with `k = 0`, Coulomb `g(ẋ) = sgn ẋ`).
+//! 2019, "Data set and reference models of EMPS"), for *Non-linear signal analysis
+//! applied to surface wear condition monitoring in reciprocating sliding testing
+//! machines*'s friction rigs (§2 Eq. 2 with `k = 0`, Coulomb `g(ẋ) = sgn ẋ`).
 //!
 //! The inverse model is linear in the parameters:
 //!
@@ -29,7 +30,7 @@ use serde::Serialize;
 use serde_json::{Value, json};
 
 use super::lsq::{LinearFit, least_squares};
-use super::signal::{butter_lowpass, decimate, derivative, downsample, filtfilt};
+use super::signal::{self, butter_lowpass, decimate, derivative, downsample, filtfilt};
 use super::{PrecalError, check_inputs};
 
 /// Options of [`estimate`].
@@ -156,18 +157,7 @@ pub fn estimate(q: &[f64], tau: &[f64], opts: &IdimOptions) -> Result<IdimReport
     let b = opts.border;
     // The last two samples have one-sided differences.
     let e = q.len() - 2;
-    let sign: Vec<f64> = v[b..e]
-        .iter()
-        .map(|&v| {
-            if v > 0.0 {
-                1.0
-            } else if v < 0.0 {
-                -1.0
-            } else {
-                0.0
-            }
-        })
-        .collect();
+    let sign: Vec<f64> = v[b..e].iter().map(|&v| signal::sign(v)).collect();
     let columns = vec![
         decimate(&acc[b..e], opts.decimation)?,
         decimate(&v[b..e], opts.decimation)?,

@@ -1,8 +1,8 @@
 //! The 2 × 2 impedance and receptance matrices of a point mass in two lateral
-//! directions from two impact tests (document 003, "Parameter identification":
-//! two linearly independent forces, their DFTs, the impedances by matrix
-//! multiplication, curve fits of their real and imaginary parts) — the
-//! two-degree-of-freedom form of the frequency-response and modal method.
+//! directions from two impact tests (*Experimental Investigations of Lubricated Bearing
+//! Stiffness*, "Parameter identification": two linearly independent forces, their DFTs,
+//! the impedances by matrix multiplication, curve fits of their real and imaginary
+//! parts) — the two-degree-of-freedom form of the frequency-response and modal method.
 //!
 //! Test 1 strikes in x, test 2 in y; each records the force and the x and y
 //! displacements. Per line `ω`, with the DFTs of the whole records,
@@ -13,7 +13,7 @@
 //! Z_ij(ω) = K_ij − ω²M·δ_ij + iω·C_ij
 //! ```
 //!
-//! The document's equations are missing from the text; this is their reading
+//! The paper's equations are missing from the text; this is their reading
 //! in `../shared/design/model-families.md` (§3.3). The parameters come from
 //! linear least squares over a band: `Re Z_xx`, `Re Z_yy` against
 //! `K_xx − ω²M`, `K_yy − ω²M` (one mass for both, or the mass given),
@@ -32,6 +32,7 @@ use rustfft::num_complex::Complex64;
 use serde::Serialize;
 
 use super::lsq::least_squares;
+use super::psd::{check_rate, lines_in_band};
 use super::{PrecalError, check_inputs, r_squared};
 
 /// One impact test: the hammer force and the x and y displacements.
@@ -80,12 +81,7 @@ pub fn matrices(
         check_inputs("force and x displacement", r.force, r.x)?;
         check_inputs("force and y displacement", r.force, r.y)?;
     }
-    if !(fs > 0.0 && fs.is_finite()) {
-        return Err(PrecalError::InvalidOption {
-            name: "sample rate",
-            reason: format!("{fs} Hz is not positive"),
-        });
-    }
+    check_rate(fs)?;
     let n = x_test.force.len().max(y_test.force.len());
     if n < 64 {
         return Err(PrecalError::TooFewPoints {
@@ -218,8 +214,9 @@ pub fn fit(
     band: (f64, f64),
     mass: Option<f64>,
 ) -> Result<ImpedanceFit, PrecalError> {
-    let lines: Vec<usize> = (0..m.freqs.len())
-        .filter(|&k| m.freqs[k] > 0.0 && m.freqs[k] >= band.0 && m.freqs[k] <= band.1)
+    let lines: Vec<usize> = lines_in_band(&m.freqs, band)
+        .into_iter()
+        .filter(|&k| m.freqs[k] > 0.0)
         .filter(|&k| {
             m.impedance[k]
                 .iter()
@@ -309,9 +306,7 @@ pub fn fit(
 /// impedances with the fitted model, against frequency.
 pub fn figure(m: &ImpedanceMatrices, fit: &ImpedanceFit) -> Vec<super::plot::Panel> {
     use super::plot::{FIT, MEASURED, Panel, Series, Style};
-    let ks: Vec<usize> = (1..m.freqs.len())
-        .filter(|&k| m.freqs[k] >= fit.band_hz.0 && m.freqs[k] <= fit.band_hz.1)
-        .collect();
+    let ks = lines_in_band(&m.freqs, fit.band_hz);
     let names = ["x", "y"];
     let mut panels = vec![];
     for (part, pick) in [

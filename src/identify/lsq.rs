@@ -2,8 +2,9 @@
 //! tools.
 //!
 //! The columns are scaled to unit norm before the solve (the coefficients of
-//! document 000 span 10² to 10¹³), the scaled problem is solved by SVD (nalgebra),
-//! and the coefficients are unscaled. Standard errors come from
+//! *A New Fatigue Testing Rig Based on Inertial Forces* span 10² to 10¹³), the scaled
+//! problem is solved by SVD (nalgebra), and the coefficients are unscaled. Standard
+//! errors come from
 //! `σ̂²·(AᵀA)⁻¹` with `σ̂² = SSE / (n − p)`, i.e. white, equal-variance residuals.
 
 use nalgebra::{DMatrix, DVector};

@@ -8,10 +8,16 @@
 //!   with their agreement, and `c1_post` (and `k1` when `m1` is known)
 //!   (`rigfit ringdown`);
 //! - [`psd`]: the Welch power spectral density used by the ring-down analysis;
-//! - [`csv_input`]: the small two-column CSV reader both commands use;
-//! - [`identify`]: classical identification from the seed documents (restoring
-//!   force surface, frequency response, inverse-model least squares;
-//!   `rigfit identify <method>`).
+//! - [`csv_input`]: the two-column CSV reader both commands use, the
+//!   identification tools' one reader ([`columns`]) held to two columns;
+//! - the other modules: classical identification from the papers rigfit is
+//!   built from (restoring force surface, direct parameter estimation,
+//!   frequency response and modal fit, impedance, inverse-model least squares,
+//!   reverse-path MISO, transmissibility; `rigfit identify <method>`): *A New
+//!   Fatigue Testing Rig Based on Inertial Forces*, *Data interrogation for
+//!   vehicle suspensions*, *Experimental Investigations of Lubricated Bearing
+//!   Stiffness* and *Non-linear signal analysis applied to surface wear
+//!   condition monitoring in reciprocating sliding testing machines*.
 //!
 //! Both reports turn into a campaign fragment, `{"params": {...}}`, whose values
 //! are plain numbers, i.e. fixed parameters. A user who prefers to let the search

@@ -1,8 +1,9 @@
 //! Modal fit of a measured frequency response: natural frequencies, damping
-//! ratios and modal masses, stiffnesses and dampings (document 003, "a two
-//! degree of freedom model identified from frequency responses"; document 000,
-//! §4.5 Eq. 9, an SDOF fit of `ω_n` and ζ; document 002's frequency-domain
-//! models).
+//! ratios and modal masses, stiffnesses and dampings (*Experimental
+//! Investigations of Lubricated Bearing Stiffness*, "a two degree of freedom
+//! model identified from frequency responses"; *A New Fatigue Testing Rig Based
+//! on Inertial Forces*, §4.5 Eq. 9, an SDOF fit of `ω_n` and ζ; the
+//! frequency-domain models of *Data interrogation for vehicle suspensions*).
 //!
 //! The response is turned into a receptance `H(iω)` (displacement per force:
 //! a velocity response is divided by `iω`, an acceleration by `−ω²`) and fitted
@@ -23,7 +24,8 @@
 //! `m = |1/(2i·ω_d·r)|` (the modal mass at the measured point, for a unit mode
 //! shape there), `k = m·ω_n²`, `c = 2ζ·m·ω_n`. For one mode these are the
 //! physical mass, stiffness and damping of an SDOF rig, the impedance form
-//! `1/H = k − ω²m + iωc` of document 003.
+//! `1/H = k − ω²m + iωc` of *Experimental Investigations of Lubricated Bearing
+//! Stiffness*.
 
 use std::f64::consts::PI;
 

@@ -1,5 +1,6 @@
 //! Nonlinear multiple-input / single-output analysis by the reverse path
-//! (Bendat; document 004, §2 Eq. 1 and Fig. 2).
+//! (Bendat; *Non-linear signal analysis applied to surface wear condition monitoring in
+//! reciprocating sliding testing machines*, §2 Eq. 1 and Fig. 2).
 //!
 //! A rig `m·ẍ + c·ẋ + k·x + a·g(x, ẋ) = F(t)` is read backwards: the measured
 //! motion `x` is the "input" and the force `y = F` the "output", so that
@@ -26,14 +27,13 @@
 
 use std::f64::consts::PI;
 
-use rustfft::FftPlanner;
 use rustfft::num_complex::Complex64;
 use serde::Serialize;
 
 use super::frf::WelchSettings;
 use super::lsq::least_squares;
-use super::psd::{Segments, averaged_segments};
-use super::signal::derivative;
+use super::psd::{averaged_segments, check_rate, lines_in_band};
+use super::signal::{derivative, sign};
 use super::{PrecalError, check_inputs};
 
 /// The nonlinear input `v = g(x, ẋ)`.
@@ -52,18 +52,7 @@ impl Nonlinearity {
     fn input(self, x: &[f64], v: &[f64]) -> Vec<f64> {
         match self {
             Nonlinearity::Cubic => x.iter().map(|x| x * x * x).collect(),
-            Nonlinearity::SignVelocity => v
-                .iter()
-                .map(|&v| {
-                    if v > 0.0 {
-                        1.0
-                    } else if v < 0.0 {
-                        -1.0
-                    } else {
-                        0.0
-                    }
-                })
-                .collect(),
+            Nonlinearity::SignVelocity => v.iter().map(|&v| sign(v)).collect(),
             Nonlinearity::QuadraticDamping => v.iter().map(|v| v.abs() * v).collect(),
         }
     }
@@ -141,44 +130,23 @@ pub fn analyse(
 ) -> Result<(ReversePath, NimisoReport), PrecalError> {
     check_inputs("motion and force", x, y)?;
     let fs = opts.sample_rate_hz;
-    if !(fs > 0.0 && fs.is_finite()) {
-        return Err(PrecalError::InvalidOption {
-            name: "sample rate",
-            reason: format!("{fs} Hz is not positive"),
-        });
-    }
+    check_rate(fs)?;
     let vel = derivative(x, 1.0 / fs);
     let v = opts.nonlinearity.input(x, &vel);
-    let Segments {
-        len,
-        step,
-        count: n_segments,
-        window,
-    } = averaged_segments(
+    let seg = averaged_segments(
         x.len(),
         opts.segment_len,
         8,
         "samples for two averaged segments",
     )?;
-    let fft = FftPlanner::new().plan_fft_forward(len);
-    let bins = len / 2 + 1;
+    let (n_segments, bins, fft) = (seg.count, seg.bins(), seg.plan());
     let signals = [x, &v, y];
     // s[a][b][k] = ⟨A*·B⟩ (unnormalised; only ratios are used).
     let mut s = vec![vec![vec![Complex64::new(0.0, 0.0); bins]; 3]; 3];
-    for seg in 0..n_segments {
+    for part in 0..n_segments {
         let spectra: Vec<Vec<Complex64>> = signals
             .iter()
-            .map(|sig| {
-                let part = &sig[seg * step..seg * step + len];
-                let mean = part.iter().sum::<f64>() / len as f64;
-                let mut buf: Vec<Complex64> = part
-                    .iter()
-                    .zip(&window)
-                    .map(|(v, w)| Complex64::new((v - mean) * w, 0.0))
-                    .collect();
-                fft.process(&mut buf);
-                buf
-            })
+            .map(|sig| seg.dft(&*fft, sig, part, |d| d))
             .collect();
         for a in 0..3 {
             for b in 0..3 {
@@ -190,20 +158,13 @@ pub fn analyse(
     }
     let (ix, iv, iy) = (0, 1, 2);
     let mut path = ReversePath {
-        freqs: (0..bins).map(|k| k as f64 * fs / len as f64).collect(),
+        freqs: seg.freqs(fs),
         h: Vec::with_capacity(bins),
         h_o: Vec::with_capacity(bins),
         a: Vec::with_capacity(bins),
         coherence_linear: Vec::with_capacity(bins),
         coherence_nonlinear: Vec::with_capacity(bins),
-        settings: WelchSettings {
-            window: "hann",
-            segment_len: len,
-            n_segments,
-            overlap: 0.5,
-            sample_rate_hz: fs,
-            resolution_hz: fs / len as f64,
-        },
+        settings: seg.settings(fs),
     };
     #[expect(clippy::needless_range_loop, reason = "k indexes six spectra alike")]
     for k in 0..bins {
@@ -223,8 +184,8 @@ pub fn analyse(
         path.coherence_linear.push(sxy.norm_sqr() / (sxx * syy));
         path.coherence_nonlinear.push(suy.norm_sqr() / (suu * syy));
     }
-    let band: Vec<usize> = (1..bins)
-        .filter(|&k| path.freqs[k] >= opts.f_min && path.freqs[k] <= opts.f_max)
+    let band: Vec<usize> = lines_in_band(&path.freqs, (opts.f_min, opts.f_max))
+        .into_iter()
         .filter(|&k| path.h[k].norm().is_finite() && path.a[k].norm().is_finite())
         .collect();
     if band.len() < 4 {
@@ -298,16 +259,10 @@ pub fn figure(
     report: &NimisoReport,
     band: (f64, f64),
 ) -> Vec<super::plot::Panel> {
-    use super::plot::{FIT, MEASURED, OTHER, Panel, Series, Style, THIRD};
-    let ks: Vec<usize> = (1..path.freqs.len())
-        .filter(|&k| path.freqs[k] >= band.0 && path.freqs[k] <= band.1)
-        .collect();
-    let series = |label: &str, f: &dyn Fn(usize) -> f64, color| Series {
-        label: label.into(),
-        points: ks.iter().map(|&k| (path.freqs[k], f(k))).collect(),
-        style: Style::Line,
-        color,
-    };
+    use super::plot::{FIT, MEASURED, OTHER, Panel, THIRD, line_over};
+    let ks = lines_in_band(&path.freqs, band);
+    let series =
+        |label: &str, f: &dyn Fn(usize) -> f64, color| line_over(label, &path.freqs, &ks, f, color);
     let w = |k: usize| 2.0 * PI * path.freqs[k];
     vec![
         Panel {

@@ -49,6 +49,23 @@ pub const OTHER: (u8, u8, u8) = (255, 127, 14);
 /// A third: red.
 pub const THIRD: (u8, u8, u8) = (214, 39, 40);
 
+/// A line through `(freqs[k], f(k))` for each line `k` of `ks`: a spectral
+/// figure's series over its band.
+pub(crate) fn line_over(
+    label: &str,
+    freqs: &[f64],
+    ks: &[usize],
+    f: &dyn Fn(usize) -> f64,
+    color: (u8, u8, u8),
+) -> Series {
+    Series {
+        label: label.into(),
+        points: ks.iter().map(|&k| (freqs[k], f(k))).collect(),
+        style: Style::Line,
+        color,
+    }
+}
+
 fn err(e: impl std::fmt::Display) -> PlotError {
     PlotError {
         path: "identify figure".into(),

@@ -10,7 +10,8 @@
 
 use std::f64::consts::PI;
 
-use rustfft::{FftPlanner, num_complex::Complex};
+use rustfft::num_complex::Complex64;
+use rustfft::{Fft, FftPlanner};
 use serde::Serialize;
 
 use super::PrecalError;
@@ -66,6 +67,60 @@ impl Psd {
     }
 }
 
+/// How the spectra of an averaged estimate were cut and averaged.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct WelchSettings {
+    /// Window (`"hann"`).
+    pub window: &'static str,
+    /// Samples per segment.
+    pub segment_len: usize,
+    /// Segments averaged.
+    pub n_segments: usize,
+    /// Overlap (fraction).
+    pub overlap: f64,
+    /// Sample rate (Hz).
+    pub sample_rate_hz: f64,
+    /// Resolution `fs / segment_len` (Hz).
+    pub resolution_hz: f64,
+}
+
+/// Refuses a sample rate `fs` (Hz) that is not positive and finite.
+pub(crate) fn check_rate(fs: f64) -> Result<(), PrecalError> {
+    if fs > 0.0 && fs.is_finite() {
+        Ok(())
+    } else {
+        Err(PrecalError::InvalidOption {
+            name: "sample rate",
+            reason: format!("{fs} Hz is not positive"),
+        })
+    }
+}
+
+/// The lines `k ≥ 1` of `freqs` inside `band` (Hz): the DC line never counts.
+pub(crate) fn lines_in_band(freqs: &[f64], band: (f64, f64)) -> Vec<usize> {
+    (1..freqs.len())
+        .filter(|&k| freqs[k] >= band.0 && freqs[k] <= band.1)
+        .collect()
+}
+
+/// The DFT (all `seg.len()` lines) of `seg` with its mean removed, mapped by
+/// `f`, and multiplied by `window`.
+pub(crate) fn segment_dft(
+    fft: &dyn Fft<f64>,
+    seg: &[f64],
+    window: &[f64],
+    f: impl Fn(f64) -> f64,
+) -> Vec<Complex64> {
+    let mean = seg.iter().sum::<f64>() / seg.len() as f64;
+    let mut buf: Vec<Complex64> = seg
+        .iter()
+        .zip(window)
+        .map(|(v, w)| Complex64::new(f(v - mean) * w, 0.0))
+        .collect();
+    fft.process(&mut buf);
+    buf
+}
+
 /// The automatic segment length for `n` samples (see the module docs).
 pub fn auto_segment_len(n: usize) -> usize {
     // K segments at 50 % overlap span (K + 1)·L/2 samples.
@@ -98,6 +153,49 @@ pub struct Segments {
     pub count: usize,
     /// The Hann window.
     pub window: Vec<f64>,
+}
+
+impl Segments {
+    /// The one-sided lines: `len/2 + 1`.
+    pub fn bins(&self) -> usize {
+        self.len / 2 + 1
+    }
+
+    /// The one-sided line frequencies `k·fs/len` (Hz).
+    pub fn freqs(&self, fs: f64) -> Vec<f64> {
+        (0..self.bins())
+            .map(|k| k as f64 * fs / self.len as f64)
+            .collect()
+    }
+
+    /// A forward FFT of one segment's length.
+    pub fn plan(&self) -> std::sync::Arc<dyn Fft<f64>> {
+        FftPlanner::new().plan_fft_forward(self.len)
+    }
+
+    /// The DFT of segment `s` of `x` ([`segment_dft`] with `f`).
+    pub(crate) fn dft(
+        &self,
+        fft: &dyn Fft<f64>,
+        x: &[f64],
+        s: usize,
+        f: impl Fn(f64) -> f64,
+    ) -> Vec<Complex64> {
+        let start = s * self.step;
+        segment_dft(fft, &x[start..start + self.len], &self.window, f)
+    }
+
+    /// The settings of an estimate at `fs` (Hz) averaged over every segment.
+    pub fn settings(&self, fs: f64) -> WelchSettings {
+        WelchSettings {
+            window: "hann",
+            segment_len: self.len,
+            n_segments: self.count,
+            overlap: 0.5,
+            sample_rate_hz: fs,
+            resolution_hz: fs / self.len as f64,
+        }
+    }
 }
 
 /// Cuts `n` samples into at least two overlapping segments of `segment_len`
@@ -145,12 +243,7 @@ pub fn averaged_segments(
 /// segment; [`PrecalError::InvalidOption`] for a segment shorter than 4 samples or
 /// a non-positive `fs`.
 pub fn welch(x: &[f64], fs: f64, segment_len: Option<usize>) -> Result<Psd, PrecalError> {
-    if !(fs > 0.0 && fs.is_finite()) {
-        return Err(PrecalError::InvalidOption {
-            name: "sample rate",
-            reason: format!("{fs} Hz is not positive"),
-        });
-    }
+    check_rate(fs)?;
     let len = segment_len.unwrap_or_else(|| auto_segment_len(x.len()));
     if len < 4 {
         return Err(PrecalError::InvalidOption {
@@ -172,14 +265,8 @@ pub fn welch(x: &[f64], fs: f64, segment_len: Option<usize>) -> Result<Psd, Prec
     let fft = FftPlanner::new().plan_fft_forward(len);
     let bins = len / 2 + 1;
     let mut acc = vec![0.0; bins];
-    let mut buf = vec![Complex::new(0.0, 0.0); len];
     for s in 0..n_segments {
-        let seg = &x[s * step..s * step + len];
-        let mean = seg.iter().sum::<f64>() / len as f64;
-        for ((b, v), w) in buf.iter_mut().zip(seg).zip(&window) {
-            *b = Complex::new((v - mean) * w, 0.0);
-        }
-        fft.process(&mut buf);
+        let buf = segment_dft(&*fft, &x[s * step..s * step + len], &window, |d| d);
         for (a, b) in acc.iter_mut().zip(&buf) {
             *a += b.norm_sqr();
         }

@@ -1,5 +1,6 @@
 //! The restoring-force surface of a base-excited single-degree-of-freedom rig
-//! (document 000, §3.2 "Nonlinear Model Selection", Eq. 3–4).
+//! (*A New Fatigue Testing Rig Based on Inertial Forces*, §3.2 "Nonlinear Model
+//! Selection", Eq. 3–4).
 //!
 //! With `x` the displacement of the mass relative to the base and `a` the base
 //! acceleration, `m·ẍ + C(ẋ) + K(x) = −m·a`, so the restoring force
@@ -15,8 +16,8 @@
 //! amplifying sensor noise. The first and last two samples (one-sided
 //! differences) are dropped, and so is every sample at a velocity reversal
 //! (its neighbours' velocities differ in sign): a Coulomb jump falls between
-//! samples there, which spoils both its second difference and its `sgn ẋ`. Plotted over `(x, ẋ)` the samples form the surface; its slices
-//! `ẋ ≈ 0` and `x ≈ 0` show `K` and `C`, which is how the document chose its
+//! samples there, which spoils both its second difference and its `sgn ẋ`. Plotted over
+//! `(x, ẋ)` the samples form the surface; its slices `ẋ ≈ 0` and `x ≈ 0` show `K` and `C`, which is how the paper chose its
 //! terms (Fig. 7).
 
 use serde::Serialize;

@@ -254,6 +254,17 @@ pub fn decimate(x: &[f64], factor: usize) -> Result<Vec<f64>, PrecalError> {
     Ok(downsample(&y, first, factor))
 }
 
+/// `sgn(v)` with `sgn(0) = 0` (and 0 for NaN), unlike [`f64::signum`].
+pub(crate) fn sign(v: f64) -> f64 {
+    if v > 0.0 {
+        1.0
+    } else if v < 0.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -2,7 +2,9 @@
 //! [`RigModel`] interface the fitness and the search see.
 
 pub mod compiled;
+mod linearise;
 pub mod modes;
+mod stability;
 
 use std::ops::ControlFlow;
 
@@ -34,6 +36,20 @@ pub fn fitted_one_by_one<M: RigModel + ?Sized>(
                 ControlFlow::Continue(())
             }
         });
+    }
+}
+
+/// [`RigModel::simulate_many`] one run after the other (its default).
+pub fn many_one_by_one<M: RigModel + ?Sized>(
+    model: &M,
+    params: &[&[f64]],
+    drive: &Drive,
+    grid: &SampleGrid,
+    report: Report,
+    observe: &mut dyn FnMut(usize, &Sample<'_>) -> ControlFlow<()>,
+) {
+    for (i, p) in params.iter().enumerate() {
+        model.simulate(p, drive, grid, &mut |s| observe(i, &report.of(s)));
     }
 }
 
@@ -90,9 +106,7 @@ pub trait RigModel: Send + Sync + std::fmt::Debug {
         report: Report,
         observe: &mut dyn FnMut(usize, &Sample<'_>) -> ControlFlow<()>,
     ) {
-        for (i, p) in params.iter().enumerate() {
-            self.simulate(p, drive, grid, &mut |s| observe(i, &report.of(s)));
-        }
+        many_one_by_one(self, params, drive, grid, report, observe);
     }
 
     /// Output 0 alone of several runs on one grid, each sample's values for a

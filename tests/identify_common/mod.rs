@@ -1,6 +1,6 @@
 //! Synthetic records for the identification tests, made with the classic RK4
 //! of the hand-written oracle (tests/oracle/rk4.rs): a base-excited
-//! single-degree-of-freedom rig (document 000) and a force-driven chain of
+//! single-degree-of-freedom rig (the inertial fatigue rig paper ("A New Fatigue Testing Rig Based on Inertial Forces")) and a force-driven chain of
 //! masses, both driven by multisines whose value is known exactly at every RK4
 //! stage.
 

@@ -1,21 +1,21 @@
-// Generated from the rig description by src/compile/wgsl.rs.
+// Generated from the rig description by src/compile/back/wgsl.rs.
 
 const RIG_STATES: u32 = 4u;
 const RIG_MODES: u32 = 0u;
 const RIG_REPORT: u32 = 7u;
 
-struct St {
+struct RigState {
     s0: real,
     s1: real,
     s2: real,
     s3: real,
 }
 
-struct Md {
+struct RigRegime {
     m0: u32,
 }
 
-struct Kc {
+struct RunConsts {
     k9: real,
     k11: real,
     k12: real,
@@ -23,16 +23,16 @@ struct Kc {
     k29: real,
 }
 
-struct Rep {
+struct RigReport {
     v: array<real, 7>,
 }
 
-struct Ev {
+struct RigEventValues {
     g: array<real, 1>,
 }
 
-fn rig_load(base: u32, ex: ExpInfo) -> Kc {
-    var kc: Kc;
+fn rig_load(base: u32, ex: ExpInfo) -> RunConsts {
+    var kc: RunConsts;
     kc.k9 = param(base, P_K9);
     kc.k11 = param(base, P_K11);
     kc.k12 = param(base, P_K12);
@@ -41,8 +41,8 @@ fn rig_load(base: u32, ex: ExpInfo) -> Kc {
     return kc;
 }
 
-fn rig_state_load(sb: u32) -> St {
-    var y: St;
+fn rig_state_load(sb: u32) -> RigState {
+    var y: RigState;
     y.s0 = state[sb + 0u];
     y.s1 = state[sb + 1u];
     y.s2 = state[sb + 2u];
@@ -50,15 +50,15 @@ fn rig_state_load(sb: u32) -> St {
     return y;
 }
 
-fn rig_modes_load(sb: u32) -> Md {
-    var md: Md;
+fn rig_modes_load(sb: u32) -> RigRegime {
+    var md: RigRegime;
     return md;
 }
 
-fn rig_initial(base: u32, y: ptr<function, St>, md: ptr<function, Md>) {
+fn rig_initial(base: u32, y: ptr<function, RigState>, md: ptr<function, RigRegime>) {
 }
 
-fn rig_state_store(sb: u32, y: St, md: Md) {
+fn rig_state_store(sb: u32, y: RigState, md: RigRegime) {
     state[sb + 0u] = y.s0;
     state[sb + 1u] = y.s1;
     state[sb + 2u] = y.s2;
@@ -67,8 +67,8 @@ fn rig_state_store(sb: u32, y: St, md: Md) {
 
 const RIG_ACC: u32 = 4u;
 
-fn st_axpy(y: St, a: real, k: St) -> St {
-    var r: St;
+fn st_axpy(y: RigState, a: real, k: RigState) -> RigState {
+    var r: RigState;
     r.s0 = y.s0 + a * k.s0;
     r.s1 = y.s1 + a * k.s1;
     r.s2 = y.s2 + a * k.s2;
@@ -76,8 +76,8 @@ fn st_axpy(y: St, a: real, k: St) -> St {
     return r;
 }
 
-fn st_rk4(y: St, h6: real, k1: St, k2: St, k3: St, k4: St) -> St {
-    var r: St;
+fn st_rk4(y: RigState, h6: real, k1: RigState, k2: RigState, k3: RigState, k4: RigState) -> RigState {
+    var r: RigState;
     r.s0 = y.s0 + h6 * (((k1.s0 + real(2.0) * k2.s0) + real(2.0) * k3.s0) + k4.s0);
     r.s1 = y.s1 + h6 * (((k1.s1 + real(2.0) * k2.s1) + real(2.0) * k3.s1) + k4.s1);
     r.s2 = y.s2 + h6 * (((k1.s2 + real(2.0) * k2.s2) + real(2.0) * k3.s2) + k4.s2);
@@ -85,8 +85,8 @@ fn st_rk4(y: St, h6: real, k1: St, k2: St, k3: St, k4: St) -> St {
     return r;
 }
 
-fn st_hermite(y0: St, f0: St, y1: St, f1: St, c00: real, c10: real, c01: real, c11: real) -> St {
-    var r: St;
+fn st_hermite(y0: RigState, f0: RigState, y1: RigState, f1: RigState, c00: real, c10: real, c01: real, c11: real) -> RigState {
+    var r: RigState;
     r.s0 = ((c00 * y0.s0 + c10 * f0.s0) + c01 * y1.s0) + c11 * f1.s0;
     r.s1 = ((c00 * y0.s1 + c10 * f0.s1) + c01 * y1.s1) + c11 * f1.s1;
     r.s2 = ((c00 * y0.s2 + c10 * f0.s2) + c01 * y1.s2) + c11 * f1.s2;
@@ -94,22 +94,22 @@ fn st_hermite(y0: St, f0: St, y1: St, f1: St, c00: real, c10: real, c01: real, c
     return r;
 }
 
-struct Ck {
+struct DriveClocks {
     unused: real,
 }
 
-fn rig_clock(kc: Kc, t: real) -> Ck {
-    var c: Ck;
+fn rig_clock(kc: RunConsts, t: real) -> DriveClocks {
+    var c: DriveClocks;
     c.unused = t;
     return c;
 }
 
-fn rig_clock_shift(c: Ck, q: Ck) -> Ck {
+fn rig_clock_shift(c: DriveClocks, q: DriveClocks) -> DriveClocks {
     var r = c;
     return r;
 }
 
-fn rig_deriv_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> St {
+fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigState {
     let v4 = y.s2;
     let v6 = y.s3;
     let v8 = v4 - v6;
@@ -128,7 +128,7 @@ fn rig_deriv_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> St {
     let v30 = v27 * kc.k29;
     let v31 = v10 + v23;
     let v32 = v31 + kc.k24;
-    var r: St;
+    var r: RigState;
     r.s0 = v4;
     r.s1 = v6;
     r.s2 = v30;
@@ -136,55 +136,55 @@ fn rig_deriv_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> St {
     return r;
 }
 
-fn rig_events_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Ev {
-    var r: Ev;
+fn rig_events_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigEventValues {
+    var r: RigEventValues;
     return r;
 }
 
-fn rig_hits(g0: Ev, g1: Ev, md: Md) -> u32 {
+fn rig_hits(g0: RigEventValues, g1: RigEventValues, md: RigRegime) -> u32 {
     var hits = 0u;
     return hits;
 }
 
-struct Eb {
+struct EventBases {
     b0: real,
 }
 
-fn rig_bases_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Eb {
-    var r: Eb;
+fn rig_bases_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> EventBases {
+    var r: EventBases;
     r.b0 = real(0.0);
     return r;
 }
 
-struct Win {
+struct EventWindows {
     lo0: real,
     hi0: real,
 }
 
-fn rig_window(kc: Kc, md: Md) -> Win {
-    var w: Win;
+fn rig_window(kc: RunConsts, md: RigRegime) -> EventWindows {
+    var w: EventWindows;
     w.lo0 = -REAL_MAX;
     w.hi0 = REAL_MAX;
     return w;
 }
 
-fn rig_outside(w: Win, b: Eb) -> bool {
+fn rig_outside(w: EventWindows, b: EventBases) -> bool {
     return false;
 }
 
-fn rig_oriented(g: Ev, i: u32) -> real {
+fn rig_oriented(g: RigEventValues, i: u32) -> real {
     switch i {
         default: { return real(0.0); }
     }
 }
 
-fn rig_fire(i: u32, md: ptr<function, Md>) {
+fn rig_fire(i: u32, md: ptr<function, RigRegime>) {
     switch i {
         default: {}
     }
 }
 
-fn rig_output0_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> real {
+fn rig_output0_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> real {
     let v3 = y.s0;
     let v5 = y.s1;
     let v34 = real(-1e0) * v5;
@@ -192,7 +192,7 @@ fn rig_output0_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> real {
     return v35;
 }
 
-fn rig_report_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Rep {
+fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigReport {
     let v3 = y.s0;
     let v4 = y.s2;
     let v5 = y.s1;
@@ -210,7 +210,7 @@ fn rig_report_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Rep {
     let v35 = v3 + v34;
     let v36 = real(-1e0) * v6;
     let v37 = v4 + v36;
-    var r: Rep;
+    var r: RigReport;
     r.v[0] = v35;
     r.v[1] = v37;
     r.v[2] = v23;
@@ -221,11 +221,11 @@ fn rig_report_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Rep {
     return r;
 }
 
-fn rig_deriv(kc: Kc, t: real, y: St, md: Md) -> St {
+fn rig_deriv(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigState {
     return rig_deriv_c(kc, t, y, md, rig_clock(kc, t));
 }
 
-fn rig_events(kc: Kc, t: real, y: St, md: Md) -> Ev {
+fn rig_events(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigEventValues {
     return rig_events_c(kc, t, y, md, rig_clock(kc, t));
 }
 

@@ -1,20 +1,20 @@
-// Generated from the rig description by src/compile/wgsl.rs.
+// Generated from the rig description by src/compile/back/wgsl.rs.
 
 const RIG_STATES: u32 = 3u;
 const RIG_MODES: u32 = 1u;
 const RIG_REPORT: u32 = 7u;
 
-struct St {
+struct RigState {
     s0: real,
     s1: real,
     s2: real,
 }
 
-struct Md {
+struct RigRegime {
     m0: u32,
 }
 
-struct Kc {
+struct RunConsts {
     k6: real,
     k8: real,
     k24: real,
@@ -24,16 +24,16 @@ struct Kc {
     k42: real,
 }
 
-struct Rep {
+struct RigReport {
     v: array<real, 7>,
 }
 
-struct Ev {
+struct RigEventValues {
     g: array<real, 4>,
 }
 
-fn rig_load(base: u32, ex: ExpInfo) -> Kc {
-    var kc: Kc;
+fn rig_load(base: u32, ex: ExpInfo) -> RunConsts {
+    var kc: RunConsts;
     kc.k6 = param(base, P_K6);
     kc.k8 = param(base, P_K8);
     kc.k24 = param(base, P_K24);
@@ -44,24 +44,24 @@ fn rig_load(base: u32, ex: ExpInfo) -> Kc {
     return kc;
 }
 
-fn rig_state_load(sb: u32) -> St {
-    var y: St;
+fn rig_state_load(sb: u32) -> RigState {
+    var y: RigState;
     y.s0 = state[sb + 0u];
     y.s1 = state[sb + 1u];
     y.s2 = state[sb + 2u];
     return y;
 }
 
-fn rig_modes_load(sb: u32) -> Md {
-    var md: Md;
+fn rig_modes_load(sb: u32) -> RigRegime {
+    var md: RigRegime;
     md.m0 = u32(state[sb + 3u]);
     return md;
 }
 
-fn rig_initial(base: u32, y: ptr<function, St>, md: ptr<function, Md>) {
+fn rig_initial(base: u32, y: ptr<function, RigState>, md: ptr<function, RigRegime>) {
 }
 
-fn rig_state_store(sb: u32, y: St, md: Md) {
+fn rig_state_store(sb: u32, y: RigState, md: RigRegime) {
     state[sb + 0u] = y.s0;
     state[sb + 1u] = y.s1;
     state[sb + 2u] = y.s2;
@@ -70,46 +70,46 @@ fn rig_state_store(sb: u32, y: St, md: Md) {
 
 const RIG_ACC: u32 = 4u;
 
-fn st_axpy(y: St, a: real, k: St) -> St {
-    var r: St;
+fn st_axpy(y: RigState, a: real, k: RigState) -> RigState {
+    var r: RigState;
     r.s0 = y.s0 + a * k.s0;
     r.s1 = y.s1 + a * k.s1;
     r.s2 = y.s2 + a * k.s2;
     return r;
 }
 
-fn st_rk4(y: St, h6: real, k1: St, k2: St, k3: St, k4: St) -> St {
-    var r: St;
+fn st_rk4(y: RigState, h6: real, k1: RigState, k2: RigState, k3: RigState, k4: RigState) -> RigState {
+    var r: RigState;
     r.s0 = y.s0 + h6 * (((k1.s0 + real(2.0) * k2.s0) + real(2.0) * k3.s0) + k4.s0);
     r.s1 = y.s1 + h6 * (((k1.s1 + real(2.0) * k2.s1) + real(2.0) * k3.s1) + k4.s1);
     r.s2 = y.s2 + h6 * (((k1.s2 + real(2.0) * k2.s2) + real(2.0) * k3.s2) + k4.s2);
     return r;
 }
 
-fn st_hermite(y0: St, f0: St, y1: St, f1: St, c00: real, c10: real, c01: real, c11: real) -> St {
-    var r: St;
+fn st_hermite(y0: RigState, f0: RigState, y1: RigState, f1: RigState, c00: real, c10: real, c01: real, c11: real) -> RigState {
+    var r: RigState;
     r.s0 = ((c00 * y0.s0 + c10 * f0.s0) + c01 * y1.s0) + c11 * f1.s0;
     r.s1 = ((c00 * y0.s1 + c10 * f0.s1) + c01 * y1.s1) + c11 * f1.s1;
     r.s2 = ((c00 * y0.s2 + c10 * f0.s2) + c01 * y1.s2) + c11 * f1.s2;
     return r;
 }
 
-struct Ck {
+struct DriveClocks {
     unused: real,
 }
 
-fn rig_clock(kc: Kc, t: real) -> Ck {
-    var c: Ck;
+fn rig_clock(kc: RunConsts, t: real) -> DriveClocks {
+    var c: DriveClocks;
     c.unused = t;
     return c;
 }
 
-fn rig_clock_shift(c: Ck, q: Ck) -> Ck {
+fn rig_clock_shift(c: DriveClocks, q: DriveClocks) -> DriveClocks {
     var r = c;
     return r;
 }
 
-fn rig_deriv_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> St {
+fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigState {
     let v0 = t;
     let v3 = y.s0;
     let v4 = y.s1;
@@ -131,20 +131,20 @@ fn rig_deriv_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> St {
     let v39 = v38 - v32;
     let v40 = v39 + v21;
     let v43 = v40 * kc.k42;
-    var r: St;
+    var r: RigState;
     r.s0 = v4;
     r.s1 = v43;
     r.s2 = v37;
     return r;
 }
 
-fn rig_events_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Ev {
+fn rig_events_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigEventValues {
     let v4 = y.s1;
     let v31 = y.s2;
     let v32 = kc.k30 * v31;
     let v33 = v32 - kc.k29;
     let v34 = v32 + kc.k29;
-    var r: Ev;
+    var r: RigEventValues;
     r.g[0] = v33;
     r.g[1] = v34;
     r.g[2] = v4;
@@ -152,7 +152,7 @@ fn rig_events_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Ev {
     return r;
 }
 
-fn rig_hits(g0: Ev, g1: Ev, md: Md) -> u32 {
+fn rig_hits(g0: RigEventValues, g1: RigEventValues, md: RigRegime) -> u32 {
     var hits = 0u;
     hits |= select(0u, 1u, md.m0 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
     hits |= select(0u, 2u, md.m0 == 0u && -(g1.g[1]) >= real(0.0) && (!(-(g0.g[1]) >= real(0.0)) || -(g1.g[1]) > -(g0.g[1])));
@@ -161,25 +161,25 @@ fn rig_hits(g0: Ev, g1: Ev, md: Md) -> u32 {
     return hits;
 }
 
-struct Eb {
+struct EventBases {
     b0: real,
     b1: real,
     b2: real,
 }
 
-fn rig_bases_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Eb {
+fn rig_bases_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> EventBases {
     let v4 = y.s1;
     let v31 = y.s2;
     let v32 = kc.k30 * v31;
     let v34 = v32 + kc.k29;
-    var r: Eb;
+    var r: EventBases;
     r.b0 = v32;
     r.b1 = v34;
     r.b2 = v4;
     return r;
 }
 
-struct Win {
+struct EventWindows {
     lo0: real,
     lo1: real,
     lo2: real,
@@ -188,8 +188,8 @@ struct Win {
     hi2: real,
 }
 
-fn rig_window(kc: Kc, md: Md) -> Win {
-    var w: Win;
+fn rig_window(kc: RunConsts, md: RigRegime) -> EventWindows {
+    var w: EventWindows;
     w.lo0 = -REAL_MAX;
     w.hi0 = REAL_MAX;
     w.hi0 = select(w.hi0, min(w.hi0, kc.k29), md.m0 == 0u);
@@ -203,14 +203,14 @@ fn rig_window(kc: Kc, md: Md) -> Win {
     return w;
 }
 
-fn rig_outside(w: Win, b: Eb) -> bool {
+fn rig_outside(w: EventWindows, b: EventBases) -> bool {
     return b.b0 - w.hi0 >= real(0.0)
         | b.b1 - w.lo1 <= real(0.0)
         | b.b2 - w.hi2 >= real(0.0)
         | b.b2 - w.lo2 <= real(0.0);
 }
 
-fn rig_oriented(g: Ev, i: u32) -> real {
+fn rig_oriented(g: RigEventValues, i: u32) -> real {
     switch i {
         case 0u: { return g.g[0]; }
         case 1u: { return -(g.g[1]); }
@@ -220,7 +220,7 @@ fn rig_oriented(g: Ev, i: u32) -> real {
     }
 }
 
-fn rig_fire(i: u32, md: ptr<function, Md>) {
+fn rig_fire(i: u32, md: ptr<function, RigRegime>) {
     switch i {
         case 0u: { (*md).m0 = 1u; }
         case 1u: { (*md).m0 = 2u; }
@@ -230,7 +230,7 @@ fn rig_fire(i: u32, md: ptr<function, Md>) {
     }
 }
 
-fn rig_output0_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> real {
+fn rig_output0_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> real {
     let v0 = t;
     let v3 = y.s0;
     let v4 = y.s1;
@@ -254,7 +254,7 @@ fn rig_output0_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> real {
     return v46;
 }
 
-fn rig_report_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Rep {
+fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigReport {
     let v0 = t;
     let v3 = y.s0;
     let v4 = y.s1;
@@ -275,7 +275,7 @@ fn rig_report_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Rep {
     let v43 = v40 * kc.k42;
     let v45 = real(2.374e-1) * v43;
     let v46 = v32 + v45;
-    var r: Rep;
+    var r: RigReport;
     r.v[0] = v46;
     r.v[1] = v32;
     r.v[2] = v3;
@@ -286,11 +286,11 @@ fn rig_report_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Rep {
     return r;
 }
 
-fn rig_deriv(kc: Kc, t: real, y: St, md: Md) -> St {
+fn rig_deriv(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigState {
     return rig_deriv_c(kc, t, y, md, rig_clock(kc, t));
 }
 
-fn rig_events(kc: Kc, t: real, y: St, md: Md) -> Ev {
+fn rig_events(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigEventValues {
     return rig_events_c(kc, t, y, md, rig_clock(kc, t));
 }
 

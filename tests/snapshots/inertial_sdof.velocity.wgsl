@@ -1,19 +1,19 @@
-// Generated from the rig description by src/compile/wgsl.rs.
+// Generated from the rig description by src/compile/back/wgsl.rs.
 
 const RIG_STATES: u32 = 2u;
 const RIG_MODES: u32 = 0u;
 const RIG_REPORT: u32 = 6u;
 
-struct St {
+struct RigState {
     s0: real,
     s1: real,
 }
 
-struct Md {
+struct RigRegime {
     m0: u32,
 }
 
-struct Kc {
+struct RunConsts {
     k6: real,
     k7: real,
     k8: real,
@@ -28,16 +28,16 @@ struct Kc {
     k81: real,
 }
 
-struct Rep {
+struct RigReport {
     v: array<real, 6>,
 }
 
-struct Ev {
+struct RigEventValues {
     g: array<real, 1>,
 }
 
-fn rig_load(base: u32, ex: ExpInfo) -> Kc {
-    var kc: Kc;
+fn rig_load(base: u32, ex: ExpInfo) -> RunConsts {
+    var kc: RunConsts;
     kc.k6 = param(base, P_K6);
     kc.k7 = param(base, P_K7);
     kc.k8 = param(base, P_K8);
@@ -53,65 +53,65 @@ fn rig_load(base: u32, ex: ExpInfo) -> Kc {
     return kc;
 }
 
-fn rig_state_load(sb: u32) -> St {
-    var y: St;
+fn rig_state_load(sb: u32) -> RigState {
+    var y: RigState;
     y.s0 = state[sb + 0u];
     y.s1 = state[sb + 1u];
     return y;
 }
 
-fn rig_modes_load(sb: u32) -> Md {
-    var md: Md;
+fn rig_modes_load(sb: u32) -> RigRegime {
+    var md: RigRegime;
     return md;
 }
 
-fn rig_initial(base: u32, y: ptr<function, St>, md: ptr<function, Md>) {
+fn rig_initial(base: u32, y: ptr<function, RigState>, md: ptr<function, RigRegime>) {
 }
 
-fn rig_state_store(sb: u32, y: St, md: Md) {
+fn rig_state_store(sb: u32, y: RigState, md: RigRegime) {
     state[sb + 0u] = y.s0;
     state[sb + 1u] = y.s1;
 }
 
 const RIG_ACC: u32 = 2u;
 
-fn st_axpy(y: St, a: real, k: St) -> St {
-    var r: St;
+fn st_axpy(y: RigState, a: real, k: RigState) -> RigState {
+    var r: RigState;
     r.s0 = y.s0 + a * k.s0;
     r.s1 = y.s1 + a * k.s1;
     return r;
 }
 
-fn st_rk4(y: St, h6: real, k1: St, k2: St, k3: St, k4: St) -> St {
-    var r: St;
+fn st_rk4(y: RigState, h6: real, k1: RigState, k2: RigState, k3: RigState, k4: RigState) -> RigState {
+    var r: RigState;
     r.s0 = y.s0 + h6 * (((k1.s0 + real(2.0) * k2.s0) + real(2.0) * k3.s0) + k4.s0);
     r.s1 = y.s1 + h6 * (((k1.s1 + real(2.0) * k2.s1) + real(2.0) * k3.s1) + k4.s1);
     return r;
 }
 
-fn st_hermite(y0: St, f0: St, y1: St, f1: St, c00: real, c10: real, c01: real, c11: real) -> St {
-    var r: St;
+fn st_hermite(y0: RigState, f0: RigState, y1: RigState, f1: RigState, c00: real, c10: real, c01: real, c11: real) -> RigState {
+    var r: RigState;
     r.s0 = ((c00 * y0.s0 + c10 * f0.s0) + c01 * y1.s0) + c11 * f1.s0;
     r.s1 = ((c00 * y0.s1 + c10 * f0.s1) + c01 * y1.s1) + c11 * f1.s1;
     return r;
 }
 
-struct Ck {
+struct DriveClocks {
     unused: real,
 }
 
-fn rig_clock(kc: Kc, t: real) -> Ck {
-    var c: Ck;
+fn rig_clock(kc: RunConsts, t: real) -> DriveClocks {
+    var c: DriveClocks;
     c.unused = t;
     return c;
 }
 
-fn rig_clock_shift(c: Ck, q: Ck) -> Ck {
+fn rig_clock_shift(c: DriveClocks, q: DriveClocks) -> DriveClocks {
     var r = c;
     return r;
 }
 
-fn rig_deriv_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> St {
+fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigState {
     let v0 = t;
     let v3 = y.s0;
     let v4 = y.s1;
@@ -165,66 +165,66 @@ fn rig_deriv_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> St {
     let v79 = v78 - v76;
     let v82 = v79 * kc.k81;
     let v83 = v82 - v30;
-    var r: St;
+    var r: RigState;
     r.s0 = v4;
     r.s1 = v83;
     return r;
 }
 
-fn rig_events_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Ev {
-    var r: Ev;
+fn rig_events_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigEventValues {
+    var r: RigEventValues;
     return r;
 }
 
-fn rig_hits(g0: Ev, g1: Ev, md: Md) -> u32 {
+fn rig_hits(g0: RigEventValues, g1: RigEventValues, md: RigRegime) -> u32 {
     var hits = 0u;
     return hits;
 }
 
-struct Eb {
+struct EventBases {
     b0: real,
 }
 
-fn rig_bases_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Eb {
-    var r: Eb;
+fn rig_bases_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> EventBases {
+    var r: EventBases;
     r.b0 = real(0.0);
     return r;
 }
 
-struct Win {
+struct EventWindows {
     lo0: real,
     hi0: real,
 }
 
-fn rig_window(kc: Kc, md: Md) -> Win {
-    var w: Win;
+fn rig_window(kc: RunConsts, md: RigRegime) -> EventWindows {
+    var w: EventWindows;
     w.lo0 = -REAL_MAX;
     w.hi0 = REAL_MAX;
     return w;
 }
 
-fn rig_outside(w: Win, b: Eb) -> bool {
+fn rig_outside(w: EventWindows, b: EventBases) -> bool {
     return false;
 }
 
-fn rig_oriented(g: Ev, i: u32) -> real {
+fn rig_oriented(g: RigEventValues, i: u32) -> real {
     switch i {
         default: { return real(0.0); }
     }
 }
 
-fn rig_fire(i: u32, md: ptr<function, Md>) {
+fn rig_fire(i: u32, md: ptr<function, RigRegime>) {
     switch i {
         default: {}
     }
 }
 
-fn rig_output0_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> real {
+fn rig_output0_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> real {
     let v3 = y.s0;
     return v3;
 }
 
-fn rig_report_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Rep {
+fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigReport {
     let v0 = t;
     let v3 = y.s0;
     let v4 = y.s1;
@@ -280,7 +280,7 @@ fn rig_report_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Rep {
     let v83 = v82 - v30;
     let v84 = v41 + v68;
     let v85 = v84 + v76;
-    var r: Rep;
+    var r: RigReport;
     r.v[0] = v3;
     r.v[1] = v85;
     r.v[2] = v4;
@@ -290,11 +290,11 @@ fn rig_report_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Rep {
     return r;
 }
 
-fn rig_deriv(kc: Kc, t: real, y: St, md: Md) -> St {
+fn rig_deriv(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigState {
     return rig_deriv_c(kc, t, y, md, rig_clock(kc, t));
 }
 
-fn rig_events(kc: Kc, t: real, y: St, md: Md) -> Ev {
+fn rig_events(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigEventValues {
     return rig_events_c(kc, t, y, md, rig_clock(kc, t));
 }
 

@@ -1,10 +1,10 @@
-// Generated from the rig description by src/compile/wgsl.rs.
+// Generated from the rig description by src/compile/back/wgsl.rs.
 
 const RIG_STATES: u32 = 7u;
 const RIG_MODES: u32 = 2u;
 const RIG_REPORT: u32 = 14u;
 
-struct St {
+struct RigState {
     s0: real,
     s1: real,
     s2: real,
@@ -14,12 +14,12 @@ struct St {
     s6: real,
 }
 
-struct Md {
+struct RigRegime {
     m0: u32,
     m1: u32,
 }
 
-struct Kc {
+struct RunConsts {
     k10: real,
     k11: real,
     k12: real,
@@ -39,16 +39,16 @@ struct Kc {
     k95: real,
 }
 
-struct Rep {
+struct RigReport {
     v: array<real, 14>,
 }
 
-struct Ev {
+struct RigEventValues {
     g: array<real, 8>,
 }
 
-fn rig_load(base: u32, ex: ExpInfo) -> Kc {
-    var kc: Kc;
+fn rig_load(base: u32, ex: ExpInfo) -> RunConsts {
+    var kc: RunConsts;
     kc.k10 = param(base, P_K10);
     kc.k11 = param(base, P_K11);
     kc.k12 = param(base, P_K12);
@@ -69,8 +69,8 @@ fn rig_load(base: u32, ex: ExpInfo) -> Kc {
     return kc;
 }
 
-fn rig_state_load(sb: u32) -> St {
-    var y: St;
+fn rig_state_load(sb: u32) -> RigState {
+    var y: RigState;
     y.s0 = state[sb + 0u];
     y.s1 = state[sb + 1u];
     y.s2 = state[sb + 2u];
@@ -81,17 +81,17 @@ fn rig_state_load(sb: u32) -> St {
     return y;
 }
 
-fn rig_modes_load(sb: u32) -> Md {
-    var md: Md;
+fn rig_modes_load(sb: u32) -> RigRegime {
+    var md: RigRegime;
     md.m0 = u32(state[sb + 7u]);
     md.m1 = u32(state[sb + 8u]);
     return md;
 }
 
-fn rig_initial(base: u32, y: ptr<function, St>, md: ptr<function, Md>) {
+fn rig_initial(base: u32, y: ptr<function, RigState>, md: ptr<function, RigRegime>) {
 }
 
-fn rig_state_store(sb: u32, y: St, md: Md) {
+fn rig_state_store(sb: u32, y: RigState, md: RigRegime) {
     state[sb + 0u] = y.s0;
     state[sb + 1u] = y.s1;
     state[sb + 2u] = y.s2;
@@ -105,8 +105,8 @@ fn rig_state_store(sb: u32, y: St, md: Md) {
 
 const RIG_ACC: u32 = 9u;
 
-fn st_axpy(y: St, a: real, k: St) -> St {
-    var r: St;
+fn st_axpy(y: RigState, a: real, k: RigState) -> RigState {
+    var r: RigState;
     r.s0 = y.s0 + a * k.s0;
     r.s1 = y.s1 + a * k.s1;
     r.s2 = y.s2 + a * k.s2;
@@ -117,8 +117,8 @@ fn st_axpy(y: St, a: real, k: St) -> St {
     return r;
 }
 
-fn st_rk4(y: St, h6: real, k1: St, k2: St, k3: St, k4: St) -> St {
-    var r: St;
+fn st_rk4(y: RigState, h6: real, k1: RigState, k2: RigState, k3: RigState, k4: RigState) -> RigState {
+    var r: RigState;
     r.s0 = y.s0 + h6 * (((k1.s0 + real(2.0) * k2.s0) + real(2.0) * k3.s0) + k4.s0);
     r.s1 = y.s1 + h6 * (((k1.s1 + real(2.0) * k2.s1) + real(2.0) * k3.s1) + k4.s1);
     r.s2 = y.s2 + h6 * (((k1.s2 + real(2.0) * k2.s2) + real(2.0) * k3.s2) + k4.s2);
@@ -129,8 +129,8 @@ fn st_rk4(y: St, h6: real, k1: St, k2: St, k3: St, k4: St) -> St {
     return r;
 }
 
-fn st_hermite(y0: St, f0: St, y1: St, f1: St, c00: real, c10: real, c01: real, c11: real) -> St {
-    var r: St;
+fn st_hermite(y0: RigState, f0: RigState, y1: RigState, f1: RigState, c00: real, c10: real, c01: real, c11: real) -> RigState {
+    var r: RigState;
     r.s0 = ((c00 * y0.s0 + c10 * f0.s0) + c01 * y1.s0) + c11 * f1.s0;
     r.s1 = ((c00 * y0.s1 + c10 * f0.s1) + c01 * y1.s1) + c11 * f1.s1;
     r.s2 = ((c00 * y0.s2 + c10 * f0.s2) + c01 * y1.s2) + c11 * f1.s2;
@@ -141,22 +141,22 @@ fn st_hermite(y0: St, f0: St, y1: St, f1: St, c00: real, c10: real, c01: real, c
     return r;
 }
 
-struct Ck {
+struct DriveClocks {
     unused: real,
 }
 
-fn rig_clock(kc: Kc, t: real) -> Ck {
-    var c: Ck;
+fn rig_clock(kc: RunConsts, t: real) -> DriveClocks {
+    var c: DriveClocks;
     c.unused = t;
     return c;
 }
 
-fn rig_clock_shift(c: Ck, q: Ck) -> Ck {
+fn rig_clock_shift(c: DriveClocks, q: DriveClocks) -> DriveClocks {
     var r = c;
     return r;
 }
 
-fn rig_deriv_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> St {
+fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigState {
     let v0 = t;
     let v5 = y.s1;
     let v6 = y.s4;
@@ -219,7 +219,7 @@ fn rig_deriv_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> St {
     let v92 = v91 - v74;
     let v93 = v92 - v78;
     let v96 = v93 * kc.k95;
-    var r: St;
+    var r: RigState;
     r.s0 = real(0e0);
     r.s1 = v6;
     r.s2 = v8;
@@ -230,7 +230,7 @@ fn rig_deriv_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> St {
     return r;
 }
 
-fn rig_events_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Ev {
+fn rig_events_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigEventValues {
     let v5 = y.s1;
     let v6 = y.s4;
     let v7 = y.s2;
@@ -243,7 +243,7 @@ fn rig_events_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Ev {
     let v78 = kc.k76 * v77;
     let v79 = v78 - kc.k75;
     let v80 = v78 + kc.k75;
-    var r: Ev;
+    var r: RigEventValues;
     r.g[0] = v64;
     r.g[1] = v64;
     r.g[2] = v65;
@@ -255,7 +255,7 @@ fn rig_events_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Ev {
     return r;
 }
 
-fn rig_hits(g0: Ev, g1: Ev, md: Md) -> u32 {
+fn rig_hits(g0: RigEventValues, g1: RigEventValues, md: RigRegime) -> u32 {
     var hits = 0u;
     hits |= select(0u, 1u, md.m0 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
     hits |= select(0u, 2u, md.m0 == 1u && -(g1.g[1]) >= real(0.0) && (!(-(g0.g[1]) >= real(0.0)) || -(g1.g[1]) > -(g0.g[1])));
@@ -268,7 +268,7 @@ fn rig_hits(g0: Ev, g1: Ev, md: Md) -> u32 {
     return hits;
 }
 
-struct Eb {
+struct EventBases {
     b0: real,
     b1: real,
     b2: real,
@@ -276,7 +276,7 @@ struct Eb {
     b4: real,
 }
 
-fn rig_bases_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Eb {
+fn rig_bases_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> EventBases {
     let v5 = y.s1;
     let v6 = y.s4;
     let v7 = y.s2;
@@ -287,7 +287,7 @@ fn rig_bases_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Eb {
     let v77 = y.s6;
     let v78 = kc.k76 * v77;
     let v80 = v78 + kc.k75;
-    var r: Eb;
+    var r: EventBases;
     r.b0 = v44;
     r.b1 = v65;
     r.b2 = v78;
@@ -296,7 +296,7 @@ fn rig_bases_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Eb {
     return r;
 }
 
-struct Win {
+struct EventWindows {
     lo0: real,
     lo1: real,
     lo2: real,
@@ -309,8 +309,8 @@ struct Win {
     hi4: real,
 }
 
-fn rig_window(kc: Kc, md: Md) -> Win {
-    var w: Win;
+fn rig_window(kc: RunConsts, md: RigRegime) -> EventWindows {
+    var w: EventWindows;
     w.lo0 = -REAL_MAX;
     w.hi0 = REAL_MAX;
     w.hi0 = select(w.hi0, min(w.hi0, kc.k63), md.m0 == 0u);
@@ -332,7 +332,7 @@ fn rig_window(kc: Kc, md: Md) -> Win {
     return w;
 }
 
-fn rig_outside(w: Win, b: Eb) -> bool {
+fn rig_outside(w: EventWindows, b: EventBases) -> bool {
     return b.b0 - w.hi0 >= real(0.0)
         | b.b0 - w.lo0 <= real(0.0)
         | b.b1 - w.hi1 >= real(0.0)
@@ -343,7 +343,7 @@ fn rig_outside(w: Win, b: Eb) -> bool {
         | b.b4 - w.lo4 <= real(0.0);
 }
 
-fn rig_oriented(g: Ev, i: u32) -> real {
+fn rig_oriented(g: RigEventValues, i: u32) -> real {
     switch i {
         case 0u: { return g.g[0]; }
         case 1u: { return -(g.g[1]); }
@@ -357,7 +357,7 @@ fn rig_oriented(g: Ev, i: u32) -> real {
     }
 }
 
-fn rig_fire(i: u32, md: ptr<function, Md>) {
+fn rig_fire(i: u32, md: ptr<function, RigRegime>) {
     switch i {
         case 0u: { (*md).m0 = 1u; }
         case 1u: { (*md).m0 = 0u; }
@@ -371,7 +371,7 @@ fn rig_fire(i: u32, md: ptr<function, Md>) {
     }
 }
 
-fn rig_output0_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> real {
+fn rig_output0_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> real {
     let v5 = y.s1;
     let v6 = y.s4;
     let v7 = y.s2;
@@ -408,7 +408,7 @@ fn rig_output0_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> real {
     return v96;
 }
 
-fn rig_report_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Rep {
+fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigReport {
     let v0 = t;
     let v5 = y.s1;
     let v6 = y.s4;
@@ -480,7 +480,7 @@ fn rig_report_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Rep {
     let v101 = v7 + v100;
     let v102 = real(-1e0) * v6;
     let v103 = v8 + v102;
-    var r: Rep;
+    var r: RigReport;
     r.v[0] = v96;
     r.v[1] = v90;
     r.v[2] = v36;
@@ -498,11 +498,11 @@ fn rig_report_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Rep {
     return r;
 }
 
-fn rig_deriv(kc: Kc, t: real, y: St, md: Md) -> St {
+fn rig_deriv(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigState {
     return rig_deriv_c(kc, t, y, md, rig_clock(kc, t));
 }
 
-fn rig_events(kc: Kc, t: real, y: St, md: Md) -> Ev {
+fn rig_events(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigEventValues {
     return rig_events_c(kc, t, y, md, rig_clock(kc, t));
 }
 

@@ -1,10 +1,10 @@
-// Generated from the rig description by src/compile/wgsl.rs.
+// Generated from the rig description by src/compile/back/wgsl.rs.
 
 const RIG_STATES: u32 = 8u;
 const RIG_MODES: u32 = 3u;
 const RIG_REPORT: u32 = 10u;
 
-struct St {
+struct RigState {
     s0: real,
     s1: real,
     s2: real,
@@ -15,13 +15,13 @@ struct St {
     s7: real,
 }
 
-struct Md {
+struct RigRegime {
     m0: u32,
     m1: u32,
     m2: u32,
 }
 
-struct Kc {
+struct RunConsts {
     k11: real,
     k12: real,
     k14: real,
@@ -54,16 +54,16 @@ struct Kc {
     k133: real,
 }
 
-struct Rep {
+struct RigReport {
     v: array<real, 10>,
 }
 
-struct Ev {
+struct RigEventValues {
     g: array<real, 5>,
 }
 
-fn rig_load(base: u32, ex: ExpInfo) -> Kc {
-    var kc: Kc;
+fn rig_load(base: u32, ex: ExpInfo) -> RunConsts {
+    var kc: RunConsts;
     kc.k11 = param(base, P_K11);
     kc.k12 = param(base, P_K12);
     kc.k14 = param(base, P_K14);
@@ -97,8 +97,8 @@ fn rig_load(base: u32, ex: ExpInfo) -> Kc {
     return kc;
 }
 
-fn rig_state_load(sb: u32) -> St {
-    var y: St;
+fn rig_state_load(sb: u32) -> RigState {
+    var y: RigState;
     y.s0 = state[sb + 0u];
     y.s1 = state[sb + 1u];
     y.s2 = state[sb + 2u];
@@ -110,18 +110,18 @@ fn rig_state_load(sb: u32) -> St {
     return y;
 }
 
-fn rig_modes_load(sb: u32) -> Md {
-    var md: Md;
+fn rig_modes_load(sb: u32) -> RigRegime {
+    var md: RigRegime;
     md.m0 = u32(state[sb + 8u]);
     md.m1 = u32(state[sb + 9u]);
     md.m2 = u32(state[sb + 10u]);
     return md;
 }
 
-fn rig_initial(base: u32, y: ptr<function, St>, md: ptr<function, Md>) {
+fn rig_initial(base: u32, y: ptr<function, RigState>, md: ptr<function, RigRegime>) {
 }
 
-fn rig_state_store(sb: u32, y: St, md: Md) {
+fn rig_state_store(sb: u32, y: RigState, md: RigRegime) {
     state[sb + 0u] = y.s0;
     state[sb + 1u] = y.s1;
     state[sb + 2u] = y.s2;
@@ -137,8 +137,8 @@ fn rig_state_store(sb: u32, y: St, md: Md) {
 
 const RIG_ACC: u32 = 11u;
 
-fn st_axpy(y: St, a: real, k: St) -> St {
-    var r: St;
+fn st_axpy(y: RigState, a: real, k: RigState) -> RigState {
+    var r: RigState;
     r.s0 = y.s0 + a * k.s0;
     r.s1 = y.s1 + a * k.s1;
     r.s2 = y.s2 + a * k.s2;
@@ -150,8 +150,8 @@ fn st_axpy(y: St, a: real, k: St) -> St {
     return r;
 }
 
-fn st_rk4(y: St, h6: real, k1: St, k2: St, k3: St, k4: St) -> St {
-    var r: St;
+fn st_rk4(y: RigState, h6: real, k1: RigState, k2: RigState, k3: RigState, k4: RigState) -> RigState {
+    var r: RigState;
     r.s0 = y.s0 + h6 * (((k1.s0 + real(2.0) * k2.s0) + real(2.0) * k3.s0) + k4.s0);
     r.s1 = y.s1 + h6 * (((k1.s1 + real(2.0) * k2.s1) + real(2.0) * k3.s1) + k4.s1);
     r.s2 = y.s2 + h6 * (((k1.s2 + real(2.0) * k2.s2) + real(2.0) * k3.s2) + k4.s2);
@@ -163,8 +163,8 @@ fn st_rk4(y: St, h6: real, k1: St, k2: St, k3: St, k4: St) -> St {
     return r;
 }
 
-fn st_hermite(y0: St, f0: St, y1: St, f1: St, c00: real, c10: real, c01: real, c11: real) -> St {
-    var r: St;
+fn st_hermite(y0: RigState, f0: RigState, y1: RigState, f1: RigState, c00: real, c10: real, c01: real, c11: real) -> RigState {
+    var r: RigState;
     r.s0 = ((c00 * y0.s0 + c10 * f0.s0) + c01 * y1.s0) + c11 * f1.s0;
     r.s1 = ((c00 * y0.s1 + c10 * f0.s1) + c01 * y1.s1) + c11 * f1.s1;
     r.s2 = ((c00 * y0.s2 + c10 * f0.s2) + c01 * y1.s2) + c11 * f1.s2;
@@ -176,23 +176,23 @@ fn st_hermite(y0: St, f0: St, y1: St, f1: St, c00: real, c10: real, c01: real, c
     return r;
 }
 
-struct Ck {
+struct DriveClocks {
     m0: real,
 }
 
-fn rig_clock(kc: Kc, t: real) -> Ck {
-    var c: Ck;
+fn rig_clock(kc: RunConsts, t: real) -> DriveClocks {
+    var c: DriveClocks;
     c.m0 = expm1_r((-(kc.k16 * (real(1.0)))) * t);
     return c;
 }
 
-fn rig_clock_shift(c: Ck, q: Ck) -> Ck {
+fn rig_clock_shift(c: DriveClocks, q: DriveClocks) -> DriveClocks {
     var r = c;
     r.m0 = (c.m0 + q.m0) + c.m0 * q.m0;
     return r;
 }
 
-fn rig_deriv_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> St {
+fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigState {
     let v0 = t;
     let v3 = y.s0;
     let v4 = y.s4;
@@ -267,7 +267,7 @@ fn rig_deriv_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> St {
     let v129 = v126 * kc.k128;
     let v131 = v119 - v80;
     let v134 = v131 * kc.k133;
-    var r: St;
+    var r: RigState;
     r.s0 = v4;
     r.s1 = v6;
     r.s2 = v8;
@@ -279,7 +279,7 @@ fn rig_deriv_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> St {
     return r;
 }
 
-fn rig_events_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Ev {
+fn rig_events_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigEventValues {
     let v0 = t;
     let v3 = y.s0;
     let v5 = y.s1;
@@ -298,7 +298,7 @@ fn rig_events_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Ev {
     let v72 = v43 - kc.k71;
     let v81 = v31 - v7;
     let v84 = v81 - kc.k83;
-    var r: Ev;
+    var r: RigEventValues;
     r.g[0] = v64;
     r.g[1] = v64;
     r.g[2] = v72;
@@ -307,7 +307,7 @@ fn rig_events_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Ev {
     return r;
 }
 
-fn rig_hits(g0: Ev, g1: Ev, md: Md) -> u32 {
+fn rig_hits(g0: RigEventValues, g1: RigEventValues, md: RigRegime) -> u32 {
     var hits = 0u;
     hits |= select(0u, 1u, md.m1 == 0u && md.m0 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
     hits |= select(0u, 2u, md.m1 == 1u && md.m0 == 0u && -(g1.g[1]) >= real(0.0) && (!(-(g0.g[1]) >= real(0.0)) || -(g1.g[1]) > -(g0.g[1])));
@@ -317,12 +317,12 @@ fn rig_hits(g0: Ev, g1: Ev, md: Md) -> u32 {
     return hits;
 }
 
-struct Eb {
+struct EventBases {
     b0: real,
     b1: real,
 }
 
-fn rig_bases_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Eb {
+fn rig_bases_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> EventBases {
     let v0 = t;
     let v3 = y.s0;
     let v5 = y.s1;
@@ -338,21 +338,21 @@ fn rig_bases_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Eb {
     let v31 = select(v28, real(0e0), v13 != real(0.0));
     let v43 = v5 - v3;
     let v81 = v31 - v7;
-    var r: Eb;
+    var r: EventBases;
     r.b0 = v43;
     r.b1 = v81;
     return r;
 }
 
-struct Win {
+struct EventWindows {
     lo0: real,
     lo1: real,
     hi0: real,
     hi1: real,
 }
 
-fn rig_window(kc: Kc, md: Md) -> Win {
-    var w: Win;
+fn rig_window(kc: RunConsts, md: RigRegime) -> EventWindows {
+    var w: EventWindows;
     w.lo0 = -REAL_MAX;
     w.hi0 = REAL_MAX;
     w.hi0 = select(w.hi0, min(w.hi0, kc.k46), md.m1 == 0u && md.m0 == 0u);
@@ -365,14 +365,14 @@ fn rig_window(kc: Kc, md: Md) -> Win {
     return w;
 }
 
-fn rig_outside(w: Win, b: Eb) -> bool {
+fn rig_outside(w: EventWindows, b: EventBases) -> bool {
     return b.b0 - w.hi0 >= real(0.0)
         | b.b0 - w.lo0 <= real(0.0)
         | b.b1 - w.hi1 >= real(0.0)
         | b.b1 - w.lo1 <= real(0.0);
 }
 
-fn rig_oriented(g: Ev, i: u32) -> real {
+fn rig_oriented(g: RigEventValues, i: u32) -> real {
     switch i {
         case 0u: { return g.g[0]; }
         case 1u: { return -(g.g[1]); }
@@ -383,7 +383,7 @@ fn rig_oriented(g: Ev, i: u32) -> real {
     }
 }
 
-fn rig_fire(i: u32, md: ptr<function, Md>) {
+fn rig_fire(i: u32, md: ptr<function, RigRegime>) {
     switch i {
         case 0u: { (*md).m1 = 1u; }
         case 1u: { (*md).m1 = 0u; }
@@ -394,7 +394,7 @@ fn rig_fire(i: u32, md: ptr<function, Md>) {
     }
 }
 
-fn rig_output0_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> real {
+fn rig_output0_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> real {
     let v3 = y.s0;
     let v4 = y.s4;
     let v35 = kc.k34 * v3;
@@ -406,7 +406,7 @@ fn rig_output0_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> real {
     return v42;
 }
 
-fn rig_report_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Rep {
+fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigReport {
     let v0 = t;
     let v3 = y.s0;
     let v4 = y.s4;
@@ -452,7 +452,7 @@ fn rig_report_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Rep {
     let v69 = kc.k68 * v44;
     let v70 = v67 + v69;
     let v73 = select(v70, real(0e0), v39 != real(0.0));
-    var r: Rep;
+    var r: RigReport;
     r.v[0] = v42;
     r.v[1] = v73;
     r.v[2] = v3;
@@ -466,11 +466,11 @@ fn rig_report_c(kc: Kc, t: real, y: St, md: Md, ck: Ck) -> Rep {
     return r;
 }
 
-fn rig_deriv(kc: Kc, t: real, y: St, md: Md) -> St {
+fn rig_deriv(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigState {
     return rig_deriv_c(kc, t, y, md, rig_clock(kc, t));
 }
 
-fn rig_events(kc: Kc, t: real, y: St, md: Md) -> Ev {
+fn rig_events(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigEventValues {
     return rig_events_c(kc, t, y, md, rig_clock(kc, t));
 }
 

@@ -9,16 +9,16 @@
 //! the kernels read them as values and never recompute them; where every run of
 //! a batch has the same value, the specialised kernel folds it to a constant.
 //!
-//! What the emitted source defines (names prefixed `rig_` or `St`/`Md`/`Kc`):
-//! - `struct St` (continuous state, fields `s0…`), `struct Md` (mode
-//!   variables, `m0…`), `struct Kc` (the run's constants and table offsets);
-//! - `rig_load(base, ex) -> Kc`, `rig_state_load(sb)`, `rig_state_store(sb, y, md)`,
+//! What the emitted source defines (names prefixed `rig_` or `RigState`/`RigRegime`/`RunConsts`):
+//! - `struct RigState` (continuous state, fields `s0…`), `struct RigRegime` (mode
+//!   variables, `m0…`), `struct RunConsts` (the run's constants and table offsets);
+//! - `rig_load(base, ex) -> RunConsts`, `rig_state_load(sb)`, `rig_state_store(sb, y, md)`,
 //!   `rig_modes_load(sb)`, `rig_initial(base, &y, &md)` (the run's initial
 //!   state and modes, packed per run where the program has initial-state
 //!   parameters);
 //! - `st_axpy(y, a, k)` (`y + a·k`), `st_rk4(y, h6, k1, k2, k3, k4)`,
 //!   `st_hermite(y0, f0, y1, f1, c00, c10, c01, c11)`;
-//! - `rig_deriv(kc, t, y, md) -> St`, `rig_events(kc, t, y, md) -> Ev` (every
+//! - `rig_deriv(kc, t, y, md) -> RigState`, `rig_events(kc, t, y, md) -> RigEventValues` (every
 //!   event function), `rig_hits(g0, g1, md) -> u32` (the armed transitions
 //!   that fire over a step from `g0` to `g1`, one bit each: the exact test of
 //!   the located-step path), `rig_bases_c`, `rig_window(kc, md)` and
@@ -27,8 +27,8 @@
 //!   event function oriented so that `>= 0` is past its switch, from
 //!   `rig_events`' values), `rig_fire(i, md)`;
 //! - `rig_output0_c(kc, t, y, md, ck) -> real` (the scored output) and
-//!   `rig_report_c(kc, t, y, md, ck) -> Rep` (every output, then the full state);
-//! - the drive clocks: `struct Ck`, `rig_clock(kc, t)` and
+//!   `rig_report_c(kc, t, y, md, ck) -> RigReport` (every output, then the full state);
+//! - the drive clocks: `struct DriveClocks`, `rig_clock(kc, t)` and
 //!   `rig_clock_shift(c, q)`. An `exp` or `expm1` whose exponent is `c·t` (`c`
 //!   a run constant; the velocity drive's ramp `e^{−v·t/r}`) is read from `ck`,
 //!   which the run loop computes once per step and carries to the stage times
@@ -362,11 +362,15 @@ impl Emitter<'_> {
             "const RIG_REPORT: u32 = {}u;\n",
             self.rig.hist_values() - 1
         );
-        let _ = write!(s, "struct St {{\n{}}}\n\n", self.fields("s", ns, "real"));
+        let _ = write!(
+            s,
+            "struct RigState {{\n{}}}\n\n",
+            self.fields("s", ns, "real")
+        );
         // WGSL has no empty structs: a rig without modes keeps one unused.
         let _ = write!(
             s,
-            "struct Md {{\n{}}}\n\n",
+            "struct RigRegime {{\n{}}}\n\n",
             self.fields("m", nm.max(1), "u32")
         );
         let mut kc = String::new();
@@ -379,15 +383,15 @@ impl Emitter<'_> {
         if kc.is_empty() {
             kc.push_str("    unused: u32,\n");
         }
-        let _ = write!(s, "struct Kc {{\n{kc}}}\n\n");
+        let _ = write!(s, "struct RunConsts {{\n{kc}}}\n\n");
         let _ = write!(
             s,
-            "struct Rep {{\n    v: array<real, {}>,\n}}\n\n",
+            "struct RigReport {{\n    v: array<real, {}>,\n}}\n\n",
             self.rig.hist_values() - 1
         );
         let _ = write!(
             s,
-            "struct Ev {{\n    g: array<real, {}>,\n}}\n\n",
+            "struct RigEventValues {{\n    g: array<real, {}>,\n}}\n\n",
             p.transitions.len().max(1)
         );
         s.push_str(&self.loaders());
@@ -400,7 +404,9 @@ impl Emitter<'_> {
     fn loaders(&self) -> String {
         let p = self.prog();
         let (ns, nm) = (self.rig.states(), self.rig.modes());
-        let mut s = String::from("fn rig_load(base: u32, ex: ExpInfo) -> Kc {\n    var kc: Kc;\n");
+        let mut s = String::from(
+            "fn rig_load(base: u32, ex: ExpInfo) -> RunConsts {\n    var kc: RunConsts;\n",
+        );
         for &i in &self.rig.slots {
             let _ = writeln!(s, "    kc.k{i} = param(base, P_K{i});");
         }
@@ -418,12 +424,12 @@ impl Emitter<'_> {
             }
         }
         s.push_str("    return kc;\n}\n\n");
-        s.push_str("fn rig_state_load(sb: u32) -> St {\n    var y: St;\n");
+        s.push_str("fn rig_state_load(sb: u32) -> RigState {\n    var y: RigState;\n");
         for i in 0..ns {
             let _ = writeln!(s, "    y.s{i} = state[sb + {i}u];");
         }
         s.push_str("    return y;\n}\n\n");
-        s.push_str("fn rig_modes_load(sb: u32) -> Md {\n    var md: Md;\n");
+        s.push_str("fn rig_modes_load(sb: u32) -> RigRegime {\n    var md: RigRegime;\n");
         for j in 0..nm {
             let _ = writeln!(s, "    md.m{j} = u32(state[sb + {}u]);", ns + j);
         }
@@ -431,7 +437,7 @@ impl Emitter<'_> {
         // The run's start (`advance`, before its first step): the packed
         // initial state and modes, or nothing (the cleared state buffer is
         // rest in modes 0).
-        s.push_str("fn rig_initial(base: u32, y: ptr<function, St>, md: ptr<function, Md>) {\n");
+        s.push_str("fn rig_initial(base: u32, y: ptr<function, RigState>, md: ptr<function, RigRegime>) {\n");
         if p.has_initial() {
             for i in 0..ns {
                 let _ = writeln!(s, "    (*y).s{i} = param(base, P_Y0_{i});");
@@ -441,7 +447,7 @@ impl Emitter<'_> {
             }
         }
         s.push_str("}\n\n");
-        s.push_str("fn rig_state_store(sb: u32, y: St, md: Md) {\n");
+        s.push_str("fn rig_state_store(sb: u32, y: RigState, md: RigRegime) {\n");
         for i in 0..ns {
             let _ = writeln!(s, "    state[sb + {i}u] = y.s{i};");
         }
@@ -462,19 +468,19 @@ impl Emitter<'_> {
         let mut s = String::new();
         let _ = write!(
             s,
-            "fn st_axpy(y: St, a: real, k: St) -> St {{\n    var r: St;\n{}    return r;\n}}\n\n",
+            "fn st_axpy(y: RigState, a: real, k: RigState) -> RigState {{\n    var r: RigState;\n{}    return r;\n}}\n\n",
             each(&|i| format!("y.s{i} + a * k.s{i}"))
         );
         let _ = write!(
             s,
-            "fn st_rk4(y: St, h6: real, k1: St, k2: St, k3: St, k4: St) -> St {{\n    var r: St;\n{}    return r;\n}}\n\n",
+            "fn st_rk4(y: RigState, h6: real, k1: RigState, k2: RigState, k3: RigState, k4: RigState) -> RigState {{\n    var r: RigState;\n{}    return r;\n}}\n\n",
             each(&|i| format!(
                 "y.s{i} + h6 * (((k1.s{i} + real(2.0) * k2.s{i}) + real(2.0) * k3.s{i}) + k4.s{i})"
             ))
         );
         let _ = write!(
             s,
-            "fn st_hermite(y0: St, f0: St, y1: St, f1: St, c00: real, c10: real, c01: real, c11: real) -> St {{\n    var r: St;\n{}    return r;\n}}\n\n",
+            "fn st_hermite(y0: RigState, f0: RigState, y1: RigState, f1: RigState, c00: real, c10: real, c01: real, c11: real) -> RigState {{\n    var r: RigState;\n{}    return r;\n}}\n\n",
             each(&|i| format!("((c00 * y0.s{i} + c10 * f0.s{i}) + c01 * y1.s{i}) + c11 * f1.s{i}"))
         );
         s
@@ -482,12 +488,12 @@ impl Emitter<'_> {
 
     fn functions(&self) -> String {
         let p = self.prog();
-        let sig = "kc: Kc, t: real, y: St, md: Md, ck: Ck";
+        let sig = "kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks";
         let mut s = String::new();
         // Derivative.
         let _ = write!(
             s,
-            "fn rig_deriv_c({sig}) -> St {{\n{}    var r: St;\n",
+            "fn rig_deriv_c({sig}) -> RigState {{\n{}    var r: RigState;\n",
             self.body(&p.deriv)
         );
         for (i, &d) in p.deriv.iter().enumerate() {
@@ -498,14 +504,14 @@ impl Emitter<'_> {
         // over a step (Transition::fires).
         let _ = write!(
             s,
-            "fn rig_events_c({sig}) -> Ev {{\n{}    var r: Ev;\n",
+            "fn rig_events_c({sig}) -> RigEventValues {{\n{}    var r: RigEventValues;\n",
             self.body(&p.event_roots())
         );
         for (i, tr) in p.transitions.iter().enumerate() {
             let _ = writeln!(s, "    r.g[{i}] = {};", self.name(tr.g));
         }
         s.push_str("    return r;\n}\n\n");
-        s.push_str("fn rig_hits(g0: Ev, g1: Ev, md: Md) -> u32 {\n    var hits = 0u;\n");
+        s.push_str("fn rig_hits(g0: RigEventValues, g1: RigEventValues, md: RigRegime) -> u32 {\n    var hits = 0u;\n");
         for (i, tr) in p.transitions.iter().enumerate() {
             let g = |e: &str| oriented(tr.dir, &format!("{e}.g[{i}]"));
             let _ = writeln!(
@@ -518,7 +524,7 @@ impl Emitter<'_> {
         }
         s.push_str("    return hits;\n}\n\n");
         s.push_str(&self.window());
-        s.push_str("fn rig_oriented(g: Ev, i: u32) -> real {\n    switch i {\n");
+        s.push_str("fn rig_oriented(g: RigEventValues, i: u32) -> real {\n    switch i {\n");
         for (i, tr) in p.transitions.iter().enumerate() {
             let _ = writeln!(
                 s,
@@ -527,7 +533,7 @@ impl Emitter<'_> {
             );
         }
         s.push_str("        default: { return real(0.0); }\n    }\n}\n\n");
-        s.push_str("fn rig_fire(i: u32, md: ptr<function, Md>) {\n    switch i {\n");
+        s.push_str("fn rig_fire(i: u32, md: ptr<function, RigRegime>) {\n    switch i {\n");
         for (i, tr) in p.transitions.iter().enumerate() {
             let _ = writeln!(
                 s,
@@ -558,7 +564,7 @@ impl Emitter<'_> {
         roots.extend(&p.full_state);
         let _ = write!(
             s,
-            "fn rig_report_c({sig}) -> Rep {{\n{}    var r: Rep;\n",
+            "fn rig_report_c({sig}) -> RigReport {{\n{}    var r: RigReport;\n",
             self.body(&roots)
         );
         for (j, &id) in roots.iter().enumerate() {
@@ -566,10 +572,10 @@ impl Emitter<'_> {
         }
         s.push_str("    return r;\n}\n\n");
         // The same at a time whose clocks are not at hand.
-        for (f, ty) in [("rig_deriv", "St"), ("rig_events", "Ev")] {
+        for (f, ty) in [("rig_deriv", "RigState"), ("rig_events", "RigEventValues")] {
             let _ = writeln!(
                 s,
-                "fn {f}(kc: Kc, t: real, y: St, md: Md) -> {ty} {{\n    return {f}_c(kc, t, y, md, rig_clock(kc, t));\n}}\n"
+                "fn {f}(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> {ty} {{\n    return {f}_c(kc, t, y, md, rig_clock(kc, t));\n}}\n"
             );
         }
         s
@@ -579,8 +585,8 @@ impl Emitter<'_> {
     /// may fire over the step. Each event function is split into a base and a
     /// threshold where it is `base − c` with `c` a run constant (else the base
     /// is the whole function and `c` is 0), and the transitions on one base
-    /// share a window: `struct Eb` (each base, from `rig_bases_c`), `struct
-    /// Win` and `rig_window(kc, md)` (per base, the least threshold of the
+    /// share a window: `struct EventBases` (each base, from `rig_bases_c`), `struct
+    /// EventWindows` and `rig_window(kc, md)` (per base, the least threshold of the
     /// armed upward transitions and the greatest of the armed downward ones,
     /// found once per block: the modes change only on a located step), and
     /// `rig_outside(w, b)` (the base at or past an end of its window).
@@ -610,9 +616,9 @@ impl Emitter<'_> {
             }
         }
         let roots: Vec<Id> = bases.iter().map(|e| e.0).collect();
-        let sig = "kc: Kc, t: real, y: St, md: Md, ck: Ck";
+        let sig = "kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks";
         let mut s = format!(
-            "struct Eb {{\n{}}}\n\nfn rig_bases_c({sig}) -> Eb {{\n{}    var r: Eb;\n",
+            "struct EventBases {{\n{}}}\n\nfn rig_bases_c({sig}) -> EventBases {{\n{}    var r: EventBases;\n",
             self.fields("b", roots.len().max(1), "real"),
             self.body(&roots)
         );
@@ -624,7 +630,7 @@ impl Emitter<'_> {
         }
         let _ = write!(
             s,
-            "    return r;\n}}\n\nstruct Win {{\n{}{}}}\n\nfn rig_window(kc: Kc, md: Md) -> Win {{\n    var w: Win;\n",
+            "    return r;\n}}\n\nstruct EventWindows {{\n{}{}}}\n\nfn rig_window(kc: RunConsts, md: RigRegime) -> EventWindows {{\n    var w: EventWindows;\n",
             self.fields("lo", roots.len().max(1), "real"),
             self.fields("hi", roots.len().max(1), "real"),
         );
@@ -662,25 +668,27 @@ impl Emitter<'_> {
         }
         let _ = write!(
             s,
-            "    return w;\n}}\n\nfn rig_outside(w: Win, b: Eb) -> bool {{\n    return {};\n}}\n\n",
+            "    return w;\n}}\n\nfn rig_outside(w: EventWindows, b: EventBases) -> bool {{\n    return {};\n}}\n\n",
             terms.join("\n        | ")
         );
         s
     }
 
-    /// `struct Ck` (each clock's `expm1(c·t)`), `rig_clock(kc, t)` and
+    /// `struct DriveClocks` (each clock's `expm1(c·t)`), `rig_clock(kc, t)` and
     /// `rig_clock_shift(c, q)`, the clocks `δ` later from the clocks at `t`
     /// and `q` (the clocks at `δ`): `e^{c(t+δ)} − 1 = m + q + m·q`, exact in
     /// real arithmetic and without cancellation where both are small.
     fn clock_functions(&self) -> String {
-        let mut s = String::from("struct Ck {\n");
+        let mut s = String::from("struct DriveClocks {\n");
         if self.clocks.is_empty() {
             s.push_str("    unused: real,\n");
         }
         for j in 0..self.clocks.len() {
             let _ = writeln!(s, "    m{j}: real,");
         }
-        s.push_str("}\n\nfn rig_clock(kc: Kc, t: real) -> Ck {\n    var c: Ck;\n");
+        s.push_str(
+            "}\n\nfn rig_clock(kc: RunConsts, t: real) -> DriveClocks {\n    var c: DriveClocks;\n",
+        );
         if self.clocks.is_empty() {
             s.push_str("    c.unused = t;\n");
         }
@@ -688,7 +696,7 @@ impl Emitter<'_> {
             let _ = writeln!(s, "    c.m{j} = expm1_r(({coef}) * t);");
         }
         s.push_str(
-            "    return c;\n}\n\nfn rig_clock_shift(c: Ck, q: Ck) -> Ck {\n    var r = c;\n",
+            "    return c;\n}\n\nfn rig_clock_shift(c: DriveClocks, q: DriveClocks) -> DriveClocks {\n    var r = c;\n",
         );
         for j in 0..self.clocks.len() {
             let _ = writeln!(s, "    r.m{j} = (c.m{j} + q.m{j}) + c.m{j} * q.m{j};");
@@ -741,7 +749,7 @@ mod tests {
         // Slack closing and opening on the adapter's gap; yield, its reverse
         // and fracture on the specimen's elongation.
         assert_eq!(prog.transitions.len(), 5);
-        let eb = &src[src.find("struct Eb {").expect("struct Eb")..];
+        let eb = &src[src.find("struct EventBases {").expect("struct EventBases")..];
         assert_eq!(eb[..eb.find('}').unwrap()].matches(": real").count(), 2);
         let out = &src[src.find("fn rig_outside(").expect("rig_outside")..];
         let out = &out[..out.find('}').unwrap()];

@@ -17,11 +17,10 @@
 //! step from its start with the switch located: the lanes evaluate the same
 //! operations in the same order as the scalar reference, so every lane's history
 //! is bit-identical to [`EventStepper`]'s (`tests/rig_cpu_ensemble.rs`).
-
-#![expect(
-    clippy::needless_range_loop,
-    reason = "lane loops index several arrays in step, the shape the vectoriser wants"
-)]
+//!
+//! The interpreter's loops are in [`super::interp`], built for each vector
+//! instruction set in [`super::isa`]; this file holds the lane layout and the
+//! runner.
 
 use std::ops::ControlFlow;
 
@@ -30,10 +29,12 @@ use crate::base::{SampleGrid, walk_grid};
 use crate::compile::back::c::Arith;
 use crate::compile::back::native::{Native, NativeList};
 use crate::compile::exec::events::EventStepper;
-use crate::compile::exec::lane_code::{Ins, LaneCode, List};
+use crate::compile::exec::interp::{Span, mark};
+use crate::compile::exec::lane_code::{LaneCode, List};
 use crate::compile::exec::tape::{Tape, table_value};
-use crate::compile::ir::{Id, Op, operands};
 use crate::compile::program::{Direction, Program};
+
+pub use crate::compile::exec::isa::Isa;
 
 /// Lanes in one vector block.
 pub const W: usize = 8;
@@ -49,7 +50,7 @@ type Blk = [f64; W];
 /// store straddles two.
 #[derive(Debug, Clone, Copy, PartialEq)]
 #[repr(C, align(64))]
-pub(crate) struct Reg([Blk; BLOCKS]);
+pub(crate) struct Reg(pub(crate) [Blk; BLOCKS]);
 
 impl std::ops::Index<usize> for Reg {
     type Output = Blk;
@@ -68,7 +69,7 @@ impl std::ops::IndexMut<usize> for Reg {
 
 impl Reg {
     /// Every lane `v`.
-    const fn splat(v: f64) -> Self {
+    pub(crate) const fn splat(v: f64) -> Self {
         Self([[v; W]; BLOCKS])
     }
 
@@ -80,333 +81,6 @@ impl Reg {
 }
 
 const ZERO: Reg = Reg::splat(0.0);
-
-/// `d = f(a, b)`, block by block (operands copied in, so `d` may be `a`).
-#[inline(always)]
-fn bin(r: &mut [Reg], nb: usize, d: usize, a: Id, b: Id, f: impl Fn(f64, f64) -> f64) {
-    for k in 0..nb {
-        let (x, y) = (r[a as usize][k], r[b as usize][k]);
-        let mut o = [0.0; W];
-        for l in 0..W {
-            o[l] = f(x[l], y[l]);
-        }
-        r[d][k] = o;
-    }
-}
-
-/// `d = f(a)`, block by block.
-#[inline(always)]
-fn un(r: &mut [Reg], nb: usize, d: usize, a: Id, f: impl Fn(f64) -> f64) {
-    for k in 0..nb {
-        let x = r[a as usize][k];
-        let mut o = [0.0; W];
-        for l in 0..W {
-            o[l] = f(x[l]);
-        }
-        r[d][k] = o;
-    }
-}
-
-/// Which blocks an instruction computes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Span {
-    /// Every active block.
-    Lanes,
-    /// Block 0 alone: a value every lane shares that only instructions of
-    /// the same kind read (in block 0).
-    One,
-    /// Block 0, then copied to the others, where a later instruction that
-    /// runs over every block, or the caller (a root), reads it.
-    OneCopied,
-}
-
-impl Span {
-    /// Each instruction's span in `list`, given which give every lane the
-    /// same value ([`List::uniform`]).
-    fn of(list: &List, uniform: &[bool]) -> Vec<Self> {
-        let code = &list.code;
-        (0..code.len())
-            .map(|j| {
-                if !uniform[j] {
-                    return Self::Lanes;
-                }
-                let d = code[j].dest;
-                for (later, &u) in code[j + 1..].iter().zip(&uniform[j + 1..]) {
-                    if !u && operands(&later.op).contains(&Id::from(d)) {
-                        return Self::OneCopied;
-                    }
-                    if later.dest == d {
-                        return Self::One;
-                    }
-                }
-                if list.roots.contains(&d) {
-                    Self::OneCopied
-                } else {
-                    Self::One
-                }
-            })
-            .collect()
-    }
-}
-
-/// Runs `code` (instruction by instruction over `span`'s blocks) over the
-/// first `nb` blocks of `r`.
-#[inline(always)]
-fn exec(code: &[Ins], span: &[Span], r: &mut [Reg], nb: usize) {
-    use crate::compile::exec::math::{exp, expm1};
-    for (&ins, &sp) in code.iter().zip(span) {
-        // A value every lane shares is computed in one block (and copied
-        // where a block of its own lane reads it).
-        let nb = if sp == Span::Lanes { nb } else { 1 };
-        let d = ins.dest as usize;
-        match ins.op {
-            Op::Add(a, b) => bin(r, nb, d, a, b, |x, y| x + y),
-            Op::Sub(a, b) => bin(r, nb, d, a, b, |x, y| x - y),
-            Op::Mul(a, b) => bin(r, nb, d, a, b, |x, y| x * y),
-            Op::Div(a, b) => bin(r, nb, d, a, b, |x, y| x / y),
-            Op::Min(a, b) => bin(r, nb, d, a, b, f64::min),
-            Op::Max(a, b) => bin(r, nb, d, a, b, f64::max),
-            Op::Le(a, b) => bin(r, nb, d, a, b, |x, y| if x <= y { 1.0 } else { 0.0 }),
-            Op::Eq(a, b) => bin(r, nb, d, a, b, |x, y| if x == y { 1.0 } else { 0.0 }),
-            Op::Neg(a) => un(r, nb, d, a, |x| -x),
-            Op::Abs(a) => un(r, nb, d, a, f64::abs),
-            Op::Exp(a) => un(r, nb, d, a, exp),
-            Op::Expm1(a) => un(r, nb, d, a, expm1),
-            Op::Ln(a) => un(r, nb, d, a, f64::ln),
-            Op::Sin(a) => un(r, nb, d, a, f64::sin),
-            Op::Cos(a) => un(r, nb, d, a, f64::cos),
-            Op::Select(c, a, b) => {
-                for k in 0..nb {
-                    let (s, x, y) = (r[c as usize][k], r[a as usize][k], r[b as usize][k]);
-                    let mut o = [0.0; W];
-                    for l in 0..W {
-                        o[l] = if s[l] != 0.0 { x[l] } else { y[l] };
-                    }
-                    r[d][k] = o;
-                }
-            }
-            Op::Const(_) | Op::In(_) => unreachable!("registers filled before the list runs"),
-        }
-        if sp == Span::OneCopied {
-            let b0 = r[d][0];
-            r[d].0[1..].fill(b0);
-        }
-    }
-}
-
-/// After one of RK4's first three derivatives, whose slopes are in the
-/// registers `slopes`: `acc = k` (the first) or `acc += 2·k`, and the next
-/// stage's input `y + c·k` into the state registers, lane by lane.
-#[inline(always)]
-fn stage(
-    r: &mut [Reg],
-    nb: usize,
-    y: &[Reg],
-    acc: &mut [Reg],
-    slopes: &[u16],
-    c: f64,
-    first: bool,
-) {
-    for i in 0..y.len() {
-        let s = slopes[i] as usize;
-        for b in 0..nb {
-            let (yb, kb, mut a) = (y[i][b], r[s][b], acc[i][b]);
-            let mut o = [0.0; W];
-            for l in 0..W {
-                a[l] = if first { kb[l] } else { a[l] + 2.0 * kb[l] };
-                o[l] = yb[l] + c * kb[l];
-            }
-            acc[i][b] = a;
-            r[i][b] = o;
-        }
-    }
-}
-
-/// RK4's last line after its fourth derivative: `y + c·(acc + k)` into the
-/// state registers, lane by lane, with `acc = k₀ + 2k₁ + 2k₂` summed in that
-/// order by [`stage`], so it rounds as `y + c·(k₀ + 2k₁ + 2k₂ + k₃)` does.
-#[inline(always)]
-fn finish(r: &mut [Reg], nb: usize, y: &[Reg], acc: &[Reg], slopes: &[u16], c: f64) {
-    for i in 0..y.len() {
-        let s = slopes[i] as usize;
-        for b in 0..nb {
-            let (yb, kb, a) = (y[i][b], r[s][b], acc[i][b]);
-            let mut o = [0.0; W];
-            for l in 0..W {
-                o[l] = yb[l] + c * (a[l] + kb[l]);
-            }
-            r[i][b] = o;
-        }
-    }
-}
-
-/// Sets the bit of each lane of the first `nb` blocks whose mode is `from`,
-/// whose guard holds (each (register, value) pair of `guard.0`, registers
-/// `guard.1`) and whose event function `g` is `past` its switch.
-#[inline(always)]
-fn mark(
-    hit: &mut [u8; BLOCKS],
-    nb: usize,
-    g: &Reg,
-    mode: &Reg,
-    from: f64,
-    guard: (&[(u16, f64)], &[Reg]),
-    past: impl Fn(f64) -> bool,
-) {
-    for b in 0..nb {
-        let (gb, mb) = (g[b], mode[b]);
-        let mut bits = 0;
-        for l in 0..W {
-            bits |= u8::from(past(gb[l]) & (mb[l] == from)) << l;
-        }
-        for &(r, v) in guard.0 {
-            let rb = guard.1[usize::from(r)][b];
-            for l in 0..W {
-                bits &= !(u8::from(rb[l] != v) << l);
-            }
-        }
-        hit[b] |= bits;
-    }
-}
-
-/// The vector instructions the lane loops are compiled for, picked at run
-/// time: the same source built three times, for AVX-512, AVX2 and the
-/// baseline. None of them fuses a multiply and an add (Rust never contracts
-/// floating-point expressions), so all three round exactly as the scalar
-/// reference does.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Isa {
-    /// The target's baseline (SSE2 on x86-64).
-    Base,
-    /// 256-bit vectors.
-    Avx2,
-    /// 512-bit vectors.
-    Avx512,
-}
-
-#[cfg(target_arch = "x86_64")]
-mod wide {
-    use super::{Ins, Reg, Span, exec, finish, stage};
-
-    /// `f` built for AVX-512 (`wide`) and for AVX2 (`narrow`): the same
-    /// source, compiled with each feature enabled.
-    macro_rules! built_for {
-        ($($f:ident => $wide:ident, $narrow:ident ($($a:ident: $t:ty),*);)*) => {$(
-            #[target_feature(enable = "avx512f")]
-            pub fn $wide($($a: $t),*) {
-                $f($($a),*);
-            }
-            #[target_feature(enable = "avx2")]
-            pub fn $narrow($($a: $t),*) {
-                $f($($a),*);
-            }
-        )*};
-    }
-
-    built_for! {
-        exec => exec_512, exec_256(code: &[Ins], span: &[Span], r: &mut [Reg], nb: usize);
-        stage => stage_512, stage_256(
-            r: &mut [Reg], nb: usize, y: &[Reg], acc: &mut [Reg], slopes: &[u16], c: f64, first: bool
-        );
-        finish => finish_512, finish_256(
-            r: &mut [Reg], nb: usize, y: &[Reg], acc: &[Reg], slopes: &[u16], c: f64
-        );
-    }
-}
-
-impl Isa {
-    /// The widest this processor runs, or the one `RIGFIT_LANES_ISA`
-    /// (`base`, `avx2`, `avx512`) names if the processor has it; decided once
-    /// per process.
-    pub fn detect() -> Self {
-        static PICKED: std::sync::OnceLock<Isa> = std::sync::OnceLock::new();
-        *PICKED.get_or_init(|| {
-            let best = Self::widest();
-            match std::env::var("RIGFIT_LANES_ISA").as_deref() {
-                Ok("base") => Self::Base,
-                Ok("avx2") if best != Self::Base => Self::Avx2,
-                _ => best,
-            }
-        })
-    }
-
-    /// Every one this processor runs, narrowest first.
-    pub fn available() -> Vec<Self> {
-        let w = Self::widest();
-        [Self::Base, Self::Avx2, Self::Avx512]
-            .into_iter()
-            .filter(|&i| i == Self::Base || i == Self::Avx2 && w != Self::Base || i == w)
-            .collect()
-    }
-
-    fn widest() -> Self {
-        #[cfg(target_arch = "x86_64")]
-        {
-            if std::arch::is_x86_feature_detected!("avx512f") {
-                return Self::Avx512;
-            }
-            if std::arch::is_x86_feature_detected!("avx2") {
-                return Self::Avx2;
-            }
-        }
-        Self::Base
-    }
-
-    #[expect(
-        unsafe_code,
-        reason = "calls the loops built for a feature `detect` found"
-    )]
-    fn exec(self, code: &[Ins], span: &[Span], r: &mut [Reg], nb: usize) {
-        match self {
-            // SAFETY: `detect` returns these only where the processor has them.
-            #[cfg(target_arch = "x86_64")]
-            Self::Avx512 => unsafe { wide::exec_512(code, span, r, nb) },
-            #[cfg(target_arch = "x86_64")]
-            Self::Avx2 => unsafe { wide::exec_256(code, span, r, nb) },
-            _ => exec(code, span, r, nb),
-        }
-    }
-
-    #[expect(
-        unsafe_code,
-        reason = "calls the loops built for a feature `detect` found"
-    )]
-    #[expect(clippy::too_many_arguments, reason = "the loop's operands, as `stage`")]
-    fn stage(
-        self,
-        r: &mut [Reg],
-        nb: usize,
-        y: &[Reg],
-        acc: &mut [Reg],
-        slopes: &[u16],
-        c: f64,
-        first: bool,
-    ) {
-        match self {
-            // SAFETY: as in `exec`.
-            #[cfg(target_arch = "x86_64")]
-            Self::Avx512 => unsafe { wide::stage_512(r, nb, y, acc, slopes, c, first) },
-            #[cfg(target_arch = "x86_64")]
-            Self::Avx2 => unsafe { wide::stage_256(r, nb, y, acc, slopes, c, first) },
-            _ => stage(r, nb, y, acc, slopes, c, first),
-        }
-    }
-
-    #[expect(
-        unsafe_code,
-        reason = "calls the loops built for a feature `detect` found"
-    )]
-    fn finish(self, r: &mut [Reg], nb: usize, y: &[Reg], acc: &[Reg], slopes: &[u16], c: f64) {
-        match self {
-            // SAFETY: as in `exec`.
-            #[cfg(target_arch = "x86_64")]
-            Self::Avx512 => unsafe { wide::finish_512(r, nb, y, acc, slopes, c) },
-            #[cfg(target_arch = "x86_64")]
-            Self::Avx2 => unsafe { wide::finish_256(r, nb, y, acc, slopes, c) },
-            _ => finish(r, nb, y, acc, slopes, c),
-        }
-    }
-}
 
 /// Up to [`LANES`] runs of one program on one grid.
 #[derive(Debug)]

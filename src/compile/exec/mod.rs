@@ -1,9 +1,11 @@
 //! The executors of a program on the CPU: the f64 tape and its event stepper,
-//! the lane-batched register code and its runner, the math both share, the
-//! initial modes.
+//! the lane-batched register code, its interpreter, the vector instruction sets
+//! it is built for and its runner, the math both share, the initial modes.
 
 pub mod events;
 pub mod initial;
+mod interp;
+mod isa;
 pub mod lane_code;
 pub mod lanes;
 pub mod math;

@@ -119,9 +119,7 @@ pub(super) fn signal(
             let w = g.mul(two_pi, f);
             let wt = g.mul(w, t);
             let phi = g.add(wt, p);
-            let before = g.le(t, zero);
-            let one = g.c(1.0);
-            let on = g.select(before, zero, one);
+            let on = started(g, t, zero);
             (phi, w, zero, a, on)
         }
         DriveLaw::Chirp {
@@ -143,9 +141,7 @@ pub(super) fn signal(
             let f_now = g.add(f0, rt);
             let dphi = g.mul(two_pi, f_now);
             let ddphi = g.mul(two_pi, r);
-            let before = g.le(t, zero);
-            let one = g.c(1.0);
-            let on = g.select(before, zero, one);
+            let on = started(g, t, zero);
             (phi, dphi, ddphi, a, on)
         }
         DriveLaw::HalfSine {
@@ -217,4 +213,11 @@ pub(super) fn signal(
         g.select(on, ds, zero),
         g.select(on, dds, zero),
     ))
+}
+
+/// 1 from `t > 0` on, 0 before: a periodic drive is at rest until it starts.
+fn started(g: &mut Graph, t: Id, zero: Id) -> Id {
+    let before = g.le(t, zero);
+    let one = g.c(1.0);
+    g.select(before, zero, one)
 }

@@ -1,4 +1,4 @@
-//! Shared by the seed documents' rig tests: a shipped campaign run on the CPU
+//! Shared by the papers rigfit is built from' rig tests: a shipped campaign run on the CPU
 //! backend with a small GA and the polish, judged against the noise floor (the
 //! joint `1 − R²` of the values that made the synthetic record, on that record)
 //! and against those values.

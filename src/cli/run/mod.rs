@@ -1,20 +1,97 @@
-//! `rigfit run`: the calibration job.
+//! `rigfit run`: the calibration job. The checks that refuse a job before
+//! any work are in `limits`, the summary printed at its end in `summary`.
 
-use std::fmt::Write as _;
-use std::path::{Component, Path, PathBuf};
+mod limits;
+mod summary;
+
+use std::path::PathBuf;
 use std::process::ExitCode;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use anyhow::{Context, Result};
+use clap::{Args, ValueEnum};
 
-use super::args::{BackendArg, PrecisionArg, RunArgs};
-use super::{EXIT_INTERRUPTED, Output};
+use super::exit::{BadInput, EXIT_INTERRUPTED};
+use super::options::RunLengthArgs;
+use super::output::Output;
 use rigfit::campaign::Campaign;
 use rigfit::eval::{Backend, CpuEvaluator, EvalError, PrecisionChoice};
-use rigfit::job::memory::{self, MemoryEstimate, human_bytes};
-use rigfit::job::{self, FolderMode, JobError, JobOptions, JobSummary, OutputFolder};
+use rigfit::job::memory::human_bytes;
+use rigfit::job::{self, FolderMode, JobError, JobOptions, OutputFolder};
 use rigfit::search::SearchError;
+
+/// Evaluator backend on the command line.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum BackendArg {
+    /// GPU when an adapter exists, else CPU.
+    Auto,
+    /// GPU only.
+    Gpu,
+    /// f64 CPU reference.
+    Cpu,
+}
+
+/// Arithmetic precision on the command line.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum PrecisionArg {
+    /// GPU: f64 when the adapter supports it, else f32. CPU: f64.
+    Auto,
+    /// Single precision (on the CPU: a compiled rig's native f32 lanes).
+    F32,
+    /// Double precision.
+    F64,
+}
+
+/// `rigfit run`.
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    /// Campaign JSON file.
+    pub campaign: PathBuf,
+    /// Output folder (default: the campaign's "output").
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Evaluator backend (default: the campaign's solver.backend).
+    #[arg(long, value_enum)]
+    pub backend: Option<BackendArg>,
+    /// Precision (default: the campaign's solver.precision); on the CPU only
+    /// f32 differs from the f64 reference.
+    #[arg(long, value_enum)]
+    pub precision: Option<PrecisionArg>,
+    /// Continue from the checkpoint in the output folder.
+    #[arg(long)]
+    pub resume: bool,
+    /// Replace an output folder that holds an earlier job's files.
+    #[arg(long)]
+    pub overwrite: bool,
+    /// Override the campaign's search.population.
+    #[arg(long)]
+    pub population: Option<usize>,
+    /// Override the campaign's search.generations.
+    #[arg(long)]
+    pub generations: Option<usize>,
+    /// Override the campaign's search.seed.
+    #[arg(long)]
+    pub seed: Option<u64>,
+    /// Override the campaign's search.target_fitness (stop once 1 − R² ≤ this).
+    #[arg(long)]
+    pub target_fitness: Option<f64>,
+    /// CPU threads for the CPU evaluator (0: all cores).
+    #[arg(long, default_value_t = 0)]
+    pub threads: usize,
+    #[command(flatten)]
+    pub run_length: RunLengthArgs,
+    /// Refuse a job whose estimated memory exceeds this (bytes, or with K, M,
+    /// G, T in powers of 1024: 512M, 2G); default: the memory available now
+    /// (MemAvailable in /proc/meminfo).
+    #[arg(long, value_parser = memory_size)]
+    pub max_memory: Option<f64>,
+    /// GPU adapter: its index, PCI bus id or a piece of its name, as `rigfit
+    /// devices` lists them (default: RIGFIT_ADAPTER, else the first
+    /// high-performance adapter). Recorded in result.json.
+    #[arg(long)]
+    pub adapter: Option<String>,
+}
 
 /// How to get the GPU path when `auto` fell back to the CPU.
 const GPU_HINT: &str = "for the GPU path install a Vulkan driver (Debian: \
@@ -51,15 +128,15 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
             _ => None,
         };
         match flag {
-            Some(flag) => super::BadInput(format!(
+            Some(flag) => BadInput(format!(
                 "{flag}: expected {}, found {}",
                 e.expected, e.found
             )),
-            None => super::BadInput(format!("{}: search.{e}", a.campaign.display())),
+            None => BadInput(format!("{}: search.{e}", a.campaign.display())),
         }
     })?;
     c.require_genes()?;
-    let length = c.check_run_length(a.max_steps)?;
+    let length = c.check_run_length(a.run_length.max_steps)?;
     let backend = match a.backend {
         Some(BackendArg::Auto) => Backend::Auto,
         Some(BackendArg::Gpu) => Backend::Gpu,
@@ -72,7 +149,14 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         Some(PrecisionArg::F64) => PrecisionChoice::F64,
         None => c.solver.precision,
     };
-    let memory = check_memory(&c, a, backend, precision)?;
+    let memory = limits::check_memory(
+        &c,
+        &a.campaign,
+        a.max_memory,
+        a.population,
+        backend,
+        precision,
+    )?;
     for w in &c.warnings {
         out.note(&format!("warning: {w}"));
     }
@@ -87,7 +171,7 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     // Start the threads now, so a system that refuses them is told before any work
     // (a GPU job needs them if it falls back to the CPU).
     let cpu = CpuEvaluator::try_new(c.problem.clone(), a.threads)
-        .map_err(|e| super::BadInput(format!("--threads {}: {e}", a.threads)))?;
+        .map_err(|e| BadInput(format!("--threads {}: {e}", a.threads)))?;
     // f32 on the CPU is a compiled rig's native f32 lanes, built now, before
     // any work; a model without them is scored in f64 (as before they
     // existed), with a warning.
@@ -108,7 +192,7 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         // Before any work: a selector that names no adapter is bad input.
         let adapters = rigfit::gpu::list_adapters();
         if let Err(why) = rigfit::gpu::choose_adapter(&selector, &adapters) {
-            return Err(super::BadInput(format!(
+            return Err(BadInput(format!(
                 "{selected_by}: {why}; the adapters are: {}",
                 rigfit::gpu::adapter_list(&adapters)
             ))
@@ -116,7 +200,7 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         }
     }
     if a.out.is_none() {
-        check_output_inside(&c, &a.campaign)?;
+        limits::check_output_inside(&c, &a.campaign)?;
     }
     let dir = a.out.clone().unwrap_or_else(|| c.output.clone());
     let mode = match (a.resume, a.overwrite) {
@@ -129,11 +213,9 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         |e| -> anyhow::Error {
             match (&e, &a.out) {
                 (JobError::OutputPath { .. }, None) => {
-                    super::BadInput(format!("{}: output: {e}", a.campaign.display())).into()
+                    BadInput(format!("{}: output: {e}", a.campaign.display())).into()
                 }
-                (JobError::OutputPath { .. }, Some(_)) => {
-                    super::BadInput(format!("--out: {e}")).into()
-                }
+                (JobError::OutputPath { .. }, Some(_)) => BadInput(format!("--out: {e}")).into(),
                 _ => e.into(),
             }
         },
@@ -209,7 +291,7 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         other => other?,
     };
     out.json(&summary)?;
-    out.say(|| summary_text(&summary, &dir, job::steps_per_candidate(&c)));
+    out.say(|| summary::summary_text(&summary, &dir, job::steps_per_candidate(&c)));
     if interrupt.load(Ordering::SeqCst) {
         out.note(&format!(
             "checkpoint kept in {}; continue with: rigfit run {} --resume",
@@ -221,167 +303,12 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// Estimates the job's memory and refuses it, with the estimate and the
-/// limit, when it exceeds `--max-memory` or the memory available now. Returns
-/// the estimate and the limit's description.
-fn check_memory(
-    c: &Campaign,
-    a: &RunArgs,
-    backend: Backend,
-    precision: PrecisionChoice,
-) -> Result<(MemoryEstimate, String), super::BadInput> {
-    let gpu_real = match (backend, precision) {
-        (Backend::Cpu, _) => None,
-        _ if rigfit::gpu::kernel_groups(&c.problem).is_err() => None,
-        (_, PrecisionChoice::F32) => Some(4),
-        _ => Some(8),
-    };
-    let estimate = MemoryEstimate::of(c, gpu_real);
-    let (limit, what) = match (a.max_memory, memory::available_memory()) {
-        (Some(m), _) => (m, format!("--max-memory {}", human_bytes(m))),
-        (None, Some(m)) => (m, format!("{} available", human_bytes(m))),
-        (None, None) => return Ok((estimate, "an unknown amount available".into())),
-    };
-    if estimate.total <= limit {
-        return Ok((estimate, what));
-    }
-    let whom = match a.population {
-        Some(n) => format!("--population {n}"),
-        None => format!("{}: search.population", a.campaign.display()),
-    };
-    let hint = if a.max_memory.is_some() {
-        "lower the population or raise --max-memory"
-    } else {
-        "lower the population, free memory, or set --max-memory to the memory the job may use"
-    };
-    Err(super::BadInput(format!(
-        "{whom}: expected a job that fits in {limit_text} ({source}), found {estimate}; {hint}",
-        limit_text = human_bytes(limit),
-        source = match a.max_memory {
-            Some(_) => "--max-memory",
-            None => "the memory available now, MemAvailable in /proc/meminfo",
-        },
-    )))
-}
-
-/// A campaign's own `output` must stay inside the campaign's folder or the
-/// current folder: a campaign from someone else must not send files to `/etc`.
-/// `--out` is the user's own choice and goes anywhere.
-fn check_output_inside(c: &Campaign, file: &Path) -> Result<(), super::BadInput> {
-    let Ok(cwd) = std::env::current_dir() else {
-        return Ok(());
-    };
-    let absolute = |p: &Path| -> PathBuf {
-        let mut out = PathBuf::new();
-        for part in cwd.join(p).components() {
-            match part {
-                Component::ParentDir => {
-                    out.pop();
-                }
-                Component::CurDir => {}
-                other => out.push(other),
-            }
-        }
-        out
-    };
-    let output = absolute(&c.output);
-    let home = absolute(c.path.parent().unwrap_or(Path::new(".")));
-    if output.starts_with(&home) || output.starts_with(absolute(Path::new("."))) {
-        return Ok(());
-    }
-    Err(super::BadInput(format!(
-        "{}: output: expected a folder inside the campaign's folder `{}` or the current \
-         folder, found `{}`; pass --out DIR to write elsewhere",
-        file.display(),
-        home.display(),
-        output.display()
-    )))
-}
-
-/// The one-screen summary at the end of a job.
-pub fn summary_text(s: &JobSummary, dir: &std::path::Path, steps: f64) -> String {
-    let mut t = String::new();
-    let rate = s.evaluations as f64 * steps / s.wall_time_s.max(1e-9);
-    let _ = writeln!(t, "\n{} — {}", s.campaign, s.stop_reason);
-    let _ = writeln!(
-        t,
-        "  {} generations, {} evaluations in {:.1} s on {} ({}, {}): {:.3e} candidate-steps/s",
-        s.generations, s.evaluations, s.wall_time_s, s.backend, s.device, s.precision, rate
-    );
-    for e in &s.experiments {
-        let _ = writeln!(
-            t,
-            "  {}: R² = {:.6} (1 − R² = {:.3e}; f64 CPU reference R² = {:.6})",
-            e.name, e.r2, e.one_minus_r2, e.r2_cpu_reference
-        );
-    }
-    if let Some(p) = &s.polish {
-        let _ = writeln!(
-            t,
-            "  polish: 1 − R² {:.4e} (GA) → {:.4e} in {} iterations, {} evaluations, {:.1} s",
-            p.ga_fitness, s.fitness, p.iterations, p.evaluations, p.wall_time_s
-        );
-    }
-    let _ = writeln!(
-        t,
-        "  fitted parameters (95 % interval from the covariance at the optimum, relative \
-         to the value; elite width: spread of the GA's best 10 % relative to the value):"
-    );
-    let _ = writeln!(
-        t,
-        "    {:<18} {:>14} {:<7} {:>25} {:>25} {:>12}",
-        "name", "value", "unit", "bounds", "95 % interval", "elite width"
-    );
-    for p in s.parameters.iter().filter(|p| p.free) {
-        let bounds = p
-            .bounds
-            .map(|[lo, hi]| format!("[{lo:.3e}, {hi:.3e}]"))
-            .unwrap_or_default();
-        let interval = p
-            .interval_95
-            .map(|[lo, hi]| {
-                // Relative to the value: a log-scale interval is asymmetric.
-                let rel = |x: f64| 100.0 * (x / p.value - 1.0);
-                format!("{:+.3} % / {:+.3} %", rel(lo), rel(hi))
-            })
-            .unwrap_or_else(|| {
-                if p.determined.is_some() {
-                    "—".into()
-                } else {
-                    String::new()
-                }
-            });
-        let width = p
-            .elite_relative_width
-            .map(|w| format!("{:.2} %", 100.0 * w))
-            .unwrap_or_default();
-        let mut flags = String::new();
-        if p.determined == Some(false) {
-            flags += "  not determined by the data";
-        }
-        if !p.correlated_with.is_empty() {
-            let _ = write!(
-                flags,
-                "  |corr| > 0.99 with {}",
-                p.correlated_with.join(", ")
-            );
-        }
-        let _ = writeln!(
-            t,
-            "    {:<18} {:>14.6e} {:<7} {:>25} {:>25} {:>12}{flags}",
-            p.name, p.value, p.unit, bounds, interval, width
-        );
-    }
-    for w in &s.warnings {
-        let _ = writeln!(t, "  warning: {w}");
-    }
-    let mut files = vec!["result.json".to_string()];
-    for e in &s.experiments {
-        files.push(e.csv.clone());
-        files.push(e.plot.clone());
-    }
-    files.push("history.csv".into());
-    files.push("fitness.svg".into());
-    let _ = write!(t, "  results in {}: {}", dir.display(), files.join(", "));
-    t
+/// A memory size: `2G`, `512M`, `1048576`.
+fn memory_size(s: &str) -> Result<f64, String> {
+    rigfit::job::memory::parse_bytes(s).ok_or_else(|| {
+        format!(
+            "expected a size > 0 in bytes or with K, M, G or T (512M, 2G), found {}",
+            rigfit::base::text::echo(s)
+        )
+    })
 }

@@ -1,0 +1,139 @@
+//! `rigfit check`: a campaign and its data validated without running
+//! anything, with the run length, the memory and the search time it would take.
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::Args;
+
+use super::campaign_file::load;
+use super::options::RunLengthArgs;
+use super::output::Output;
+use rigfit::campaign::Campaign;
+use rigfit::job::memory::{self, MemoryEstimate, human_bytes};
+
+/// `rigfit check`.
+#[derive(Debug, Args)]
+pub struct CheckArgs {
+    /// Campaign JSON file.
+    pub campaign: PathBuf,
+    #[command(flatten)]
+    pub run_length: RunLengthArgs,
+}
+
+/// Candidate-steps per second `check` assumes for the GPU path: lavapipe's
+/// f32 kernels on two cores measure about 1.2e8 (README, throughput); a
+/// discrete GPU runs one to two orders of magnitude more, so on one the
+/// estimate is an upper bound.
+const GPU_STEPS_PER_S_ASSUMED: f64 = 1e8;
+
+/// The search's wall time, estimated from its steps: population × generations
+/// candidates (an upper bound: elites are not evaluated again) at
+/// `CPU_STEPS_PER_S_PER_CORE` on every core, and at
+/// [`GPU_STEPS_PER_S_ASSUMED`] on the GPU.
+fn search_estimate(c: &Campaign, steps_per_candidate: f64) -> serde_json::Value {
+    let candidates = (c.search.population * c.search.generations) as f64;
+    let steps = candidates * steps_per_candidate;
+    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    let cpu_rate = rigfit::campaign::CPU_STEPS_PER_S_PER_CORE * cores as f64;
+    serde_json::json!({
+        "candidates": candidates, "steps": steps,
+        "cpu_cores": cores, "cpu_steps_per_s_assumed": cpu_rate, "cpu_seconds": steps / cpu_rate,
+        "gpu_steps_per_s_assumed": GPU_STEPS_PER_S_ASSUMED,
+        "gpu_seconds": steps / GPU_STEPS_PER_S_ASSUMED,
+    })
+}
+
+/// Validates a campaign and its data.
+pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
+    let c = load(&args.campaign, None)?;
+    let length = c.check_run_length(args.run_length.max_steps)?;
+    let search = c
+        .search_given
+        .then(|| search_estimate(&c, length.steps_per_candidate));
+    // The memory `run` will check, on the CPU and (where the rig has kernels)
+    // on the GPU in f64, for the campaign's population.
+    let cpu_memory = MemoryEstimate::of(&c, None);
+    let gpu_memory = rigfit::gpu::kernel_groups(&c.problem)
+        .is_ok()
+        .then(|| MemoryEstimate::of(&c, Some(8)));
+    let available = memory::available_memory();
+    out.json(&serde_json::json!({
+        "campaign": c.name, "rig": c.model.id(), "experiments": c.problem.experiments.len(),
+        "genes": c.genes.iter().map(|g| &g.name).collect::<Vec<_>>(),
+        "substeps": c.solver.substeps, "warnings": c.warnings, "run_length": length,
+        "memory": {"cpu": cpu_memory, "gpu": gpu_memory, "available_bytes": available},
+        "search_estimate": search,
+    }))?;
+    out.say(|| {
+        let mut s = format!(
+            "{}: valid — rig {}, {} experiment(s), {} free parameter(s), {} RK4 steps per sample ({})",
+            args.campaign.display(),
+            c.model.id(),
+            c.problem.experiments.len(),
+            c.genes.len(),
+            c.solver.substeps,
+            c.solver.note
+        );
+        for e in &c.problem.experiments {
+            let _ = write!(
+                s,
+                "\n  {}: {} samples at {:.3e} s, fit window samples {}..{}",
+                e.name,
+                e.force.len(),
+                e.dt,
+                e.window.start,
+                e.window.end
+            );
+        }
+        let _ = write!(
+            s,
+            "\n  one candidate: {:.3e} RK4 steps, about {} on one CPU core",
+            length.steps_per_candidate,
+            rigfit::campaign::human_duration(length.cpu_core_seconds_per_candidate)
+        );
+        for g in &c.genes {
+            let _ = write!(s, "\n  free {} in [{:e}, {:e}] {} ({:?})", g.name, g.lower, g.upper, g.unit, g.scale);
+        }
+        if let Some(e) = &search {
+            let f = |k: &str| e[k].as_f64().unwrap_or(0.0);
+            let _ = write!(
+                s,
+                "\n  the search: at most {:.3e} candidates ({} × {} generations), {:.3e} RK4 \
+                 steps: about {} on the CPU ({} cores at an assumed {:.0e} steps/s each), about \
+                 {} on the GPU (at an assumed {:.0e} candidate-steps/s, lavapipe's f32 rate; a \
+                 discrete GPU runs 10 to 100 times more)",
+                f("candidates"),
+                c.search.population,
+                c.search.generations,
+                f("steps"),
+                rigfit::campaign::human_duration(f("cpu_seconds")),
+                f("cpu_cores"),
+                rigfit::campaign::CPU_STEPS_PER_S_PER_CORE,
+                rigfit::campaign::human_duration(f("gpu_seconds")),
+                GPU_STEPS_PER_S_ASSUMED
+            );
+        }
+        if c.search_given {
+            let _ = write!(
+                s,
+                "\n  memory at population {}: about {} on the CPU",
+                cpu_memory.population,
+                human_bytes(cpu_memory.total)
+            );
+            if let Some(g) = &gpu_memory {
+                let _ = write!(s, ", {} on the GPU (f64)", human_bytes(g.total));
+            }
+            if let Some(a) = available {
+                let largest = gpu_memory.as_ref().unwrap_or(&cpu_memory).total;
+                let _ = write!(s, "; {} available now", human_bytes(a));
+                if largest > a {
+                    s += " (run will refuse it: lower the population or pass --max-memory)";
+                }
+            }
+        }
+        s
+    });
+    Ok(())
+}

@@ -1,0 +1,112 @@
+//! `rigfit ringdown`, a pre-calibration command: the frequency and damping of
+//! a free ringdown (a hammer impact, a release, the load cell after a
+//! fracture), pinned down before the rig is searched.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::Args;
+
+use super::fragment::{Figure, Files, Findings};
+use super::output::Output;
+use super::record::{in_file, read_two_columns};
+use rigfit::identify::ringdown::{self, RingdownOptions};
+
+/// `rigfit ringdown`.
+#[derive(Debug, Args)]
+pub struct RingdownArgs {
+    /// CSV of time (s) and force (N).
+    pub data: PathBuf,
+    /// Load-cell mass m1 (kg): with it, k1 follows from the frequency.
+    #[arg(long)]
+    pub m1: Option<f64>,
+    /// Load-cell stiffness k1 (N/m), held fixed in the damping fit.
+    #[arg(long)]
+    pub k1: Option<f64>,
+    /// Start of the free ringing (s; default: the start of the largest drop, e.g. a fracture).
+    #[arg(long)]
+    pub start: Option<f64>,
+    /// Write the campaign fragment (JSON) here.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Write the figure (SVG) here: the ringing with its fitted decay and envelope,
+    /// and the peaks' decay against each estimator's.
+    #[arg(long)]
+    pub svg: Option<PathBuf>,
+}
+
+/// Analyses a ringdown and prints or writes the campaign fragment.
+pub fn ringdown(args: &RingdownArgs, out: &Output) -> Result<()> {
+    let data = read_two_columns(&args.data)?;
+    let opts = RingdownOptions {
+        m1: args.m1,
+        k1: args.k1,
+        start: args.start,
+        ..RingdownOptions::default()
+    };
+    let r = ringdown::analyse(&data.x, &data.y, &opts).map_err(|e| in_file(&args.data, e))?;
+    let files = Files {
+        fragment: args.out.as_deref(),
+        figure: args.svg.as_deref(),
+    };
+    let figure = Figure {
+        title: format!("ringdown of {}", args.data.display()),
+        panels: || ringdown::figure(&r, &data.x, &data.y),
+        columns: 2,
+    };
+    Findings {
+        report: serde_json::json!({"ringdown": r}),
+        fragment: r.to_campaign_fragment(),
+        text: || report(args, &r),
+    }
+    .deliver_with(out, files, figure)
+}
+
+/// The human report.
+fn report(args: &RingdownArgs, r: &ringdown::RingdownReport) -> String {
+    let mut s = format!(
+        "ringdown of {} (sampled at {:.0} Hz, free ringing from {:.6e} s)\n",
+        args.data.display(),
+        r.sample_rate_hz,
+        r.start.time
+    );
+    s += &format!(
+        "  PSD ({} window, {} samples × {} segments, resolution {:.1} Hz): peak {:.1} Hz\n",
+        r.psd.window, r.psd.segment_len, r.psd.n_segments, r.psd.resolution_hz, r.psd.peak_hz
+    );
+    s += &format!(
+        "  log decrement over {} peaks: ζ = {:.5} (spread {:.2e}, {:.5}..{:.5})\n",
+        r.decrement.n_peaks,
+        r.decrement.zeta_mean,
+        r.decrement.zeta_std,
+        r.decrement.zeta_min,
+        r.decrement.zeta_max
+    );
+    s += &format!(
+        "  damped-oscillator fit: f_n = {:.2} Hz, ζ = {:.6}, R² = {:.5}\n",
+        r.natural_frequency_hz, r.fit.zeta, r.fit.r2
+    );
+    if let Some(e) = &r.envelope {
+        s += &format!(
+            "  analytic-signal envelope in {:.1}…{:.1} Hz: ζ = {:.6} (R² = {:.5})\n",
+            e.band_hz.0, e.band_hz.1, e.zeta, e.r2
+        );
+    }
+    let g = &r.agreement;
+    s += &format!(
+        "  the damping estimates {} (spread {:.1} %, {:.1} samples per cycle)\n",
+        if g.agree { "agree" } else { "DISAGREE" },
+        100.0 * g.relative_spread,
+        g.samples_per_cycle
+    );
+    for w in &g.warnings {
+        s += &format!("  warning: {w}\n");
+    }
+    if let (true, Some(k1)) = (r.k1_from_frequency, r.k1) {
+        s += &format!("  k1 from frequency and m1 = {k1:.6e} N/m\n");
+    }
+    if let Some(c) = r.c1_post {
+        s += &format!("  c1_post = {c:.6e} N·s/m\n");
+    }
+    s
+}

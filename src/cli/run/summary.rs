@@ -1,0 +1,94 @@
+//! The one-screen summary a calibration job prints at its end.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use rigfit::job::JobSummary;
+
+/// The one-screen summary at the end of a job.
+pub fn summary_text(s: &JobSummary, dir: &Path, steps: f64) -> String {
+    let mut t = String::new();
+    let rate = s.evaluations as f64 * steps / s.wall_time_s.max(1e-9);
+    let _ = writeln!(t, "\n{} — {}", s.campaign, s.stop_reason);
+    let _ = writeln!(
+        t,
+        "  {} generations, {} evaluations in {:.1} s on {} ({}, {}): {:.3e} candidate-steps/s",
+        s.generations, s.evaluations, s.wall_time_s, s.backend, s.device, s.precision, rate
+    );
+    for e in &s.experiments {
+        let _ = writeln!(
+            t,
+            "  {}: R² = {:.6} (1 − R² = {:.3e}; f64 CPU reference R² = {:.6})",
+            e.name, e.r2, e.one_minus_r2, e.r2_cpu_reference
+        );
+    }
+    if let Some(p) = &s.polish {
+        let _ = writeln!(
+            t,
+            "  polish: 1 − R² {:.4e} (GA) → {:.4e} in {} iterations, {} evaluations, {:.1} s",
+            p.ga_fitness, s.fitness, p.iterations, p.evaluations, p.wall_time_s
+        );
+    }
+    let _ = writeln!(
+        t,
+        "  fitted parameters (95 % interval from the covariance at the optimum, relative \
+         to the value; elite width: spread of the GA's best 10 % relative to the value):"
+    );
+    let _ = writeln!(
+        t,
+        "    {:<18} {:>14} {:<7} {:>25} {:>25} {:>12}",
+        "name", "value", "unit", "bounds", "95 % interval", "elite width"
+    );
+    for p in s.parameters.iter().filter(|p| p.free) {
+        let bounds = p
+            .bounds
+            .map(|[lo, hi]| format!("[{lo:.3e}, {hi:.3e}]"))
+            .unwrap_or_default();
+        let interval = p
+            .interval_95
+            .map(|[lo, hi]| {
+                // Relative to the value: a log-scale interval is asymmetric.
+                let rel = |x: f64| 100.0 * (x / p.value - 1.0);
+                format!("{:+.3} % / {:+.3} %", rel(lo), rel(hi))
+            })
+            .unwrap_or_else(|| {
+                if p.determined.is_some() {
+                    "—".into()
+                } else {
+                    String::new()
+                }
+            });
+        let width = p
+            .elite_relative_width
+            .map(|w| format!("{:.2} %", 100.0 * w))
+            .unwrap_or_default();
+        let mut flags = String::new();
+        if p.determined == Some(false) {
+            flags += "  not determined by the data";
+        }
+        if !p.correlated_with.is_empty() {
+            let _ = write!(
+                flags,
+                "  |corr| > 0.99 with {}",
+                p.correlated_with.join(", ")
+            );
+        }
+        let _ = writeln!(
+            t,
+            "    {:<18} {:>14.6e} {:<7} {:>25} {:>25} {:>12}{flags}",
+            p.name, p.value, p.unit, bounds, interval, width
+        );
+    }
+    for w in &s.warnings {
+        let _ = writeln!(t, "  warning: {w}");
+    }
+    let mut files = vec!["result.json".to_string()];
+    for e in &s.experiments {
+        files.push(e.csv.clone());
+        files.push(e.plot.clone());
+    }
+    files.push("history.csv".into());
+    files.push("fitness.svg".into());
+    let _ = write!(t, "  results in {}: {}", dir.display(), files.join(", "));
+    t
+}

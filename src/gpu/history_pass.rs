@@ -1,0 +1,131 @@
+//! The history pass of a [`GpuEvaluator`]: full records (time, outputs,
+//! states at every sample) of chosen candidates, in buffers of their own and
+//! one submit, read back as [`History`]s.
+
+use crate::eval::{Batch, History};
+
+use super::dispatch::encode_dispatches;
+use super::layout::Settings;
+use super::pack::{from_real_bytes, real_size};
+use super::pipeline;
+use super::{GpuError, GpuEvaluator};
+
+impl GpuEvaluator {
+    /// Runs the history kernel over candidates `which` of the batch and
+    /// returns its raw records.
+    pub(super) fn run_histories(
+        &mut self,
+        batch: &Batch,
+        which: &[usize],
+    ) -> Result<Vec<f64>, GpuError> {
+        let max_steps = self.upload(batch)?;
+        let ne = self.problem.experiments.len();
+        let runs = which.len() * ne;
+        let groups = pipeline::workgroups(&self.ctx, runs, self.history_kernel.workgroup_x)?;
+        let settings = self.settings(runs, self.packed.hist_stride);
+        let real = real_size(self.precision);
+        let run_bytes = self.run_bytes();
+        let size = (which.len() * self.packed.hist_stride as usize) as u64
+            * self.model.hist_values() as u64
+            * real;
+        let selection: Vec<u32> = which.iter().map(|&i| i as u32).collect();
+        let dispatches = self.dispatches(max_steps);
+        let ctx = &self.ctx;
+        let rb = self.runs.as_ref().expect("uploaded");
+        use wgpu::BufferUsages as U;
+        let readback = pipeline::scoped(ctx, "history pass", || {
+            let uniform = pipeline::buffer(
+                ctx,
+                "history settings",
+                size_of::<Settings>() as u64,
+                U::UNIFORM | U::COPY_DST,
+            );
+            ctx.queue
+                .write_buffer(&uniform, 0, bytemuck::bytes_of(&settings));
+            let state = pipeline::buffer(
+                ctx,
+                "history state",
+                runs as u64 * run_bytes[1],
+                U::STORAGE | U::COPY_DST,
+            );
+            let progress = pipeline::buffer(
+                ctx,
+                "history progress",
+                runs as u64 * run_bytes[2],
+                U::STORAGE | U::COPY_DST,
+            );
+            let history = pipeline::buffer(ctx, "history", size, U::STORAGE | U::COPY_SRC);
+            let readback =
+                pipeline::buffer(ctx, "history read-back", size, U::MAP_READ | U::COPY_DST);
+            let sel =
+                pipeline::storage_init(ctx, "selection", bytemuck::cast_slice(&selection), false);
+            let bind = pipeline::bind_with(
+                ctx,
+                "history bind group",
+                &self.history_layout.group,
+                &[
+                    &uniform,
+                    &self.experiments,
+                    &rb.params,
+                    &self.data,
+                    &state,
+                    &progress,
+                    &history,
+                    &sel,
+                ],
+            );
+            let mut enc = ctx
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("history"),
+                });
+            enc.clear_buffer(&state, 0, None);
+            enc.clear_buffer(&progress, 0, None);
+            encode_dispatches(
+                &mut enc,
+                "rk4 chunks",
+                &self.history_kernel,
+                &[(&bind, groups)],
+                dispatches,
+            );
+            enc.copy_buffer_to_buffer(&history, 0, &readback, 0, size);
+            ctx.queue.submit([enc.finish()]);
+            readback
+        })?;
+        let bytes = pipeline::read_back(ctx, &readback, size)?;
+        Ok(from_real_bytes(&bytes, self.precision))
+    }
+
+    /// `raw` records of `candidates` candidates as one [`History`] per
+    /// candidate and experiment.
+    pub(super) fn unpack_histories(&self, raw: &[f64], candidates: usize) -> Vec<Vec<History>> {
+        let (n_out, n_state) = (
+            self.problem.model.output_names().len(),
+            self.problem.model.state_names().len(),
+        );
+        let hv = self.model.hist_values() as usize;
+        (0..candidates)
+            .map(|j| {
+                self.packed
+                    .experiments
+                    .iter()
+                    .map(|ex| {
+                        let base =
+                            (j * self.packed.hist_stride as usize + ex.hist_offset as usize) * hv;
+                        let rec = |k: usize, v: usize| raw[base + k * hv + v];
+                        let n = ex.samples as usize;
+                        History {
+                            t: (0..n).map(|k| rec(k, 0)).collect(),
+                            outputs: (0..n_out)
+                                .map(|o| (0..n).map(|k| rec(k, 1 + o)).collect())
+                                .collect(),
+                            states: (0..n_state)
+                                .map(|s| (0..n).map(|k| rec(k, 1 + n_out + s)).collect())
+                                .collect(),
+                        }
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+}

@@ -1,0 +1,97 @@
+//! The linearisation of a compiled rig for modal analysis: the compiled
+//! derivative's own tangents about rest, in the engaged, unbroken
+//! configuration, as `M·ẍ + K·x = 0`.
+
+use super::Linearised;
+use super::compiled::{CompiledRig, leak, prescribed};
+use crate::base::Drive;
+use crate::rig::desc::{Coef, GapKind};
+
+impl CompiledRig {
+    /// [`crate::model::RigModel::linearise`] of a compiled rig.
+    pub(super) fn linearise_at_rest(&self, params: &[f64], drive: &Drive) -> Linearised {
+        // About rest with every contact closed (a backlash element's play
+        // taken up in tension), nothing broken or yielded and every slider
+        // stuck, from the compiled derivative's own tangents.
+        let mut st = self.stepper(params, drive).expect("a declared drive mode");
+        for (v, m) in self.lowered.modes.iter().enumerate() {
+            st.modes[v] = u32::from(m.name.ends_with(".contact") || m.name.ends_with(".backlash"));
+        }
+        let pi = self.program_for(drive).expect("declared");
+        let prog = &self.lowered.programs[pi];
+        let nodes = self.desc.nodes.len();
+        let n = self.states.len();
+        // A node is a degree of freedom unless the drive prescribes it (its
+        // displacement slot's derivative is then the constant 0).
+        let free: Vec<usize> = (0..nodes).filter(|&k| !prescribed(prog, k)).collect();
+        let mass: Vec<f64> = free
+            .iter()
+            .map(|&k| match &self.desc.nodes[k].mass {
+                Coef::Number(v) => *v,
+                Coef::Param(p) => params[self.param_index(p)],
+                Coef::Switch(_) => f64::NAN,
+            })
+            .collect();
+        let d = free.len();
+        let modes = st.modes.clone();
+        let jac = crate::compile::analysis::tangent::deriv_jacobian(
+            prog,
+            &self.tapes[pi],
+            &mut st.frame,
+            0.0,
+            &vec![0.0; n],
+            &modes,
+        );
+        let mut kmat = vec![0.0; d * d];
+        for (i, &ki) in free.iter().enumerate() {
+            for (j, &kj) in free.iter().enumerate() {
+                kmat[i * d + j] = -mass[i] * jac[(nodes + ki) * n + kj];
+            }
+        }
+        Linearised {
+            dofs: free
+                .iter()
+                .map(|&k| leak(&self.desc.nodes[k].name))
+                .collect(),
+            mass,
+            stiffness: kmat,
+        }
+    }
+
+    /// [`crate::model::RigModel::linearisation_point`] of a compiled rig.
+    pub(super) fn rest_point(&self) -> String {
+        // The same mode choice as `linearise`, said only for the kinds of
+        // switching element the rig has.
+        let has = |suffix: &str| self.lowered.modes.iter().any(|m| m.name.ends_with(suffix));
+        let mut said = Vec::new();
+        if has(".contact") {
+            let free_play = self
+                .desc
+                .elements
+                .iter()
+                .any(|e| e.gap.as_ref().is_some_and(|g| g.kind == GapKind::FreePlay));
+            said.push(if free_play {
+                "every contact closed (free play in tension)"
+            } else {
+                "every contact closed"
+            });
+        }
+        match (has(".fracture"), has(".yield")) {
+            (true, true) => said.push("nothing broken or yielded"),
+            (true, false) => said.push("nothing broken"),
+            (false, true) => said.push("nothing yielded"),
+            (false, false) => {}
+        }
+        if has(".friction") {
+            said.push("every slider stuck");
+        }
+        if has(".backlash") {
+            said.push("backlash taken up in tension");
+        }
+        let mut s = format!("rig {} linearised about rest", self.id);
+        if !said.is_empty() {
+            s += &format!(": {}", said.join(", "));
+        }
+        s
+    }
+}
