@@ -18,7 +18,6 @@ use cpu_time::process_cpu_seconds;
 use rayon::prelude::*;
 use rigfit::base::SampleGrid;
 use rigfit::base::{Drive, Report};
-use rigfit::model::RigModel;
 use rigfit::model::compiled::CompiledRig;
 
 #[path = "../tests/oracle/mod.rs"]
@@ -83,7 +82,7 @@ fn main() {
     let steps = grid.total_steps();
     let rig = CompiledRig::new(rigfit::rig::shipped("tensile4").unwrap(), "tensile4").unwrap();
     let drive = Drive::Velocity;
-    let one = |m: &dyn RigModel, p: &[f64]| {
+    let one = |m: &CompiledRig, p: &[f64]| {
         let mut s = 0.0;
         m.simulate(p, &drive, &grid, &mut |x| {
             s += x.outputs[0];

@@ -13,7 +13,6 @@ use std::ops::ControlFlow;
 use oracle::tensile::{REFERENCE, TensileSystem, ix};
 use rigfit::base::SampleGrid;
 use rigfit::base::{Drive, PiecewiseLinear};
-use rigfit::model::RigModel;
 use tensile_common::tensile4;
 
 /// One sample of a run: time, full state and outputs.

@@ -24,7 +24,7 @@ use rigfit::gpu::{
     kernel_groups, open_evaluator,
 };
 use rigfit::model::compiled::CompiledRig;
-use rigfit::model::{RigModel, param_index};
+use rigfit::model::param_index;
 use rigfit::search::ResidualCost;
 use serde_json::{Value, json};
 use tensile_common::REFERENCE;

@@ -22,7 +22,6 @@ use rigfit::eval::{
     Batch, Evaluator, ExperimentData, Precision, Problem, score_one, simulate_history,
 };
 use rigfit::gpu::{F32_HISTORY_TOLERANCE, F64_HISTORY_TOLERANCE, GpuContext};
-use rigfit::model::RigModel;
 use rigfit::model::compiled::CompiledRig;
 use rigfit::search::GeneSpec;
 

@@ -9,7 +9,6 @@ use rigfit::base::{Drive, PiecewiseLinear};
 use rigfit::compile::analysis::interval::deriv_jacobian_box;
 use rigfit::compile::analysis::tangent::deriv_jacobian;
 use rigfit::compile::{Frame, Tape};
-use rigfit::model::RigModel;
 use rigfit::model::compiled::CompiledRig;
 
 /// A small deterministic generator (xorshift), uniform in [0, 1).

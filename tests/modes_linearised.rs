@@ -8,8 +8,8 @@ mod tensile_common;
 
 use oracle::tensile::{REFERENCE, ix};
 use rigfit::base::Drive;
+use rigfit::model::Linearised;
 use rigfit::model::modes::{ModeReport, ModesError};
-use rigfit::model::{Linearised, RigModel};
 use std::f64::consts::TAU;
 use tensile_common::tensile4;
 

@@ -11,7 +11,6 @@ use std::ops::ControlFlow;
 
 use rigfit::base::SampleGrid;
 use rigfit::base::{Drive, Report};
-use rigfit::model::RigModel;
 use rigfit::model::compiled::CompiledRig;
 use rigfit::rig::desc::DriveLaw;
 use rigfit::rig::{RigSource, parse};

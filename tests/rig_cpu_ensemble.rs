@@ -9,7 +9,6 @@ use std::ops::ControlFlow;
 use rigfit::base::SampleGrid;
 use rigfit::base::{Drive, Report};
 use rigfit::compile::{Arith, Isa, LANES, LaneCode, LaneRunner, Native, Tape};
-use rigfit::model::RigModel;
 use rigfit::model::compiled::CompiledRig;
 use rigfit::rig::desc::DriveLaw;
 use tensile_common::REFERENCE_DT;

@@ -7,7 +7,6 @@ use std::ops::ControlFlow;
 
 use rigfit::base::Drive;
 use rigfit::base::SampleGrid;
-use rigfit::model::RigModel;
 use rigfit::model::compiled::CompiledRig;
 use rigfit::rig::{RigSource, parse};
 use serde_json::{Value, json};

@@ -5,7 +5,6 @@ use std::ops::ControlFlow;
 
 use rigfit::base::Drive;
 use rigfit::base::SampleGrid;
-use rigfit::model::RigModel;
 use rigfit::model::compiled::CompiledRig;
 use rigfit::rig::desc::DriveLaw;
 

@@ -8,7 +8,6 @@ use std::ops::ControlFlow;
 
 use rigfit::base::Drive;
 use rigfit::base::SampleGrid;
-use rigfit::model::RigModel;
 use rigfit::model::compiled::CompiledRig;
 use serde_json::{Value, json};
 

@@ -3,7 +3,6 @@
 //! spring force reaches the slip force, then slips under a constant net force.
 
 use rigfit::base::Drive;
-use rigfit::model::RigModel;
 use rigfit::model::compiled::CompiledRig;
 use rigfit::rig::desc::DriveLaw;
 

@@ -15,7 +15,7 @@ use rigfit::base::{Drive, PiecewiseLinear};
 use rigfit::compile::analysis::liveness::fitted_variant;
 use rigfit::compile::{EventStepper, Program, Tape};
 use rigfit::model::compiled::CompiledRig;
-use rigfit::model::{RigModel, param_index};
+use rigfit::model::param_index;
 use tensile_common::{REFERENCE_DT, REFERENCE_SAMPLES, tensile4};
 
 fn compiled() -> &'static CompiledRig {

@@ -6,8 +6,8 @@ use rigfit::base::{Drive, PiecewiseLinear};
 use rigfit::eval::Precision;
 use rigfit::gpu::layout::{ExpInfo, Settings, run_stride, shared_constants};
 use rigfit::gpu::shaders::{self, Kernel, ProblemShape};
+use rigfit::model::GpuModel;
 use rigfit::model::compiled::CompiledRig;
-use rigfit::model::{GpuModel, RigModel};
 
 /// Every shipped rig's kernels, for each of its drive modes.
 fn gpu_models() -> Vec<(String, GpuModel)> {

@@ -15,7 +15,6 @@ use oracle::tensile::{MAX_POLY_DEGREE, REFERENCE, ix, linearise, slack_knee};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rigfit::base::{Drive, PiecewiseLinear};
-use rigfit::model::RigModel;
 use tensile_common::tensile4;
 
 /// Search bounds around the reference: ×0.5…×2 on every positive parameter,

@@ -17,7 +17,6 @@ use oracle::tensile::{
 };
 use rigfit::base::SampleGrid;
 use rigfit::base::{Drive, PiecewiseLinear};
-use rigfit::model::RigModel;
 use rustfft::{FftPlanner, num_complex::Complex};
 use tensile_common::{REFERENCE_DT, REFERENCE_SAMPLES, REFERENCE_SUBSTEPS, tensile4};
 

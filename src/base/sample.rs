@@ -8,14 +8,14 @@ pub struct Sample<'a> {
     pub index: usize,
     /// Model time (s).
     pub t: f64,
-    /// Full state vector (see [`RigModel::state_names`]).
+    /// Full state vector (see [`crate::model::CompiledRig::state_names`]).
     pub state: &'a [f64],
-    /// Observed outputs (see [`RigModel::output_names`]); output 0 is the quantity
+    /// Observed outputs (see [`crate::model::CompiledRig::output_names`]); output 0 is the quantity
     /// fitted against the measured history.
     pub outputs: &'a [f64],
 }
 
-/// Output 0 of a group of runs at one sample ([`RigModel::simulate_fitted`]).
+/// Output 0 of a group of runs at one sample ([`crate::model::CompiledRig::simulate_fitted`]).
 #[derive(Debug, Clone, Copy)]
 pub struct FittedSample<'a> {
     /// The run `values[0]` belongs to; `values[j]` is run `first + j`'s.
@@ -28,14 +28,14 @@ pub struct FittedSample<'a> {
     pub values: &'a [f64],
 }
 
-/// Runs `0..n` of a group as `live` bits ([`RigModel::simulate_fitted`];
+/// Runs `0..n` of a group as `live` bits ([`crate::model::CompiledRig::simulate_fitted`];
 /// `n ≤ 64`).
 pub fn lane_bits(n: usize) -> u64 {
     assert!(n <= 64, "at most 64 runs to a group");
     if n == 64 { u64::MAX } else { (1 << n) - 1 }
 }
 
-/// What [`RigModel::simulate_many`] reports at each sample.
+/// What [`crate::model::CompiledRig::simulate_many`] reports at each sample.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Report {
     /// Every output and the full state.

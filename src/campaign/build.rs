@@ -12,7 +12,6 @@ use super::{Campaign, CampaignError, FNV_BASIS, Gene, GeneTarget, Source, acts_i
 use crate::base::data::{Column, CsvSpec, Series, parse_csv};
 use crate::base::{Drive, PiecewiseLinear};
 use crate::eval::{ExperimentData, Problem};
-use crate::model::RigModel;
 use crate::model::compiled::CompiledRig;
 use crate::rig;
 use crate::search::GaSettings;
@@ -220,7 +219,7 @@ fn model_of(
     file: &Path,
     rig_file: &mut Option<PathBuf>,
     compiled: &mut Option<&'static CompiledRig>,
-) -> Result<&'static dyn RigModel, CampaignError> {
+) -> Result<&'static CompiledRig, CampaignError> {
     if let Some(m) = &raw.model {
         let id = m.as_str().unwrap_or("tensile4");
         let id = if rig::shipped(id).is_some() {

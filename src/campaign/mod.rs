@@ -53,7 +53,7 @@ pub use stability::{MAX_AUTO_SUBSTEPS, STABILITY_LIMIT, SolverSettings};
 
 use crate::base::Scale;
 use crate::eval::{Batch, DIVERGED, Problem, Scores};
-use crate::model::RigModel;
+use crate::model::CompiledRig;
 use crate::search::GaSettings;
 
 /// What a gene sets.
@@ -118,7 +118,7 @@ pub struct Campaign {
     /// Free text from the file.
     pub description: Option<String>,
     /// The rig model.
-    pub model: &'static dyn RigModel,
+    pub model: &'static CompiledRig,
     /// Model plus measured experiments; `problem.substeps` is `solver.substeps`.
     pub problem: Problem,
     /// The searched quantities, in genome order.

@@ -8,7 +8,7 @@ use super::error::invalid;
 use super::raw::RawParam;
 use super::{CampaignError, Gene, GeneTarget, Source};
 use crate::base::{ParamInfo, ParamScope, Scale};
-use crate::model::{RigModel, param_index};
+use crate::model::{CompiledRig, param_index};
 
 /// A checked parameter value.
 #[derive(Debug, Clone, PartialEq)]
@@ -133,7 +133,7 @@ pub(crate) fn check_value(
 pub(crate) fn unknown_param(
     file: &Path,
     path: &str,
-    model: &dyn RigModel,
+    model: &CompiledRig,
     name: &str,
 ) -> CampaignError {
     let names: Vec<&str> = model.params().iter().map(|p| p.name).collect();
@@ -171,7 +171,7 @@ pub(crate) fn unknown_param(
 pub(crate) fn check_map(
     file: &Path,
     at: &str,
-    model: &dyn RigModel,
+    model: &CompiledRig,
     map: &BTreeMap<String, RawParam>,
     experiment: bool,
 ) -> Result<BTreeMap<usize, (Spec, String)>, CampaignError> {
@@ -206,7 +206,7 @@ pub(crate) struct Resolved {
 /// vectors. `names[e]` are the experiment names. Offsets are added by the caller.
 pub(crate) fn resolve(
     file: &Path,
-    model: &dyn RigModel,
+    model: &CompiledRig,
     shared: &BTreeMap<usize, (Spec, String)>,
     own: &[BTreeMap<usize, (Spec, String)>],
     names: &[String],
@@ -298,7 +298,7 @@ pub(crate) fn resolve(
 /// the free ranges of experiment `e`, naming the JSON path of the culprit.
 pub(crate) fn check_physics(
     file: &Path,
-    model: &dyn RigModel,
+    model: &CompiledRig,
     base: &[f64],
     lo: &[f64],
     hi: &[f64],

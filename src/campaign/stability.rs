@@ -2,13 +2,13 @@
 //!
 //! Classic RK4 is stable for real eigenvalues while `h·|λ| < 2.785` and for
 //! imaginary ones while `h·|λ| < 2.828` (issue 6). The model bounds `|λ|` over the
-//! free parameters' ranges with [`RigModel::omega_bound`]; we require
+//! free parameters' ranges with [`crate::model::CompiledRig::omega_bound`]; we require
 //! `h·ω_bound ≤` [`STABILITY_LIMIT`] = 2.0, a margin of about 30 % for the
 //! looseness of nonlinear springs beyond their linearisation.
 
 use super::raw::RawSubsteps;
 use crate::eval::{Backend, ExperimentData, PrecisionChoice};
-use crate::model::RigModel;
+use crate::model::CompiledRig;
 
 /// Largest `h·ω_bound` accepted (RK4's own limit is about 2.8).
 pub const STABILITY_LIMIT: f64 = 2.0;
@@ -45,7 +45,7 @@ struct Worst {
 /// `bounds(e)` gives experiment `e`'s lower and upper parameter vectors,
 /// `offset(e)` its latest clock offset (s).
 pub(crate) fn choose(
-    model: &dyn RigModel,
+    model: &CompiledRig,
     exps: &[ExperimentData],
     bounds: impl Fn(usize) -> (Vec<f64>, Vec<f64>),
     offset: impl Fn(usize) -> f64,

@@ -5,7 +5,7 @@ use std::ops::Range;
 use super::{Batch, EvalError};
 use crate::base::Drive;
 use crate::base::SampleGrid;
-use crate::model::RigModel;
+use crate::model::CompiledRig;
 
 /// One measured experiment, ready to score against.
 #[derive(Debug, Clone)]
@@ -55,7 +55,7 @@ impl ExperimentData {
 #[derive(Debug, Clone)]
 pub struct Problem {
     /// The rig model.
-    pub model: &'static dyn RigModel,
+    pub model: &'static CompiledRig,
     /// The experiments.
     pub experiments: Vec<ExperimentData>,
     /// RK4 steps per sample interval.

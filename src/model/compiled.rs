@@ -1,10 +1,10 @@
 //! A rig described as data (`rigs/*.json` or a campaign's `"rig"`), compiled
-//! once and run through the [`RigModel`] interface like any model. Its
+//! once and run through the [`CompiledRig`] interface like any model. Its
 //! stability bound is in `stability.rs`, its linearisation in `linearise.rs`.
 
 use std::ops::ControlFlow;
 
-use super::{Linearised, RigModel};
+use super::Linearised;
 use crate::base::{Drive, FittedSample, ParamInfo, Report, Sample};
 use crate::base::{SampleGrid, walk_grid};
 use crate::compile::Arith;
@@ -56,12 +56,12 @@ type LaneParts<'a> = (&'a crate::compile::Program, &'a Tape, &'a LaneCode);
 
 /// How a group of lane runs reports ([`CompiledRig::run_lanes`]).
 enum Observe<'a> {
-    /// Each run at each sample, as [`RigModel::simulate_many`].
+    /// Each run at each sample, as [`crate::model::CompiledRig::simulate_many`].
     Each(
         Report,
         &'a mut dyn FnMut(usize, &Sample<'_>) -> ControlFlow<()>,
     ),
-    /// Output 0 of the group at each sample, as [`RigModel::simulate_fitted`].
+    /// Output 0 of the group at each sample, as [`crate::model::CompiledRig::simulate_fitted`].
     Fitted(&'a mut dyn FnMut(&FittedSample<'_>, &mut u64)),
 }
 
@@ -163,7 +163,7 @@ impl CompiledRig {
         })
     }
 
-    /// Compiles and leaks, for the `&'static dyn RigModel` the campaign holds.
+    /// Compiles and leaks, for the `&'static CompiledRig` the campaign holds.
     pub fn leaked(desc: RigDesc, file: &str) -> Result<&'static Self, RigError> {
         Ok(Box::leak(Box::new(Self::new(desc, file)?)))
     }
@@ -237,28 +237,38 @@ impl CompiledRig {
     }
 }
 
-impl RigModel for CompiledRig {
-    fn id(&self) -> &'static str {
+impl CompiledRig {
+    /// A lumped rig model: its parameters, its equations and how to pack them for the
+    /// GPU.
+    /// The rig's id (its file's `"id"`).
+    pub fn id(&self) -> &'static str {
         self.id
     }
 
-    fn params(&self) -> &'static [ParamInfo] {
+    /// The model's parameters, in the order of every parameter vector.
+    pub fn params(&self) -> &'static [ParamInfo] {
         self.params
     }
 
-    fn state_names(&self) -> &'static [&'static str] {
+    /// Names of the state variables.
+    pub fn state_names(&self) -> &'static [&'static str] {
         self.states
     }
 
-    fn output_names(&self) -> &'static [(&'static str, &'static str)] {
+    /// Names and units of the outputs; output 0 is fitted to the measurement.
+    pub fn output_names(&self) -> &'static [(&'static str, &'static str)] {
         self.outputs
     }
 
-    fn supports(&self, drive: &Drive) -> bool {
+    /// Whether the model can run under `drive` (a rig without a force-mode
+    /// drive cannot take a force table).
+    pub fn supports(&self, drive: &Drive) -> bool {
         self.program_for(drive).is_some()
     }
 
-    fn check(&self, params: &[f64]) -> Result<(), (&'static str, String)> {
+    /// Checks a full parameter vector for physical sense (positive masses, …).
+    /// Returns the offending parameter's name and what was expected.
+    pub fn check(&self, params: &[f64]) -> Result<(), (&'static str, String)> {
         for (i, info) in self.params.iter().enumerate() {
             if !params[i].is_finite() {
                 return Err((info.name, "a finite number".into()));
@@ -291,7 +301,9 @@ impl RigModel for CompiledRig {
         Ok(())
     }
 
-    fn simulate(
+    /// Integrates one run from rest with the f64 RK4 reference, calling `observe`
+    /// at every sample of `grid`.
+    pub fn simulate(
         &self,
         params: &[f64],
         drive: &Drive,
@@ -340,7 +352,12 @@ impl RigModel for CompiledRig {
         );
     }
 
-    fn simulate_many(
+    /// Runs several parameter vectors on one grid, calling `observe(run,
+    /// sample)` at every sample of each until its observer breaks, with what
+    /// `report` asks for in each sample. By default one run after the other;
+    /// a model with a lane-batched ensemble (see [`crate::model::CompiledRig::lanes`]) advances
+    /// them together, with the same results.
+    pub fn simulate_many(
         &self,
         params: &[&[f64]],
         drive: &Drive,
@@ -363,7 +380,16 @@ impl RigModel for CompiledRig {
         );
     }
 
-    fn simulate_fitted(
+    /// Output 0 alone of several runs on one grid, each sample's values for a
+    /// group of runs handed to `observe` at once (what the fitness needs,
+    /// without a call per run and sample). `live` has a bit per run of the
+    /// group (bit `j`: run `first + j`) still observed: the observer clears a
+    /// run's bit to stop observing it, and the group ends when none is left.
+    /// With `f32`, in f32 arithmetic where the model has an f32 path here (a
+    /// compiled rig whose lane code the C compiler built), held to the f32
+    /// tolerance of the f64 reference as the GPU's f32 kernels are. Returns
+    /// whether it ran in f32. By default one run after the other, in f64.
+    pub fn simulate_fitted(
         &self,
         params: &[&[f64]],
         drive: &Drive,
@@ -398,28 +424,42 @@ impl RigModel for CompiledRig {
         in_f32.is_some()
     }
 
-    fn lanes(&self) -> usize {
+    /// How many runs [`crate::model::CompiledRig::simulate_many`] advances together (1: no
+    /// gain from grouping runs).
+    pub fn lanes(&self) -> usize {
         LANES
     }
 
-    fn gpu(&self, drive: &Drive) -> Option<super::GpuModel> {
+    /// How the model runs in the GPU ensemble kernels under `drive` (every
+    /// experiment of a GPU batch must get the same kernels); `None` keeps it
+    /// CPU-only.
+    pub fn gpu(&self, drive: &Drive) -> Option<super::GpuModel> {
         let i = self.program_for(drive)?;
         self.gpu[i].clone()
     }
 
-    fn linearisation_point(&self) -> String {
+    /// What [`crate::model::CompiledRig::linearise`] linearises about, in words, for the header
+    /// of `rigfit modes`.
+    pub fn linearisation_point(&self) -> String {
         self.rest_point()
     }
 
-    fn linearise(&self, params: &[f64], drive: &Drive) -> Linearised {
+    /// The rig linearised about its engaged, unbroken configuration.
+    pub fn linearise(&self, params: &[f64], drive: &Drive) -> Linearised {
         self.linearise_at_rest(params, drive)
     }
 
-    fn omega_bound(&self, lower: &[f64], upper: &[f64], drive: &Drive) -> (f64, &'static str) {
+    /// Upper bound on the highest natural frequency (rad/s) of any parameter
+    /// vector inside `[lower, upper]`, with the name of the parameter that limits
+    /// it most. Used to choose or refuse the RK4 step.
+    pub fn omega_bound(&self, lower: &[f64], upper: &[f64], drive: &Drive) -> (f64, &'static str) {
         self.omega_bound_in_run(lower, upper, drive, f64::INFINITY)
     }
 
-    fn omega_bound_in_run(
+    /// [`Self::omega_bound`] for a run of model time `0..t_end` (s): a model
+    /// whose stiffness grows with a displacement may bound that displacement by
+    /// what the drive reaches in that time. The default ignores `t_end`.
+    pub fn omega_bound_in_run(
         &self,
         lower: &[f64],
         upper: &[f64],

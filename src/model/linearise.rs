@@ -8,7 +8,7 @@ use crate::base::Drive;
 use crate::rig::desc::{Coef, GapKind};
 
 impl CompiledRig {
-    /// [`crate::model::RigModel::linearise`] of a compiled rig.
+    /// [`crate::model::CompiledRig::linearise`] of a compiled rig.
     pub(super) fn linearise_at_rest(&self, params: &[f64], drive: &Drive) -> Linearised {
         // About rest with every contact closed (a backlash element's play
         // taken up in tension), nothing broken or yielded and every slider
@@ -58,7 +58,7 @@ impl CompiledRig {
         }
     }
 
-    /// [`crate::model::RigModel::linearisation_point`] of a compiled rig.
+    /// [`crate::model::CompiledRig::linearisation_point`] of a compiled rig.
     pub(super) fn rest_point(&self) -> String {
         // The same mode choice as `linearise`, said only for the kinds of
         // switching element the rig has.

@@ -11,7 +11,7 @@ use rigfit::base::Drive;
 use rigfit::eval::Precision;
 use rigfit::eval::{Batch, ExperimentData, Problem, simulate_history};
 use rigfit::gpu::{GpuContext, GpuEvaluator, GpuOptions, gpu_required};
-use rigfit::model::RigModel;
+use rigfit::model::CompiledRig;
 
 /// The default GPU context; `None` (with a loud message) when there is no
 /// adapter, or a panic when `RIGFIT_REQUIRE_GPU=1`.
@@ -115,7 +115,7 @@ pub fn batch_of(problem: &Problem, params: Vec<f64>) -> Batch {
 /// at `params` (exactly fitted there), over `samples` samples `dt` apart from
 /// `t_first`, fitted over all of them.
 pub fn self_measured(
-    model: &'static dyn RigModel,
+    model: &'static CompiledRig,
     params: &[f64],
     name: &str,
     drive: Drive,

@@ -13,7 +13,6 @@ use rigfit::base::SampleGrid;
 use rigfit::campaign::Campaign;
 use rigfit::eval::{CpuEvaluator, Evaluator};
 use rigfit::job::{self, JobOptions, JobSummary};
-use rigfit::model::RigModel;
 use rigfit::model::compiled::CompiledRig;
 use serde_json::Value;
 

@@ -386,7 +386,7 @@ impl<'p> LaneRunner<'p> {
     }
 
     /// Runs every lane over `grid`, handing output 0 of every lane to
-    /// `observe` at each sample (as [`crate::model::RigModel::simulate_fitted`]
+    /// `observe` at each sample (as [`crate::model::CompiledRig::simulate_fitted`]
     /// does: lanes numbered from [`Self::numbered_from`], `live` a bit per
     /// lane still observed), until no lane is left.
     pub fn run_fitted(
