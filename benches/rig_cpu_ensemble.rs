@@ -1,6 +1,6 @@
 //! CPU throughput of the compiled rig (candidate-steps per second, all
 //! cores): the compiled `rigs/tensile4.json` one run at a time, and the compiled rig's lane-batched ensemble on the
-//! fitness path (output 0 of a group at each sample, `simulate_fitted`) in
+//! fitness path (output 0 of a group at each sample, `simulate_measured`) in
 //! f64 and f32, a call per run and sample (`simulate_many`, output 0 alone or
 //! every output and the full state), and interpreted instead of native, on
 //! the shipped example's grid. `cargo bench --bench rig_cpu_ensemble`
@@ -128,7 +128,7 @@ fn main() {
                 .map(|c| {
                     let refs: Vec<&[f64]> = c.iter().map(|p| p.as_slice()).collect();
                     let mut s = 0.0;
-                    let ran_f32 = rig.simulate_fitted(&refs, &drive, &grid, f32, &mut |x, _| {
+                    let ran_f32 = rig.simulate_measured(&refs, &drive, &grid, f32, &mut |x, _| {
                         s += x.values.iter().sum::<f64>();
                     });
                     assert_eq!(ran_f32, f32, "the C compiler builds the f32 lanes");
@@ -142,7 +142,7 @@ fn main() {
     for (row, report, name, short) in [
         (
             "lanes-each",
-            Report::Fitted,
+            Report::Measured,
             "compiled tensile4, lanes, a call per run",
             "lanes, a call per run",
         ),
@@ -190,7 +190,7 @@ fn main() {
                         let refs: Vec<&[f64]> = c.iter().map(|p| p.as_slice()).collect();
                         let mut s = 0.0;
                         rigfit::compile::LaneRunner::new(prog, &tape, &code, &refs, None)
-                            .run_fitted(&grid, &mut |x, _| s += x.values.iter().sum::<f64>());
+                            .run_measured(&grid, &mut |x, _| s += x.values.iter().sum::<f64>());
                         s
                     })
                     .sum();

@@ -32,12 +32,12 @@ fn generated() -> Vec<(String, String)> {
         for prog in &lowered.programs {
             let stem = format!("{id}.{}", prog.mode);
             let fitted = rigfit::compile::analysis::liveness::skipping_variant(prog);
-            let gpu = GpuRig::with_fitted(prog, fitted).expect("a shipped rig emits WGSL");
+            let gpu = GpuRig::with_fitness(prog, fitted).expect("a shipped rig emits WGSL");
             out.push((format!("{stem}.wgsl"), gpu.source(&literal)));
-            if !std::ptr::eq(gpu.fitted(), &gpu) {
+            if !std::ptr::eq(gpu.fitness(), &gpu) {
                 out.push((
                     format!("{stem}.fitness.wgsl"),
-                    gpu.fitted().source(&literal),
+                    gpu.fitness().source(&literal),
                 ));
             }
             let tape = Tape::new(prog);

@@ -153,7 +153,7 @@ fn full_and_partial_groups_on_every_vector_width_match_the_scalar_reference() {
     let isas = Isa::available();
     assert!(isas.contains(&Isa::Base));
     for isa in isas {
-        for (report, want) in [(Report::Full, &one), (Report::Fitted, &fitted)] {
+        for (report, want) in [(Report::Full, &one), (Report::Measured, &fitted)] {
             let mut many = vec![vec![]; ps.len()];
             for (c, chunk) in ps.chunks(LANES).enumerate() {
                 let refs: Vec<&[f64]> = chunk.iter().map(|p| p.as_slice()).collect();
@@ -173,7 +173,7 @@ fn full_and_partial_groups_on_every_vector_width_match_the_scalar_reference() {
 }
 
 #[test]
-fn the_fitted_report_is_output_zero_of_the_full_one() {
+fn the_measured_report_is_output_zero_of_the_full_one() {
     let r = CompiledRig::new(rigfit::rig::shipped("tensile4").unwrap(), "tensile4").unwrap();
     assert!(r.output_names().len() > 1, "a rig with more than output 0");
     let ps: Vec<Vec<f64>> = (0..9)
@@ -193,9 +193,9 @@ fn the_fitted_report_is_output_zero_of_the_full_one() {
     // Each report by the lanes.
     for m in [&r] {
         let mut got = [vec![vec![]; ps.len()], vec![vec![]; ps.len()]];
-        for (h, report) in got.iter_mut().zip([Report::Full, Report::Fitted]) {
+        for (h, report) in got.iter_mut().zip([Report::Full, Report::Measured]) {
             m.simulate_many(&refs, &Drive::Velocity, &grid, report, &mut |l, s| {
-                if report == Report::Fitted {
+                if report == Report::Measured {
                     assert_eq!((s.outputs.len(), s.state.len()), (1, 0));
                 }
                 h[l].push(s.outputs[0].to_bits());
@@ -205,10 +205,10 @@ fn the_fitted_report_is_output_zero_of_the_full_one() {
         assert_eq!(got[0].len(), ps.len());
         assert_eq!(got[0][0].len(), grid.samples);
         assert_eq!(got[0], got[1], "{}", m.id());
-        // The same values a group at a time (`simulate_fitted`, f64), with a
+        // The same values a group at a time (`simulate_measured`, f64), with a
         // run stopped after 100 samples and the rest left to the end.
         let mut grouped = vec![vec![]; ps.len()];
-        let ran_f32 = m.simulate_fitted(&refs, &Drive::Velocity, &grid, false, &mut |s, live| {
+        let ran_f32 = m.simulate_measured(&refs, &Drive::Velocity, &grid, false, &mut |s, live| {
             for (j, v) in s.values.iter().enumerate() {
                 if *live >> j & 1 == 1 {
                     grouped[s.first + j].push(v.to_bits());
@@ -288,7 +288,7 @@ fn native_lanes_match_the_scalar_reference_bit_for_bit() {
         .iter()
         .map(|h| h.chunks(width).map(|s| s[0]).collect())
         .collect();
-    for (report, want) in [(Report::Full, &one), (Report::Fitted, &fitted)] {
+    for (report, want) in [(Report::Full, &one), (Report::Measured, &fitted)] {
         let many = histories_native(&desc, &ps, None, &grid, report);
         for (i, (a, b)) in many.iter().zip(want).enumerate() {
             assert_eq!(a.len(), b.len());

@@ -12,7 +12,7 @@ use std::ops::ControlFlow;
 use oracle::tensile::{REFERENCE, ix};
 use rigfit::base::SampleGrid;
 use rigfit::base::{Drive, PiecewiseLinear};
-use rigfit::compile::analysis::liveness::fitted_variant;
+use rigfit::compile::analysis::liveness::fitness_variant;
 use rigfit::compile::{EventStepper, Program, Tape};
 use rigfit::model::compiled::CompiledRig;
 use rigfit::model::param_index;
@@ -254,7 +254,7 @@ fn run(prog: &Program, p: &[f64]) -> (Vec<f64>, Vec<(String, f64)>) {
 fn fitness_runs_skip_only_the_switches_after_the_break() {
     let rig = compiled();
     let prog = &rig.lowered.programs[0];
-    let fit = fitted_variant(prog);
+    let fit = fitness_variant(prog);
     let mut skipped_somewhere = 0;
     let mut worst: f64 = 0.0;
     for c4 in [1e3, 1e4, 1e5] {

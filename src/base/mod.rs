@@ -15,4 +15,4 @@ pub mod text;
 pub use drive::{Drive, PiecewiseLinear};
 pub use grid::{SampleGrid, walk_grid};
 pub use params::{ParamInfo, ParamScope, Scale};
-pub use sample::{FittedSample, Report, Sample, lane_bits};
+pub use sample::{MeasuredSample, Report, Sample, lane_bits};

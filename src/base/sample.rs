@@ -15,9 +15,9 @@ pub struct Sample<'a> {
     pub outputs: &'a [f64],
 }
 
-/// Output 0 of a group of runs at one sample ([`crate::model::CompiledRig::simulate_fitted`]).
+/// Output 0 of a group of runs at one sample ([`crate::model::CompiledRig::simulate_measured`]).
 #[derive(Debug, Clone, Copy)]
-pub struct FittedSample<'a> {
+pub struct MeasuredSample<'a> {
     /// The run `values[0]` belongs to; `values[j]` is run `first + j`'s.
     pub first: usize,
     /// Sample index on the grid.
@@ -28,7 +28,7 @@ pub struct FittedSample<'a> {
     pub values: &'a [f64],
 }
 
-/// Runs `0..n` of a group as `live` bits ([`crate::model::CompiledRig::simulate_fitted`];
+/// Runs `0..n` of a group as `live` bits ([`crate::model::CompiledRig::simulate_measured`];
 /// `n ≤ 64`).
 pub fn lane_bits(n: usize) -> u64 {
     assert!(n <= 64, "at most 64 runs to a group");
@@ -43,7 +43,7 @@ pub enum Report {
     /// Output 0 alone, the quantity fitted to the measurement: the sample's
     /// `outputs` holds only it and its `state` is empty, which spares a
     /// lane-batched model the rest of the report (the fitness needs no more).
-    Fitted,
+    Measured,
 }
 
 impl Report {
@@ -51,7 +51,7 @@ impl Report {
     pub fn of<'a>(self, s: &Sample<'a>) -> Sample<'a> {
         match self {
             Self::Full => *s,
-            Self::Fitted => Sample {
+            Self::Measured => Sample {
                 state: &[],
                 outputs: &s.outputs[..s.outputs.len().min(1)],
                 ..*s

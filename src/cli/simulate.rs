@@ -36,7 +36,7 @@ pub struct SimulateArgs {
     #[arg(long)]
     pub experiment: Option<String>,
     /// Write a synthetic measurement with Gaussian noise of this standard deviation
-    /// (in the unit of the rig's output 0, the fitted one: N for the tensile rig).
+    /// (in the unit of the rig's output 0, the measured one: N for the tensile rig).
     #[arg(long)]
     pub noise: Option<f64>,
     /// Seed of the noise.
@@ -123,7 +123,7 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
         }
     }
     write_file(&args.out, s.as_bytes())?;
-    // Output 0 is the fitted one, in the rig's own name and unit.
+    // Output 0 is the measured one, in the rig's own name and unit.
     let (name, unit) = c.model.output_names()[0];
     let peak = h.outputs[0].iter().fold(0.0_f64, |m, f| m.max(f.abs()));
     out.json(&serde_json::json!({

@@ -44,7 +44,7 @@ pub struct Transition {
     pub dir: Direction,
     /// Further mode values (variable, value) that must all hold for it to be
     /// armed; empty but in the fitness variant of a program, where a switch
-    /// that can no longer reach the fitted output is skipped
+    /// that can no longer reach the measured output is skipped
     /// ([`super::liveness`]).
     pub guard: Vec<(u32, u32)>,
 }

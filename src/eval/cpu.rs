@@ -60,7 +60,7 @@ impl CpuEvaluator {
             let built =
                 self.problem
                     .model
-                    .simulate_fitted(&[], &exp.drive, &grid, true, &mut |_, _| {});
+                    .simulate_measured(&[], &exp.drive, &grid, true, &mut |_, _| {});
             if !built {
                 return Err(EvalError::Unsupported(format!(
                     "f32 on the CPU needs the rig's lane code built by the C compiler (`cc`, or \

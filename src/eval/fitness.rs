@@ -82,7 +82,7 @@ pub fn score_one(problem: &Problem, e: usize, params: &[f64], offset: f64) -> (f
 /// [`score_one`] for several candidates of experiment `e` with one offset, run
 /// together where the model has lanes (the same values as one by one), in
 /// `precision` ([`Precision::F32`] where the model has an f32 path, see
-/// [`crate::model::CompiledRig::simulate_fitted`]; f64 otherwise).
+/// [`crate::model::CompiledRig::simulate_measured`]; f64 otherwise).
 pub fn score_many(
     problem: &Problem,
     e: usize,
@@ -96,7 +96,7 @@ pub fn score_many(
         .iter()
         .map(|_| FitnessAccumulator::new(exp))
         .collect();
-    problem.model.simulate_fitted(
+    problem.model.simulate_measured(
         params,
         &exp.drive,
         &grid,

@@ -228,7 +228,7 @@ pub fn source(
             // that can no longer reach it (GpuRig::fitted), as the CPU's
             // fitted lanes do.
             let rig = if kernel == Kernel::Fitness {
-                rig.fitted()
+                rig.fitness()
             } else {
                 rig
             };

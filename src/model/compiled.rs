@@ -5,7 +5,7 @@
 use std::ops::ControlFlow;
 
 use super::Linearised;
-use crate::base::{Drive, FittedSample, ParamInfo, Report, Sample};
+use crate::base::{Drive, MeasuredSample, ParamInfo, Report, Sample};
 use crate::base::{SampleGrid, walk_grid};
 use crate::compile::Arith;
 use crate::compile::back::native::{Native, NativeSlot};
@@ -36,15 +36,15 @@ pub struct CompiledRig {
     /// Each program prepared for the GPU kernels (`None`: it cannot run there).
     gpu: Vec<Option<std::sync::Arc<GpuRig>>>,
     /// Each program's fitness variant, where it skips switches that can no
-    /// longer reach the fitted output ([`crate::compile::analysis::liveness`]); `None`
+    /// longer reach the measured output ([`crate::compile::analysis::liveness`]); `None`
     /// where it would skip none.
-    fitted: Vec<Option<Fitted>>,
+    fitness: Vec<Option<FitnessVariant>>,
 }
 
 /// A program's fitness variant and its lane code and native builds (its
 /// graph, and so its tape, is the program's own).
 #[derive(Debug)]
-struct Fitted {
+struct FitnessVariant {
     program: crate::compile::Program,
     lane_code: LaneCode,
     native: NativeSlot,
@@ -61,8 +61,8 @@ enum Observe<'a> {
         Report,
         &'a mut dyn FnMut(usize, &Sample<'_>) -> ControlFlow<()>,
     ),
-    /// Output 0 of the group at each sample, as [`crate::model::CompiledRig::simulate_fitted`].
-    Fitted(&'a mut dyn FnMut(&FittedSample<'_>, &mut u64)),
+    /// Output 0 of the group at each sample, as [`crate::model::CompiledRig::simulate_measured`].
+    Measured(&'a mut dyn FnMut(&MeasuredSample<'_>, &mut u64)),
 }
 
 pub(super) fn leak(s: &str) -> &'static str {
@@ -126,16 +126,16 @@ impl CompiledRig {
             .iter()
             .zip(&variants)
             .map(|(p, v)| {
-                GpuRig::with_fitted(p, v.clone())
+                GpuRig::with_fitness(p, v.clone())
                     .ok()
                     .map(std::sync::Arc::new)
             })
             .collect();
-        let fitted = variants
+        let fitness = variants
             .into_iter()
             .zip(&tapes)
             .map(|(v, t)| {
-                v.map(|v| Fitted {
+                v.map(|v| FitnessVariant {
                     lane_code: LaneCode::new(&v, t),
                     program: v,
                     native: NativeSlot::default(),
@@ -159,7 +159,7 @@ impl CompiledRig {
             tapes,
             lane_code,
             gpu,
-            fitted,
+            fitness,
         })
     }
 
@@ -210,7 +210,7 @@ impl CompiledRig {
             let mut runner = runner.numbered_from(c * LANES);
             match &mut observe {
                 Observe::Each(report, f) => runner.run(grid, *report, *f),
-                Observe::Fitted(f) => runner.run_fitted(grid, *f),
+                Observe::Measured(f) => runner.run_measured(grid, *f),
             }
         }
     }
@@ -389,20 +389,20 @@ impl CompiledRig {
     /// compiled rig whose lane code the C compiler built), held to the f32
     /// tolerance of the f64 reference as the GPU's f32 kernels are. Returns
     /// whether it ran in f32. By default one run after the other, in f64.
-    pub fn simulate_fitted(
+    pub fn simulate_measured(
         &self,
         params: &[&[f64]],
         drive: &Drive,
         grid: &SampleGrid,
         f32: bool,
-        observe: &mut dyn FnMut(&FittedSample<'_>, &mut u64),
+        observe: &mut dyn FnMut(&MeasuredSample<'_>, &mut u64),
     ) -> bool {
         let Some(i) = self.program_for(drive) else {
-            super::fitted_one_by_one(self, params, drive, grid, observe);
+            super::measured_one_by_one(self, params, drive, grid, observe);
             return false;
         };
         // Output 0 only: the fitness variant where it skips switches.
-        let (parts, slots) = match &self.fitted[i] {
+        let (parts, slots) = match &self.fitness[i] {
             Some(f) => (
                 (&f.program, &self.tapes[i], &f.lane_code),
                 (&f.native, &f.native_f32),
@@ -419,7 +419,7 @@ impl CompiledRig {
             params,
             grid,
             native.as_deref(),
-            Observe::Fitted(observe),
+            Observe::Measured(observe),
         );
         in_f32.is_some()
     }

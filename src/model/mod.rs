@@ -11,22 +11,22 @@ use std::ops::ControlFlow;
 
 pub use compiled::CompiledRig;
 
-use crate::base::{Drive, FittedSample, Report, Sample, SampleGrid};
+use crate::base::{Drive, MeasuredSample, Report, Sample, SampleGrid};
 
-/// [`crate::model::CompiledRig::simulate_fitted`] one run after the other, in f64 (its
+/// [`crate::model::CompiledRig::simulate_measured`] one run after the other, in f64 (its
 /// default).
-pub fn fitted_one_by_one(
+pub fn measured_one_by_one(
     model: &CompiledRig,
     params: &[&[f64]],
     drive: &Drive,
     grid: &SampleGrid,
-    observe: &mut dyn FnMut(&FittedSample<'_>, &mut u64),
+    observe: &mut dyn FnMut(&MeasuredSample<'_>, &mut u64),
 ) {
     for (i, p) in params.iter().enumerate() {
         model.simulate(p, drive, grid, &mut |s| {
             let mut live = 1;
             let values = [s.outputs[0]];
-            let sample = FittedSample {
+            let sample = MeasuredSample {
                 first: i,
                 index: s.index,
                 t: s.t,

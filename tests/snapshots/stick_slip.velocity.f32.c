@@ -248,7 +248,7 @@ void rig_report(d *restrict R, long nb, double t, const double *tab, unsigned ch
     ST(R, 2, r2);
   }
 }
-void rig_fitted(d *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+void rig_measured(d *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
   for (long b = 0; b < nb; b += STEP) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13;
     (void)r0;

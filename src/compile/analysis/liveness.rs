@@ -1,17 +1,17 @@
-//! Which switches can still reach the fitted output.
+//! Which switches can still reach the measured output.
 //!
 //! A fitness run reads one output (the measured signal's model). Once the
 //! rig's modes cut that output off from part of the network for good (the
 //! tensile rig's specimen broken: the load cell no longer feels the grip, the
 //! sliding bar or the slack adapter), the switches of that part (the adapter's
 //! contact, the specimen's yield) change nothing the fit sees; locating them
-//! only costs steps. [`fitted_variant`] finds them and guards each such
+//! only costs steps. [`fitness_variant`] finds them and guards each such
 //! transition ([`Transition::guard`]) with the mode values where it can still
 //! matter, so the fitness paths (GPU fitness kernel, CPU fitted lanes) skip
 //! it elsewhere, on both paths alike. Histories and reports keep every switch.
 //!
 //! For each combination of mode values `c`, the relevant states and modes are
-//! the closure, from the fitted output, of what the output, the derivatives of
+//! the closure, from the measured output, of what the output, the derivatives of
 //! relevant states and the event functions of the transitions armed at `c` on
 //! relevant modes read, where a `select` whose condition depends on modes alone follows only
 //! its taken side. A transition may be skipped at `c` when its mode variable
@@ -32,7 +32,7 @@ const MAX_COMBINATIONS: usize = 256;
 /// `prog` with a guard on each transition that cannot reach output 0 from
 /// some of its armed mode combinations; `prog` unchanged where none can be
 /// skipped (or the rig has too many mode combinations to enumerate).
-pub fn fitted_variant(prog: &Program) -> Program {
+pub fn fitness_variant(prog: &Program) -> Program {
     let mut out = prog.clone();
     let Some(&root) = prog.outputs.first() else {
         return out;
@@ -66,10 +66,10 @@ pub fn fitted_variant(prog: &Program) -> Program {
     out
 }
 
-/// [`fitted_variant`] where it skips some switch; `None` where it is `prog`
+/// [`fitness_variant`] where it skips some switch; `None` where it is `prog`
 /// itself, so that the fitness paths can share `prog`'s builds.
 pub fn skipping_variant(prog: &Program) -> Option<Program> {
-    let v = fitted_variant(prog);
+    let v = fitness_variant(prog);
     (v.transitions != prog.transitions).then_some(v)
 }
 
@@ -245,7 +245,7 @@ mod tests {
     #[test]
     fn the_broken_tensile_rig_skips_the_switches_behind_the_break() {
         let prog = program("tensile4");
-        let fit = fitted_variant(&prog);
+        let fit = fitness_variant(&prog);
         let fracture = prog
             .transitions
             .iter()
@@ -272,7 +272,7 @@ mod tests {
         // every mode; the base-excited Duffing oscillator has no switch.
         for id in ["stick_slip", "duffing_base", "quarter_car"] {
             let prog = program(id);
-            assert_eq!(fitted_variant(&prog).transitions, prog.transitions, "{id}");
+            assert_eq!(fitness_variant(&prog).transitions, prog.transitions, "{id}");
         }
     }
 

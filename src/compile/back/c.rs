@@ -16,7 +16,7 @@
 //!
 //! Four functions, each over blocks `0..nb` of the register file (`R`, rows
 //! of [`BLOCKS`] blocks): `rig_rk4` (one RK4 step, the start kept in `Y`),
-//! and `rig_events`, `rig_report`, `rig_fitted` (one list, roots stored back
+//! and `rig_events`, `rig_report`, `rig_measured` (one list, roots stored back
 //! where the interpreter leaves them).
 
 use std::fmt::Write;
@@ -265,7 +265,7 @@ fn load(
 /// Table values per derivative in `rig_rk4`'s `tab` (one past the highest
 /// table any list reads).
 pub fn table_stride(code: &LaneCode) -> usize {
-    [&code.deriv, &code.events, &code.report, &code.fitted]
+    [&code.deriv, &code.events, &code.report, &code.measured]
         .iter()
         .flat_map(|l| l.tables.iter().map(|&(k, _)| k as usize + 1))
         .max()
@@ -387,7 +387,7 @@ pub fn source(code: &LaneCode, arith: Arith) -> String {
         Arith::F32 => F32_LANES,
     });
     s.push_str(LANE_OPS);
-    let table_regs: Vec<(u32, Reg)> = [&code.deriv, &code.events, &code.report, &code.fitted]
+    let table_regs: Vec<(u32, Reg)> = [&code.deriv, &code.events, &code.report, &code.measured]
         .iter()
         .flat_map(|l| l.tables.iter().copied())
         .collect();
@@ -462,7 +462,7 @@ pub fn source(code: &LaneCode, arith: Arith) -> String {
     for (name, list) in [
         ("rig_events", &code.events),
         ("rig_report", &code.report),
-        ("rig_fitted", &code.fitted),
+        ("rig_measured", &code.measured),
     ] {
         let _ = writeln!(
             s,

@@ -91,7 +91,7 @@ impl std::fmt::Debug for Native {
 pub(crate) enum NativeList {
     Events = 0,
     Report = 1,
-    Fitted = 2,
+    Measured = 2,
 }
 
 impl Native {
@@ -285,7 +285,7 @@ fn compile_and_load(
         let lists = [
             list(b"rig_events\0")?,
             list(b"rig_report\0")?,
-            list(b"rig_fitted\0")?,
+            list(b"rig_measured\0")?,
         ];
         let deriv1: Deriv1Fn = *l.get::<Deriv1Fn>(b"rig_deriv1\0").map_err(load_err)?;
         Ok(Native {

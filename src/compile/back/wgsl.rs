@@ -68,9 +68,9 @@ pub struct GpuRig {
     inline: Vec<(u32, u32, u32)>,
     table_data: Vec<f64>,
     /// The fitness kernel's program where it skips switches that can no
-    /// longer reach the fitted output ([`crate::compile::analysis::liveness`]); the same graph,
+    /// longer reach the measured output ([`crate::compile::analysis::liveness`]); the same graph,
     /// slots and tables, only the transitions' guards differ.
-    fitted: Option<Box<GpuRig>>,
+    fitness: Option<Box<GpuRig>>,
 }
 
 /// Whether `id` is a run constant that a kernel reads as a slot (not a literal).
@@ -80,10 +80,10 @@ fn is_slot(p: &Program, id: Id) -> bool {
 
 impl GpuRig {
     /// Prepares `prog` for the kernels, its fitness kernel skipping the
-    /// switches that can no longer reach the fitted output
+    /// switches that can no longer reach the measured output
     /// ([`crate::compile::analysis::liveness::skipping_variant`]).
     pub fn new(prog: &Program) -> Result<Self, EmitError> {
-        Self::with_fitted(
+        Self::with_fitness(
             prog,
             crate::compile::analysis::liveness::skipping_variant(prog),
         )
@@ -92,7 +92,7 @@ impl GpuRig {
     /// Prepares `prog` for the kernels, with `fitted`, `prog`'s fitness
     /// variant where it differs (the same graph; guards only), for the fitness
     /// kernel.
-    pub fn with_fitted(prog: &Program, fitted: Option<Program>) -> Result<Self, EmitError> {
+    pub fn with_fitness(prog: &Program, fitness: Option<Program>) -> Result<Self, EmitError> {
         if prog.transitions.len() > MAX_TRANSITIONS {
             return Err(EmitError::TooManyTransitions(prog.transitions.len()));
         }
@@ -126,14 +126,14 @@ impl GpuRig {
                 table_data.extend_from_slice(&t.value);
             }
         }
-        let fitted = fitted.map(|variant| {
+        let fitness = fitness.map(|variant| {
             Box::new(Self {
                 prog: variant,
                 tape: tape.clone(),
                 slots: slots.clone(),
                 inline: inline.clone(),
                 table_data: table_data.clone(),
-                fitted: None,
+                fitness: None,
             })
         });
         Ok(Self {
@@ -142,14 +142,14 @@ impl GpuRig {
             slots,
             inline,
             table_data,
-            fitted,
+            fitness,
         })
     }
 
     /// The rig as the fitness kernel runs it: with the switches that cannot
-    /// reach the fitted output skipped where they cannot.
-    pub fn fitted(&self) -> &GpuRig {
-        self.fitted.as_deref().unwrap_or(self)
+    /// reach the measured output skipped where they cannot.
+    pub fn fitness(&self) -> &GpuRig {
+        self.fitness.as_deref().unwrap_or(self)
     }
 
     /// The program.

@@ -1,5 +1,5 @@
 //! A program's tape translated for the lane ensemble ([`crate::compile::exec::lanes`]): each
-//! list (derivative, events, report, fitted output) becomes register
+//! list (derivative, events, report, measured output) becomes register
 //! instructions, with the
 //! operations in the tape's order and their values in a few reused registers,
 //! so a batch's working set stays in the first-level cache.
@@ -52,7 +52,7 @@ pub struct LaneCode {
     pub report: List,
     /// Output 0 alone (the quantity fitted to the measurement): the report's
     /// operations it needs, in the same order, so its value is the report's.
-    pub fitted: List,
+    pub measured: List,
     /// Where RK4 reads each state's slope once the derivative has run: its
     /// root's register, or, for a root that is the register of an earlier
     /// state (which the next stage's input, written state by state in order,
@@ -118,7 +118,7 @@ impl LaneCode {
         let mut next = tables0 + prog.tables.len();
         let mut constants = vec![];
         let live0 = prog.graph.live(&prog.outputs[..prog.outputs.len().min(1)]);
-        let fitted_ops: Vec<Id> = tape
+        let measured_ops: Vec<Id> = tape
             .report_ops
             .iter()
             .copied()
@@ -138,7 +138,10 @@ impl LaneCode {
                     .copied()
                     .collect(),
             ),
-            (&fitted_ops, prog.outputs.iter().take(1).copied().collect()),
+            (
+                &measured_ops,
+                prog.outputs.iter().take(1).copied().collect(),
+            ),
         ];
         for (list, roots) in &lists {
             let read = list.iter().flat_map(|&i| operands(&ops[i as usize]));
@@ -152,7 +155,7 @@ impl LaneCode {
             }
         }
         let mut registers = next;
-        let [deriv, events, report, fitted] = lists.map(|(list, roots)| {
+        let [deriv, events, report, measured] = lists.map(|(list, roots)| {
             let (l, top) = translate(prog, list, &roots, &fixed, next);
             registers = registers.max(top);
             l
@@ -177,7 +180,7 @@ impl LaneCode {
             deriv,
             events,
             report,
-            fitted,
+            measured,
             slopes,
             slope_copies,
             armed: prog

@@ -24,7 +24,7 @@
 
 use std::ops::ControlFlow;
 
-use crate::base::{FittedSample, PiecewiseLinear, Report, Sample, lane_bits};
+use crate::base::{MeasuredSample, PiecewiseLinear, Report, Sample, lane_bits};
 use crate::base::{SampleGrid, walk_grid};
 use crate::compile::back::c::Arith;
 use crate::compile::back::native::{Native, NativeList};
@@ -91,7 +91,7 @@ pub struct LaneRunner<'p> {
     /// Active blocks.
     nb: usize,
     isa: Isa,
-    /// Per list (derivative, events, report, fitted output): each
+    /// Per list (derivative, events, report, measured output): each
     /// instruction's span (every lane, or one value all share).
     spans: [Vec<Span>; 4],
     /// The register file; between steps its state registers hold every
@@ -157,7 +157,7 @@ impl<'p> LaneRunner<'p> {
         }
         // Registers every active lane shares: time, tables and the per-run
         // constants whose values agree (fixed parameters, literals).
-        let lists = [&code.deriv, &code.events, &code.report, &code.fitted];
+        let lists = [&code.deriv, &code.events, &code.report, &code.measured];
         let mut shared = vec![false; code.registers];
         shared[code.time as usize] = true;
         for l in lists {
@@ -254,7 +254,7 @@ impl<'p> LaneRunner<'p> {
             let which = match which {
                 1 => NativeList::Events,
                 2 => NativeList::Report,
-                _ => NativeList::Fitted,
+                _ => NativeList::Measured,
             };
             self.fill_tables(&[t]);
             native.list(which, &mut self.regs, nb, t, &self.tab, &mut self.hit);
@@ -386,17 +386,17 @@ impl<'p> LaneRunner<'p> {
     }
 
     /// Runs every lane over `grid`, handing output 0 of every lane to
-    /// `observe` at each sample (as [`crate::model::CompiledRig::simulate_fitted`]
+    /// `observe` at each sample (as [`crate::model::CompiledRig::simulate_measured`]
     /// does: lanes numbered from [`Self::numbered_from`], `live` a bit per
     /// lane still observed), until no lane is left.
-    pub fn run_fitted(
+    pub fn run_measured(
         &mut self,
         grid: &SampleGrid,
-        observe: &mut dyn FnMut(&FittedSample<'_>, &mut u64),
+        observe: &mut dyn FnMut(&MeasuredSample<'_>, &mut u64),
     ) {
         let lanes = self.steppers.len();
         let code = self.code;
-        let out = code.fitted.roots[0] as usize;
+        let out = code.measured.roots[0] as usize;
         let mut live = lane_bits(lanes);
         let mut values = vec![0.0; lanes];
         walk_grid(
@@ -404,7 +404,7 @@ impl<'p> LaneRunner<'p> {
             self,
             |me, t, h| me.step(t, h),
             |me, k, t| {
-                me.eval(&code.fitted, 3, t);
+                me.eval(&code.measured, 3, t);
                 let row = &me.regs[out];
                 for (l, v) in values.iter_mut().enumerate() {
                     *v = if me.chattered >> l & 1 == 1 {
@@ -413,7 +413,7 @@ impl<'p> LaneRunner<'p> {
                         row[l / W][l % W]
                     };
                 }
-                let s = FittedSample {
+                let s = MeasuredSample {
                     first: me.first,
                     index: k,
                     t,
@@ -442,13 +442,13 @@ impl<'p> LaneRunner<'p> {
         let code = self.code;
         let (list, which) = match report {
             Report::Full => (&code.report, 2),
-            Report::Fitted => (&code.fitted, 3),
+            Report::Measured => (&code.measured, 3),
         };
         // A bit per lane whose observer has not broken.
         let mut live = lane_bits(lanes);
         let n_out = match report {
             Report::Full => self.prog.outputs.len(),
-            Report::Fitted => list.roots.len(),
+            Report::Measured => list.roots.len(),
         };
         let mut outs = vec![0.0; n_out];
         let mut full = vec![0.0; list.roots.len() - n_out];
