@@ -234,47 +234,6 @@ fn conjunction(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::compiled::CompiledRig;
-
-    fn program(id: &str) -> Program {
-        let desc = crate::rig::shipped(id).expect("a shipped rig");
-        let rig = CompiledRig::new(desc, id).expect("compiles");
-        rig.lowered.programs[0].clone()
-    }
-
-    #[test]
-    fn the_broken_tensile_rig_skips_the_switches_behind_the_break() {
-        let prog = program("tensile4");
-        let fit = fitness_variant(&prog);
-        let fracture = prog
-            .transitions
-            .iter()
-            .find(|t| t.name.contains("fracture") || t.name.contains("breaks"))
-            .unwrap_or_else(|| panic!("a fracture transition in {:#?}", prog.transitions));
-        for (a, b) in prog.transitions.iter().zip(&fit.transitions) {
-            assert!(a.guard.is_empty());
-            if a.var == fracture.var {
-                // The break itself still decides the load cell's damping.
-                assert!(b.guard.is_empty(), "{}", b.name);
-            } else {
-                // Slack contact and yield: only while the specimen is whole.
-                assert_eq!(b.guard, vec![(fracture.var, fracture.from)], "{}", b.name);
-            }
-        }
-        // Same graph and roots: only the guards differ.
-        assert_eq!(fit.graph.ops, prog.graph.ops);
-        assert_eq!(fit.deriv, prog.deriv);
-    }
-
-    #[test]
-    fn a_switch_that_always_reaches_the_output_keeps_no_guard() {
-        // The slider's stick and slip set the friction force (output 0) in
-        // every mode; the base-excited Duffing oscillator has no switch.
-        for id in ["stick_slip", "duffing_base", "quarter_car"] {
-            let prog = program(id);
-            assert_eq!(fitness_variant(&prog).transitions, prog.transitions, "{id}");
-        }
-    }
 
     #[test]
     fn a_guard_is_a_conjunction_that_matches_exactly() {
