@@ -41,7 +41,8 @@ use std::fmt::Write as _;
 
 use crate::compile::exec::tape::{Frame, Tape};
 use crate::compile::ir::{Id, Input, Op, operands};
-use crate::compile::program::{Direction, Program, Transition};
+use crate::compile::program::Program;
+use window::{armed, fires, oriented};
 
 /// Most located switches one program may have on the GPU (`rig_hits` is a
 /// 32-bit mask).
@@ -77,6 +78,9 @@ pub struct GpuRig {
 fn is_slot(p: &Program, id: Id) -> bool {
     p.run_constant[id as usize] && !matches!(p.graph.ops[id as usize], Op::Const(_))
 }
+
+mod clock;
+mod window;
 
 impl GpuRig {
     /// Prepares `prog` for the kernels, its fitness kernel skipping the
@@ -235,56 +239,6 @@ struct Emitter<'a> {
 impl Emitter<'_> {
     fn prog(&self) -> &Program {
         &self.rig.prog
-    }
-
-    /// `c` as WGSL where operation `id` is `c·t` with `c` a run constant
-    /// (the time itself, or products, quotients and negations of it by run
-    /// constants).
-    fn time_coef(&self, id: Id) -> Option<String> {
-        let p = self.prog();
-        let rc = |k: Id| p.run_constant[k as usize];
-        match p.graph.ops[id as usize] {
-            Op::In(Input::Time) => Some("real(1.0)".into()),
-            Op::Neg(a) => self.time_coef(a).map(|c| format!("-({c})")),
-            Op::Mul(a, b) if rc(a) => self
-                .time_coef(b)
-                .map(|c| format!("{} * ({c})", self.name(a))),
-            Op::Mul(a, b) if rc(b) => self
-                .time_coef(a)
-                .map(|c| format!("({c}) * {}", self.name(b))),
-            Op::Div(a, b) if rc(b) => self
-                .time_coef(a)
-                .map(|c| format!("({c}) / {}", self.name(b))),
-            _ => None,
-        }
-    }
-
-    /// Every distinct exponent `c·t` of a live `exp`/`expm1`, in graph order.
-    fn find_clocks(&self) -> Vec<(Id, String)> {
-        let p = self.prog();
-        let mut roots: Vec<Id> = p.deriv.clone();
-        roots.extend(p.event_roots());
-        roots.extend(&p.outputs);
-        roots.extend(&p.full_state);
-        let live = p.graph.live(&roots);
-        let mut clocks: Vec<(Id, String)> = Vec::new();
-        for (i, op) in p.graph.ops.iter().enumerate() {
-            let (Op::Exp(a) | Op::Expm1(a)) = *op else {
-                continue;
-            };
-            if !live[i] || p.run_constant[i] || clocks.iter().any(|c| c.0 == a) {
-                continue;
-            }
-            if let Some(c) = self.time_coef(a) {
-                clocks.push((a, c));
-            }
-        }
-        clocks
-    }
-
-    /// The clock of exponent `a`, if it is one.
-    fn clock_of(&self, a: Id) -> Option<usize> {
-        self.clocks.iter().position(|c| c.0 == a)
     }
 
     /// How operation `id` is referred to inside a per-step function.
@@ -580,157 +534,6 @@ impl Emitter<'_> {
         }
         s
     }
-
-    /// The flat loop's test, for its every step: whether an armed transition
-    /// may fire over the step. Each event function is split into a base and a
-    /// threshold where it is `base − c` with `c` a run constant (else the base
-    /// is the whole function and `c` is 0), and the transitions on one base
-    /// share a window: `struct EventBases` (each base, from `rig_bases_c`), `struct
-    /// EventWindows` and `rig_window(kc, md)` (per base, the least threshold of the
-    /// armed upward transitions and the greatest of the armed downward ones,
-    /// found once per block: the modes change only on a located step), and
-    /// `rig_outside(w, b)` (the base at or past an end of its window).
-    ///
-    /// The test is conservative, never exact: a transition that fires is past
-    /// its switch at the step's end (`fl(base − c) ≥ 0` upward, `≤ 0`
-    /// downward), and subtraction rounds monotonically, so the base is then
-    /// outside the window too. A step it flags where none fires costs the
-    /// located-step path one plain step (`rig_hits`, the exact test, finds
-    /// nothing); it never decides which transition fires. Two subtractions
-    /// and two comparisons per base, however many transitions share it (the
-    /// tensile rig's yield, its reverse and fracture all on the specimen's
-    /// elongation), joined by the non-short-circuit `|` (a short-circuit `||`
-    /// becomes a branch, which a CPU driver runs under a mask).
-    fn window(&self) -> String {
-        let p = self.prog();
-        let rc = |k: Id| p.run_constant[k as usize];
-        let mut bases: Vec<(Id, Vec<(usize, String)>)> = Vec::new();
-        for (i, tr) in p.transitions.iter().enumerate() {
-            let (b, c) = match p.graph.ops[tr.g as usize] {
-                Op::Sub(a, c) if rc(c) && !rc(a) => (a, self.name(c)),
-                _ => (tr.g, "real(0.0)".to_string()),
-            };
-            match bases.iter_mut().find(|e| e.0 == b) {
-                Some(e) => e.1.push((i, c)),
-                None => bases.push((b, vec![(i, c)])),
-            }
-        }
-        let roots: Vec<Id> = bases.iter().map(|e| e.0).collect();
-        let sig = "kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks";
-        let mut s = format!(
-            "struct EventBases {{\n{}}}\n\nfn rig_bases_c({sig}) -> EventBases {{\n{}    var r: EventBases;\n",
-            self.fields("b", roots.len().max(1), "real"),
-            self.body(&roots)
-        );
-        if roots.is_empty() {
-            s.push_str("    r.b0 = real(0.0);\n");
-        }
-        for (j, &b) in roots.iter().enumerate() {
-            let _ = writeln!(s, "    r.b{j} = {};", self.name(b));
-        }
-        let _ = write!(
-            s,
-            "    return r;\n}}\n\nstruct EventWindows {{\n{}{}}}\n\nfn rig_window(kc: RunConsts, md: RigRegime) -> EventWindows {{\n    var w: EventWindows;\n",
-            self.fields("lo", roots.len().max(1), "real"),
-            self.fields("hi", roots.len().max(1), "real"),
-        );
-        let mut terms = Vec::new();
-        for (j, (_, trs)) in bases.iter().enumerate() {
-            let _ = writeln!(s, "    w.lo{j} = -REAL_MAX;\n    w.hi{j} = REAL_MAX;");
-            for dir in [Direction::Up, Direction::Down] {
-                let mut any = false;
-                for (i, c) in trs.iter().filter(|(i, _)| p.transitions[*i].dir == dir) {
-                    let tr = &p.transitions[*i];
-                    let (side, pick) = match dir {
-                        Direction::Up => ("hi", "min"),
-                        Direction::Down => ("lo", "max"),
-                    };
-                    let _ = writeln!(
-                        s,
-                        "    w.{side}{j} = select(w.{side}{j}, {pick}(w.{side}{j}, {c}), {});",
-                        armed(tr)
-                    );
-                    any = true;
-                }
-                if any {
-                    terms.push(match dir {
-                        Direction::Up => format!("b.b{j} - w.hi{j} >= real(0.0)"),
-                        Direction::Down => format!("b.b{j} - w.lo{j} <= real(0.0)"),
-                    });
-                }
-            }
-        }
-        if roots.is_empty() {
-            s.push_str("    w.lo0 = -REAL_MAX;\n    w.hi0 = REAL_MAX;\n");
-        }
-        if terms.is_empty() {
-            terms.push("false".into());
-        }
-        let _ = write!(
-            s,
-            "    return w;\n}}\n\nfn rig_outside(w: EventWindows, b: EventBases) -> bool {{\n    return {};\n}}\n\n",
-            terms.join("\n        | ")
-        );
-        s
-    }
-
-    /// `struct DriveClocks` (each clock's `expm1(c·t)`), `rig_clock(kc, t)` and
-    /// `rig_clock_shift(c, q)`, the clocks `δ` later from the clocks at `t`
-    /// and `q` (the clocks at `δ`): `e^{c(t+δ)} − 1 = m + q + m·q`, exact in
-    /// real arithmetic and without cancellation where both are small.
-    fn clock_functions(&self) -> String {
-        let mut s = String::from("struct DriveClocks {\n");
-        if self.clocks.is_empty() {
-            s.push_str("    unused: real,\n");
-        }
-        for j in 0..self.clocks.len() {
-            let _ = writeln!(s, "    m{j}: real,");
-        }
-        s.push_str(
-            "}\n\nfn rig_clock(kc: RunConsts, t: real) -> DriveClocks {\n    var c: DriveClocks;\n",
-        );
-        if self.clocks.is_empty() {
-            s.push_str("    c.unused = t;\n");
-        }
-        for (j, (_, coef)) in self.clocks.iter().enumerate() {
-            let _ = writeln!(s, "    c.m{j} = expm1_r(({coef}) * t);");
-        }
-        s.push_str(
-            "    return c;\n}\n\nfn rig_clock_shift(c: DriveClocks, q: DriveClocks) -> DriveClocks {\n    var r = c;\n",
-        );
-        for j in 0..self.clocks.len() {
-            let _ = writeln!(s, "    r.m{j} = (c.m{j} + q.m{j}) + c.m{j} * q.m{j};");
-        }
-        s.push_str("    return r;\n}\n\n");
-        s
-    }
-}
-
-/// Whether `tr` is armed at the modes `md` (`Transition::armed`): its
-/// variable at its `from` value and every pair of its guard held.
-fn armed(tr: &Transition) -> String {
-    std::iter::once((tr.var, tr.from))
-        .chain(tr.guard.iter().copied())
-        .map(|(v, x)| format!("md.m{v} == {x}u"))
-        .collect::<Vec<_>>()
-        .join(" && ")
-}
-
-/// An event value `g` oriented so that `>= 0` is past its switch
-/// (`Transition::oriented`): `g` for an upward switch, `−g` (exact) for a
-/// downward one.
-fn oriented(dir: Direction, g: &str) -> String {
-    match dir {
-        Direction::Up => g.to_string(),
-        Direction::Down => format!("-({g})"),
-    }
-}
-
-/// Whether an armed transition fires over a step, from its oriented event
-/// values at the step's end `o1` and start `o0` (`Transition::fires`): past
-/// the switch at the end, and before it at the start or further past.
-fn fires(o1: &str, o0: &str) -> String {
-    format!("{o1} >= real(0.0) && (!({o0} >= real(0.0)) || {o1} > {o0})")
 }
 
 #[cfg(test)]

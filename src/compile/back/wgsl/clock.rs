@@ -1,0 +1,91 @@
+//! The drive clocks: a drive's `exp(c·t)` found in the graph, emitted as
+//! `struct DriveClocks` with `rig_clock` and `rig_clock_shift`, so a block of
+//! the run loop computes it once and carries it from step to step.
+
+use std::fmt::Write as _;
+
+use super::Emitter;
+use crate::compile::ir::{Id, Input, Op};
+
+impl Emitter<'_> {
+    /// `c` as WGSL where operation `id` is `c·t` with `c` a run constant
+    /// (the time itself, or products, quotients and negations of it by run
+    /// constants).
+    pub(super) fn time_coef(&self, id: Id) -> Option<String> {
+        let p = self.prog();
+        let rc = |k: Id| p.run_constant[k as usize];
+        match p.graph.ops[id as usize] {
+            Op::In(Input::Time) => Some("real(1.0)".into()),
+            Op::Neg(a) => self.time_coef(a).map(|c| format!("-({c})")),
+            Op::Mul(a, b) if rc(a) => self
+                .time_coef(b)
+                .map(|c| format!("{} * ({c})", self.name(a))),
+            Op::Mul(a, b) if rc(b) => self
+                .time_coef(a)
+                .map(|c| format!("({c}) * {}", self.name(b))),
+            Op::Div(a, b) if rc(b) => self
+                .time_coef(a)
+                .map(|c| format!("({c}) / {}", self.name(b))),
+            _ => None,
+        }
+    }
+
+    /// Every distinct exponent `c·t` of a live `exp`/`expm1`, in graph order.
+    pub(super) fn find_clocks(&self) -> Vec<(Id, String)> {
+        let p = self.prog();
+        let mut roots: Vec<Id> = p.deriv.clone();
+        roots.extend(p.event_roots());
+        roots.extend(&p.outputs);
+        roots.extend(&p.full_state);
+        let live = p.graph.live(&roots);
+        let mut clocks: Vec<(Id, String)> = Vec::new();
+        for (i, op) in p.graph.ops.iter().enumerate() {
+            let (Op::Exp(a) | Op::Expm1(a)) = *op else {
+                continue;
+            };
+            if !live[i] || p.run_constant[i] || clocks.iter().any(|c| c.0 == a) {
+                continue;
+            }
+            if let Some(c) = self.time_coef(a) {
+                clocks.push((a, c));
+            }
+        }
+        clocks
+    }
+
+    /// The clock of exponent `a`, if it is one.
+    pub(super) fn clock_of(&self, a: Id) -> Option<usize> {
+        self.clocks.iter().position(|c| c.0 == a)
+    }
+
+    /// `struct DriveClocks` (each clock's `expm1(c·t)`), `rig_clock(kc, t)` and
+    /// `rig_clock_shift(c, q)`, the clocks `δ` later from the clocks at `t`
+    /// and `q` (the clocks at `δ`): `e^{c(t+δ)} − 1 = m + q + m·q`, exact in
+    /// real arithmetic and without cancellation where both are small.
+    pub(super) fn clock_functions(&self) -> String {
+        let mut s = String::from("struct DriveClocks {\n");
+        if self.clocks.is_empty() {
+            s.push_str("    unused: real,\n");
+        }
+        for j in 0..self.clocks.len() {
+            let _ = writeln!(s, "    m{j}: real,");
+        }
+        s.push_str(
+            "}\n\nfn rig_clock(kc: RunConsts, t: real) -> DriveClocks {\n    var c: DriveClocks;\n",
+        );
+        if self.clocks.is_empty() {
+            s.push_str("    c.unused = t;\n");
+        }
+        for (j, (_, coef)) in self.clocks.iter().enumerate() {
+            let _ = writeln!(s, "    c.m{j} = expm1_r(({coef}) * t);");
+        }
+        s.push_str(
+            "    return c;\n}\n\nfn rig_clock_shift(c: DriveClocks, q: DriveClocks) -> DriveClocks {\n    var r = c;\n",
+        );
+        for j in 0..self.clocks.len() {
+            let _ = writeln!(s, "    r.m{j} = (c.m{j} + q.m{j}) + c.m{j} * q.m{j};");
+        }
+        s.push_str("    return r;\n}\n\n");
+        s
+    }
+}
