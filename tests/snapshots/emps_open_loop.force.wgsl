@@ -1,4 +1,4 @@
-// Generated from the rig description by src/compile/back/wgsl.rs.
+// Generated from the rig description by src/compile/back/wgsl/.
 
 const RIG_STATES: u32 = 4u;
 const RIG_MODES: u32 = 0u;

@@ -308,7 +308,7 @@ impl Emitter<'_> {
         let p = self.prog();
         let (ns, nm) = (self.rig.states(), self.rig.modes());
         let mut s =
-            String::from("// Generated from the rig description by src/compile/back/wgsl.rs.\n\n");
+            String::from("// Generated from the rig description by src/compile/back/wgsl/.\n\n");
         let _ = writeln!(s, "const RIG_STATES: u32 = {ns}u;");
         let _ = writeln!(s, "const RIG_MODES: u32 = {nm}u;");
         let _ = writeln!(
