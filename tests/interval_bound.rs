@@ -87,20 +87,20 @@ fn interval_bound_encloses_sampled_jacobians_of_every_shipped_rig() {
                     .collect();
                 let t = rng.within(0.0, t_end);
                 let y: Vec<f64> = bx.y.iter().map(|iv| rng.within(iv.lo, iv.hi)).collect();
-                let modes: Vec<u32> = bx
-                    .modes
+                let regimes: Vec<u32> = bx
+                    .regimes
                     .iter()
                     .map(|iv| (rng.next() * (iv.hi + 1.0)).floor() as u32)
                     .collect();
                 let mut frame = Frame::new(prog, &tape, &params, force);
-                let jac = deriv_jacobian(prog, &tape, &mut frame, t, &y, &modes);
+                let jac = deriv_jacobian(prog, &tape, &mut frame, t, &y, &regimes);
                 if jac.iter().any(|x| !x.is_finite()) {
                     continue;
                 }
                 for (k, (&x, iv)) in jac.iter().zip(&enclosure).enumerate() {
                     assert!(
                         iv.contains(x),
-                        "{id} ({}): ∂f{}/∂y{} = {x} at t = {t}, y = {y:?}, modes {modes:?} lies outside {iv:?}",
+                        "{id} ({}): ∂f{}/∂y{} = {x} at t = {t}, y = {y:?}, regimes {regimes:?} lies outside {iv:?}",
                         prog.mode,
                         k / n,
                         k % n

@@ -61,7 +61,7 @@ fn run(r: &CompiledRig, p: &[f64], steps: usize, h: f64) -> Run {
     let mut out = Vec::with_capacity(steps);
     for i in 0..steps {
         st.step(i as f64 * h, h, &mut y);
-        out.push(((i + 1) as f64 * h, y.clone(), st.modes[0]));
+        out.push(((i + 1) as f64 * h, y.clone(), st.regimes[0]));
     }
     let prog = &r.lowered.programs[0];
     Run {
@@ -79,7 +79,7 @@ fn run(r: &CompiledRig, p: &[f64], steps: usize, h: f64) -> Run {
 fn the_play_is_a_state_with_three_modes() {
     let r = rig();
     assert_eq!(r.state_names(), ["x_mass", "v_mass", "p_joint"]);
-    let m = &r.lowered.modes[0];
+    let m = &r.lowered.regimes[0];
     assert_eq!(m.name, "joint.backlash");
     assert_eq!(m.values, ["play", "tension", "compression"]);
     assert_eq!(r.lowered.programs[0].transitions.len(), 4);

@@ -1,5 +1,5 @@
 //! Per-experiment initial states (`experiments[].initial`): fixed, free and
-//! from the data; the modes a run starts in; the CPU reference, the lane
+//! from the data; the regimes a run starts in; the CPU reference, the lane
 //! ensemble and the GPU kernels alike; bad input refused with exit 2.
 mod oracle;
 mod tensile_common;
@@ -203,12 +203,12 @@ fn a_gap_already_closed_starts_in_contact() {
     .unwrap();
     let mut p = c.base[0].clone();
     let st = compiled.stepper(&p, &exp.drive).unwrap();
-    assert_eq!(st.modes, vec![1], "the stop starts closed");
+    assert_eq!(st.regimes, vec![1], "the stop starts closed");
     assert_eq!(st.y0, vec![x0, 0.0]);
     // Exactly at the gap the stop stays open (no switch is past), and below it.
     for x in [0.001, 0.0005] {
         p[param_index(model, "initial_x_mass").unwrap()] = x;
-        assert_eq!(compiled.stepper(&p, &exp.drive).unwrap().modes, vec![0]);
+        assert_eq!(compiled.stepper(&p, &exp.drive).unwrap().regimes, vec![0]);
     }
 }
 
@@ -313,7 +313,7 @@ fn gpu_runs_start_from_the_same_initial_state() {
     )
     .unwrap();
     // Candidates from rebounding off the stop to starting into it; 72 runs,
-    // so the specialised kernel (the shared initial displacement and modes
+    // so the specialised kernel (the shared initial displacement and regimes
     // folded to literals) runs as well as the generic one (histories).
     let genomes: Vec<Vec<f64>> = (0..72)
         .map(|i| vec![-0.6 + 1.2 * i as f64 / 71.0])
@@ -474,15 +474,15 @@ fn a_friction_element_starts_stuck_or_slipping_as_its_stretch_implies() {
     .unwrap();
     let rig = rigfit::model::compiled::CompiledRig::new(desc, "inline").unwrap();
     let drive = rigfit::base::Drive::Velocity;
-    let modes = |s: f64, v: f64| rig.stepper(&[s, v], &drive).unwrap().modes;
+    let regimes = |s: f64, v: f64| rig.stepper(&[s, v], &drive).unwrap().regimes;
     // Inside ±f_c/k_t = ±0.2 mm: stuck, whatever the velocity; at the limit
     // exactly: still stuck; past it: slipping in the spring's direction.
-    assert_eq!(modes(0.0, 0.5), vec![0]);
-    assert_eq!(modes(1e-4, -0.5), vec![0]);
-    assert_eq!(modes(2e-4, 0.0), vec![0]);
-    assert_eq!(modes(3e-4, 0.1), vec![1]);
-    assert_eq!(modes(-3e-4, -0.1), vec![2]);
+    assert_eq!(regimes(0.0, 0.5), vec![0]);
+    assert_eq!(regimes(1e-4, -0.5), vec![0]);
+    assert_eq!(regimes(2e-4, 0.0), vec![0]);
+    assert_eq!(regimes(3e-4, 0.1), vec![1]);
+    assert_eq!(regimes(-3e-4, -0.1), vec![2]);
     // Past +f_c while the element shortens (past the stick switch as well):
-    // each mode variable switches once, so it starts slipping forward.
-    assert_eq!(modes(3e-4, -0.1), vec![1]);
+    // each regime variable switches once, so it starts slipping forward.
+    assert_eq!(regimes(3e-4, -0.1), vec![1]);
 }

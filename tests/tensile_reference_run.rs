@@ -151,11 +151,11 @@ fn compiled_slack_law(p: &[f64]) -> impl FnMut(f64) -> f64 {
     let mut st = rig.stepper(p, &NO_FORCE).expect("a force drive");
     let contact = rig
         .lowered
-        .modes
+        .regimes
         .iter()
         .position(|m| m.name == "slack.contact")
         .expect("the slack adapter's contact");
-    st.modes[contact] = 1;
+    st.regimes[contact] = 1;
     let (m3, gap) = (p[ix::M3], p[ix::GAP]);
     move |d| {
         let mut y = [0.0; 8];

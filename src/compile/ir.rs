@@ -19,8 +19,8 @@ pub enum Input {
     Slot(u32),
     /// Continuous state `i`.
     State(u32),
-    /// Discrete mode variable `i`, as a number (0, 1, 2, …).
-    Mode(u32),
+    /// Discrete regime variable `i`, as a number (0, 1, 2, …).
+    Regime(u32),
     /// Piecewise-linear table `i` at model time (0 for `t < 0` where the table says so).
     Table(u32),
 }

@@ -25,4 +25,4 @@ pub use exec::lanes::{Isa, LANES, LaneRunner};
 pub use exec::tape::{Frame, Point, Tape};
 pub use front::{Lowered, lower};
 pub use ir::{Graph, Id, Input, Op};
-pub use program::{Direction, ModeVar, Program, Transition};
+pub use program::{Direction, Program, RegimeVar, Transition};

@@ -1,6 +1,6 @@
 //! What a rig compiles to: for each drive mode, one [`Graph`] with the roots
 //! that the integrator needs (derivative, outputs, full state) and the rig's
-//! located switches as [`Transition`]s of discrete mode variables.
+//! located switches as [`Transition`]s of discrete regime variables.
 
 use super::ir::{Graph, Id, Op, operands};
 use crate::base::PiecewiseLinear;
@@ -26,13 +26,13 @@ impl Direction {
     }
 }
 
-/// A located switch: while mode variable `var` is `from`, the transition is
+/// A located switch: while regime variable `var` is `from`, the transition is
 /// armed; it fires where `g` reaches zero in `dir`, and sets `var` to `to`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Transition {
     /// What it is (`"specimen fracture"`), for messages and docs.
     pub name: String,
-    /// Mode variable index.
+    /// Regime variable index.
     pub var: u32,
     /// Value that arms it.
     pub from: u32,
@@ -50,10 +50,10 @@ pub struct Transition {
 }
 
 impl Transition {
-    /// Whether it is armed at `modes`: its variable at `from`, its guard held.
-    pub fn armed(&self, modes: &[u32]) -> bool {
-        modes[self.var as usize] == self.from
-            && self.guard.iter().all(|&(v, x)| modes[v as usize] == x)
+    /// Whether it is armed at `regimes`: its variable at `from`, its guard held.
+    pub fn armed(&self, regimes: &[u32]) -> bool {
+        regimes[self.var as usize] == self.from
+            && self.guard.iter().all(|&(v, x)| regimes[v as usize] == x)
     }
 
     /// Whether `g` is past the switch.
@@ -87,9 +87,9 @@ impl Transition {
     }
 }
 
-/// A discrete mode variable of the rig (contact, yield, fracture, stick-slip).
+/// A discrete regime variable of the rig (contact, yield, fracture, stick-slip).
 #[derive(Debug, Clone, PartialEq)]
-pub struct ModeVar {
+pub struct RegimeVar {
     /// `"slack.contact"`.
     pub name: String,
     /// Names of its values, value 0 first (the state at rest).
@@ -117,7 +117,7 @@ pub struct Program {
     pub tables: Vec<Option<PiecewiseLinear>>,
     /// The run's initial value of every state: a run constant (the literal 0,
     /// or the slot of the rig's `initial_<state>` parameter). See
-    /// [`super::initial`] for the modes it starts in.
+    /// [`super::initial`] for the regimes it starts in.
     pub initial: Vec<Id>,
 }
 
@@ -137,7 +137,7 @@ impl Program {
         self.run_constant = rc;
     }
 
-    /// Number of mode variables read or set.
+    /// Number of regime variables read or set.
     pub fn mode_count(&self) -> usize {
         self.transitions
             .iter()

@@ -14,8 +14,9 @@ impl CompiledRig {
         // taken up in tension), nothing broken or yielded and every slider
         // stuck, from the compiled derivative's own tangents.
         let mut st = self.stepper(params, drive).expect("a declared drive mode");
-        for (v, m) in self.lowered.modes.iter().enumerate() {
-            st.modes[v] = u32::from(m.name.ends_with(".contact") || m.name.ends_with(".backlash"));
+        for (v, m) in self.lowered.regimes.iter().enumerate() {
+            st.regimes[v] =
+                u32::from(m.name.ends_with(".contact") || m.name.ends_with(".backlash"));
         }
         let pi = self.program_for(drive).expect("declared");
         let prog = &self.lowered.programs[pi];
@@ -33,14 +34,14 @@ impl CompiledRig {
             })
             .collect();
         let d = free.len();
-        let modes = st.modes.clone();
+        let regimes = st.regimes.clone();
         let jac = crate::compile::analysis::tangent::deriv_jacobian(
             prog,
             &self.tapes[pi],
             &mut st.frame,
             0.0,
             &vec![0.0; n],
-            &modes,
+            &regimes,
         );
         let mut kmat = vec![0.0; d * d];
         for (i, &ki) in free.iter().enumerate() {
@@ -62,7 +63,12 @@ impl CompiledRig {
     pub(super) fn rest_point(&self) -> String {
         // The same mode choice as `linearise`, said only for the kinds of
         // switching element the rig has.
-        let has = |suffix: &str| self.lowered.modes.iter().any(|m| m.name.ends_with(suffix));
+        let has = |suffix: &str| {
+            self.lowered
+                .regimes
+                .iter()
+                .any(|m| m.name.ends_with(suffix))
+        };
         let mut said = Vec::new();
         if has(".contact") {
             let free_play = self

@@ -244,7 +244,7 @@ impl CompiledRig {
     /// The box of inputs the interval bound encloses the Jacobian over, for
     /// parameters in `[lower, upper]` and a run of model time `0..t_end`:
     /// every parameter slot over its range (fixed ones are points), time over
-    /// `[0, t_end]`, every mode variable over all its values, each node's
+    /// `[0, t_end]`, every regime variable over all its values, each node's
     /// displacement and every internal state (slider, play) in `[−e, e]` and
     /// each node's velocity in `[−r, r]`, with `(e, r)` the rig's reach as
     /// [`Self::element_bound`] reads it (its `"reach"`, else the largest break
@@ -267,7 +267,7 @@ impl CompiledRig {
         upper: &[f64],
         t_end: f64,
     ) -> crate::compile::analysis::interval::InputBox {
-        use crate::compile::analysis::interval::{Interval, all_modes};
+        use crate::compile::analysis::interval::{Interval, all_regimes};
         let (e, r) = self.reach(lower, upper);
         let nodes = self.desc.nodes.len();
         let y = (0..prog.deriv.len())
@@ -288,7 +288,7 @@ impl CompiledRig {
                 .collect(),
             t: Interval::new(0.0, t_end),
             y,
-            modes: all_modes(prog),
+            regimes: all_regimes(prog),
             force: match drive {
                 Drive::Force(tab) => Some(crate::compile::analysis::interval::table_hull(tab)),
                 Drive::Velocity => None,

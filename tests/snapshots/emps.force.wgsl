@@ -56,7 +56,7 @@ fn rig_state_load(sb: u32) -> RigState {
     return y;
 }
 
-fn rig_modes_load(sb: u32) -> RigRegime {
+fn rig_regimes_load(sb: u32) -> RigRegime {
     var md: RigRegime;
     md.m0 = u32(state[sb + 3u]);
     return md;

@@ -108,7 +108,7 @@ fn rig_state_load(sb: u32) -> RigState {
     return y;
 }
 
-fn rig_modes_load(sb: u32) -> RigRegime {
+fn rig_regimes_load(sb: u32) -> RigRegime {
     var md: RigRegime;
     md.m0 = u32(state[sb + 8u]);
     md.m1 = u32(state[sb + 9u]);

@@ -289,7 +289,7 @@ pub fn interval_op(
 }
 
 /// The box the graph is enclosed over: one interval per parameter slot, the
-/// time span, each state, each mode variable (integers `0..=max`, as an
+/// time span, each state, each regime variable (integers `0..=max`, as an
 /// interval), and each table (the hull of its values; the experiment's force
 /// table is `force`'s values where given, else the whole line).
 #[derive(Debug, Clone)]
@@ -300,8 +300,8 @@ pub struct InputBox {
     pub t: Interval,
     /// Continuous states.
     pub y: Vec<Interval>,
-    /// Mode variables.
-    pub modes: Vec<Interval>,
+    /// Regime variables.
+    pub regimes: Vec<Interval>,
     /// Hull of the experiment's force table and 0 (`None`: unknown).
     pub force: Option<Interval>,
 }
@@ -313,7 +313,7 @@ impl InputBox {
             Input::Time => self.t,
             Input::Slot(s) => get(&self.slots, s),
             Input::State(s) => get(&self.y, s),
-            Input::Mode(m) => get(&self.modes, m),
+            Input::Regime(m) => get(&self.regimes, m),
             Input::Table(k) => match &prog.tables[k as usize] {
                 Some(tab) => table_hull(tab),
                 None => self.force.unwrap_or(Interval::ENTIRE),
@@ -329,8 +329,8 @@ pub fn table_hull(tab: &crate::base::PiecewiseLinear) -> Interval {
         .fold(Interval::point(0.0), |r, &v| r.hull(Interval::point(v)))
 }
 
-/// Every mode variable of `prog` over all the values its transitions use.
-pub fn all_modes(prog: &Program) -> Vec<Interval> {
+/// Every regime variable of `prog` over all the values its transitions use.
+pub fn all_regimes(prog: &Program) -> Vec<Interval> {
     (0..prog.mode_count())
         .map(|v| {
             let top = prog

@@ -1,7 +1,7 @@
 //! Which switches can still reach the measured output.
 //!
 //! A fitness run reads one output (the measured signal's model). Once the
-//! rig's modes cut that output off from part of the network for good (the
+//! rig's regimes cut that output off from part of the network for good (the
 //! tensile rig's specimen broken: the load cell no longer feels the grip, the
 //! sliding bar or the slack adapter), the switches of that part (the adapter's
 //! contact, the specimen's yield) change nothing the fit sees; locating them
@@ -10,11 +10,11 @@
 //! matter, so the fitness paths (GPU fitness kernel, CPU fitted lanes) skip
 //! it elsewhere, on both paths alike. Histories and reports keep every switch.
 //!
-//! For each combination of mode values `c`, the relevant states and modes are
+//! For each combination of mode values `c`, the relevant states and regimes are
 //! the closure, from the measured output, of what the output, the derivatives of
 //! relevant states and the event functions of the transitions armed at `c` on
-//! relevant modes read, where a `select` whose condition depends on modes alone follows only
-//! its taken side. A transition may be skipped at `c` when its mode variable
+//! relevant regimes read, where a `select` whose condition depends on regimes alone follows only
+//! its taken side. A transition may be skipped at `c` when its regime variable
 //! is irrelevant at every combination reachable from `c` by any transition
 //! (a superset of the reachable ones): its mode then never reaches the output
 //! again, whatever stale value it keeps. The guard is the conjunction of mode
@@ -30,8 +30,8 @@ use crate::compile::program::Program;
 const MAX_COMBINATIONS: usize = 256;
 
 /// `prog` with a guard on each transition that cannot reach output 0 from
-/// some of its armed mode combinations; `prog` unchanged where none can be
-/// skipped (or the rig has too many mode combinations to enumerate).
+/// some of its armed regime combinations; `prog` unchanged where none can be
+/// skipped (or the rig has too many regime combinations to enumerate).
 pub fn fitness_variant(prog: &Program) -> Program {
     let mut out = prog.clone();
     let Some(&root) = prog.outputs.first() else {
@@ -45,7 +45,7 @@ pub fn fitness_variant(prog: &Program) -> Program {
     let combos: Vec<Vec<u32>> = (0..total).map(|i| decode(i, &counts)).collect();
     let relevant: Vec<Vec<bool>> = combos
         .iter()
-        .map(|c| relevant_modes(prog, root, c))
+        .map(|c| relevant_regimes(prog, root, c))
         .collect();
     let reach: Vec<Vec<usize>> = (0..total).map(|i| reachable(prog, i, &counts)).collect();
     for (t, tr) in prog.transitions.iter().enumerate() {
@@ -73,7 +73,7 @@ pub fn skipping_variant(prog: &Program) -> Option<Program> {
     (v.transitions != prog.transitions).then_some(v)
 }
 
-/// Values each mode variable takes: one past the largest a transition reads
+/// Values each regime variable takes: one past the largest a transition reads
 /// or sets.
 fn mode_counts(prog: &Program) -> Vec<usize> {
     let mut n = vec![1usize; prog.mode_count()];
@@ -125,7 +125,7 @@ fn reachable(prog: &Program, i: usize, counts: &[usize]) -> Vec<usize> {
     (0..seen.len()).filter(|&k| seen[k]).collect()
 }
 
-/// The value of every operation that depends on constants and the modes
+/// The value of every operation that depends on constants and the regimes
 /// `c` alone.
 fn known_values(prog: &Program, c: &[u32]) -> Vec<Option<f64>> {
     let ops = &prog.graph.ops;
@@ -134,7 +134,7 @@ fn known_values(prog: &Program, c: &[u32]) -> Vec<Option<f64>> {
         let get = |i: Id| v[i as usize];
         let r = match *op {
             Op::Const(x) => Some(x),
-            Op::In(Input::Mode(j)) => c.get(j as usize).map(|&m| f64::from(m)),
+            Op::In(Input::Regime(j)) => c.get(j as usize).map(|&m| f64::from(m)),
             Op::In(_) => None,
             Op::Select(k, a, b) => match get(k) {
                 Some(k) if k != 0.0 => get(a),
@@ -173,11 +173,11 @@ fn apply(op: &Op, x: &[f64]) -> f64 {
     }
 }
 
-/// Which modes reach output `root` at mode combination `c`.
-fn relevant_modes(prog: &Program, root: Id, c: &[u32]) -> Vec<bool> {
+/// Which regimes reach output `root` at regime combination `c`.
+fn relevant_regimes(prog: &Program, root: Id, c: &[u32]) -> Vec<bool> {
     let known = known_values(prog, c);
     let mut states = vec![false; prog.deriv.len()];
-    let mut modes = vec![false; c.len()];
+    let mut regimes = vec![false; c.len()];
     let mut seen = vec![false; prog.graph.ops.len()];
     let mut stack = vec![root];
     loop {
@@ -191,7 +191,7 @@ fn relevant_modes(prog: &Program, root: Id, c: &[u32]) -> Vec<bool> {
                         stack.push(prog.deriv[i as usize]);
                     }
                 }
-                Op::In(Input::Mode(j)) => modes[j as usize] = true,
+                Op::In(Input::Regime(j)) => regimes[j as usize] = true,
                 Op::Select(k, a, b) => match known[k as usize] {
                     Some(kv) => stack.extend([k, if kv != 0.0 { a } else { b }]),
                     None => stack.extend([k, a, b]),
@@ -199,15 +199,15 @@ fn relevant_modes(prog: &Program, root: Id, c: &[u32]) -> Vec<bool> {
                 other => stack.extend(operands(&other)),
             }
         }
-        // The event functions of the armed transitions on relevant modes
-        // decide when those modes change: what they read is relevant too.
+        // The event functions of the armed transitions on relevant regimes
+        // decide when those regimes change: what they read is relevant too.
         for tr in &prog.transitions {
-            if modes[tr.var as usize] && c[tr.var as usize] == tr.from && !seen[tr.g as usize] {
+            if regimes[tr.var as usize] && c[tr.var as usize] == tr.from && !seen[tr.g as usize] {
                 stack.push(tr.g);
             }
         }
         if stack.is_empty() {
-            return modes;
+            return regimes;
         }
     }
 }

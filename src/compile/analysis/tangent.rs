@@ -59,7 +59,7 @@ fn kink(a: f64, b: f64, da: f64, db: f64, smaller: bool) -> f64 {
     }
 }
 
-/// The derivative's Jacobian `∂(dy/dt)_i / ∂y_j` at `(t, y)` in `modes`, row
+/// The derivative's Jacobian `∂(dy/dt)_i / ∂y_j` at `(t, y)` in `regimes`, row
 /// major, from the graph's tangents.
 pub fn deriv_jacobian(
     prog: &Program,
@@ -67,10 +67,10 @@ pub fn deriv_jacobian(
     frame: &mut Frame<'_>,
     t: f64,
     y: &[f64],
-    modes: &[u32],
+    regimes: &[u32],
 ) -> Vec<f64> {
     let n = prog.deriv.len();
-    frame.eval(&tape.deriv_ops, crate::compile::Point { t, y, modes });
+    frame.eval(&tape.deriv_ops, crate::compile::Point { t, y, regimes });
     let mut dot = vec![0.0; prog.graph.ops.len()];
     let mut jac = vec![0.0; n * n];
     for j in 0..n {
@@ -131,7 +131,7 @@ mod tests {
                     crate::compile::Point {
                         t: 0.0,
                         y: &[x],
-                        modes: &[],
+                        regimes: &[],
                     },
                 );
                 frame.get(root)
@@ -148,7 +148,7 @@ mod tests {
 
     /// Every shipped rig's Jacobian, from the tangents, against central
     /// differences of the tape, at a state away from every switch, in the
-    /// modes at rest and with every mode variable at 1 where it has a value 1.
+    /// regimes at rest and with every regime variable at 1 where it has a value 1.
     #[test]
     fn every_shipped_rig_jacobian_matches_central_differences() {
         use crate::compile::Point;
@@ -171,7 +171,7 @@ mod tests {
                 // Small displacements and rates, different in every slot.
                 let y: Vec<f64> = (0..n).map(|i| 1e-5 * (1.0 + 0.37 * i as f64)).collect();
                 for ones in [false, true] {
-                    let modes: Vec<u32> = (0..prog.mode_count())
+                    let regimes: Vec<u32> = (0..prog.mode_count())
                         .map(|v| {
                             u32::from(
                                 ones && prog
@@ -182,14 +182,14 @@ mod tests {
                         })
                         .collect();
                     let t = 1e-4;
-                    let jac = deriv_jacobian(prog, &tape, &mut frame, t, &y, &modes);
+                    let jac = deriv_jacobian(prog, &tape, &mut frame, t, &y, &regimes);
                     let mut at = |y: &[f64]| -> Vec<f64> {
                         frame.eval(
                             &tape.deriv_ops,
                             Point {
                                 t,
                                 y,
-                                modes: &modes,
+                                regimes: &regimes,
                             },
                         );
                         prog.deriv.iter().map(|&d| frame.get(d)).collect()
@@ -205,7 +205,7 @@ mod tests {
                             let scale = (0..n).map(|c| jac[i * n + c].abs()).fold(1e-300, f64::max);
                             assert!(
                                 (jac[i * n + j] - fd).abs() <= 1e-6 * scale,
-                                "{id} ({}), modes {modes:?}: ∂f{i}/∂y{j} = {} by tangents, {fd} by differences",
+                                "{id} ({}), regimes {regimes:?}: ∂f{i}/∂y{j} = {} by tangents, {fd} by differences",
                                 prog.mode,
                                 jac[i * n + j]
                             );

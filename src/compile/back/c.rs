@@ -4,7 +4,7 @@
 //! extension: one block of eight f64 lanes, or two blocks as sixteen f32
 //! lanes, [`Arith`]) instead of a row of the register file, so the C
 //! compiler keeps the temporaries in vector registers and the lanes' loads
-//! and stores are left to the states, modes and per-run constants.
+//! and stores are left to the states, regimes and per-run constants.
 //!
 //! In f64 the C evaluates every operation as the interpreter does: no
 //! contraction of a multiply and an add (`-ffp-contract=off`), `eˣ` and
@@ -427,7 +427,7 @@ pub fn source(code: &LaneCode, arith: Arith) -> String {
     s.push_str("}\n");
 
     // rig_deriv1: one run's derivative for its redone steps; `R` its scalar
-    // register file (states, modes and per-run constants at their
+    // register file (states, regimes and per-run constants at their
     // registers), `out` the slopes.
     s.push_str(SCALAR);
     s.push_str(

@@ -189,7 +189,7 @@ impl Native {
 
     /// One run's derivative in f64 (whatever [`Self::arith`]), bit for bit
     /// the scalar reference's: `r` the run's scalar register file (states,
-    /// modes and per-run constants at their registers), time `t`, table
+    /// regimes and per-run constants at their registers), time `t`, table
     /// values `tab`; the slopes into `out`.
     #[expect(unsafe_code, reason = "calls the compiled C")]
     pub(crate) fn deriv1(&self, r: &[f64], t: f64, tab: &[f64], out: &mut [f64]) {

@@ -1,7 +1,7 @@
 //! Fixed-step RK4 over a compiled rig with every switch located inside the step.
 //!
-//! A step from `(t, y)` in the current modes is taken whole; then every armed
-//! transition (its mode variable holds its `from` value) that fires over the
+//! A step from `(t, y)` in the current regimes is taken whole; then every armed
+//! transition (its regime variable holds its `from` value) that fires over the
 //! step ([`crate::compile::Transition::fires`]: past the switch at the step's end, and
 //! on the armed side at its start or going further past) is located on the cubic Hermite
 //! interpolant of the step (the state and its derivative at both ends, error
@@ -33,20 +33,20 @@ struct NativeDeriv<'p> {
     code: &'p LaneCode,
     native: &'p Native,
     /// The run's scalar register file: per-run constants filled once, states
-    /// and modes at each call.
+    /// and regimes at each call.
     r: Vec<f64>,
     tab: Vec<f64>,
 }
 
-/// One run's integrator: scratch space, modes and what fired.
+/// One run's integrator: scratch space, regimes and what fired.
 #[derive(Debug)]
 pub struct EventStepper<'p> {
     prog: &'p Program,
     tape: &'p Tape,
     /// The run's evaluated values.
     pub frame: Frame<'p>,
-    /// Mode variables.
-    pub modes: Vec<u32>,
+    /// Regime variables.
+    pub regimes: Vec<u32>,
     /// The state the run starts from ([`crate::compile::exec::initial`]).
     pub y0: Vec<f64>,
     /// Switches fired so far, in time order.
@@ -67,9 +67,9 @@ pub struct EventStepper<'p> {
 }
 
 impl<'p> EventStepper<'p> {
-    /// A run of `prog` with the full parameter vector `params`, in the modes
+    /// A run of `prog` with the full parameter vector `params`, in the regimes
     /// its initial state `y0` implies ([`crate::compile::exec::initial`]; at rest in the
-    /// modes' value 0 without initial-state parameters).
+    /// regimes' value 0 without initial-state parameters).
     pub fn new(
         prog: &'p Program,
         tape: &'p Tape,
@@ -79,12 +79,12 @@ impl<'p> EventStepper<'p> {
         let n = prog.deriv.len();
         let z = vec![0.0; n];
         let mut frame = Frame::new(prog, tape, params, force);
-        let (y0, modes) = crate::compile::exec::initial::initial_state(prog, tape, &mut frame);
+        let (y0, regimes) = crate::compile::exec::initial::initial_state(prog, tape, &mut frame);
         Self {
             prog,
             tape,
             frame,
-            modes,
+            regimes,
             y0,
             fired: vec![],
             chattered: false,
@@ -115,11 +115,11 @@ impl<'p> EventStepper<'p> {
         });
     }
 
-    /// `dy/dt` at `(t, y)` in the current modes, into `out`.
+    /// `dy/dt` at `(t, y)` in the current regimes, into `out`.
     pub fn deriv(&mut self, t: f64, y: &[f64], out: &mut [f64]) {
         if let Some(nd) = &mut self.native {
             nd.r[..y.len()].copy_from_slice(y);
-            for (&m, &v) in nd.code.modes.iter().zip(&self.modes) {
+            for (&m, &v) in nd.code.regimes.iter().zip(&self.regimes) {
                 nd.r[m as usize] = f64::from(v);
             }
             for (k, v) in nd.tab.iter_mut().enumerate() {
@@ -131,7 +131,7 @@ impl<'p> EventStepper<'p> {
         let pt = Point {
             t,
             y,
-            modes: &self.modes,
+            regimes: &self.regimes,
         };
         self.frame.eval(&self.tape.deriv_ops, pt);
         for (o, &id) in out.iter_mut().zip(&self.prog.deriv) {
@@ -163,12 +163,12 @@ impl<'p> EventStepper<'p> {
         self.tmp = tmp;
     }
 
-    /// Event-function values at `(t, y)` in the current modes.
+    /// Event-function values at `(t, y)` in the current regimes.
     fn events_at(&mut self, t: f64, y: &[f64]) {
         let pt = Point {
             t,
             y,
-            modes: &self.modes,
+            regimes: &self.regimes,
         };
         self.frame.eval(&self.tape.event_ops, pt);
     }
@@ -179,7 +179,7 @@ impl<'p> EventStepper<'p> {
             .transitions
             .iter()
             .enumerate()
-            .filter(|(i, tr)| tr.armed(&self.modes) && tr.fires(self.g_start[*i], self.g_end[*i]))
+            .filter(|(i, tr)| tr.armed(&self.regimes) && tr.fires(self.g_start[*i], self.g_end[*i]))
             .map(|(i, _)| i)
     }
 
@@ -240,7 +240,7 @@ impl<'p> EventStepper<'p> {
             y.copy_from_slice(&self.start);
             self.rk4(ta, s, y);
             let tr_def = &self.prog.transitions[tr];
-            self.modes[tr_def.var as usize] = tr_def.to;
+            self.regimes[tr_def.var as usize] = tr_def.to;
             self.fired.push(Fired {
                 t: ta + s,
                 transition: tr,
@@ -287,7 +287,7 @@ impl<'p> EventStepper<'p> {
         let pt = Point {
             t,
             y,
-            modes: &self.modes,
+            regimes: &self.regimes,
         };
         self.frame.eval(&self.tape.report_ops, pt);
         for (o, &id) in outputs.iter_mut().zip(&self.prog.outputs) {

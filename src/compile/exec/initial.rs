@@ -1,13 +1,13 @@
-//! The state and the modes a run starts in.
+//! The state and the regimes a run starts in.
 //!
 //! Without initial-state parameters a run starts at rest with every mode
 //! variable at its value 0 (gaps open, elastic, intact, stuck), as it always
 //! has. A program whose states start from parameters ([`Program::has_initial`])
-//! also starts in the modes that state implies: every event function is
+//! also starts in the regimes that state implies: every event function is
 //! evaluated at `t = 0` and the initial state, and an armed transition whose
 //! function is strictly past its switch (`g > 0` for [`Direction::Up`], `g < 0`
 //! for [`Direction::Down`]) fires, one at a time, the functions evaluated again
-//! after each, until none fires. Each mode variable switches at most once
+//! after each, until none fires. Each regime variable switches at most once
 //! (from its value 0), so an inconsistent start (a tangential spring past
 //! `+f_c` while the element shortens, past both the slip and the stick
 //! switch) takes the first switch in program order instead of alternating. A gap
@@ -23,28 +23,28 @@ use crate::compile::exec::tape::{Frame, Point, Tape};
 use crate::compile::program::{Direction, Program};
 
 /// The run's initial state (the values of [`Program::initial`], evaluated in
-/// `frame`, whose run constants are filled) and initial modes.
+/// `frame`, whose run constants are filled) and initial regimes.
 pub fn initial_state(prog: &Program, tape: &Tape, frame: &mut Frame<'_>) -> (Vec<f64>, Vec<u32>) {
     let n = prog.deriv.len();
     let y: Vec<f64> = (0..n)
         .map(|s| prog.initial.get(s).map_or(0.0, |&id| frame.get(id)))
         .collect();
-    let mut modes = vec![0; prog.mode_count()];
+    let mut regimes = vec![0; prog.mode_count()];
     if !prog.has_initial() {
-        return (y, modes);
+        return (y, regimes);
     }
-    let mut switched = vec![false; modes.len()];
+    let mut switched = vec![false; regimes.len()];
     loop {
         let pt = Point {
             t: 0.0,
             y: &y,
-            modes: &modes,
+            regimes: &regimes,
         };
         frame.eval(&tape.event_ops, pt);
         let fire = prog.transitions.iter().find(|tr| {
             let g = frame.get(tr.g);
             !switched[tr.var as usize]
-                && tr.armed(&modes)
+                && tr.armed(&regimes)
                 && match tr.dir {
                     Direction::Up => g > 0.0,
                     Direction::Down => g < 0.0,
@@ -52,11 +52,11 @@ pub fn initial_state(prog: &Program, tape: &Tape, frame: &mut Frame<'_>) -> (Vec
         });
         match fire {
             Some(tr) => {
-                modes[tr.var as usize] = tr.to;
+                regimes[tr.var as usize] = tr.to;
                 switched[tr.var as usize] = true;
             }
             None => break,
         }
     }
-    (y, modes)
+    (y, regimes)
 }

@@ -5,7 +5,7 @@
 //! so a batch's working set stays in the first-level cache.
 //!
 //! Register file: the states first (`0..n`, where RK4 writes each stage's
-//! input), then time, the mode variables, the tables, the per-run constants the
+//! input), then time, the regime variables, the tables, the per-run constants the
 //! lists read (filled once per batch), then temporaries, reused once their last
 //! reader has run, then the copies of the derivative's roots that are states
 //! (see [`LaneCode::slopes`]).
@@ -63,7 +63,7 @@ pub struct LaneCode {
     /// (state register, copy) pairs to copy after each derivative.
     pub slope_copies: Vec<(Reg, Reg)>,
     /// Per event root (transition), what arms it and which way it fires:
-    /// (its mode variable's register, the value that arms it, direction).
+    /// (its regime variable's register, the value that arms it, direction).
     pub armed: Vec<(Reg, f64, Direction)>,
     /// Per event root, the further (mode register, value) pairs that must
     /// hold for it to be armed ([`Transition::guard`]).
@@ -72,8 +72,8 @@ pub struct LaneCode {
     pub guards: Vec<Vec<(Reg, f64)>>,
     /// The time register.
     pub time: Reg,
-    /// Each mode variable's register.
-    pub modes: Vec<Reg>,
+    /// Each regime variable's register.
+    pub regimes: Vec<Reg>,
     /// Per-run constants the lists read: (operation, register).
     pub constants: Vec<(Id, Reg)>,
     /// Registers in all.
@@ -103,13 +103,13 @@ impl LaneCode {
         let n = prog.deriv.len();
         let mut fixed: Vec<Option<Reg>> = vec![None; ops.len()];
         let time = n as Reg;
-        let modes: Vec<Reg> = (0..prog.mode_count()).map(|m| (n + 1 + m) as Reg).collect();
-        let tables0 = n + 1 + modes.len();
+        let regimes: Vec<Reg> = (0..prog.mode_count()).map(|m| (n + 1 + m) as Reg).collect();
+        let tables0 = n + 1 + regimes.len();
         for (i, op) in ops.iter().enumerate() {
             fixed[i] = match *op {
                 Op::In(Input::State(s)) => Some(s as Reg),
                 Op::In(Input::Time) => Some(time),
-                Op::In(Input::Mode(m)) => Some(modes[m as usize]),
+                Op::In(Input::Regime(m)) => Some(regimes[m as usize]),
                 Op::In(Input::Table(k)) => Some((tables0 + k as usize) as Reg),
                 _ => None,
             };
@@ -186,7 +186,7 @@ impl LaneCode {
             armed: prog
                 .transitions
                 .iter()
-                .map(|tr| (modes[tr.var as usize], f64::from(tr.from), tr.dir))
+                .map(|tr| (regimes[tr.var as usize], f64::from(tr.from), tr.dir))
                 .collect(),
             guards: prog
                 .transitions
@@ -194,12 +194,12 @@ impl LaneCode {
                 .map(|tr| {
                     tr.guard
                         .iter()
-                        .map(|&(v, x)| (modes[v as usize], f64::from(x)))
+                        .map(|&(v, x)| (regimes[v as usize], f64::from(x)))
                         .collect()
                 })
                 .collect(),
             time,
-            modes,
+            regimes,
             constants,
             registers,
         }

@@ -140,7 +140,7 @@ impl<'p> LaneRunner<'p> {
         let nb = params.len().div_ceil(W);
         let n = prog.deriv.len();
         let mut regs = vec![ZERO; code.registers];
-        // Each run's constants, and the initial state and modes its stepper
+        // Each run's constants, and the initial state and regimes its stepper
         // found; idle lanes repeat lane 0, so they compute something finite.
         for l in 0..nb * W {
             let s = steppers.get(l).unwrap_or(&steppers[0]);
@@ -151,8 +151,8 @@ impl<'p> LaneRunner<'p> {
             for (i, &v) in s.y0.iter().enumerate() {
                 regs[i][b][j] = v;
             }
-            for (m, &v) in s.modes.iter().enumerate() {
-                regs[code.modes[m] as usize][b][j] = f64::from(v);
+            for (m, &v) in s.regimes.iter().enumerate() {
+                regs[code.regimes[m] as usize][b][j] = f64::from(v);
             }
         }
         // Registers every active lane shares: time, tables and the per-run
@@ -376,8 +376,8 @@ impl<'p> LaneRunner<'p> {
             for (s, v) in lane_y.iter().enumerate() {
                 self.regs[s][b][j] = *v;
             }
-            for (m, &v) in st.modes.iter().enumerate() {
-                self.regs[self.code.modes[m] as usize][b][j] = f64::from(v);
+            for (m, &v) in st.regimes.iter().enumerate() {
+                self.regs[self.code.regimes[m] as usize][b][j] = f64::from(v);
             }
             self.chattered |= u64::from(st.chattered) << l;
         }

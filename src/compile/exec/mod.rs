@@ -1,6 +1,6 @@
 //! The executors of a program on the CPU: the f64 tape and its event stepper,
 //! the lane-batched register code, its interpreter, the vector instruction sets
-//! it is built for and its runner, the math both share, the initial modes.
+//! it is built for and its runner, the math both share, the initial regimes.
 
 pub mod events;
 pub mod initial;

@@ -51,8 +51,8 @@ pub struct Point<'a> {
     pub t: f64,
     /// Continuous state.
     pub y: &'a [f64],
-    /// Mode variables.
-    pub modes: &'a [u32],
+    /// Regime variables.
+    pub regimes: &'a [u32],
 }
 
 /// One run's values: the per-run constants filled once, the rest per call.
@@ -87,7 +87,7 @@ impl<'p> Frame<'p> {
         let none = Point {
             t: 0.0,
             y: &[],
-            modes: &[],
+            regimes: &[],
         };
         f.eval_with(&tape.run_ops, none, slots);
         f
@@ -109,7 +109,7 @@ impl<'p> Frame<'p> {
                     Input::Time => pt.t,
                     Input::Slot(s) => slots[s as usize],
                     Input::State(s) => pt.y[s as usize],
-                    Input::Mode(m) => f64::from(pt.modes[m as usize]),
+                    Input::Regime(m) => f64::from(pt.regimes[m as usize]),
                     Input::Table(k) => table_value(self.prog, self.force, k, pt.t),
                 },
             );

@@ -190,7 +190,7 @@ pub(super) fn signal(
             let pi = g.c(std::f64::consts::PI);
             let w = g.div(pi, tau);
             let phi = g.mul(w, since);
-            let m = g.input(Input::Mode(var));
+            let m = g.input(Input::Regime(var));
             let one = g.c(1.0);
             let on = g.eq(m, one);
             (phi, w, zero, a, on)

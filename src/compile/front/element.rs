@@ -27,7 +27,7 @@ pub(super) fn element_force(
     let zero = g.c(0.0);
     let one = g.c(1.0);
     let mode_is = |g: &mut Graph, var: u32, value: f64| {
-        let m = g.input(Input::Mode(var));
+        let m = g.input(Input::Regime(var));
         let v = g.c(value);
         g.eq(m, v)
     };

@@ -5,7 +5,7 @@
 use std::collections::HashMap;
 
 use crate::compile::ir::{Graph, Id, Input};
-use crate::compile::program::ModeVar;
+use crate::compile::program::RegimeVar;
 use crate::rig::RigError;
 use crate::rig::desc::{
     BacklashDesc, Coef, DamperLaw, DriveLaw, ElementDesc, GapKind, RigDesc, SpringLaw,
@@ -18,16 +18,16 @@ pub(super) struct Layout<'a> {
     pub(super) params: HashMap<&'a str, u32>,
     pub(super) nodes: HashMap<&'a str, usize>,
     pub(super) elements: HashMap<&'a str, usize>,
-    /// Mode variable of each element's fracture, contact, yield, friction.
+    /// Regime variable of each element's fracture, contact, yield, friction.
     pub(super) break_var: Vec<Option<u32>>,
     pub(super) contact_var: Vec<Option<u32>>,
     pub(super) yield_var: Vec<Option<u32>>,
     pub(super) friction_var: Vec<Option<(u32, u32)>>,
-    /// Mode variable and play-state slot of each backlash element.
+    /// Regime variable and play-state slot of each backlash element.
     pub(super) backlash_var: Vec<Option<(u32, u32)>>,
-    /// Mode variable of each drive's pulse (half-sine: before, on, after).
+    /// Regime variable of each drive's pulse (half-sine: before, on, after).
     pub(super) drive_var: Vec<Option<u32>>,
-    pub(super) modes: Vec<ModeVar>,
+    pub(super) regimes: Vec<RegimeVar>,
     pub(super) states: Vec<String>,
 }
 
@@ -54,7 +54,7 @@ impl<'a> Layout<'a> {
             friction_var: vec![],
             backlash_var: vec![],
             drive_var: vec![],
-            modes: vec![],
+            regimes: vec![],
             states: vec![],
         };
         let ident = |s: &str| {
@@ -181,11 +181,11 @@ impl<'a> Layout<'a> {
                 ));
             }
             let var = |me: &mut Self, suffix: &str, values: Vec<&'static str>| {
-                me.modes.push(ModeVar {
+                me.regimes.push(RegimeVar {
                     name: format!("{}.{suffix}", e.name),
                     values,
                 });
-                Some(me.modes.len() as u32 - 1)
+                Some(me.regimes.len() as u32 - 1)
             };
             let b = if e.breaks_at.is_some() {
                 var(&mut me, "fracture", vec!["intact", "broken"])
@@ -232,11 +232,11 @@ impl<'a> Layout<'a> {
         }
         for (i, d) in desc.drives.iter().enumerate() {
             let v = if matches!(d.law, DriveLaw::HalfSine { .. }) {
-                me.modes.push(ModeVar {
+                me.regimes.push(RegimeVar {
                     name: format!("drives[{i}].pulse"),
                     values: vec!["before", "on", "after"],
                 });
-                Some(me.modes.len() as u32 - 1)
+                Some(me.regimes.len() as u32 - 1)
             } else {
                 None
             };
@@ -401,7 +401,7 @@ impl<'a> Layout<'a> {
                 };
                 let before = self.coef(g, &s.before, &format!("{path}.before"))?;
                 let after = self.coef(g, &s.after, &format!("{path}.after"))?;
-                let m = g.input(Input::Mode(var));
+                let m = g.input(Input::Regime(var));
                 let one = g.c(1.0);
                 let broken = g.eq(m, one);
                 Ok(g.select(broken, after, before))

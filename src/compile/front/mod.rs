@@ -12,7 +12,7 @@ mod element;
 pub mod expr;
 mod layout;
 
-use super::program::{ModeVar, Program, Transition};
+use super::program::{Program, RegimeVar, Transition};
 use crate::base::PiecewiseLinear;
 use crate::compile::ir::{Graph, Id, Input};
 use crate::rig::RigError;
@@ -21,13 +21,13 @@ use drive::{moves_the_base, signal, table_drive};
 use element::element_force;
 use layout::Layout;
 
-/// The whole rig, checked: names, modes, one [`Program`] per drive mode.
+/// The whole rig, checked: names, regimes, one [`Program`] per drive mode.
 #[derive(Debug, Clone)]
 pub struct Lowered {
     /// State names (`x_load_cell`, `v_load_cell`, `z_friction`, …).
     pub states: Vec<String>,
-    /// Mode variables.
-    pub modes: Vec<ModeVar>,
+    /// Regime variables.
+    pub regimes: Vec<RegimeVar>,
     /// Drive modes, `"velocity"` first.
     pub programs: Vec<Program>,
 }
@@ -58,7 +58,7 @@ pub fn state_names(desc: &RigDesc, file: &str) -> Result<Vec<String>, RigError> 
 /// Lowers `desc` (read from `file`) for every drive mode it declares.
 pub fn lower(desc: &RigDesc, file: &str) -> Result<Lowered, RigError> {
     let lay = Layout::new(desc, file.to_string())?;
-    let mut modes: Vec<String> = vec!["velocity".into()];
+    let mut drive_modes: Vec<String> = vec!["velocity".into()];
     for (i, d) in desc.drives.iter().enumerate() {
         if d.mode != "velocity" && d.mode != "force" {
             return Err(lay.err(
@@ -67,8 +67,8 @@ pub fn lower(desc: &RigDesc, file: &str) -> Result<Lowered, RigError> {
                 format!("{:?}", d.mode),
             ));
         }
-        if !modes.contains(&d.mode) {
-            modes.push(d.mode.clone());
+        if !drive_modes.contains(&d.mode) {
+            drive_modes.push(d.mode.clone());
         }
     }
     if desc.outputs.is_empty() {
@@ -78,13 +78,13 @@ pub fn lower(desc: &RigDesc, file: &str) -> Result<Lowered, RigError> {
             "an empty list",
         ));
     }
-    let programs = modes
+    let programs = drive_modes
         .iter()
         .map(|m| lower_mode(&lay, m))
         .collect::<Result<Vec<_>, _>>()?;
     Ok(Lowered {
         states: lay.states.clone(),
-        modes: lay.modes.clone(),
+        regimes: lay.regimes.clone(),
         programs,
     })
 }

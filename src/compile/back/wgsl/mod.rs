@@ -13,8 +13,8 @@
 //! - `struct RigState` (continuous state, fields `s0…`), `struct RigRegime` (mode
 //!   variables, `m0…`), `struct RunConsts` (the run's constants and table offsets);
 //! - `rig_load(base, ex) -> RunConsts`, `rig_state_load(sb)`, `rig_state_store(sb, y, md)`,
-//!   `rig_modes_load(sb)`, `rig_initial(base, &y, &md)` (the run's initial
-//!   state and modes, packed per run where the program has initial-state
+//!   `rig_regimes_load(sb)`, `rig_initial(base, &y, &md)` (the run's initial
+//!   state and regimes, packed per run where the program has initial-state
 //!   parameters);
 //! - `st_axpy(y, a, k)` (`y + a·k`), `st_rk4(y, h6, k1, k2, k3, k4)`,
 //!   `st_hermite(y0, f0, y1, f1, c00, c10, c01, c11)`;
@@ -166,14 +166,14 @@ impl GpuRig {
         self.prog.deriv.len()
     }
 
-    /// Mode variables.
-    pub fn modes(&self) -> usize {
+    /// Regime variables.
+    pub fn regimes(&self) -> usize {
         self.prog.mode_count()
     }
 
-    /// Values per run in the state buffer: the states, the modes, the residual sum.
+    /// Values per run in the state buffer: the states, the regimes, the residual sum.
     pub fn state_stride(&self) -> u32 {
-        (self.states() + self.modes() + 1) as u32
+        (self.states() + self.regimes() + 1) as u32
     }
 
     /// Values per history record: t, every output, the full state.
@@ -189,29 +189,29 @@ impl GpuRig {
 
     /// Slot names (`K<id>`), for the prelude's `P_*` indices; a program with
     /// initial-state parameters adds the run's initial state (`Y0_<i>`) and
-    /// initial modes (`M0_<j>`).
+    /// initial regimes (`M0_<j>`).
     pub fn slot_names(&self) -> Vec<String> {
         let mut names: Vec<String> = self.slots.iter().map(|i| format!("K{i}")).collect();
         if self.prog.has_initial() {
             names.extend((0..self.states()).map(|i| format!("Y0_{i}")));
-            names.extend((0..self.modes()).map(|j| format!("M0_{j}")));
+            names.extend((0..self.regimes()).map(|j| format!("M0_{j}")));
         }
         names
     }
 
     /// Appends the run's slots for the full parameter vector `params`: the run
     /// constants evaluated by the CPU reference's own code, then (with
-    /// initial-state parameters) the initial state and modes as the reference
+    /// initial-state parameters) the initial state and regimes as the reference
     /// chooses them ([`crate::compile::exec::initial`]; the event functions do not read the
     /// experiment's table, which the host does not pass here).
     pub fn pack(&self, params: &[f64], out: &mut Vec<f64>) {
         let mut frame = Frame::new(&self.prog, &self.tape, params, None);
         out.extend(self.slots.iter().map(|&i| frame.get(i)));
         if self.prog.has_initial() {
-            let (y0, modes) =
+            let (y0, regimes) =
                 crate::compile::exec::initial::initial_state(&self.prog, &self.tape, &mut frame);
             out.extend(y0);
-            out.extend(modes.into_iter().map(f64::from));
+            out.extend(regimes.into_iter().map(f64::from));
         }
     }
 
@@ -266,7 +266,7 @@ impl Emitter<'_> {
                 Op::In(Input::Time) => "t".into(),
                 Op::In(Input::Slot(_)) => unreachable!("slots are run constants"),
                 Op::In(Input::State(k)) => format!("y.s{k}"),
-                Op::In(Input::Mode(m)) => format!("real(md.m{m})"),
+                Op::In(Input::Regime(m)) => format!("real(md.m{m})"),
                 Op::In(Input::Table(k)) => format!("table_at(kc.toff{k}, kc.tlen{k}, t)"),
                 Op::Add(a, b) => format!("{} + {}", n(a), n(b)),
                 Op::Sub(a, b) => format!("{} - {}", n(a), n(b)),
@@ -306,7 +306,7 @@ impl Emitter<'_> {
 
     fn emit(&self) -> String {
         let p = self.prog();
-        let (ns, nm) = (self.rig.states(), self.rig.modes());
+        let (ns, nm) = (self.rig.states(), self.rig.regimes());
         let mut s =
             String::from("// Generated from the rig description by src/compile/back/wgsl/.\n\n");
         let _ = writeln!(s, "const RIG_STATES: u32 = {ns}u;");
@@ -321,7 +321,7 @@ impl Emitter<'_> {
             "struct RigState {{\n{}}}\n\n",
             self.fields("s", ns, "real")
         );
-        // WGSL has no empty structs: a rig without modes keeps one unused.
+        // WGSL has no empty structs: a rig without regimes keeps one unused.
         let _ = write!(
             s,
             "struct RigRegime {{\n{}}}\n\n",
@@ -357,7 +357,7 @@ impl Emitter<'_> {
 
     fn loaders(&self) -> String {
         let p = self.prog();
-        let (ns, nm) = (self.rig.states(), self.rig.modes());
+        let (ns, nm) = (self.rig.states(), self.rig.regimes());
         let mut s = String::from(
             "fn rig_load(base: u32, ex: ExpInfo) -> RunConsts {\n    var kc: RunConsts;\n",
         );
@@ -383,14 +383,14 @@ impl Emitter<'_> {
             let _ = writeln!(s, "    y.s{i} = state[sb + {i}u];");
         }
         s.push_str("    return y;\n}\n\n");
-        s.push_str("fn rig_modes_load(sb: u32) -> RigRegime {\n    var md: RigRegime;\n");
+        s.push_str("fn rig_regimes_load(sb: u32) -> RigRegime {\n    var md: RigRegime;\n");
         for j in 0..nm {
             let _ = writeln!(s, "    md.m{j} = u32(state[sb + {}u]);", ns + j);
         }
         s.push_str("    return md;\n}\n\n");
         // The run's start (`advance`, before its first step): the packed
-        // initial state and modes, or nothing (the cleared state buffer is
-        // rest in modes 0).
+        // initial state and regimes, or nothing (the cleared state buffer is
+        // rest in regimes 0).
         s.push_str("fn rig_initial(base: u32, y: ptr<function, RigState>, md: ptr<function, RigRegime>) {\n");
         if p.has_initial() {
             for i in 0..ns {

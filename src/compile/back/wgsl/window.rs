@@ -17,7 +17,7 @@ impl Emitter<'_> {
     /// share a window: `struct EventBases` (each base, from `rig_bases_c`), `struct
     /// EventWindows` and `rig_window(kc, md)` (per base, the least threshold of the
     /// armed upward transitions and the greatest of the armed downward ones,
-    /// found once per block: the modes change only on a located step), and
+    /// found once per block: the regimes change only on a located step), and
     /// `rig_outside(w, b)` (the base at or past an end of its window).
     ///
     /// The test is conservative, never exact: a transition that fires is past
@@ -104,7 +104,7 @@ impl Emitter<'_> {
     }
 }
 
-/// Whether `tr` is armed at the modes `md` (`Transition::armed`): its
+/// Whether `tr` is armed at the regimes `md` (`Transition::armed`): its
 /// variable at its `from` value and every pair of its guard held.
 pub(super) fn armed(tr: &Transition) -> String {
     std::iter::once((tr.var, tr.from))
