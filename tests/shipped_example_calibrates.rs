@@ -51,6 +51,12 @@ fn check_recovery(s: &JobSummary) {
     .unwrap();
     let r2 = s.experiments[0].r2;
     assert!(r2 >= 0.999, "R² = {r2} on {} {}", s.backend, s.precision);
+    // The record carries 20 N of noise; a fit stopped at 1 − R² ≤ 6e-5 (the
+    // noise floor is 4.29e-5) leaves a residual of about that size, in N.
+    let e = &s.experiments[0];
+    let rms = e.residual_rms.expect("a finite run");
+    assert_eq!(e.unit, "N");
+    assert!((18.0..=24.0).contains(&rms), "residual RMS {rms} N");
     let mut pinned = Vec::new();
     for p in s.parameters.iter().filter(|p| p.free) {
         let width = p.elite_relative_width.unwrap();

@@ -106,14 +106,19 @@ impl BatchCost for CampaignCost<'_> {
 /// Residuals of every experiment's fit window, one after the other, each
 /// scaled by `√(w_e / (W · SS_tot,e))` so that their sum of squares is the
 /// joint fitness [`Campaign::combine`] gives (`W`: the sum of the weights).
+/// The weights are taken relative to the largest, as `combine` takes them,
+/// so that weights near the largest f64 (whose sum overflows) still give
+/// finite residuals.
 impl ResidualCost for CampaignCost<'_> {
     fn residuals(&mut self, genomes: &[Vec<f64>]) -> Result<Vec<Option<Vec<f64>>>, SearchError> {
         let campaign = self.campaign;
         let exps = &campaign.problem.experiments;
-        let total: f64 = exps.iter().map(|x| x.weight).sum();
+        let weights = campaign.problem.relative_weights();
+        let total: f64 = weights.iter().sum();
         let scale: Vec<f64> = exps
             .iter()
-            .map(|x| (x.weight / (total * x.ss_tot())).sqrt())
+            .zip(&weights)
+            .map(|(x, w)| (w / (total * x.ss_tot())).sqrt())
             .collect();
         let mut out = Vec::with_capacity(genomes.len());
         // Histories are the size of the record: a chunk at a time, each turned

@@ -12,7 +12,8 @@ use crate::campaign::{Campaign, GeneTarget, file_stem};
 use crate::eval::{Batch, Evaluator, History, score_one};
 use crate::report::plots;
 use crate::search::{
-    GeneSpec, PolishOutcome, PolishStop, SearchOutcome, StartReport, Uncertainty, write_history_csv,
+    AtBound, GeneSpec, PolishOutcome, PolishStop, SearchOutcome, StartReport, Uncertainty,
+    write_history_csv,
 };
 
 /// Fit quality of one experiment.
@@ -26,6 +27,11 @@ pub struct ExperimentFit {
     pub one_minus_r2: f64,
     /// R² of the same parameters with the f64 CPU reference.
     pub r2_cpu_reference: f64,
+    /// Root mean square of the residual (model − measurement) over the fit
+    /// window, in output 0's unit; `None` for a run that blew up.
+    pub residual_rms: Option<f64>,
+    /// The unit of output 0 (and of `residual_rms`).
+    pub unit: String,
     /// Weight in the joint fitness.
     pub weight: f64,
     /// CSV with the measurement, every model output and the residual.
@@ -68,6 +74,11 @@ pub struct ParamSummary {
     /// Jacobian does not see it.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub determined: Option<bool>,
+    /// The bound the fitted value sits at (`"lower"` or `"upper"`): the data
+    /// may want a value beyond it, so it is not determined and its interval
+    /// is one-sided (`null` on the bound's side).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub at_bound: Option<AtBound>,
     /// Why it is not determined.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub uncertainty_note: Option<String>,
@@ -216,11 +227,16 @@ pub fn write_outputs(
             .collect();
         let svg = plots::fit_svg(&title, &t_rec, &exp.force[..n], &series)?;
         write(&plot, svg.as_bytes())?;
+        let residual_rms = crate::eval::window_residuals(exp, hist)
+            .filter(|r| !r.is_empty())
+            .map(|r| (r.iter().map(|x| x * x).sum::<f64>() / r.len() as f64).sqrt());
         experiments.push(ExperimentFit {
             name: exp.name.clone(),
             r2,
             one_minus_r2: 1.0 - r2,
             r2_cpu_reference: 1.0 - reference,
+            residual_rms,
+            unit: outputs.first().map_or("", |o| o.1).to_string(),
             weight: exp.weight,
             csv,
             plot,
@@ -242,6 +258,7 @@ pub fn write_outputs(
     let (params, parameters) = parameter_tables(campaign, outcome, best, uncertainty);
     let mut warnings = campaign.warnings.clone();
     warnings.extend(outcome.warnings.iter().cloned());
+    warnings.extend(at_bound_warnings(campaign, uncertainty));
     warnings.extend(fallback);
     let summary = JobSummary {
         rigfit_version: env!("CARGO_PKG_VERSION").into(),
@@ -373,6 +390,7 @@ fn parameter_tables(
             std_error: u.and_then(|u| u.std_error),
             interval_95: u.and_then(|u| u.interval_95),
             determined: u.map(|u| u.determined),
+            at_bound: u.and_then(|u| u.at_bound),
             uncertainty_note: u.and_then(|u| u.note.clone()),
             correlated_with: u.map_or_else(Vec::new, |u| u.correlated_with.clone()),
             name,
@@ -396,4 +414,27 @@ fn parameter_tables(
         row(format!("{}.offset", exps[e].name), "s", *offset);
     }
     (params, rows)
+}
+
+/// One warning per gene the polish left at a bound, naming the bound to widen.
+fn at_bound_warnings(campaign: &Campaign, uncertainty: Option<&Uncertainty>) -> Vec<String> {
+    let Some(u) = uncertainty else {
+        return Vec::new();
+    };
+    u.genes
+        .iter()
+        .zip(&campaign.genes)
+        .filter_map(|(g, spec)| {
+            let (side, bound) = match g.at_bound? {
+                AtBound::Lower => ("lower", spec.lower),
+                AtBound::Upper => ("upper", spec.upper),
+            };
+            Some(format!(
+                "{} = {:.6e} sits at its {side} bound {bound:.6e}: the record may want a value \
+                 beyond it, so it is not determined and its 95 % interval is open on that side; \
+                 widen its range and run again",
+                g.name, g.value
+            ))
+        })
+        .collect()
 }

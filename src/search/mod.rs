@@ -59,4 +59,4 @@ pub use settings::{
     CrossoverSettings, GaSettings, InitKind, MutationSettings, PolishSettings, SettingsError,
 };
 pub use state::SearchState;
-pub use uncertainty::{GeneUncertainty, ResidualBlock, Uncertainty};
+pub use uncertainty::{AtBound, GeneUncertainty, ResidualBlock, Uncertainty};

@@ -26,6 +26,24 @@ use crate::base::Scale;
 /// record is in the thousands, where Student's t is the normal to three digits.
 pub const Z95: f64 = 1.959_963_984_540_054;
 
+/// One-sided 95 % quantile of the normal distribution: the interval of a gene
+/// at a bound is open on the bound's side.
+pub const Z95_ONE_SIDED: f64 = 1.644_853_626_951_472;
+
+/// A gene within this fraction of its scale-space range from a bound is at
+/// that bound: the optimum the data want may lie beyond it.
+pub const AT_BOUND_MARGIN: f64 = 1e-3;
+
+/// Which bound a gene sits at.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum AtBound {
+    /// The gene's `min`.
+    Lower,
+    /// The gene's `max`.
+    Upper,
+}
+
 /// Absolute correlation above which two genes are reported as entangled.
 pub const CORRELATION_FLAG: f64 = 0.99;
 
@@ -52,11 +70,16 @@ pub struct GeneUncertainty {
     pub std_error: Option<f64>,
     /// 95 % interval in the gene's unit: `x ± 1.96 σ` in scale space mapped
     /// back (log genes: asymmetric about the value). Not clipped to the bounds.
+    /// At a bound, one-sided: `x ∓ 1.645 σ` on the side away from the bound
+    /// and open (infinite; 0 for a log gene's lower end) on the bound's side.
     pub interval_95: Option<[f64; 2]>,
-    /// False where the data do not determine the gene: its 95 % interval is
-    /// wider (in scale space) than its bounds, or `JᵀJ` is singular in its
-    /// direction.
+    /// False where the data do not determine the gene: it sits at a bound,
+    /// its 95 % interval is wider (in scale space) than its bounds, or `JᵀJ`
+    /// is singular in its direction.
     pub determined: bool,
+    /// The bound the gene sits at (within [`AT_BOUND_MARGIN`] of its range).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub at_bound: Option<AtBound>,
     /// Why the gene is not determined.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub note: Option<String>,
@@ -167,12 +190,28 @@ impl Uncertainty {
                     })
                     .map(|j| genes[j].name.clone())
                     .collect();
-                let note = match se[i] {
-                    None => Some("the data do not constrain it (JᵀJ is singular in its direction)"),
-                    Some(s) if 2.0 * Z95 * s > hi - lo => {
+                let margin = AT_BOUND_MARGIN * (hi - lo);
+                let at_bound = if x[i] >= hi - margin {
+                    Some(AtBound::Upper)
+                } else if x[i] <= lo + margin {
+                    Some(AtBound::Lower)
+                } else {
+                    None
+                };
+                let note = match (at_bound, se[i]) {
+                    (Some(AtBound::Upper), _) => {
+                        Some("it sits at its upper bound: the data may want a larger value; widen its range")
+                    }
+                    (Some(AtBound::Lower), _) => {
+                        Some("it sits at its lower bound: the data may want a smaller value; widen its range")
+                    }
+                    (None, None) => {
+                        Some("the data do not constrain it (JᵀJ is singular in its direction)")
+                    }
+                    (None, Some(s)) if 2.0 * Z95 * s > hi - lo => {
                         Some("its 95 % interval is wider than its bounds")
                     }
-                    Some(_) => None,
+                    (None, Some(_)) => None,
                 };
                 GeneUncertainty {
                     name: g.name.clone(),
@@ -187,9 +226,18 @@ impl Uncertainty {
                             Scale::Linear => y,
                             Scale::Log => y.exp(),
                         };
-                        [back(x[i] - Z95 * s), back(x[i] + Z95 * s)]
+                        match at_bound {
+                            None => [back(x[i] - Z95 * s), back(x[i] + Z95 * s)],
+                            Some(AtBound::Upper) => {
+                                [back(x[i] - Z95_ONE_SIDED * s), f64::INFINITY]
+                            }
+                            Some(AtBound::Lower) => {
+                                [back(f64::NEG_INFINITY), back(x[i] + Z95_ONE_SIDED * s)]
+                            }
+                        }
                     }),
                     determined: note.is_none(),
+                    at_bound,
                     note: note.map(String::from),
                     correlated_with,
                 }

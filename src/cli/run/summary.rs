@@ -16,9 +16,12 @@ pub fn summary_text(s: &JobSummary, dir: &Path, steps: f64) -> String {
         s.generations, s.evaluations, s.wall_time_s, s.backend, s.device, s.precision, rate
     );
     for e in &s.experiments {
+        let rms = e.residual_rms.map_or_else(String::new, |r| {
+            format!("; residual RMS {r:.4e} {}", e.unit)
+        });
         let _ = writeln!(
             t,
-            "  {}: R² = {:.6} (1 − R² = {:.3e}; f64 CPU reference R² = {:.6})",
+            "  {}: R² = {:.6} (1 − R² = {:.3e}; f64 CPU reference R² = {:.6}{rms})",
             e.name, e.r2, e.one_minus_r2, e.r2_cpu_reference
         );
     }
@@ -47,9 +50,17 @@ pub fn summary_text(s: &JobSummary, dir: &Path, steps: f64) -> String {
         let interval = p
             .interval_95
             .map(|[lo, hi]| {
-                // Relative to the value: a log-scale interval is asymmetric.
-                let rel = |x: f64| 100.0 * (x / p.value - 1.0);
-                format!("{:+.3} % / {:+.3} %", rel(lo), rel(hi))
+                // Relative to the value: a log-scale interval is asymmetric;
+                // a gene at a bound has a one-sided interval, open there.
+                let rel = |x: f64| {
+                    let r = 100.0 * (x / p.value - 1.0);
+                    if r.is_finite() {
+                        format!("{r:+.3} %")
+                    } else {
+                        "open".into()
+                    }
+                };
+                format!("{} / {}", rel(lo), rel(hi))
             })
             .unwrap_or_else(|| {
                 if p.determined.is_some() {
@@ -63,8 +74,12 @@ pub fn summary_text(s: &JobSummary, dir: &Path, steps: f64) -> String {
             .map(|w| format!("{:.2} %", 100.0 * w))
             .unwrap_or_default();
         let mut flags = String::new();
-        if p.determined == Some(false) {
-            flags += "  not determined by the data";
+        match p.at_bound {
+            Some(b) => {
+                let _ = write!(flags, "  at its {} bound", format!("{b:?}").to_lowercase());
+            }
+            None if p.determined == Some(false) => flags += "  not determined by the data",
+            None => {}
         }
         if !p.correlated_with.is_empty() {
             let _ = write!(
