@@ -12,8 +12,8 @@ use crate::campaign::{Campaign, GeneTarget, file_stem};
 use crate::eval::{Batch, Evaluator, History, score_one};
 use crate::report::plots;
 use crate::search::{
-    AtBound, GeneSpec, PolishOutcome, PolishStop, SearchOutcome, StartReport, Uncertainty,
-    write_history_csv,
+    AtBound, GeneSpec, PolishOutcome, PolishStop, SearchOutcome, StartReport, TerminationReason,
+    Uncertainty, write_history_csv,
 };
 
 /// Fit quality of one experiment.
@@ -259,6 +259,7 @@ pub fn write_outputs(
     let mut warnings = campaign.warnings.clone();
     warnings.extend(outcome.warnings.iter().cloned());
     warnings.extend(at_bound_warnings(campaign, uncertainty));
+    warnings.extend(search_warnings(outcome, polish));
     warnings.extend(fallback);
     let summary = JobSummary {
         rigfit_version: env!("CARGO_PKG_VERSION").into(),
@@ -437,4 +438,55 @@ fn at_bound_warnings(campaign: &Campaign, uncertainty: Option<&Uncertainty>) -> 
             ))
         })
         .collect()
+}
+
+/// Relative fall of the GA's best cost over the last generations above which
+/// a search that stopped on its generation or time limit was still improving.
+pub const STILL_IMPROVING: f64 = 5e-3;
+
+/// Relative spread of the polished starts' costs above which they found
+/// different minima.
+pub const STARTS_DISAGREE: f64 = 1e-2;
+
+/// Warnings on how the search ended: stopped by a limit while the GA's best
+/// was still falling, or polished starts that ended in different minima.
+fn search_warnings(outcome: &SearchOutcome, polish: Option<&PolishOutcome>) -> Vec<String> {
+    let mut out = Vec::new();
+    let limited = matches!(
+        outcome.termination,
+        TerminationReason::MaxGenerations | TerminationReason::Timeout
+    );
+    if limited && let Some(last) = outcome.history.last() {
+        let window = (outcome.history.len() / 10).max(5);
+        let then = outcome.history[outcome.history.len().saturating_sub(window + 1)].best_cost;
+        let fall = 1.0 - last.best_cost / then;
+        if then.is_finite() && fall > STILL_IMPROVING {
+            out.push(format!(
+                "the search was still improving when it stopped ({}): its best 1 − R² fell \
+                 {:.2} % over the last {window} generations; more generations or a larger \
+                 population may fit better, and the intervals assume the optimum was reached",
+                outcome.termination,
+                100.0 * fall
+            ));
+        }
+    }
+    if let Some(p) = polish {
+        let costs: Vec<f64> = p
+            .starts
+            .iter()
+            .map(|s| s.polished)
+            .filter(|c| c.is_finite())
+            .collect();
+        let best = costs.iter().copied().fold(f64::INFINITY, f64::min);
+        let worst = costs.iter().copied().fold(0.0, f64::max);
+        if costs.len() > 1 && worst > best * (1.0 + STARTS_DISAGREE) {
+            out.push(format!(
+                "the polish's {} starts ended at different costs (1 − R² from {best:.4e} to \
+                 {worst:.4e}): the cost has several minima near the GA's best; the result is the \
+                 lowest found, and a longer search may find a lower one",
+                costs.len()
+            ));
+        }
+    }
+    out
 }
