@@ -57,6 +57,15 @@ fn check_recovery(s: &JobSummary) {
     let rms = e.residual_rms.expect("a finite run");
     assert_eq!(e.unit, "N");
     assert!((18.0..=24.0).contains(&rms), "residual RMS {rms} N");
+    // The noise estimated from the record itself, and the fit near its floor.
+    let noise = e.noise_estimate.expect("a noise estimate");
+    assert!(
+        (noise / 20.0 - 1.0).abs() <= 0.2,
+        "noise estimate {noise} N"
+    );
+    let k = e.cost_over_noise_floor.expect("a cost over the floor");
+    assert!(k < 2.0, "{k}× the noise floor");
+    assert!(e.residual_autocorrelation.is_some());
     let mut pinned = Vec::new();
     for p in s.parameters.iter().filter(|p| p.free) {
         let width = p.elite_relative_width.unwrap();

@@ -8,6 +8,7 @@ use serde::Serialize;
 
 use super::JobError;
 use crate::base::fsutil::atomic_write;
+use crate::base::noise::noise_sigma;
 use crate::campaign::{Campaign, GeneTarget, file_stem};
 use crate::eval::{Batch, Evaluator, History, score_one};
 use crate::report::plots;
@@ -32,6 +33,15 @@ pub struct ExperimentFit {
     pub residual_rms: Option<f64>,
     /// The unit of output 0 (and of `residual_rms`).
     pub unit: String,
+    /// The record's noise (standard deviation, output 0's unit) estimated
+    /// from the record itself over the fit window ([`noise_sigma`]).
+    pub noise_estimate: Option<f64>,
+    /// `(residual_rms / noise_estimate)²`: the fit's mean square as a multiple
+    /// of the noise floor that estimate implies (about 1 at the floor).
+    pub cost_over_noise_floor: Option<f64>,
+    /// Lag-one autocorrelation of the residual over the fit window: about 0
+    /// (within `2/√N`) for white noise, large where the misfit is systematic.
+    pub residual_autocorrelation: Option<f64>,
     /// Weight in the joint fitness.
     pub weight: f64,
     /// CSV with the measurement, every model output and the residual.
@@ -227,9 +237,16 @@ pub fn write_outputs(
             .collect();
         let svg = plots::fit_svg(&title, &t_rec, &exp.force[..n], &series)?;
         write(&plot, svg.as_bytes())?;
-        let residual_rms = crate::eval::window_residuals(exp, hist)
-            .filter(|r| !r.is_empty())
+        let residuals = crate::eval::window_residuals(exp, hist).filter(|r| r.len() > 1);
+        let residual_rms = residuals
+            .as_ref()
             .map(|r| (r.iter().map(|x| x * x).sum::<f64>() / r.len() as f64).sqrt());
+        let residual_autocorrelation = residuals.as_deref().and_then(lag_one_autocorrelation);
+        let noise_estimate = noise_sigma(&exp.force[exp.window.clone()]);
+        let cost_over_noise_floor = match (residual_rms, noise_estimate) {
+            (Some(r), Some(n)) if n > 0.0 => Some((r / n).powi(2)),
+            _ => None,
+        };
         experiments.push(ExperimentFit {
             name: exp.name.clone(),
             r2,
@@ -237,6 +254,9 @@ pub fn write_outputs(
             r2_cpu_reference: 1.0 - reference,
             residual_rms,
             unit: outputs.first().map_or("", |o| o.1).to_string(),
+            noise_estimate,
+            cost_over_noise_floor,
+            residual_autocorrelation,
             weight: exp.weight,
             csv,
             plot,
@@ -260,6 +280,7 @@ pub fn write_outputs(
     warnings.extend(outcome.warnings.iter().cloned());
     warnings.extend(at_bound_warnings(campaign, uncertainty));
     warnings.extend(search_warnings(outcome, polish));
+    warnings.extend(misfit_warnings(&experiments));
     warnings.extend(fallback);
     let summary = JobSummary {
         rigfit_version: env!("CARGO_PKG_VERSION").into(),
@@ -489,4 +510,51 @@ fn search_warnings(outcome: &SearchOutcome, polish: Option<&PolishOutcome>) -> V
         }
     }
     out
+}
+
+/// The fit's mean square above which, as a multiple of the noise floor the
+/// record's own noise implies, the misfit is more than noise.
+pub const SYSTEMATIC_MISFIT: f64 = 4.0;
+
+/// Lag-one autocorrelation of the residual above which it is not white: the
+/// misfit has a shape, whatever its size against the noise.
+pub const NOT_WHITE: f64 = 0.2;
+
+/// `Σ (r_k − r̄)(r_{k+1} − r̄) / Σ (r_k − r̄)²`; `None` for a constant residual.
+fn lag_one_autocorrelation(r: &[f64]) -> Option<f64> {
+    let mean = r.iter().sum::<f64>() / r.len() as f64;
+    let var: f64 = r.iter().map(|x| (x - mean) * (x - mean)).sum();
+    let cov: f64 = r.windows(2).map(|w| (w[0] - mean) * (w[1] - mean)).sum();
+    (var > 0.0).then(|| cov / var)
+}
+
+/// One warning per experiment whose residual is well above the record's noise
+/// or is not white.
+fn misfit_warnings(experiments: &[ExperimentFit]) -> Vec<String> {
+    let shaped = experiments.iter().filter_map(|e| {
+        let rho = e.residual_autocorrelation.filter(|r| *r > NOT_WHITE)?;
+        Some(format!(
+            "{}: the residual is not white (lag-one autocorrelation {rho:.2}, about 0 for noise): \
+             part of the misfit has a shape the rig does not follow, and the intervals, which \
+             assume white residuals, are too narrow",
+            e.name
+        ))
+    });
+    let large = experiments
+        .iter()
+        .filter_map(|e| {
+            let k = e.cost_over_noise_floor.filter(|k| *k > SYSTEMATIC_MISFIT)?;
+            Some(format!(
+                "{}: the residual's RMS ({:.3e} {unit}) is {:.1}× the record's noise ({:.3e} {unit}, \
+                 estimated from the record): the misfit is more than noise (a rig that cannot \
+                 follow the record, or a search that did not finish), and the intervals assume it is not",
+                e.name,
+                e.residual_rms.unwrap_or(f64::NAN),
+                k.sqrt(),
+                e.noise_estimate.unwrap_or(f64::NAN),
+                unit = e.unit
+            ))
+        })
+        .collect::<Vec<_>>();
+    large.into_iter().chain(shaped).collect()
 }

@@ -19,6 +19,15 @@ pub fn summary_text(s: &JobSummary, dir: &Path, steps: f64) -> String {
         let rms = e.residual_rms.map_or_else(String::new, |r| {
             format!("; residual RMS {r:.4e} {}", e.unit)
         });
+        let rms = match (e.noise_estimate, e.cost_over_noise_floor) {
+            (Some(n), Some(k)) => {
+                format!(
+                    "{rms}, record noise ≈ {n:.3e} {}: {k:.2}× the floor",
+                    e.unit
+                )
+            }
+            _ => rms,
+        };
         let _ = writeln!(
             t,
             "  {}: R² = {:.6} (1 − R² = {:.3e}; f64 CPU reference R² = {:.6}{rms})",
