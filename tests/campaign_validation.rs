@@ -109,6 +109,15 @@ fn bad_campaign_values_name_path_and_expectation() {
             ["params.k_1", "unknown parameter 'k_1'", "did you mean 'k1'"]
         ),
         case!(
+            "parameter in the wrong case",
+            |v| set(v, "/params/K1", json!(1e9)),
+            [
+                "params.K1",
+                "unknown parameter 'K1'",
+                "did you mean 'k1'? (names are case-sensitive)"
+            ]
+        ),
+        case!(
             "polynomial degree 6",
             |v| set(v, "/experiments/0/params/a6", json!(1.0)),
             ["experiments[0].params.a6", "polynomial degree is at most 5"]

@@ -34,6 +34,18 @@ pub fn echo_bare(s: &str) -> String {
     }
 }
 
+/// `"1 RK4 step per sample"` or `"n RK4 steps per sample"`.
+///
+/// ```
+/// use rigfit::base::text::steps_per_sample;
+/// assert_eq!(steps_per_sample(1), "1 RK4 step per sample");
+/// assert_eq!(steps_per_sample(3), "3 RK4 steps per sample");
+/// ```
+pub fn steps_per_sample(n: usize) -> String {
+    let s = if n == 1 { "" } else { "s" };
+    format!("{n} RK4 step{s} per sample")
+}
+
 /// `message` with every quoted run (between backticks or double quotes)
 /// longer than `max` characters cut to `max`, its length in bytes after the
 /// closing quote, and control characters inside quotes escaped; an unquoted

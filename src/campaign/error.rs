@@ -56,7 +56,7 @@ pub enum CampaignError {
         found: String,
     },
     /// A parameter name the model does not have.
-    #[error("{}: {path}: unknown parameter '{name}' for model {model}{hint}", file.display())]
+    #[error("{}: {path}: unknown parameter '{name}' for rig {model}{hint}", file.display())]
     UnknownParam {
         /// The file.
         file: PathBuf,

@@ -148,13 +148,17 @@ pub(crate) fn unknown_param(
         }
         // A name far longer than any parameter's is no typo of one.
         _ if name.len() > 100 => String::new(),
-        _ => names
-            .iter()
-            .map(|n| (strsim::levenshtein(n, name), *n))
-            .min()
-            .filter(|(d, _)| *d <= 2.max(name.len() / 3))
-            .map(|(_, n)| format!("; did you mean '{n}'?"))
-            .unwrap_or_default(),
+        // Names are case-sensitive: where only the case differs, say so.
+        _ => match names.iter().find(|n| n.eq_ignore_ascii_case(name)) {
+            Some(n) => format!("; did you mean '{n}'? (names are case-sensitive)"),
+            None => names
+                .iter()
+                .map(|n| (strsim::levenshtein(n, name), *n))
+                .min()
+                .filter(|(d, _)| *d <= 2.max(name.len() / 3))
+                .map(|(_, n)| format!("; did you mean '{n}'?"))
+                .unwrap_or_default(),
+        },
     };
     // Both echo the key: escaped and cut short, whatever the file holds.
     CampaignError::UnknownParam {

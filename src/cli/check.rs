@@ -68,12 +68,12 @@ pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
     }))?;
     out.say(|| {
         let mut s = format!(
-            "{}: valid — rig {}, {} experiment(s), {} free parameter(s), {} RK4 steps per sample ({})",
+            "{}: valid — rig {}, {} experiment(s), {} free parameter(s), {} ({})",
             args.campaign.display(),
             c.model.id(),
             c.problem.experiments.len(),
             c.genes.len(),
-            c.solver.substeps,
+            rigfit::base::text::steps_per_sample(c.solver.substeps),
             c.solver.note
         );
         for e in &c.problem.experiments {
@@ -94,7 +94,11 @@ pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
             rigfit::campaign::human_duration(length.cpu_core_seconds_per_candidate)
         );
         for g in &c.genes {
-            let _ = write!(s, "\n  free {} in [{:e}, {:e}] {} ({:?})", g.name, g.lower, g.upper, g.unit, g.scale);
+            let _ = write!(
+                s,
+                "\n  free {} in [{:e}, {:e}] {} ({:?})",
+                g.name, g.lower, g.upper, g.unit, g.scale
+            );
         }
         if let Some(e) = &search {
             let f = |k: &str| e[k].as_f64().unwrap_or(0.0);

@@ -132,10 +132,10 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
     }))?;
     out.say(|| {
         format!(
-            "simulated {} ({} samples, {} RK4 steps per sample): largest |{name}| {peak:.4e} {unit} → {}",
+            "simulated {} ({} samples, {}): largest |{name}| {peak:.4e} {unit} → {}",
             exp.name,
             h.t.len(),
-            problem.substeps,
+            rigfit::base::text::steps_per_sample(problem.substeps),
             args.out.display()
         )
     });

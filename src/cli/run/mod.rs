@@ -244,13 +244,13 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     };
     let info = evaluator.info();
     out.note(&format!(
-        "{} on {} ({}, {}), {} RK4 steps per sample ({}), {:.3e} steps per candidate, \
+        "{} on {} ({}, {}), {} ({}), {:.3e} steps per candidate, \
          memory {} of {}",
         rigfit::base::text::echo_bare(&c.name),
         info.backend,
         info.device,
         format!("{:?}", info.precision).to_lowercase(),
-        c.solver.substeps,
+        rigfit::base::text::steps_per_sample(c.solver.substeps),
         c.solver.note,
         length.steps_per_candidate,
         human_bytes(memory.0.total),
