@@ -333,13 +333,7 @@ fn parse_number(s: &str, sep: char) -> Option<f64> {
 fn uniform(t: Vec<f64>, force: Vec<f64>, file: &Path) -> Result<Series, DataError> {
     let n = t.len();
     let mut d: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
-    d.sort_by(f64::total_cmp);
-    let h = d.len() / 2;
-    let median = if d.len() % 2 == 0 {
-        0.5 * (d[h - 1] + d[h])
-    } else {
-        d[h]
-    };
+    let median = super::stats::median(&mut d);
     let jitter = d
         .iter()
         .map(|x| (x - median).abs() / median)

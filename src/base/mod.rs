@@ -10,6 +10,7 @@ mod grid;
 pub mod noise;
 mod params;
 mod sample;
+pub mod stats;
 pub mod text;
 
 pub use drive::{Drive, PiecewiseLinear};

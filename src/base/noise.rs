@@ -2,6 +2,8 @@
 
 use rand::Rng;
 
+use super::stats::median;
+
 /// Standard normal deviate by Box–Muller from a seeded RNG.
 pub fn gaussian(rng: &mut impl Rng) -> f64 {
     let u1: f64 = rng.random::<f64>().max(f64::MIN_POSITIVE);
@@ -29,15 +31,6 @@ pub fn noise_sigma(values: &[f64]) -> Option<f64> {
     if d3.len() < 13 {
         return None;
     }
-    let median = |v: &mut Vec<f64>| {
-        v.sort_by(f64::total_cmp);
-        let n = v.len();
-        if n % 2 == 1 {
-            v[n / 2]
-        } else {
-            0.5 * (v[n / 2 - 1] + v[n / 2])
-        }
-    };
     let m = median(&mut d3);
     let mut dev: Vec<f64> = d3.iter().map(|d| (d - m).abs()).collect();
     Some(1.482_602_218_505_602 * median(&mut dev) / 20f64.sqrt())

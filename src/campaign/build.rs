@@ -221,12 +221,11 @@ fn model_of(
     compiled: &mut Option<&'static CompiledRig>,
 ) -> Result<&'static CompiledRig, CampaignError> {
     if let Some(m) = &raw.model {
-        let id = m.as_str().unwrap_or("tensile4");
-        let id = if rig::shipped(id).is_some() {
-            id
-        } else {
-            "tensile4"
-        };
+        // The key only ever named the tensile rig; a shipped id is kept.
+        let id = m
+            .as_str()
+            .filter(|id| rig::SHIPPED.iter().any(|(s, _)| s == id))
+            .unwrap_or("tensile4");
         return Err(invalid(
             file,
             "model",
@@ -234,13 +233,13 @@ fn model_of(
                 "\"rig\": the \"model\" key is gone, write \"rig\": \"{id}\" (shipped rigs: {})",
                 rig::SHIPPED.map(|(i, _)| i).join(", ")
             ),
-            match m.as_str() {
-                Some(given) => format!("\"model\": {}", crate::base::text::echo(given)),
-                None => format!(
-                    "\"model\": {}",
-                    crate::base::text::echo_bare(&m.to_string())
-                ),
-            },
+            format!(
+                "\"model\": {}",
+                m.as_str().map_or_else(
+                    || crate::base::text::echo_bare(&m.to_string()),
+                    crate::base::text::echo
+                )
+            ),
         ));
     }
     match &raw.rig {

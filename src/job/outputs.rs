@@ -554,7 +554,6 @@ fn misfit_warnings(experiments: &[ExperimentFit]) -> Vec<String> {
                 e.noise_estimate.unwrap_or(f64::NAN),
                 unit = e.unit
             ))
-        })
-        .collect::<Vec<_>>();
-    large.into_iter().chain(shaped).collect()
+        });
+    large.chain(shaped).collect()
 }

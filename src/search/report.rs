@@ -130,17 +130,8 @@ pub fn ranking(costs: &[f64]) -> Vec<usize> {
 
 /// Median of the sanitized costs (mean of the middle two for even length).
 pub fn median(costs: &[f64]) -> f64 {
-    if costs.is_empty() {
-        return f64::NAN;
-    }
     let mut v: Vec<f64> = costs.iter().map(|&c| sanitize_cost(c)).collect();
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
+    crate::base::stats::median(&mut v)
 }
 
 fn mean_std(xs: impl Iterator<Item = f64> + Clone) -> (f64, f64) {
