@@ -22,8 +22,7 @@ use crate::eval::Evaluator;
 use crate::eval::Precision;
 use crate::search::{
     Executor, Fingerprint, GeneSpec, GeneticAlgorithm, HistoryCsvObserver, ObserverMode, Polish,
-    PolishOutcome, PolishStop, ProgressObserver, SearchError, SearchOutcome, TerminationReason,
-    distinct_starts,
+    ProgressObserver, SearchError, TerminationReason,
 };
 
 /// Name of the checkpoint file inside the output folder.
@@ -198,6 +197,11 @@ pub fn run(
     let genes = gene_specs(campaign);
     let ga = GeneticAlgorithm::new(campaign.search.clone(), genes.clone())?;
     let mut cost = CampaignCost::new(campaign, evaluator, opts.require_gpu, opts.threads);
+    let polish = campaign
+        .search
+        .polish
+        .enabled
+        .then(|| polish(campaign, &genes, cost.precision()));
     let checkpoint = opts.out.join(CHECKPOINT_FILE);
     let progress = ProgressObserver::new(campaign.search.generations, opts.quiet)
         .with_steps_per_candidate(steps_per_candidate(campaign));
@@ -210,28 +214,31 @@ pub fn run(
             HistoryCsvObserver::new(opts.out.join("history.csv"), &genes),
             ObserverMode::Every(10),
         );
+    if let Some(polish) = polish {
+        exec = exec.then_polish(polish, campaign.search.polish.starts);
+    }
     if opts.resume {
         exec = exec.resume_from(&checkpoint)?;
     }
-    let mut outcome = exec.run()?;
-    let polish = if campaign.search.polish.enabled
-        && outcome.termination != TerminationReason::Interrupted
-    {
-        let p = polish(campaign, &genes, &outcome, &mut cost, opts)?;
-        if p.stop == PolishStop::Interrupted {
-            outcome.termination = TerminationReason::Interrupted;
-        }
-        Some(p)
-    } else {
-        None
-    };
+    let outcome = exec.run()?;
+    if let Some(p) = &outcome.polish {
+        log::info!(
+            "polish: {} starts, {} iterations, {} evaluations in {:.1} s ({:?}): 1 − R² {:.4e} → {:.4e}",
+            p.starts.len(),
+            p.iterations,
+            p.evaluations,
+            p.wall_time_s,
+            p.stop,
+            outcome.best_cost,
+            p.best_cost
+        );
+    }
     let fallback = cost.fallback_note();
     let mut evaluator = cost.into_evaluator();
     let summary = write_outputs(
         campaign,
         evaluator.as_mut(),
         &outcome,
-        polish.as_ref(),
         &genes,
         &opts.out,
         fallback,
@@ -243,35 +250,15 @@ pub fn run(
     Ok(summary)
 }
 
-/// The local polish after the GA, from the GA's final state: a resumed job
-/// whose GA had finished polishes again from the same state, so a polish cut
-/// short by a kill or an interrupt ends, once resumed, with the same bits.
-fn polish(
-    campaign: &Campaign,
-    genes: &[GeneSpec],
-    outcome: &SearchOutcome,
-    cost: &mut CampaignCost<'_>,
-    opts: &JobOptions,
-) -> Result<PolishOutcome, JobError> {
-    let settings = campaign.search.polish;
-    let starts = distinct_starts(genes, outcome, settings.starts);
-    let eps = match cost.precision() {
+/// The local polish the executor runs after the GA, from the GA's final
+/// state: a resumed job whose GA had finished polishes again from the same
+/// state, so a polish cut short by a kill or an interrupt ends, once resumed,
+/// with the same bits. Its finite-difference step suits the evaluator's
+/// arithmetic.
+fn polish(campaign: &Campaign, genes: &[GeneSpec], precision: Precision) -> Polish {
+    let eps = match precision {
         Precision::F32 => f64::from(f32::EPSILON),
         Precision::F64 => f64::EPSILON,
     };
-    let p = Polish::new(settings, genes.to_vec())
-        .relative_step(eps.cbrt())
-        .interrupt(opts.interrupt.clone())
-        .run(&mut *cost, &starts)?;
-    log::info!(
-        "polish: {} starts, {} iterations, {} evaluations in {:.1} s ({:?}): 1 − R² {:.4e} → {:.4e}",
-        p.starts.len(),
-        p.iterations,
-        p.evaluations,
-        p.wall_time_s,
-        p.stop,
-        outcome.best_cost,
-        p.best_cost
-    );
-    Ok(p)
+    Polish::new(campaign.search.polish, genes.to_vec()).relative_step(eps.cbrt())
 }

@@ -185,11 +185,11 @@ pub fn write_outputs(
     campaign: &Campaign,
     evaluator: &mut dyn Evaluator,
     outcome: &SearchOutcome,
-    polish: Option<&PolishOutcome>,
     genes: &[GeneSpec],
     out: &Path,
     fallback: Option<String>,
 ) -> Result<JobSummary, JobError> {
+    let polish = outcome.polish.as_ref();
     let write = |name: &str, bytes: &[u8]| -> Result<(), JobError> {
         let path = out.join(name);
         atomic_write(&path, bytes).map_err(|source| JobError::Write { path, source })

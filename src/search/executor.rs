@@ -1,5 +1,6 @@
-//! The driver: runs a [`GeneticAlgorithm`] against a [`BatchCost`], calls
-//! observers, writes checkpoints and decides when to stop.
+//! The driver: runs a [`GeneticAlgorithm`] against a [`BatchCost`], then the
+//! Levenberg–Marquardt [`Polish`] on the same cost; calls one set of observers
+//! for both, writes checkpoints and decides when to stop and why.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -15,6 +16,9 @@ use super::cost::BatchCost;
 use super::ga::GeneticAlgorithm;
 use super::genes::genome_values;
 use super::observers::{Observer, ObserverMode};
+use super::polish::{
+    Polish, PolishIteration, PolishOutcome, PolishStop, ResidualCost, distinct_starts,
+};
 use super::report::{
     GenerationReport, SearchOutcome, TerminationReason, diversity, elite_spread, is_diverged,
     median, ranking, sanitize_cost,
@@ -70,6 +74,40 @@ pub struct Executor<C: BatchCost> {
     fingerprint: Fingerprint,
     checkpoint_path: Option<PathBuf>,
     resume: Option<(PathBuf, Checkpoint)>,
+    polish: Option<PolishStage<C>>,
+}
+
+/// The polish to run after the GA: set by [`Executor::then_polish`], which is
+/// only available when the cost also gives residuals, so the executor keeps
+/// the call as a function pointer made where that bound holds.
+struct PolishStage<C> {
+    polish: Polish,
+    starts: usize,
+    run: PolishRun<C>,
+}
+
+type PolishRun<C> = fn(
+    &Polish,
+    &mut C,
+    &[Vec<f64>],
+    &mut dyn FnMut(&PolishIteration) -> Result<(), SearchError>,
+) -> Result<PolishOutcome, SearchError>;
+
+impl<C: BatchCost + ResidualCost> Executor<C> {
+    /// After the GA, polishes from its `starts` best distinct candidates
+    /// ([`distinct_starts`]) on the same cost, under the same interrupt flag
+    /// and observers ([`Observer::polished`]); the outcome carries it in
+    /// [`SearchOutcome::polish`]. An interrupted GA is not polished; an
+    /// interrupted polish makes the outcome's termination
+    /// [`TerminationReason::Interrupted`].
+    pub fn then_polish(mut self, polish: Polish, starts: usize) -> Self {
+        self.polish = Some(PolishStage {
+            polish,
+            starts,
+            run: |p, cost, starts, observe| p.run_observed(cost, starts, observe),
+        });
+        self
+    }
 }
 
 impl<C: BatchCost> Executor<C> {
@@ -83,6 +121,7 @@ impl<C: BatchCost> Executor<C> {
             fingerprint: Fingerprint::new(),
             checkpoint_path: None,
             resume: None,
+            polish: None,
         }
     }
 
@@ -158,7 +197,8 @@ impl<C: BatchCost> Executor<C> {
             if let Some(reason) = self.stop_reason(&state, elapsed) {
                 state.elapsed_s = elapsed;
                 self.save(&fingerprint, &state)?;
-                let outcome = self.outcome(state, reason);
+                let mut outcome = self.outcome(state, reason);
+                self.run_polish(&mut outcome)?;
                 for (obs, _) in &mut self.observers {
                     obs.finish(&outcome)?;
                 }
@@ -204,6 +244,37 @@ impl<C: BatchCost> Executor<C> {
             };
             self.record(&mut state, generation, gen_start, elapsed)?;
         }
+    }
+
+    /// Runs the configured polish from the GA's outcome, if any and if the GA
+    /// was not interrupted.
+    fn run_polish(&mut self, outcome: &mut SearchOutcome) -> Result<(), SearchError> {
+        let Some(stage) = self.polish.take() else {
+            return Ok(());
+        };
+        if outcome.termination == TerminationReason::Interrupted {
+            return Ok(());
+        }
+        let starts = distinct_starts(self.ga.genes(), outcome, stage.starts);
+        let polish = match &self.interrupt {
+            Some(flag) => stage.polish.interrupt(flag.clone()),
+            None => stage.polish,
+        };
+        let observers = &mut self.observers;
+        let mut observe = |step: &PolishIteration| -> Result<(), SearchError> {
+            for (obs, mode) in observers.iter_mut() {
+                if *mode != ObserverMode::Never {
+                    obs.polished(step)?;
+                }
+            }
+            Ok(())
+        };
+        let p = (stage.run)(&polish, &mut self.cost, &starts, &mut observe)?;
+        if p.stop == PolishStop::Interrupted {
+            outcome.termination = TerminationReason::Interrupted;
+        }
+        outcome.polish = Some(p);
+        Ok(())
     }
 
     /// Guards against hand-edited checkpoints that the fingerprint cannot catch.
@@ -388,6 +459,7 @@ impl<C: BatchCost> Executor<C> {
             termination,
             history: state.history,
             warnings,
+            polish: None,
         }
     }
 }

@@ -8,7 +8,9 @@
 //!   stops on generations / target / stall / wall time / interrupt and says why
 //!   ([`TerminationReason`]).
 //! - [`Polish`]: Levenberg–Marquardt on a [`ResidualCost`] from the GA's best
-//!   distinct candidates, and the [`Uncertainty`] of each gene at the optimum.
+//!   distinct candidates, and the [`Uncertainty`] of each gene at the optimum;
+//!   run by the same executor after the GA ([`Executor::then_polish`]), under
+//!   the same observers, interrupt flag and termination reason.
 //!
 //! ```
 //! use rigfit::base::Scale;
@@ -51,7 +53,8 @@ pub use observers::{
     HISTORY_COLUMNS, HistoryCsvObserver, Observer, ObserverMode, history_csv, write_history_csv,
 };
 pub use polish::{
-    FnResiduals, Polish, PolishOutcome, PolishStop, ResidualCost, StartReport, distinct_starts,
+    FnResiduals, Polish, PolishIteration, PolishOutcome, PolishStop, ResidualCost, StartReport,
+    distinct_starts,
 };
 pub use progress::ProgressObserver;
 pub use report::{EliteSpread, GenerationReport, SearchOutcome, TerminationReason};

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 
 use super::SearchError;
 use super::genes::GeneSpec;
+use super::polish::PolishIteration;
 use super::report::{GenerationReport, SearchOutcome};
 use crate::base::fsutil::atomic_write;
 
@@ -14,13 +15,19 @@ pub trait Observer {
     /// Called after each generation the observer's [`ObserverMode`] selects.
     fn observe(&mut self, report: &GenerationReport) -> Result<(), SearchError>;
 
+    /// Called after every iteration of the polish that follows the GA
+    /// (whatever the [`ObserverMode`], except [`ObserverMode::Never`]).
+    fn polished(&mut self, _iteration: &PolishIteration) -> Result<(), SearchError> {
+        Ok(())
+    }
+
     /// Called once when a search resumes from a checkpoint, with the history
     /// so far (so a history writer can start from it).
     fn resumed(&mut self, _history: &[GenerationReport]) -> Result<(), SearchError> {
         Ok(())
     }
 
-    /// Called once when the search ends without error.
+    /// Called once when the search (and its polish, if any) ends without error.
     fn finish(&mut self, _outcome: &SearchOutcome) -> Result<(), SearchError> {
         Ok(())
     }

@@ -86,6 +86,21 @@ pub struct StartReport {
     pub polished: f64,
 }
 
+/// One polish iteration, as the executor's observers see it.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct PolishIteration {
+    /// Iterations so far (1 after the first batch of trial steps).
+    pub iteration: usize,
+    /// Lowest cost over the starts so far.
+    pub best_cost: f64,
+    /// Starts still moving.
+    pub moving: usize,
+    /// Candidates scored so far.
+    pub evaluations: u64,
+    /// Wall time since the polish began (s).
+    pub elapsed_s: f64,
+}
+
 /// What the polish returns.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PolishOutcome {
@@ -105,6 +120,8 @@ pub struct PolishOutcome {
     pub wall_time_s: f64,
     /// Why it stopped.
     pub stop: PolishStop,
+    /// One entry per iteration.
+    pub history: Vec<PolishIteration>,
     /// Standard errors at the best genome; `None` if every start blew up.
     pub uncertainty: Option<Uncertainty>,
 }
@@ -127,6 +144,7 @@ pub struct PolishOutcome {
 /// let out = polish.run(cost, &[vec![1.0, 3.0]]).unwrap();
 /// assert!((out.best_genome[0] - 2.0).abs() < 1e-6 && (out.best_genome[1] - 0.7).abs() < 1e-6);
 /// ```
+#[derive(Debug, Clone)]
 pub struct Polish {
     settings: PolishSettings,
     genes: Vec<GeneSpec>,
@@ -183,8 +201,19 @@ impl Polish {
     /// uncertainty at the best point reached.
     pub fn run(
         &self,
+        cost: impl ResidualCost,
+        starts: &[Vec<f64>],
+    ) -> Result<PolishOutcome, SearchError> {
+        self.run_observed(cost, starts, &mut |_| Ok(()))
+    }
+
+    /// [`Self::run`], telling `observe` after every iteration (the executor's
+    /// observers, when the polish runs under [`super::Executor::then_polish`]).
+    pub fn run_observed(
+        &self,
         mut cost: impl ResidualCost,
         starts: &[Vec<f64>],
+        observe: &mut dyn FnMut(&PolishIteration) -> Result<(), SearchError>,
     ) -> Result<PolishOutcome, SearchError> {
         let started = Instant::now();
         let mut evaluations = 0u64;
@@ -200,6 +229,7 @@ impl Polish {
             .map(|r| r.as_ref().map_or(f64::INFINITY, |r| r.lin.cost))
             .collect();
         let mut iterations = 0;
+        let mut history = Vec::new();
         let mut stop = PolishStop::MaxIterations;
         for _ in 0..self.settings.max_iterations {
             if self
@@ -234,6 +264,19 @@ impl Polish {
             }
             iterations += 1;
             retire_the_hopeless(&mut runs, self.settings.max_iterations - iterations);
+            let step = PolishIteration {
+                iteration: iterations,
+                best_cost: runs
+                    .iter()
+                    .flatten()
+                    .map(|r| r.lin.cost)
+                    .fold(f64::INFINITY, f64::min),
+                moving: runs.iter().flatten().filter(|r| !r.done).count(),
+                evaluations,
+                elapsed_s: started.elapsed().as_secs_f64(),
+            };
+            observe(&step)?;
+            history.push(step);
             if log::log_enabled!(log::Level::Debug) {
                 let costs: Vec<String> = runs
                     .iter()
@@ -269,6 +312,7 @@ impl Polish {
                 evaluations,
                 wall_time_s,
                 stop,
+                history,
                 uncertainty: Some(Uncertainty::at_blocks(&self.genes, &run.x, &run.lin.blocks)),
             },
             None => PolishOutcome {
@@ -280,6 +324,7 @@ impl Polish {
                 evaluations,
                 wall_time_s,
                 stop: PolishStop::NoStart,
+                history,
                 uncertainty: None,
             },
         })

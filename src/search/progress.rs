@@ -6,6 +6,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 
 use super::SearchError;
 use super::observers::Observer;
+use super::polish::PolishIteration;
 use super::report::{GenerationReport, SearchOutcome};
 
 /// Shows generation, best R² (= 1 − best cost) and throughput on stderr.
@@ -73,6 +74,16 @@ impl Observer for ProgressObserver {
         Ok(())
     }
 
+    fn polished(&mut self, step: &PolishIteration) -> Result<(), SearchError> {
+        self.bar.set_message(format!(
+            "polish iteration {}: best R² {:.6}, {} start(s) moving",
+            step.iteration,
+            1.0 - step.best_cost,
+            step.moving
+        ));
+        Ok(())
+    }
+
     fn resumed(&mut self, history: &[GenerationReport]) -> Result<(), SearchError> {
         if let Some(last) = history.last() {
             self.observe(last)?;
@@ -81,12 +92,20 @@ impl Observer for ProgressObserver {
     }
 
     fn finish(&mut self, outcome: &SearchOutcome) -> Result<(), SearchError> {
-        self.bar.abandon_with_message(format!(
+        let mut msg = format!(
             "best R² {:.6} after {} generations ({})",
             1.0 - outcome.best_cost,
             outcome.generations,
             outcome.termination
-        ));
+        );
+        if let Some(p) = &outcome.polish {
+            msg.push_str(&format!(
+                ", {:.6} after {} polish iterations",
+                1.0 - p.best_cost,
+                p.iterations
+            ));
+        }
+        self.bar.abandon_with_message(msg);
         Ok(())
     }
 }

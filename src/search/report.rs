@@ -6,6 +6,7 @@ use std::fmt;
 use serde::{Deserialize, Serialize};
 
 use super::genes::GeneSpec;
+use super::polish::PolishOutcome;
 use crate::eval::DIVERGED;
 
 /// Why a search stopped.
@@ -109,6 +110,12 @@ pub struct SearchOutcome {
     pub history: Vec<GenerationReport>,
     /// Things a user should know (e.g. many diverged candidates).
     pub warnings: Vec<String>,
+    /// The polish that followed the GA ([`super::Executor::then_polish`]);
+    /// `None` when none was configured or the GA was interrupted. Not part of
+    /// a checkpoint: the polish is a pure function of the GA's final state, so a
+    /// resumed job runs it again and reaches the same bits.
+    #[serde(skip)]
+    pub polish: Option<PolishOutcome>,
 }
 
 /// A cost fit for ordering and statistics: NaN and ±∞ become [`DIVERGED`].
