@@ -1,6 +1,6 @@
-//! `rigfit check` estimates the whole search's wall time on the CPU and on
-//! the GPU, says what rates it assumes, and grows the estimate with the steps
-//! a clock offset adds.
+//! `rigfit check` estimates the whole job's wall time on the CPU and on the
+//! GPU (the GA, then the polish), says what rates it assumes, and grows the
+//! estimate with the steps a clock offset adds.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -43,10 +43,18 @@ fn check_estimates_the_search_on_cpu_and_gpu_with_its_assumptions() {
         assert_eq!(e["candidates"].as_f64(), Some(50_000.0), "{e}");
         let steps = e["steps"].as_f64().unwrap();
         assert_eq!(steps, 50_000.0 * per_candidate, "{e}");
+        // The GA's steps at each path's rate, then the polish's.
+        let polish = e["polish_seconds"].as_f64().unwrap();
         let gpu = e["gpu_seconds"].as_f64().unwrap();
-        assert_eq!(gpu, steps / e["gpu_steps_per_s_assumed"].as_f64().unwrap());
+        assert_eq!(
+            gpu,
+            steps / e["gpu_steps_per_s_assumed"].as_f64().unwrap() + polish
+        );
         let cpu = e["cpu_seconds"].as_f64().unwrap();
-        assert_eq!(cpu, steps / e["cpu_steps_per_s_assumed"].as_f64().unwrap());
+        assert_eq!(
+            cpu,
+            steps / e["cpu_steps_per_s_assumed"].as_f64().unwrap() + polish
+        );
         gpu_seconds.push(gpu);
         let text = check(&c, false);
         assert!(
@@ -60,4 +68,76 @@ fn check_estimates_the_search_on_cpu_and_gpu_with_its_assumptions() {
     }
     // 10 ms at 1 µs steps before the record: 10 000 more steps per candidate.
     assert!(gpu_seconds[1] > 4.0 * gpu_seconds[0], "{gpu_seconds:?}");
+}
+
+/// The estimate counts the polish after the GA: its candidates bound the
+/// evaluations a run's polish takes, its time is in both totals, and a
+/// campaign without the polish estimates none.
+#[test]
+fn check_estimates_the_polish_after_the_search() {
+    let dir = tempfile::tempdir().unwrap();
+    let c = campaign(dir.path(), 0.0);
+    let v: Value = serde_json::from_str(&check(&c, true)).unwrap();
+    let e = &v["search_estimate"];
+    let f = |k: &str| e[k].as_f64().unwrap_or_else(|| panic!("{k} in {e}"));
+    let genes = v["genes"].as_array().unwrap().len() as f64;
+    // The default polish: 8 starts, 30 iterations and the first linearisation.
+    assert_eq!(
+        f("polish_candidates"),
+        8.0 * (2.0 * genes + 1.0) * 31.0,
+        "{e}"
+    );
+    let per_candidate = v["run_length"]["steps_per_candidate"].as_f64().unwrap();
+    assert_eq!(f("polish_steps"), f("polish_candidates") * per_candidate);
+    let polish = f("polish_steps") / f("polish_steps_per_s_assumed");
+    assert!(polish > 0.0 && f("polish_seconds") == polish, "{e}");
+    assert_eq!(
+        f("cpu_seconds"),
+        f("steps") / f("cpu_steps_per_s_assumed") + polish
+    );
+    assert_eq!(
+        f("gpu_seconds"),
+        f("steps") / f("gpu_steps_per_s_assumed") + polish
+    );
+    let text = check(&c, false);
+    assert!(text.contains("the polish after it: at most"), "{text}");
+
+    // A run's polish takes no more evaluations than the estimate counts.
+    let mut small: Value = serde_json::from_str(&std::fs::read_to_string(&c).unwrap()).unwrap();
+    small["search"]["population"] = json!(16);
+    small["search"]["generations"] = json!(2);
+    small["search"]["polish"] = json!({"starts": 2, "max_iterations": 4});
+    let small_path = dir.path().join("small.json");
+    std::fs::write(&small_path, small.to_string()).unwrap();
+    let est: Value = serde_json::from_str(&check(&small_path, true)).unwrap();
+    let bound = est["search_estimate"]["polish_candidates"]
+        .as_f64()
+        .unwrap();
+    assert_eq!(bound, 2.0 * (2.0 * genes + 1.0) * 5.0);
+    let out = dir.path().join("out");
+    let o = Command::new(env!("CARGO_BIN_EXE_rigfit"))
+        .args(["--json", "run", "--backend", "cpu", "--out"])
+        .arg(&out)
+        .arg(&small_path)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
+    let evaluations = r["polish"]["evaluations"].as_f64().unwrap();
+    assert!(
+        evaluations > 0.0 && evaluations <= bound,
+        "{evaluations} evaluations against the estimate's {bound}"
+    );
+
+    small["search"]["polish"] = json!({"enabled": false});
+    std::fs::write(&small_path, small.to_string()).unwrap();
+    let none: Value = serde_json::from_str(&check(&small_path, true)).unwrap();
+    let e = &none["search_estimate"];
+    assert_eq!(e["polish_candidates"].as_f64(), Some(0.0), "{e}");
+    assert_eq!(
+        e["cpu_seconds"].as_f64().unwrap(),
+        e["steps"].as_f64().unwrap() / e["cpu_steps_per_s_assumed"].as_f64().unwrap()
+    );
+    assert!(!check(&small_path, false).contains("the polish after it"));
 }

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::Args;
 
-use super::campaign_file::load;
+use super::campaign_file::load_for_check;
 use super::options::RunLengthArgs;
 use super::output::Output;
 use rigfit::campaign::Campaign;
@@ -28,26 +28,18 @@ pub struct CheckArgs {
 /// estimate is an upper bound.
 const GPU_STEPS_PER_S_ASSUMED: f64 = 1e8;
 
-/// The search's wall time, estimated from its steps: population × generations
-/// candidates (an upper bound: elites are not evaluated again) at
-/// `CPU_STEPS_PER_S_PER_CORE` on every core, and at
-/// [`GPU_STEPS_PER_S_ASSUMED`] on the GPU.
+/// The job's wall time, estimated from its steps: the GA's candidates on
+/// every core and at [`GPU_STEPS_PER_S_ASSUMED`] on the GPU, then the polish's
+/// ([`memory::TimeEstimate`]).
 fn search_estimate(c: &Campaign, steps_per_candidate: f64) -> serde_json::Value {
-    let candidates = (c.search.population * c.search.generations) as f64;
-    let steps = candidates * steps_per_candidate;
     let cores = std::thread::available_parallelism().map_or(1, usize::from);
-    let cpu_rate = rigfit::campaign::CPU_STEPS_PER_S_PER_CORE * cores as f64;
-    serde_json::json!({
-        "candidates": candidates, "steps": steps,
-        "cpu_cores": cores, "cpu_steps_per_s_assumed": cpu_rate, "cpu_seconds": steps / cpu_rate,
-        "gpu_steps_per_s_assumed": GPU_STEPS_PER_S_ASSUMED,
-        "gpu_seconds": steps / GPU_STEPS_PER_S_ASSUMED,
-    })
+    let e = memory::TimeEstimate::of(c, steps_per_candidate, cores, GPU_STEPS_PER_S_ASSUMED);
+    serde_json::to_value(e).unwrap_or_default()
 }
 
 /// Validates a campaign and its data.
 pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
-    let c = load(&args.campaign, None)?;
+    let c = load_for_check(&args.campaign)?;
     let length = c.check_run_length(args.run_length.max_steps)?;
     let search = c
         .search_given
@@ -118,6 +110,7 @@ pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
                 rigfit::campaign::human_duration(f("gpu_seconds")),
                 GPU_STEPS_PER_S_ASSUMED
             );
+            let _ = write!(s, "{}", memory::polish_estimate_text(e));
         }
         if c.search_given {
             let _ = write!(

@@ -36,10 +36,7 @@ pub fn kernel_groups(problem: &Problem) -> Result<Vec<KernelGroup>, GpuError> {
     let id = problem.model.id();
     let mut groups: Vec<KernelGroup> = Vec::new();
     for (e, exp) in problem.experiments.iter().enumerate() {
-        let g = problem
-            .model
-            .gpu(&exp.drive)
-            .ok_or(GpuError::UnsupportedModel(id))?;
+        let g = super::kernels_for(problem, &exp.drive)?;
         match groups
             .iter_mut()
             .find(|k| std::sync::Arc::ptr_eq(&k.model, &g))

@@ -129,6 +129,21 @@ pub enum GpuError {
     /// The model has no GPU kernels.
     #[error("model `{0}` has no GPU implementation")]
     UnsupportedModel(&'static str),
+    /// The rig has more located switches than the kernels hold.
+    #[error(
+        "rig `{rig}` has {count} located switches in its {mode} drive mode; the GPU kernels \
+         hold at most {limit} (use the CPU: --backend cpu)"
+    )]
+    TooManySwitches {
+        /// The rig's id.
+        rig: &'static str,
+        /// The drive mode (`velocity`, `force`).
+        mode: String,
+        /// Its located switches.
+        count: usize,
+        /// [`crate::compile::back::wgsl::MAX_TRANSITIONS`].
+        limit: usize,
+    },
     /// One [`GpuEvaluator`] was asked to score experiments that need
     /// different kernels of a rig (velocity and force drives of a compiled
     /// rig); [`GpuByDrive`] (what [`open_evaluator`] opens) takes them.
@@ -173,10 +188,7 @@ pub fn gpu_model(problem: &Problem) -> Result<GpuModel, GpuError> {
     let id = problem.model.id();
     let mut found: Option<GpuModel> = None;
     for exp in &problem.experiments {
-        let g = problem
-            .model
-            .gpu(&exp.drive)
-            .ok_or(GpuError::UnsupportedModel(id))?;
+        let g = kernels_for(problem, &exp.drive)?;
         match &found {
             Some(f) if !std::sync::Arc::ptr_eq(f, &g) => return Err(GpuError::MixedDrives(id)),
             Some(_) => {}
@@ -184,6 +196,28 @@ pub fn gpu_model(problem: &Problem) -> Result<GpuModel, GpuError> {
         }
     }
     found.ok_or(GpuError::UnsupportedModel(id))
+}
+
+/// The kernels of `problem`'s rig for `drive`, or why it has none: more
+/// located switches than the kernels hold ([`GpuError::TooManySwitches`]),
+/// or no kernels at all.
+pub fn kernels_for(problem: &Problem, drive: &crate::base::Drive) -> Result<GpuModel, GpuError> {
+    let model = problem.model;
+    if let Some(g) = model.gpu(drive) {
+        return Ok(g);
+    }
+    let program = model.program_for(drive).map(|i| &model.lowered.programs[i]);
+    match program {
+        Some(p) if p.transitions.len() > crate::compile::back::wgsl::MAX_TRANSITIONS => {
+            Err(GpuError::TooManySwitches {
+                rig: model.id(),
+                mode: p.mode.to_string(),
+                count: p.transitions.len(),
+                limit: crate::compile::back::wgsl::MAX_TRANSITIONS,
+            })
+        }
+        _ => Err(GpuError::UnsupportedModel(model.id())),
+    }
 }
 
 /// Whether `RIGFIT_REQUIRE_GPU` is set to something other than `0`/empty.

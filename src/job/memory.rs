@@ -253,6 +253,102 @@ fn meminfo_field(text: &str, name: &str) -> Option<f64> {
     }
 }
 
+/// Candidate-steps per second and CPU core the polish runs at: a tenth of
+/// the fitness path's [`crate::campaign::CPU_STEPS_PER_S_PER_CORE`]. Its
+/// candidates are full histories (every output and state of every sample,
+/// turned into residuals) in batches of `starts × (2 × genes + 1)`, too
+/// small to fill a GPU, so the same rate is assumed on both paths (measured
+/// on the shipped example: 2.7e6 steps/s on lavapipe and 4.1e5 on two
+/// loaded CPU cores, against 3.8e6 for the GA's fitness on the same cores).
+pub const POLISH_STEPS_PER_S_PER_CORE: f64 = 1e6;
+
+/// A job's wall time, estimated before any work from its steps: the GA's
+/// candidates at the fitness path's rate, then the polish's at
+/// [`POLISH_STEPS_PER_S_PER_CORE`].
+#[derive(Debug, Clone, Serialize)]
+pub struct TimeEstimate {
+    /// The GA's candidates at most: population × generations (an upper
+    /// bound: elites are not evaluated again).
+    pub candidates: f64,
+    /// The GA's RK4 steps.
+    pub steps: f64,
+    /// CPU cores assumed.
+    pub cpu_cores: usize,
+    /// The GA's candidate-steps per second on the CPU (every core).
+    pub cpu_steps_per_s_assumed: f64,
+    /// The job on the CPU: the GA, then the polish (s).
+    pub cpu_seconds: f64,
+    /// The GA's candidate-steps per second on the GPU.
+    pub gpu_steps_per_s_assumed: f64,
+    /// The job on the GPU: the GA, then the polish (s).
+    pub gpu_seconds: f64,
+    /// The polish's candidates at most: `starts × (2 × genes + 1)` per
+    /// iteration and once more for the first linearisation (0 without the
+    /// polish).
+    pub polish_candidates: f64,
+    /// The polish's RK4 steps.
+    pub polish_steps: f64,
+    /// The polish's candidate-steps per second (every core).
+    pub polish_steps_per_s_assumed: f64,
+    /// The polish's share of `cpu_seconds` and of `gpu_seconds` (s).
+    pub polish_seconds: f64,
+}
+
+impl TimeEstimate {
+    /// For `campaign` at `steps_per_candidate` RK4 steps per candidate, on
+    /// `cores` CPU cores and a GPU assumed to run `gpu_steps_per_s`.
+    pub fn of(
+        campaign: &Campaign,
+        steps_per_candidate: f64,
+        cores: usize,
+        gpu_steps_per_s: f64,
+    ) -> Self {
+        let s = &campaign.search;
+        let candidates = (s.population * s.generations) as f64;
+        let steps = candidates * steps_per_candidate;
+        let cpu_rate = crate::campaign::CPU_STEPS_PER_S_PER_CORE * cores as f64;
+        let polish_candidates = if s.polish.enabled {
+            let per_iteration = s.polish.starts * (2 * campaign.genes.len() + 1);
+            (per_iteration * (s.polish.max_iterations + 1)) as f64
+        } else {
+            0.0
+        };
+        let polish_steps = polish_candidates * steps_per_candidate;
+        let polish_rate = POLISH_STEPS_PER_S_PER_CORE * cores as f64;
+        let polish_seconds = polish_steps / polish_rate;
+        Self {
+            candidates,
+            steps,
+            cpu_cores: cores,
+            cpu_steps_per_s_assumed: cpu_rate,
+            cpu_seconds: steps / cpu_rate + polish_seconds,
+            gpu_steps_per_s_assumed: gpu_steps_per_s,
+            gpu_seconds: steps / gpu_steps_per_s + polish_seconds,
+            polish_candidates,
+            polish_steps,
+            polish_steps_per_s_assumed: polish_rate,
+            polish_seconds,
+        }
+    }
+}
+
+/// The polish's part of a [`TimeEstimate`] (as `check --json` writes it),
+/// as `check` words it after the GA's line: empty without a polish.
+pub fn polish_estimate_text(e: &serde_json::Value) -> String {
+    let f = |k: &str| e[k].as_f64().unwrap_or(0.0);
+    if f("polish_candidates") == 0.0 {
+        return String::new();
+    }
+    format!(
+        "\n  the polish after it: at most {:.3e} candidates, {:.3e} RK4 steps as full \
+         histories: about {} at an assumed {:.0e} steps/s, included in both times above",
+        f("polish_candidates"),
+        f("polish_steps"),
+        crate::campaign::human_duration(f("polish_seconds")),
+        f("polish_steps_per_s_assumed"),
+    )
+}
+
 /// `512 KiB`, `3.4 MiB`, `1.20 TiB`.
 pub fn human_bytes(b: f64) -> String {
     const UNITS: [&str; 6] = ["B", "KiB", "MiB", "GiB", "TiB", "PiB"];

@@ -199,6 +199,40 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
             .into());
         }
     }
+    // A rig the GPU kernels cannot hold is bad input when the GPU was asked
+    // for: said before any work, with its count and the limit.
+    if backend == Backend::Gpu
+        && let Err(e) = rigfit::gpu::kernel_groups(&c.problem)
+    {
+        let asked = match a.backend {
+            Some(_) => "--backend gpu".to_string(),
+            None => format!("{}: solver.backend \"gpu\"", a.campaign.display()),
+        };
+        return Err(BadInput(format!("{asked}: {e}")).into());
+    }
+    // The evaluator before the output folder: a GPU that is required and
+    // missing leaves no folder behind.
+    let mut evaluator: Box<dyn rigfit::eval::Evaluator> = if backend == Backend::Cpu {
+        Box::new(cpu)
+    } else {
+        drop(cpu);
+        let opened = rigfit::gpu::open_evaluator_on(
+            c.problem.clone(),
+            backend,
+            precision,
+            a.adapter.as_deref(),
+        )
+        .context("opening the GPU evaluator")?;
+        if let Some(note) = &opened.note {
+            // A driver helps only where the model has kernels to run.
+            if rigfit::gpu::kernel_groups(&c.problem).is_ok() {
+                out.note(&format!("note: {note}; {GPU_HINT}"));
+            } else {
+                out.note(&format!("note: {note}"));
+            }
+        }
+        opened.evaluator
+    };
     if a.out.is_none() {
         limits::check_output_inside(&c, &a.campaign)?;
     }
@@ -221,27 +255,6 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         },
     )?;
 
-    let mut evaluator: Box<dyn rigfit::eval::Evaluator> = if backend == Backend::Cpu {
-        Box::new(cpu)
-    } else {
-        drop(cpu);
-        let opened = rigfit::gpu::open_evaluator_on(
-            c.problem.clone(),
-            backend,
-            precision,
-            a.adapter.as_deref(),
-        )
-        .context("opening the GPU evaluator")?;
-        if let Some(note) = &opened.note {
-            // A driver helps only where the model has kernels to run.
-            if rigfit::gpu::kernel_groups(&c.problem).is_ok() {
-                out.note(&format!("note: {note}; {GPU_HINT}"));
-            } else {
-                out.note(&format!("note: {note}"));
-            }
-        }
-        opened.evaluator
-    };
     let info = evaluator.info();
     out.note(&format!(
         "{} on {} ({}, {}), {} ({}), {:.3e} steps per candidate, \
