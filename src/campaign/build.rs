@@ -7,6 +7,7 @@ use super::initial;
 use super::names::{check_campaign_name, check_experiment_names};
 use super::raw::{RawCampaign, RawDrive, RawExperiment, RawParam};
 use super::resolve::{check_map, check_physics, check_value, resolve};
+use super::simulation::{self, Reading};
 use super::stability::{SolverSettings, choose};
 use super::{Campaign, CampaignError, FNV_BASIS, Gene, GeneTarget, Source, acts_in, fnv1a};
 use crate::base::data::{Column, CsvSpec, Series, parse_csv};
@@ -16,8 +17,14 @@ use crate::model::compiled::CompiledRig;
 use crate::rig;
 use crate::search::GaSettings;
 
-/// Validates campaign text from `file`, resolving paths against `dir`.
-pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, CampaignError> {
+/// Validates campaign text from `file`, resolving paths against `dir`, its
+/// records read as `reading` says.
+pub(crate) fn build(
+    text: &str,
+    dir: &Path,
+    file: &Path,
+    reading: Reading<'_>,
+) -> Result<Campaign, CampaignError> {
     let raw: RawCampaign = parse_json(text, file)?;
     check_campaign_name(file, &raw.name)?;
     let mut rig_file = None;
@@ -87,7 +94,8 @@ pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, Cam
         };
         let (lo, hi) = corners(&r.base[e], &genes, e, &r.sources);
         check_physics(file, model, &r.base[e], &lo, &hi, &r.paths[e], &free)?;
-        let (exp, bytes_hash) = experiment(file, dir, e, x, digest, &mut r.warnings)?;
+        let (exp, bytes_hash, read) =
+            experiment(file, dir, e, x, digest, reading, &mut r.warnings)?;
         if !model.supports(&exp.drive) {
             return Err(invalid(
                 file,
@@ -101,7 +109,7 @@ pub(crate) fn build(text: &str, dir: &Path, file: &Path) -> Result<Campaign, Cam
         }
         digest = bytes_hash;
         experiments.push(exp);
-        inputs.push(dir.join(&x.data.file));
+        inputs.extend(read);
     }
 
     check_weights(file, &experiments)?;
@@ -285,15 +293,17 @@ fn rig_error(e: rig::RigError) -> CampaignError {
 }
 
 /// Loads and checks one experiment's data, drive, window and weight. Returns the
-/// experiment and the digest extended with the data file's bytes.
+/// experiment, the digest extended with the data file's bytes and the file read
+/// (none on a simulation's grid without a record and without a drive column).
 fn experiment(
     file: &Path,
     dir: &Path,
     e: usize,
     x: &RawExperiment,
     digest: u64,
+    reading: Reading<'_>,
     warnings: &mut Vec<String>,
-) -> Result<(ExperimentData, u64), CampaignError> {
+) -> Result<(ExperimentData, u64, Option<PathBuf>), CampaignError> {
     let at = format!("experiments[{e}]");
     if !(x.weight > 0.0 && x.weight.is_finite()) {
         return Err(invalid(
@@ -329,22 +339,41 @@ fn experiment(
         time_scale: d.time_scale,
         force_scale: d.force_scale,
     };
-    let data_file = dir.join(&d.file);
+    // Without a record, the only file read is the one a drive column comes from.
+    let column_drive = matches!(&x.drive, RawDrive::Force(t) if t.column.is_some());
+    let (data_file, read) = match reading.uniform() {
+        None => (dir.join(&d.file), true),
+        Some((_, _, Some(f))) => (f.to_path_buf(), column_drive),
+        Some((_, _, None)) if column_drive => {
+            return Err(simulation::no_drive_file(
+                file,
+                &format!("{at}.drive.force"),
+            ));
+        }
+        Some(_) => (PathBuf::new(), false),
+    };
     let data_err = |path: String, source| CampaignError::Data {
         file: file.to_path_buf(),
         path,
         source: Box::new(source),
     };
-    let bytes = std::fs::read(&data_file).map_err(|err| {
-        let source = crate::base::data::DataError::Io {
-            file: data_file.clone(),
-            message: err.to_string(),
-        };
-        data_err(format!("{data_at}.file"), source)
-    })?;
+    let bytes = if read {
+        std::fs::read(&data_file).map_err(|err| {
+            let source = crate::base::data::DataError::Io {
+                file: data_file.clone(),
+                message: err.to_string(),
+            };
+            data_err(format!("{data_at}.file"), source)
+        })?
+    } else {
+        Vec::new()
+    };
     let digest = fnv1a(digest, &bytes);
     let text = String::from_utf8_lossy(&bytes);
-    let series = parse_csv(&text, &data_file, &spec).map_err(|s| data_err(data_at.clone(), s))?;
+    let series = match reading.uniform() {
+        Some((dt, samples, _)) => simulation::uniform_series(dt, samples),
+        None => parse_csv(&text, &data_file, &spec).map_err(|s| data_err(data_at.clone(), s))?,
+    };
     warnings.extend(series.warning.clone());
     let drive = match &x.drive {
         RawDrive::Velocity => Drive::Velocity,
@@ -388,12 +417,23 @@ fn experiment(
                     found,
                 ));
             }
-            Drive::Force(PiecewiseLinear { t, value })
+            let table = PiecewiseLinear { t, value };
+            if reading.uniform().is_some() && column_drive {
+                let at = format!("{path}.column");
+                Drive::Force(simulation::resample(
+                    &table, &series.t, &data_file, &at, warnings,
+                ))
+            } else {
+                Drive::Force(table)
+            }
         }
     };
-    let window = window(file, &at, x, &series, warnings)?;
+    let window = match reading.uniform() {
+        Some(_) => 0..series.t.len(),
+        None => window(file, &at, x, &series, warnings)?,
+    };
     let scored = &series.force[window.clone()];
-    if scored.iter().all(|&f| f == scored[0]) {
+    if reading.scores() && scored.iter().all(|&f| f == scored[0]) {
         // R² compares the model with the record's variation: there is none.
         let (t0, t1) = (series.t[window.start], series.t[window.end - 1]);
         return Err(invalid(
@@ -410,7 +450,7 @@ fn experiment(
     }
     let mut force = series.force;
     force.truncate(window.end);
-    let exp = ExperimentData {
+    let mut exp = ExperimentData {
         name: x.name.clone(),
         drive,
         t_first: series.t[0],
@@ -419,7 +459,12 @@ fn experiment(
         window,
         weight: x.weight,
     };
-    Ok((exp, digest))
+    if let Some(samples) = reading.record_samples() {
+        // Continued past the record or cut short; the placeholder is never scored.
+        exp.force.resize(samples, 0.0);
+        exp.window = 0..samples;
+    }
+    Ok((exp, digest, read.then_some(data_file)))
 }
 
 /// The sample range of the fit window; at least 2 samples inside the record.

@@ -40,6 +40,7 @@ mod param_file;
 pub mod raw;
 mod resolve;
 mod run_length;
+mod simulation;
 mod stability;
 
 use std::path::{Path, PathBuf};
@@ -49,6 +50,7 @@ pub use names::{MAX_NAME_CHARS, file_stem};
 pub use run_length::{
     CPU_STEPS_PER_S_PER_CORE, DEFAULT_MAX_STEPS, ExperimentRun, RunLength, human_duration,
 };
+pub use simulation::SimulationGrid;
 pub use stability::{MAX_AUTO_SUBSTEPS, STABILITY_LIMIT, SolverSettings};
 
 use crate::base::Scale;
@@ -170,13 +172,29 @@ impl Campaign {
             message: e.to_string(),
         })?;
         let dir = path.parent().unwrap_or(Path::new("."));
-        build::build(&text, dir, path)
+        build::build(&text, dir, path, simulation::Reading::Fit)
+    }
+
+    /// Reads and validates a campaign file for a simulation on `grid`: its
+    /// records are not scored (a constant placeholder column is accepted), and
+    /// with [`SimulationGrid::Uniform`] not read at all. The step is chosen for
+    /// the grid as for a fit.
+    pub fn load_for_simulation(
+        path: &Path,
+        grid: &SimulationGrid,
+    ) -> Result<Campaign, CampaignError> {
+        let text = std::fs::read_to_string(path).map_err(|e| CampaignError::Io {
+            file: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
+        let dir = path.parent().unwrap_or(Path::new("."));
+        build::build(&text, dir, path, simulation::Reading::Simulate(grid))
     }
 
     /// Validates campaign text; relative paths resolve against `base_dir` and
     /// messages name `origin` as the file.
     pub fn from_str(json: &str, base_dir: &Path, origin: &str) -> Result<Campaign, CampaignError> {
-        build::build(json, base_dir, Path::new(origin))
+        build::build(json, base_dir, Path::new(origin), simulation::Reading::Fit)
     }
 
     /// Refuses a campaign with nothing to search (for `rigfit run`).
@@ -268,7 +286,8 @@ impl Campaign {
 
     /// Sets values from a parameter file, `{"params": {"k1": 8.4e9,
     /// "v2.k_lin": 8.6e7, "v2.offset": 1.0e-5}}` (other top-level keys, as in a
-    /// run's `result.json`, are ignored). A plain name sets the parameter in
+    /// run's `result.json`, are ignored) or the same values as a flat object,
+    /// `{"k1": 8.4e9, …}`. A plain name sets the parameter in
     /// every experiment that takes it from the top level or the model default;
     /// `<experiment>.<param>` sets one experiment's experiment-scope parameter;
     /// `<experiment>.offset` its offset (s). Genes of those names become fixed;

@@ -1,5 +1,7 @@
 //! Parameter files for `rigfit simulate --params FILE`: fixed values that
-//! replace genes or fixed parameters of a loaded campaign.
+//! replace genes or fixed parameters of a loaded campaign. Two shapes are
+//! read: `{"params": {...}}` (a run's `result.json` is one; its other keys are
+//! ignored) and a flat object of values by name, `{"k": 4.0e4, "c": 12.0}`.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -21,6 +23,61 @@ struct ParamFile {
     params: BTreeMap<String, Option<f64>>,
 }
 
+/// Only whether the file has a `"params"` object: a flat file may name a
+/// parameter `params`, but its value is then a number, not an object.
+#[derive(Debug, Deserialize)]
+struct Shape {
+    #[serde(default)]
+    params: Option<serde_json::Value>,
+}
+
+/// A flat object of values by name; a name given twice is refused.
+#[derive(Debug)]
+struct FlatFile(BTreeMap<String, Option<f64>>);
+
+impl<'de> Deserialize<'de> for FlatFile {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        super::raw::unique_keys(d).map(FlatFile)
+    }
+}
+
+/// The file's values by name, and the JSON path its keys sit under
+/// (`"params."` or nothing).
+fn read_values(
+    text: &str,
+    path: &Path,
+) -> Result<(BTreeMap<String, Option<f64>>, &'static str), CampaignError> {
+    let shape: Shape = parse_json(text, path)?;
+    if shape
+        .params
+        .as_ref()
+        .is_some_and(serde_json::Value::is_object)
+    {
+        let file: ParamFile = parse_json(text, path)?;
+        return Ok((file.params, "params."));
+    }
+    match parse_json::<FlatFile>(text, path) {
+        Ok(flat) => Ok((flat.0, "")),
+        Err(CampaignError::Schema {
+            file,
+            line,
+            column,
+            path,
+            message,
+        }) => Err(CampaignError::Schema {
+            file,
+            line,
+            column,
+            path,
+            message: format!(
+                "{message}; a parameter file is {{\"params\": {{name: value, …}}}} (a result.json) \
+                 or a flat object {{name: value, …}} of numbers (null: never)"
+            ),
+        }),
+        Err(e) => Err(e),
+    }
+}
+
 /// What one key of the file sets.
 enum Key {
     /// A model parameter in every experiment that takes the top-level value.
@@ -40,13 +97,18 @@ pub(crate) fn apply(campaign: &mut Campaign, path: &Path) -> Result<(), Campaign
         file: path.to_path_buf(),
         message: e.to_string(),
     })?;
-    let file: ParamFile = parse_json(&text, path)?;
+    let (values, under) = read_values(&text, path)?;
+    let top = if under.is_empty() {
+        "(top level)"
+    } else {
+        "params"
+    };
     let model = c.model;
-    for (key, &value) in &file.params {
+    for (key, &value) in &values {
         // `null` is +∞, as in a campaign (a result.json writes it for a
         // specimen that never breaks).
         let value = value.unwrap_or(f64::INFINITY);
-        let at = format!("params.{key}");
+        let at = format!("{under}{key}");
         let target = match key.split_once('.') {
             None => {
                 let i =
@@ -94,7 +156,7 @@ pub(crate) fn apply(campaign: &mut Campaign, path: &Path) -> Result<(), Campaign
                 let i = param_index(model, name).unwrap_or(0);
                 let exp = &c.problem.experiments[e].name;
                 let expected = format!("{name}: {expected} (experiment '{exp}')");
-                return Err(invalid(path, "params", expected, v[i].to_string()));
+                return Err(invalid(path, top, expected, v[i].to_string()));
             }
         }
     }
@@ -113,7 +175,7 @@ pub(crate) fn apply(campaign: &mut Campaign, path: &Path) -> Result<(), Campaign
     )
     .map_err(|message| CampaignError::Unstable {
         file: path.to_path_buf(),
-        path: "params".into(),
+        path: top.into(),
         message,
     })?;
     c.solver.substeps = substeps;

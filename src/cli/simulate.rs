@@ -1,6 +1,8 @@
 //! `rigfit simulate`: one experiment of a campaign integrated with fixed
 //! values, written as a CSV of the rig's outputs and states, or as a
-//! synthetic measurement with noise.
+//! synthetic record with noise that the campaign can read back as it stands.
+//! Without a record (`--dt` with `--samples` or `--duration`) the run is
+//! sampled from t = 0 on a grid of the user's own.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -10,20 +12,24 @@ use clap::Args;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use super::campaign_file::load;
 use super::exit::BadInput;
 use super::options::RunLengthArgs;
 use super::output::{Output, write_file};
+use rigfit::base::data::Column;
 use rigfit::base::noise::gaussian;
-use rigfit::campaign::Campaign;
-use rigfit::eval::{Problem, simulate_history};
+use rigfit::base::text::echo;
+use rigfit::campaign::raw::{RawCampaign, RawData, RawDrive};
+use rigfit::campaign::{Campaign, SimulationGrid};
+use rigfit::eval::{History, Problem, simulate_history};
+use rigfit::job::memory::{self, human_bytes};
 
 /// `rigfit simulate`.
 #[derive(Debug, Args)]
 pub struct SimulateArgs {
     /// Campaign JSON file.
     pub campaign: PathBuf,
-    /// Parameter file (e.g. a result.json) whose "params" replace the campaign's values.
+    /// Parameter file whose values replace the campaign's: a result.json
+    /// ({"params": {...}}) or a flat object of values by name ({"k": 4e4}).
     #[arg(long)]
     pub params: Option<PathBuf>,
     /// CSV file to write.
@@ -35,26 +41,48 @@ pub struct SimulateArgs {
     /// Experiment to simulate, by name (default: the first).
     #[arg(long)]
     pub experiment: Option<String>,
-    /// Write a synthetic measurement with Gaussian noise of this standard deviation
-    /// (in the unit of the rig's output 0, the measured one: N for the tensile rig).
-    #[arg(long)]
+    /// Write a synthetic record with Gaussian noise of this standard deviation,
+    /// in the unit of the rig's measured output (output 0: N for a force, m for
+    /// a displacement, m/s² for an acceleration).
+    #[arg(long, allow_negative_numbers = true)]
     pub noise: Option<f64>,
     /// Seed of the noise.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
-    /// Samples to simulate at the experiment's sample interval (default: the
-    /// experiment's run length).
+    /// Samples to simulate: at --dt from t = 0 without reading the record, or
+    /// without --dt at the record's own interval from its first sample
+    /// (default: the record's samples up to the end of its fit window).
     #[arg(long)]
     pub samples: Option<usize>,
+    /// Length of the simulation (s), from t = 0 at --dt; the record is not read.
+    #[arg(long, allow_negative_numbers = true)]
+    pub duration: Option<f64>,
+    /// Sample interval (s) of a simulation without a record (with --samples or
+    /// --duration).
+    #[arg(long, allow_negative_numbers = true)]
+    pub dt: Option<f64>,
+    /// Without a record (--dt), the CSV file a drive column is read from: the
+    /// column, time column and scales the campaign names for its data file.
+    #[arg(long)]
+    pub drive: Option<PathBuf>,
+    /// Refuse a simulation whose estimated memory exceeds this (bytes, or with
+    /// K, M, G, T in powers of 1024: 512M, 2G); default: the memory available
+    /// now (MemAvailable in /proc/meminfo).
+    #[arg(long, value_parser = memory_size)]
+    pub max_memory: Option<f64>,
     #[command(flatten)]
     pub run_length: RunLengthArgs,
 }
 
 /// Simulates one experiment with the campaign's values and writes a CSV.
 pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
-    let c = load(&args.campaign, args.params.as_deref())?;
-    c.check_run_length(args.run_length.max_steps)?;
-    check_out_file(&args.out, &c, args.params.as_deref(), args.overwrite)?;
+    let grid = grid(args)?;
+    if let Some(n) = grid.samples() {
+        // Before the campaign allocates a single sample of the grid.
+        check_steps(args, n as f64, 1)?;
+        check_memory(args, n, 2)?;
+    }
+    let c = load(args, &grid)?;
     let e = match &args.experiment {
         None => 0,
         Some(name) => c.experiment_index(name).map_err(|names| {
@@ -63,83 +91,437 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
             ))
         })?,
     };
+    let (out_name, unit) = c.model.output_names()[0];
     if let Some(sigma) = args.noise {
         if !(sigma >= 0.0 && sigma.is_finite()) {
             return Err(BadInput(format!(
-                "--noise {sigma}: expected a standard deviation ≥ 0 (N)"
+                "--noise {sigma}: expected a standard deviation ≥ 0 in the unit of the \
+                 measured output '{out_name}' ({unit})"
             ))
             .into());
         }
     }
-    let mut problem: Problem = c.problem.clone();
-    let exp = &mut problem.experiments[e];
-    if let Some(n) = args.samples {
-        if n < 2 {
-            return Err(BadInput(format!("--samples {n}: expected at least 2")).into());
-        }
-        exp.force.resize(n, 0.0);
-        exp.window = 0..n;
+    let raw: RawCampaign = serde_json::from_str(&c.raw_json)?;
+    let x = &raw.experiments[e];
+    let drive_column = match &x.drive {
+        RawDrive::Force(t) => t.column.clone(),
+        RawDrive::Velocity => None,
+    };
+    if let (Some(file), None) = (&args.drive, &drive_column) {
+        return Err(BadInput(format!(
+            "--drive `{}`: experiment '{}' reads no drive column (its drive is {}); \
+             leave --drive out",
+            file.display(),
+            c.problem.experiments[e].name,
+            match &x.drive {
+                RawDrive::Velocity => "the rig's own \"velocity\" drive laws",
+                RawDrive::Force(_) => "an inline table",
+            }
+        ))
+        .into());
     }
+    let substeps = substeps(&c);
+    let n = c.problem.experiments[e].window.end;
+    c.check_run_length(args.run_length.max_steps)?;
+    let drives = usize::from(drive_column.is_some());
+    check_memory(
+        args,
+        n,
+        1 + c.model.output_names().len() + c.model.state_names().len() + drives,
+    )?;
+    check_out_file(&args.out, &c, args.params.as_deref(), args.overwrite)?;
+
+    let mut problem: Problem = c.problem.clone();
+    problem.substeps = substeps;
     let (params, offset) = (c.base[e].clone(), c.base_offsets[e]);
     let h = simulate_history(&problem, e, &params, offset);
     let exp = &problem.experiments[e];
-    let mut s = String::new();
-    match args.noise {
+    let drive = drive_column.as_ref().map(|col| {
+        let table = exp
+            .drive
+            .force_table()
+            .expect("a drive column is a force table");
+        let values: Vec<f64> = (0..h.t.len())
+            .map(|k| table.at(exp.t_first + k as f64 * exp.dt) / x.data.force_scale)
+            .collect();
+        (col, values)
+    });
+    let text = match args.noise {
         Some(sigma) => {
-            let mut rng = ChaCha8Rng::seed_from_u64(args.seed);
+            let layout = record_layout(&x.data, drive.as_ref().map(|d| d.0), (out_name, unit))?;
+            let mut s = String::new();
             let _ = writeln!(
                 s,
                 "# SYNTHETIC measurement: made by `rigfit simulate` from campaign {} (experiment {}),\n\
-                 # rig {}, Gaussian noise sigma = {sigma} {} on output {}, seed {}. Not a measured record.",
+                 # rig {}, Gaussian noise sigma = {sigma} {unit} on output {out_name}, seed {}. Not a measured record.",
                 c.name,
                 exp.name,
                 c.model.id(),
-                c.model.output_names()[0].1,
-                c.model.output_names()[0].0,
                 args.seed
             );
-            s += "t_s,force_N\n";
-            for (k, f) in h.outputs[0].iter().enumerate() {
-                let t = exp.t_first + k as f64 * exp.dt;
-                let _ = writeln!(s, "{t:.9e},{:.6e}", f + sigma * gaussian(&mut rng));
-            }
+            write_record(
+                &mut s,
+                &layout,
+                &h,
+                exp,
+                &x.data,
+                sigma,
+                args.seed,
+                drive.as_ref(),
+            );
+            s
         }
-        None => {
-            s += "t_s";
-            for (name, unit) in c.model.output_names() {
-                let _ = write!(s, ",{name}_{unit}");
-            }
-            for name in c.model.state_names() {
-                let _ = write!(s, ",{name}");
-            }
-            s.push('\n');
-            for k in 0..h.t.len() {
-                let _ = write!(s, "{:.9e}", h.t[k]);
-                for o in h.outputs.iter().chain(&h.states) {
-                    let _ = write!(s, ",{:.9e}", o[k]);
-                }
-                s.push('\n');
-            }
-        }
-    }
-    write_file(&args.out, s.as_bytes())?;
-    // Output 0 is the measured one, in the rig's own name and unit.
-    let (name, unit) = c.model.output_names()[0];
+        None => history_csv(&c, &h, drive.as_ref()),
+    };
+    write_file(&args.out, text.as_bytes())?;
     let peak = h.outputs[0].iter().fold(0.0_f64, |m, f| m.max(f.abs()));
     out.json(&serde_json::json!({
         "out": args.out, "experiment": exp.name, "samples": h.t.len(),
-        "peak": {"output": name, "unit": unit, "abs_max": peak},
+        "dt": exp.dt, "substeps": substeps, "record_read": grid.reads_records(),
+        "noise": args.noise.map(|s| serde_json::json!({"sigma": s, "unit": unit, "seed": args.seed})),
+        "drive_column": drive.as_ref().map(|d| column_label(d.0)),
+        "peak": {"output": out_name, "unit": unit, "abs_max": peak},
     }))?;
     out.say(|| {
+        let noise = args
+            .noise
+            .map(|s| format!(", noise σ = {s} {unit} on {out_name}"))
+            .unwrap_or_default();
         format!(
-            "simulated {} ({} samples, {}): largest |{name}| {peak:.4e} {unit} → {}",
+            "simulated {} ({} samples at dt = {:e} s, {}{noise}): largest |{out_name}| {peak:.4e} {unit} → {}",
             exp.name,
             h.t.len(),
-            rigfit::base::text::steps_per_sample(problem.substeps),
+            exp.dt,
+            rigfit::base::text::steps_per_sample(substeps),
             args.out.display()
         )
     });
     Ok(())
+}
+
+/// RK4 steps per sample interval for the simulation. The campaign's step rule
+/// chose them for this grid when it was loaded: the stability bound over the
+/// free parameters' ranges, or the campaign's own count. Without a record
+/// there is no noise to hold the integration error against, so an accuracy
+/// rule for a simulation takes a tolerance instead, and goes here.
+fn substeps(c: &Campaign) -> usize {
+    c.problem.substeps
+}
+
+/// The grid the options ask for; the record is read unless `--dt` is given.
+fn grid(args: &SimulateArgs) -> Result<SimulationGrid, BadInput> {
+    let positive = |flag: &str, v: f64, what: &str| {
+        if v > 0.0 && v.is_finite() {
+            Ok(v)
+        } else {
+            Err(BadInput(format!("{flag} {v}: expected {what}")))
+        }
+    };
+    if let Some(n) = args.samples {
+        if n < 2 {
+            return Err(BadInput(format!("--samples {n}: expected at least 2")));
+        }
+    }
+    let Some(dt) = args.dt else {
+        if let Some(d) = args.duration {
+            return Err(BadInput(format!(
+                "--duration {d}: expected --dt with it (the sample interval in s of a \
+                 simulation without a record)"
+            )));
+        }
+        if let Some(f) = &args.drive {
+            return Err(BadInput(format!(
+                "--drive `{}`: expected --dt and --samples or --duration with it; with the \
+                 record the drive column is read from the record",
+                f.display()
+            )));
+        }
+        return Ok(match args.samples {
+            Some(samples) => SimulationGrid::RecordInterval { samples },
+            None => SimulationGrid::Record,
+        });
+    };
+    let dt = positive("--dt", dt, "a sample interval > 0 (s)")?;
+    let samples = match (args.samples, args.duration) {
+        (Some(n), None) => n,
+        (None, Some(d)) => {
+            let d = positive("--duration", d, "a length > 0 (s)")?;
+            let intervals = (d / dt * (1.0 + 1e-12)).floor();
+            check_steps(args, intervals + 1.0, 1)?;
+            if intervals < 1.0 {
+                return Err(BadInput(format!(
+                    "--duration {d}: expected at least one sample interval (--dt {dt:e} s)"
+                )));
+            }
+            intervals as usize + 1
+        }
+        (Some(n), Some(d)) => {
+            return Err(BadInput(format!(
+                "--samples {n} and --duration {d}: expected one of them, not both"
+            )));
+        }
+        (None, None) => {
+            return Err(BadInput(format!(
+                "--dt {dt:e}: expected --samples N or --duration S with it"
+            )));
+        }
+    };
+    Ok(SimulationGrid::Uniform {
+        dt,
+        samples,
+        drive_file: args.drive.clone(),
+    })
+}
+
+/// The option that set the simulation's length, for messages.
+fn length_of(args: &SimulateArgs) -> String {
+    match (args.samples, args.duration, args.dt) {
+        (_, Some(d), Some(dt)) => format!("--duration {d} at --dt {dt:e}"),
+        (Some(n), _, _) => format!("--samples {n}"),
+        _ => "the record".into(),
+    }
+}
+
+/// Refuses `samples` samples that take more RK4 steps than `--max-steps` at
+/// `substeps` steps per sample interval (1: the fewest any step rule takes).
+fn check_steps(args: &SimulateArgs, samples: f64, substeps: usize) -> Result<(), BadInput> {
+    let max = args.run_length.max_steps;
+    let steps = (samples - 1.0) * substeps as f64;
+    if steps <= max {
+        return Ok(());
+    }
+    Err(BadInput(format!(
+        "{}: expected at most {max:e} RK4 steps per run (raise with --max-steps), found \
+         {samples:e} samples taking at least {steps:e} steps, one per sample interval",
+        length_of(args)
+    )))
+}
+
+/// Bytes each value of a simulated sample holds at the peak: the history's
+/// f64 and its text in the CSV (about 17 characters, and room for the text to
+/// grow into).
+const BYTES_PER_VALUE: f64 = 8.0 + 2.0 * 17.0;
+
+/// Refuses a simulation of `samples` samples of `values` values each (time,
+/// outputs, states, drives) that does not fit in `--max-memory` or the memory
+/// available now; the record's own copy and the grid's placeholder count too.
+fn check_memory(args: &SimulateArgs, samples: usize, values: usize) -> Result<(), BadInput> {
+    let need = samples as f64 * (values as f64 * BYTES_PER_VALUE + 16.0);
+    let (limit, source) = match (args.max_memory, memory::available_memory()) {
+        (Some(m), _) => (m, "--max-memory"),
+        (None, Some(m)) => (m, "the memory available now, MemAvailable in /proc/meminfo"),
+        (None, None) => return Ok(()),
+    };
+    if need <= limit {
+        return Ok(());
+    }
+    Err(BadInput(format!(
+        "{}: expected a simulation that fits in {} ({source}), found about {} ({samples} \
+         samples of {values} values); shorten it{}",
+        length_of(args),
+        human_bytes(limit),
+        human_bytes(need),
+        if args.max_memory.is_some() {
+            " or raise --max-memory"
+        } else {
+            ", free memory, or set --max-memory"
+        }
+    )))
+}
+
+/// The campaign read for `grid`, a parameter file's values applied, its
+/// warnings printed.
+fn load(args: &SimulateArgs, grid: &SimulationGrid) -> Result<Campaign> {
+    let mut c = Campaign::load_for_simulation(&args.campaign, grid)?;
+    if let Some(p) = &args.params {
+        c.apply_param_file(p)?;
+    }
+    for w in &c.warnings {
+        eprintln!("rigfit: warning: {w}");
+    }
+    Ok(c)
+}
+
+/// What one column of a synthetic record holds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Cell {
+    Time,
+    Measured,
+    Drive,
+    /// A column between two the campaign reads by position: zeros.
+    Unused,
+}
+
+/// The record's columns in order, each with its header, placed where the
+/// campaign's `data` reads them: by name, or at a 0-based position.
+fn record_layout(
+    data: &RawData,
+    drive: Option<&Column>,
+    (out_name, unit): (&str, &str),
+) -> Result<Vec<(String, Cell)>, BadInput> {
+    let time = data.time_column.clone().unwrap_or(Column::Index(0));
+    let measured = data.force_column.clone().unwrap_or(Column::Index(1));
+    let mut wanted = vec![
+        (time, "t_s".to_string(), Cell::Time),
+        (measured, format!("{out_name}_{unit}"), Cell::Measured),
+    ];
+    if let Some(d) = drive {
+        wanted.push((d.clone(), "drive".into(), Cell::Drive));
+    }
+    let width = wanted
+        .iter()
+        .map(|(c, ..)| match c {
+            Column::Index(i) => i + 1,
+            Column::Name(_) => 0,
+        })
+        .max()
+        .unwrap_or(0)
+        .max(wanted.len());
+    if width > 64 {
+        return Err(BadInput(format!(
+            "the campaign reads a column at position {}: expected positions below 64 for a \
+             record rigfit simulate writes; name the columns instead",
+            width - 1
+        )));
+    }
+    let mut slots: Vec<Option<(String, Cell)>> = vec![None; width];
+    for (c, default, cell) in &wanted {
+        if let Column::Index(i) = c {
+            if let Some((_, other)) = &slots[*i] {
+                return Err(BadInput(format!(
+                    "the campaign reads its {other:?} and {cell:?} columns both at position {i}; \
+                     expected one column per position"
+                )));
+            }
+            slots[*i] = Some((default.clone(), *cell));
+        }
+    }
+    for (c, _, cell) in &wanted {
+        if let Column::Name(name) = c {
+            if name.contains([',', ';', '\t', '"', '\n', '\r']) {
+                return Err(BadInput(format!(
+                    "column name {}: expected a name without separators, quotes or line breaks \
+                     for a record rigfit simulate writes",
+                    echo(name)
+                )));
+            }
+            let free = slots
+                .iter()
+                .position(Option::is_none)
+                .expect("as many slots as columns");
+            slots[free] = Some((name.clone(), *cell));
+        }
+    }
+    Ok(slots
+        .into_iter()
+        .enumerate()
+        .map(|(i, s)| s.unwrap_or_else(|| (format!("unused_{i}"), Cell::Unused)))
+        .collect())
+}
+
+/// Significant digits that keep the rounding of a noisy value well below the
+/// noise: at least the 7 the shipped records carry.
+fn digits(peak: f64, sigma: f64) -> usize {
+    if sigma > 0.0 && peak > 0.0 {
+        ((peak / sigma).log10().ceil() as usize + 3).clamp(7, 17)
+    } else {
+        17
+    }
+}
+
+/// Writes the synthetic record's header and rows: the record's time, output 0
+/// with noise, the drive column, each in the unit the campaign reads it in.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "one row writer, every part named"
+)]
+fn write_record(
+    s: &mut String,
+    layout: &[(String, Cell)],
+    h: &History,
+    exp: &rigfit::eval::ExperimentData,
+    data: &RawData,
+    sigma: f64,
+    seed: u64,
+    drive: Option<&(&Column, Vec<f64>)>,
+) {
+    let names: Vec<&str> = layout.iter().map(|(n, _)| n.as_str()).collect();
+    *s += &names.join(",");
+    s.push('\n');
+    let peak = h.outputs[0].iter().fold(0.0_f64, |m, f| m.max(f.abs()));
+    let p = digits(peak, sigma) - 1;
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    for (k, y) in h.outputs[0].iter().enumerate() {
+        let t = exp.t_first + k as f64 * exp.dt;
+        // One draw per sample whatever the layout, so a seed gives one noise.
+        let noisy = y + sigma * gaussian(&mut rng);
+        for (i, (_, cell)) in layout.iter().enumerate() {
+            if i > 0 {
+                s.push(',');
+            }
+            let _ = match cell {
+                Cell::Time => write!(s, "{:.9e}", t / data.time_scale),
+                Cell::Measured => write!(s, "{:.p$e}", noisy / data.force_scale),
+                Cell::Drive => write!(s, "{:e}", drive.map_or(0.0, |d| d.1[k])),
+                Cell::Unused => write!(s, "0"),
+            };
+        }
+        s.push('\n');
+    }
+}
+
+/// The history without noise: `t_s`, every output and state by the rig's own
+/// names, then the drive column by the campaign's name for it.
+fn history_csv(c: &Campaign, h: &History, drive: Option<&(&Column, Vec<f64>)>) -> String {
+    let mut s = String::from("t_s");
+    let mut names = vec!["t_s".to_string()];
+    for (name, unit) in c.model.output_names() {
+        names.push(format!("{name}_{unit}"));
+    }
+    names.extend(c.model.state_names().iter().map(ToString::to_string));
+    for n in &names[1..] {
+        let _ = write!(s, ",{n}");
+    }
+    if let Some((col, _)) = drive {
+        let name = match col {
+            Column::Name(n) if !names.contains(n) && !n.contains([',', '"', '\n', '\r']) => {
+                n.clone()
+            }
+            Column::Name(n) => format!("drive_{}", n.replace([',', '"', '\n', '\r'], "_")),
+            Column::Index(_) => "drive".into(),
+        };
+        let _ = write!(s, ",{name}");
+    }
+    s.push('\n');
+    for k in 0..h.t.len() {
+        let _ = write!(s, "{:.9e}", h.t[k]);
+        for o in h.outputs.iter().chain(&h.states) {
+            let _ = write!(s, ",{:.9e}", o[k]);
+        }
+        if let Some((_, d)) = drive {
+            let _ = write!(s, ",{:e}", d[k]);
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// A column as JSON names it: its header name or its 0-based position.
+fn column_label(c: &Column) -> serde_json::Value {
+    match c {
+        Column::Name(n) => n.clone().into(),
+        Column::Index(i) => (*i).into(),
+    }
+}
+
+/// `--max-memory`'s parser.
+fn memory_size(s: &str) -> Result<f64, String> {
+    memory::parse_bytes(s).ok_or_else(|| {
+        format!(
+            "expected a size > 0 in bytes or with K, M, G or T (512M, 2G), found {}",
+            echo(s)
+        )
+    })
 }
 
 /// Refuses an `--out` file that is one of the job's inputs, or that exists
