@@ -14,7 +14,8 @@ use rigfit::campaign::Campaign;
 use rigfit::model::compiled::CompiledRig;
 use serde_json::Value;
 
-/// Runs `rigfit identify ARGS… --out FRAGMENT` and returns the fragment.
+/// Runs `rigfit identify ARGS… --out FRAGMENT --overwrite` and returns the
+/// fragment (a test may write it more than once).
 fn identify(args: &[&str], dir: &Path) -> Value {
     let frag = dir.join("fragment.json");
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_rigfit"))
@@ -22,6 +23,7 @@ fn identify(args: &[&str], dir: &Path) -> Value {
         .args(args)
         .arg("--out")
         .arg(&frag)
+        .arg("--overwrite")
         .output()
         .unwrap();
     assert!(

@@ -227,3 +227,198 @@ fn a_rig_file_is_an_input_too() {
     );
     assert_eq!(std::fs::read(dir.path().join("my_rig.json")).unwrap(), rig);
 }
+
+#[test]
+fn a_link_planted_as_the_lock_file_is_refused_and_its_target_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let c = campaign(dir.path(), "v2", "v2_record.csv", "out");
+    let out = dir.path().join("out");
+    std::fs::create_dir(&out).unwrap();
+    let record_path = dir.path().join("v2_record.csv");
+    let record = std::fs::read(&record_path).unwrap();
+    std::os::unix::fs::symlink("../v2_record.csv", out.join(".rigfit.lock")).unwrap();
+    for flags in [&[][..], &["--overwrite"][..]] {
+        let o = run(&c, flags);
+        assert_eq!(o.status.code(), Some(2), "{flags:?}: {}", stderr(&o));
+        let err = stderr(&o);
+        assert!(
+            err.contains(".rigfit.lock") && err.contains("link"),
+            "{err}"
+        );
+        assert_eq!(std::fs::read(&record_path).unwrap(), record);
+        assert!(
+            !out.join("result.json").exists(),
+            "work done before refusing"
+        );
+    }
+}
+
+#[test]
+fn the_lock_file_goes_when_the_job_ends() {
+    let dir = tempfile::tempdir().unwrap();
+    let c = campaign(dir.path(), "v2", "v2_record.csv", "out");
+    let lock = dir.path().join("out").join(".rigfit.lock");
+    let o = run(&c, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(dir.path().join("out/result.json").is_file());
+    assert!(!lock.exists(), "the lock file stayed after the job");
+    // Refused once the lock was taken (the folder holds a result): it goes too.
+    let o = run(&c, &[]);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(!lock.exists(), "the lock file stayed after a refusal");
+    // A lock file left by a killed job is taken over and then removed.
+    std::fs::write(&lock, b"pid 999999\n").unwrap();
+    let o = run(&c, &["--overwrite"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!lock.exists(), "a stale lock file stayed");
+}
+
+/// The record of `identify`, `fit-specimen` and `ringdown` below: two
+/// columns, a header, a ringing decay.
+fn ringing_record(path: &Path) {
+    let mut s = String::from("t_s,force_N\n");
+    for k in 0..4000 {
+        let t = k as f64 * 1e-4;
+        let f = (-3.0 * t).exp() * (2.0 * std::f64::consts::PI * 50.0 * t).sin();
+        s += &format!("{t:.6e},{f:.6e}\n");
+    }
+    std::fs::write(path, s).unwrap();
+}
+
+/// The pre-calibration and identification commands on `record`, each with
+/// `outs` appended (flag, file) and `extra` flags.
+fn precal_commands(record: &Path) -> Vec<Vec<String>> {
+    let r = record.to_str().unwrap().to_string();
+    let s = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
+    vec![
+        s(&["fit-specimen", &r]),
+        s(&["ringdown", &r, "--m1", "7.9"]),
+        s(&[
+            "identify",
+            "idim",
+            &r,
+            "--position",
+            "2",
+            "--force",
+            "2",
+            "--sample-rate",
+            "1000",
+        ]),
+        s(&[
+            "identify", "frf", &r, "--input", "force_N", "--output", "force_N",
+        ]),
+    ]
+}
+
+#[test]
+fn precalibration_and_identify_never_write_over_their_input_or_an_existing_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let record = dir.path().join("rec.csv");
+    ringing_record(&record);
+    let original = std::fs::read(&record).unwrap();
+    let other = dir.path().join("mine.json");
+    std::fs::write(&other, b"my own file").unwrap();
+    let same_through_dots = dir.path().join(".").join("rec.csv");
+    for cmd in precal_commands(&record) {
+        let figure = if cmd[0] == "fit-specimen" {
+            "--out"
+        } else {
+            "--svg"
+        };
+        for flag in ["--out", figure] {
+            for target in [&record, &same_through_dots] {
+                for overwrite in [false, true] {
+                    let mut c = rigfit();
+                    c.arg("--quiet").args(&cmd).arg(flag).arg(target);
+                    if overwrite {
+                        c.arg("--overwrite");
+                    }
+                    let o = c.output().unwrap();
+                    let err = stderr(&o);
+                    assert_eq!(o.status.code(), Some(2), "{cmd:?} {flag}: {err}");
+                    assert!(
+                        err.contains("never writes over its inputs"),
+                        "{cmd:?}: {err}"
+                    );
+                    assert_eq!(std::fs::read(&record).unwrap(), original, "{cmd:?} {flag}");
+                }
+            }
+            // An existing file of the user's, without --overwrite.
+            let o = rigfit()
+                .arg("--quiet")
+                .args(&cmd)
+                .arg(flag)
+                .arg(&other)
+                .output()
+                .unwrap();
+            assert_eq!(o.status.code(), Some(2), "{cmd:?} {flag}: {}", stderr(&o));
+            assert!(stderr(&o).contains("--overwrite"), "{}", stderr(&o));
+            assert_eq!(std::fs::read(&other).unwrap(), b"my own file");
+        }
+    }
+}
+
+#[test]
+fn out_and_svg_naming_one_file_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let record = dir.path().join("rec.csv");
+    ringing_record(&record);
+    let x = dir.path().join("x.json");
+    let x_again = dir.path().join("sub").join("..").join("x.json");
+    std::fs::create_dir(dir.path().join("sub")).unwrap();
+    for cmd in precal_commands(&record).into_iter().skip(1) {
+        let o = rigfit()
+            .args(&cmd)
+            .arg("--out")
+            .arg(&x)
+            .arg("--svg")
+            .arg(&x_again)
+            .output()
+            .unwrap();
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{cmd:?}: {err}");
+        assert!(err.contains("names the same file"), "{cmd:?}: {err}");
+        assert!(!x.exists(), "{cmd:?} wrote before refusing");
+    }
+    let csv = dir.path().join("frf.csv");
+    let o = rigfit()
+        .args(&precal_commands(&record)[3])
+        .arg("--csv")
+        .arg(&csv)
+        .arg("--svg")
+        .arg(&csv)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(!csv.exists());
+}
+
+#[test]
+fn precalibration_replaces_its_own_earlier_output_with_overwrite() {
+    let dir = tempfile::tempdir().unwrap();
+    let record = dir.path().join("rec.csv");
+    ringing_record(&record);
+    let out = dir.path().join("ring.json");
+    let svg = dir.path().join("ring.svg");
+    let ringdown = |overwrite: bool| {
+        let mut c = rigfit();
+        c.args(["--quiet", "ringdown"])
+            .arg(&record)
+            .args(["--m1", "7.9", "--out"])
+            .arg(&out)
+            .arg("--svg")
+            .arg(&svg);
+        if overwrite {
+            c.arg("--overwrite");
+        }
+        c.output().unwrap()
+    };
+    let o = ringdown(false);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let first = std::fs::read(&out).unwrap();
+    let o = ringdown(false);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    let o = ringdown(true);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(std::fs::read(&out).unwrap(), first);
+}

@@ -323,3 +323,101 @@ fn expression_errors_name_the_column_and_what_is_wrong() {
         "{err}"
     );
 }
+
+#[test]
+fn output_names_and_units_that_would_break_a_csv_are_refused() {
+    let cases: Vec<(&str, Edit, &str)> = vec![
+        (
+            "an output name with a comma",
+            |v| v["outputs"][0]["name"] = json!("load,cell"),
+            "outputs[0].name",
+        ),
+        (
+            "an output name with a quote",
+            |v| v["outputs"][0]["name"] = json!("load\"cell"),
+            "outputs[0].name",
+        ),
+        (
+            "an output name with a line break",
+            |v| v["outputs"][1]["name"] = json!("x\nfitness: 0"),
+            "outputs[1].name",
+        ),
+        (
+            "an output name that is a spreadsheet formula",
+            |v| v["outputs"][0]["name"] = json!("=HYPERLINK(\"http://x\")"),
+            "outputs[0].name",
+        ),
+        (
+            "two outputs named alike",
+            |v| v["outputs"][1]["name"] = v["outputs"][0]["name"].clone(),
+            "outputs[1].name: expected a unique output name",
+        ),
+        (
+            "an output unit with a comma",
+            |v| v["outputs"][0]["unit"] = json!("N,m"),
+            "outputs[0].unit",
+        ),
+        (
+            "an output unit with a line break",
+            |v| v["outputs"][0]["unit"] = json!("N\nfitness"),
+            "outputs[0].unit",
+        ),
+        (
+            "an output unit that is a spreadsheet formula",
+            |v| v["outputs"][0]["unit"] = json!("=1+1"),
+            "outputs[0].unit",
+        ),
+        (
+            "a parameter unit with a quote",
+            |v| v["params"][0]["unit"] = json!("kg\""),
+            "params[0].unit",
+        ),
+    ];
+    for (what, edit, path) in cases {
+        let mut v = base();
+        edit(&mut v);
+        let err = compile(&v).expect_err(what);
+        println!("{what}: {err}");
+        assert!(err.starts_with("bad_rig.json: "), "{what}: {err}");
+        assert!(err.contains(path), "{what}: expected {path} in: {err}");
+        assert!(!err.contains('\n'), "{what}: more than one line: {err}");
+    }
+    // Units as the shipped rigs write them are accepted.
+    for unit in ["N", "m/s²", "N·s/m", "N·(s/m)^α", "1", "N/m^β", "", "%"] {
+        let mut v = base();
+        v["outputs"][0]["unit"] = json!(unit);
+        compile(&v).unwrap_or_else(|e| panic!("{unit:?}: {e}"));
+    }
+}
+
+#[test]
+fn trailing_text_and_a_reach_that_is_not_positive_are_refused() {
+    let src = RigSource::File("bad_rig.json".into());
+    let text = base().to_string();
+    for tail in ["}", " {\"id\": \"x\"}", "\nx"] {
+        let err = parse(&format!("{text}{tail}"), &src)
+            .unwrap_err()
+            .to_string();
+        println!("{tail:?}: {err}");
+        assert!(
+            err.starts_with("bad_rig.json: (top level): expected the end of the file"),
+            "{err}"
+        );
+        assert!(err.contains("more text at line"), "{err}");
+    }
+    assert!(parse(&format!("\u{feff}{text}\n\n"), &src).is_ok());
+    for (reach, path) in [
+        (
+            json!({"elongation": -0.01, "rate": 10.0}),
+            "reach.elongation",
+        ),
+        (json!({"elongation": 0.0, "rate": 10.0}), "reach.elongation"),
+        (json!({"elongation": 0.01, "rate": -10.0}), "reach.rate"),
+    ] {
+        let mut v = base();
+        v["reach"] = reach;
+        let err = compile(&v).unwrap_err();
+        println!("{err}");
+        assert!(err.contains(path) && err.contains("> 0"), "{err}");
+    }
+}

@@ -143,11 +143,11 @@ pub enum DataError {
 
 /// Reads and parses a measured-data file (see the module docs for the format).
 pub fn load_csv(path: &Path, spec: &CsvSpec) -> Result<Series, DataError> {
-    let text = std::fs::read_to_string(path).map_err(|e| DataError::Io {
+    let bytes = crate::base::fsutil::read_record(path).map_err(|e| DataError::Io {
         file: path.to_path_buf(),
         message: e.to_string(),
     })?;
-    parse_csv(&text, path, spec)
+    parse_csv(&String::from_utf8_lossy(&bytes), path, spec)
 }
 
 /// The lines of CSV text that hold a header or data: each line neither blank

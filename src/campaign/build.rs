@@ -358,7 +358,7 @@ fn experiment(
         source: Box::new(source),
     };
     let bytes = if read {
-        std::fs::read(&data_file).map_err(|err| {
+        crate::base::fsutil::read_record(&data_file).map_err(|err| {
             let source = crate::base::data::DataError::Io {
                 file: data_file.clone(),
                 message: err.to_string(),

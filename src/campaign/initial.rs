@@ -186,7 +186,7 @@ fn from_data(
         path: format!("{path}.column"),
         source: Box::new(source),
     };
-    let text = std::fs::read(&data_file).map_err(|err| {
+    let text = crate::base::fsutil::read_record(&data_file).map_err(|err| {
         data_err(crate::base::data::DataError::Io {
             file: data_file.clone(),
             message: err.to_string(),

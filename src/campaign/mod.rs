@@ -167,7 +167,7 @@ impl Campaign {
     /// Reads and validates a campaign file; data files are relative to its
     /// folder.
     pub fn load(path: &Path) -> Result<Campaign, CampaignError> {
-        let text = std::fs::read_to_string(path).map_err(|e| CampaignError::Io {
+        let text = crate::base::fsutil::read_description(path).map_err(|e| CampaignError::Io {
             file: path.to_path_buf(),
             message: e.to_string(),
         })?;
@@ -183,7 +183,7 @@ impl Campaign {
         path: &Path,
         grid: &SimulationGrid,
     ) -> Result<Campaign, CampaignError> {
-        let text = std::fs::read_to_string(path).map_err(|e| CampaignError::Io {
+        let text = crate::base::fsutil::read_description(path).map_err(|e| CampaignError::Io {
             file: path.to_path_buf(),
             message: e.to_string(),
         })?;

@@ -93,7 +93,7 @@ pub(crate) fn apply(campaign: &mut Campaign, path: &Path) -> Result<(), Campaign
     // Work on a copy so that a refused file leaves the campaign as it was.
     let mut next = campaign.clone();
     let c = &mut next;
-    let text = std::fs::read_to_string(path).map_err(|e| CampaignError::Io {
+    let text = crate::base::fsutil::read_description(path).map_err(|e| CampaignError::Io {
         file: path.to_path_buf(),
         message: e.to_string(),
     })?;

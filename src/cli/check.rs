@@ -40,6 +40,14 @@ fn search_estimate(c: &Campaign, steps_per_candidate: f64) -> serde_json::Value 
 /// Validates a campaign and its data.
 pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
     let c = load_for_check(&args.campaign)?;
+    // Every expression law over the rig's reach, with the parameters at the
+    // campaign's bounds: one not finite there is refused before any work.
+    for e in 0..c.problem.experiments.len() {
+        let (lo, hi) = c.bounds(e);
+        let file = format!("{} (rig {})", args.campaign.display(), c.model.id());
+        rigfit::compile::front::finite::check_laws(&c.model.desc, &file, &[&lo, &hi])
+            .map_err(|e| super::exit::BadInput(e.to_string()))?;
+    }
     let length = c.check_run_length(args.run_length.max_steps)?;
     let search = c
         .search_given

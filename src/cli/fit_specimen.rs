@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::Args;
 
-use super::fragment::Findings;
+use super::fragment::{Files, Findings};
 use super::output::Output;
 use super::record::{in_file, read_two_columns};
 use rigfit::identify::specimen::{self, SpecimenFitOptions};
@@ -23,10 +23,18 @@ pub struct FitSpecimenArgs {
     /// Write the campaign fragment (JSON) here.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Replace the --out file when it exists (never the data file).
+    #[arg(long)]
+    pub overwrite: bool,
 }
 
 /// Fits the specimen law and prints or writes the campaign fragment.
 pub fn fit_specimen(args: &FitSpecimenArgs, out: &Output) -> Result<()> {
+    let files = Files {
+        fragment: args.out.as_deref(),
+        figure: None,
+    };
+    files.check(&[], &[&args.data], args.overwrite)?;
     let data = read_two_columns(&args.data)?;
     let opts = SpecimenFitOptions {
         degree: args.degree,

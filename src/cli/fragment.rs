@@ -6,7 +6,8 @@ use std::path::Path;
 
 use anyhow::Result;
 
-use super::output::{Output, write_file};
+use super::exit::BadInput;
+use super::output::{Output, check_out_files, write_file};
 use rigfit::identify::plot::{Panel, panels_svg};
 
 /// Where a command's files go.
@@ -16,6 +17,26 @@ pub struct Files<'a> {
     pub fragment: Option<&'a Path>,
     /// `--svg`: the figure.
     pub figure: Option<&'a Path>,
+}
+
+impl Files<'_> {
+    /// Refuses, before any work, the fragment, the figure and a command's
+    /// `more` files (each with its flag) where one is an input, exists
+    /// without `overwrite`, is a folder or lies in a missing folder
+    /// ([`check_out_files`]).
+    pub fn check(
+        &self,
+        more: &[(&str, Option<&Path>)],
+        inputs: &[&Path],
+        overwrite: bool,
+    ) -> Result<(), BadInput> {
+        let outs: Vec<(&str, &Path)> = [("--out", self.fragment), ("--svg", self.figure)]
+            .iter()
+            .chain(more)
+            .filter_map(|&(flag, path)| path.map(|p| (flag, p)))
+            .collect();
+        check_out_files(&outs, inputs, overwrite)
+    }
 }
 
 /// A figure: a title over panels laid out in columns. The panels are drawn

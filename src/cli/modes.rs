@@ -4,12 +4,13 @@
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Args;
 
 use super::campaign_file::load;
+use super::exit::BadInput;
 use super::output::Output;
-use rigfit::model::modes::ModeReport;
+use rigfit::model::modes::{ModeReport, ModesError};
 
 /// `rigfit modes`.
 #[derive(Debug, Args)]
@@ -27,7 +28,15 @@ pub fn modes(args: &ModesArgs, out: &Output) -> Result<()> {
     let mut reports = Vec::new();
     for (e, exp) in c.problem.experiments.iter().enumerate() {
         let lin = c.model.linearise(&c.base[e], &exp.drive);
-        let report = ModeReport::new(&lin).context("modal analysis")?;
+        let report = ModeReport::new(&lin).map_err(|e| match e {
+            // The rig's laws, not the program, are at fault: bad input.
+            ModesError::NotFinite { .. } => anyhow::Error::new(BadInput(format!(
+                "{}: experiment {:?}: {e}",
+                args.campaign.display(),
+                exp.name
+            ))),
+            other => anyhow::Error::new(other).context("modal analysis"),
+        })?;
         reports.push((exp.name.clone(), report));
     }
     let about = c.model.linearisation_point();

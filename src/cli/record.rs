@@ -10,9 +10,16 @@ use rigfit::identify::PrecalError;
 use rigfit::identify::columns::{Table, sample_interval};
 use rigfit::identify::csv_input::{self, TwoColumns};
 
-/// A pre-calibration or identification error as one line that names the input file.
+/// A pre-calibration or identification error as one line that names the
+/// input file, with its causes (why the file could not be read).
 pub fn in_file(path: &Path, e: PrecalError) -> anyhow::Error {
-    BadInput(format!("{}: {e}", path.display())).into()
+    let mut line = format!("{}: {e}", path.display());
+    let mut cause = std::error::Error::source(&e);
+    while let Some(c) = cause {
+        line += &format!(": {c}");
+        cause = c.source();
+    }
+    BadInput(line).into()
 }
 
 /// Reads a two-column CSV file (x, then y).

@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use anyhow::Result;
 use clap::Args;
 
+use super::exit::BadInput;
 use super::fragment::{Figure, Files, Findings};
 use super::output::Output;
 use super::record::{in_file, read_two_columns};
@@ -33,11 +34,37 @@ pub struct RingdownArgs {
     /// and the peaks' decay against each estimator's.
     #[arg(long)]
     pub svg: Option<PathBuf>,
+    /// Replace the --out and --svg files when they exist (never the data file).
+    #[arg(long)]
+    pub overwrite: bool,
 }
 
 /// Analyses a ringdown and prints or writes the campaign fragment.
 pub fn ringdown(args: &RingdownArgs, out: &Output) -> Result<()> {
+    let start_refused = |start: f64, span: &str| {
+        BadInput(format!(
+            "--start {start}: expected a time on the record's time axis{span} \
+             (leave it out to start at the largest drop)"
+        ))
+    };
+    if let Some(start) = args.start.filter(|s| !s.is_finite()) {
+        return Err(start_refused(start, "").into());
+    }
+    let files = Files {
+        fragment: args.out.as_deref(),
+        figure: args.svg.as_deref(),
+    };
+    files.check(&[], &[&args.data], args.overwrite)?;
     let data = read_two_columns(&args.data)?;
+    if let (Some(start), Some(&first), Some(&last)) = (args.start, data.x.first(), data.x.last()) {
+        if !(first..last).contains(&start) {
+            let span = format!(
+                ", from {first} s to before {last} s in `{}`",
+                args.data.display()
+            );
+            return Err(start_refused(start, &span).into());
+        }
+    }
     let opts = RingdownOptions {
         m1: args.m1,
         k1: args.k1,
@@ -45,10 +72,6 @@ pub fn ringdown(args: &RingdownArgs, out: &Output) -> Result<()> {
         ..RingdownOptions::default()
     };
     let r = ringdown::analyse(&data.x, &data.y, &opts).map_err(|e| in_file(&args.data, e))?;
-    let files = Files {
-        fragment: args.out.as_deref(),
-        figure: args.svg.as_deref(),
-    };
     let figure = Figure {
         title: format!("ringdown of {}", args.data.display()),
         panels: || ringdown::figure(&r, &data.x, &data.y),

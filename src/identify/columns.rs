@@ -112,11 +112,21 @@ pub(crate) fn parse_rows(text: &str, width: Option<usize>) -> Result<Table, Prec
     Ok(Table { header, columns })
 }
 
-/// The text of `path`, or [`PrecalError::Io`] naming it.
+/// The text of `path`, read as every measured record is
+/// ([`crate::base::fsutil::read_record`]: a regular file of at most
+/// [`crate::base::fsutil::MAX_RECORD_BYTES`]), or [`PrecalError::Io`] naming it.
 pub(crate) fn read_text(path: &Path) -> Result<String, PrecalError> {
-    std::fs::read_to_string(path).map_err(|source| PrecalError::Io {
+    let io = |source| PrecalError::Io {
         path: path.to_path_buf(),
         source,
+    };
+    let bytes = crate::base::fsutil::read_record(path).map_err(io)?;
+    String::from_utf8(bytes).map_err(|e| {
+        let at = e.utf8_error().valid_up_to();
+        io(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!("expected UTF-8 text, found an invalid byte at offset {at}"),
+        ))
     })
 }
 

@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 use serde::{Deserialize, Serialize};
 
 use super::{CHECKPOINT_FILE, JobError};
-use crate::base::fsutil::atomic_write;
+use crate::base::fsutil::{atomic_write, is_temp_name_of};
 use crate::campaign::{Campaign, file_stem};
 
 /// The manifest: every file name rigfit has written (or was about to write)
@@ -24,7 +24,8 @@ use crate::campaign::{Campaign, file_stem};
 pub const MANIFEST_FILE: &str = "rigfit-files.json";
 
 /// The lock file; a job holds an exclusive lock on it from before its first
-/// evaluation to its end.
+/// evaluation to its end, and removes it when it ends (a killed job leaves
+/// it, unlocked, for the next job to take).
 pub const LOCK_FILE: &str = ".rigfit.lock";
 
 /// The files a job of `campaign` writes into its output folder, in the order of
@@ -63,11 +64,11 @@ pub enum FolderMode {
 }
 
 /// An output folder, created, locked and checked. Hold it until the job's last
-/// file is written: dropping it releases the lock.
+/// file is written: dropping it removes the lock file and releases the lock.
 #[derive(Debug)]
 pub struct OutputFolder {
     path: PathBuf,
-    _lock: File,
+    _lock: Lock,
 }
 
 impl OutputFolder {
@@ -191,9 +192,10 @@ fn read_manifest(path: &Path) -> Result<Manifest, JobError> {
     })
 }
 
-/// `.<name>.tmp-<pid>` files of this job's outputs: what an atomic write
-/// interrupted by a kill leaves. Only a job holding the lock calls this, so no
-/// other rigfit job is writing them.
+/// The temporary files of this job's outputs (`.<name>.tmp-<pid>-<token>`,
+/// [`crate::base::fsutil::temp_path_for`]): what an atomic write interrupted
+/// by a kill leaves. Only a job holding the lock calls this, so no other
+/// rigfit job is writing them.
 fn remove_stale_temporaries(dir: &Path, files: &[String]) {
     let Ok(entries) = fs::read_dir(dir) else {
         return;
@@ -202,42 +204,104 @@ fn remove_stale_temporaries(dir: &Path, files: &[String]) {
     for entry in entries.flatten() {
         let name = entry.file_name();
         let Some(name) = name.to_str() else { continue };
-        let Some((base, pid)) = name.strip_prefix('.').and_then(|n| n.rsplit_once(".tmp-")) else {
-            continue;
-        };
-        let ours = files.iter().chain([&manifest]).any(|f| f == base);
-        if ours && !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit()) {
+        let ours = files
+            .iter()
+            .chain([&manifest])
+            .any(|f| is_temp_name_of(name, f));
+        if ours {
             let _ = fs::remove_file(entry.path());
         }
     }
 }
 
-/// Takes the folder's lock, or says which job holds it.
-fn lock(dir: &Path) -> Result<File, JobError> {
-    let path = dir.join(LOCK_FILE);
-    let mut file = OpenOptions::new()
-        .read(true)
-        .write(true)
-        .create(true)
-        .truncate(false)
-        .open(&path)
-        .map_err(|e| JobError::OutputPath {
-            path: dir.to_path_buf(),
-            reason: format!("cannot create its lock file {LOCK_FILE}: {e}"),
-        })?;
-    if !try_lock(&file) {
-        let mut holder = String::new();
-        let _ = file.read_to_string(&mut holder);
-        return Err(JobError::OutputLocked {
-            path: dir.to_path_buf(),
-            holder: holder.trim().chars().take(40).collect(),
-        });
+/// The folder's lock: the open lock file, and its path, removed when the job
+/// ends (in every way but a kill).
+#[derive(Debug)]
+struct Lock {
+    /// Held open: closing it releases the lock.
+    _file: File,
+    path: PathBuf,
+}
+
+impl Drop for Lock {
+    fn drop(&mut self) {
+        // Removed while still held, so that a job that opened it meanwhile
+        // finds, once it has the lock, that the name no longer leads to it
+        // and starts again (`lock`).
+        let _ = fs::remove_file(&self.path);
     }
-    // Who holds it, for the message another job prints; best effort.
-    let _ = file.set_len(0);
-    let _ = file.rewind();
-    let _ = writeln!(file, "pid {}", std::process::id());
-    Ok(file)
+}
+
+/// Takes the folder's lock, or says which job holds it. The lock file is
+/// created without following a link (one planted under its name is refused,
+/// its target untouched) and must be a plain file.
+fn lock(dir: &Path) -> Result<Lock, JobError> {
+    let path = dir.join(LOCK_FILE);
+    let refused = |reason: String| JobError::OutputPath {
+        path: dir.to_path_buf(),
+        reason,
+    };
+    for _ in 0..100 {
+        let mut options = OpenOptions::new();
+        options.read(true).write(true).create(true).truncate(false);
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::OpenOptionsExt as _;
+            let flags = rustix::fs::OFlags::NOFOLLOW | rustix::fs::OFlags::NONBLOCK;
+            options.custom_flags(flags.bits() as i32);
+        }
+        let mut file = options.open(&path).map_err(|e| {
+            let link = fs::symlink_metadata(&path).is_ok_and(|m| m.is_symlink());
+            if link {
+                refused(format!(
+                    "its lock file {LOCK_FILE} is a symbolic link; rigfit never writes \
+                     through a link (remove it)"
+                ))
+            } else {
+                refused(format!("cannot create its lock file {LOCK_FILE}: {e}"))
+            }
+        })?;
+        let meta = file
+            .metadata()
+            .map_err(|e| refused(format!("cannot read its lock file {LOCK_FILE}: {e}")))?;
+        if !meta.is_file() {
+            return Err(refused(format!(
+                "its lock file {LOCK_FILE} exists and is not a plain file"
+            )));
+        }
+        if !try_lock(&file) {
+            let mut holder = String::new();
+            let _ = file.read_to_string(&mut holder);
+            return Err(JobError::OutputLocked {
+                path: dir.to_path_buf(),
+                holder: holder.trim().chars().take(40).collect(),
+            });
+        }
+        if !same_file(&meta, &path) {
+            // The job that held it ended and removed it; lock the new one.
+            continue;
+        }
+        // Who holds it, for the message another job prints; best effort.
+        let _ = file.set_len(0);
+        let _ = file.rewind();
+        let _ = writeln!(file, "pid {}", std::process::id());
+        return Ok(Lock { _file: file, path });
+    }
+    Err(refused(format!(
+        "its lock file {LOCK_FILE} keeps changing under other rigfit jobs"
+    )))
+}
+
+/// Whether `path` still names the file `meta` was read from.
+#[cfg(unix)]
+fn same_file(meta: &fs::Metadata, path: &Path) -> bool {
+    use std::os::unix::fs::MetadataExt as _;
+    fs::symlink_metadata(path).is_ok_and(|m| m.dev() == meta.dev() && m.ino() == meta.ino())
+}
+
+#[cfg(not(unix))]
+fn same_file(_meta: &fs::Metadata, path: &Path) -> bool {
+    path.is_file()
 }
 
 #[cfg(unix)]
@@ -268,6 +332,30 @@ mod tests {
         assert!(matches!(err, JobError::OutputLocked { .. }), "{err}");
         drop(first);
         OutputFolder::open(dir.path(), &files, &[], FolderMode::New).unwrap();
+    }
+
+    #[test]
+    fn the_lock_file_goes_with_the_job_and_a_planted_link_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let files = names(&["result.json"]);
+        let held = OutputFolder::open(dir.path(), &files, &[], FolderMode::New).unwrap();
+        assert!(dir.path().join(LOCK_FILE).is_file());
+        drop(held);
+        assert!(!dir.path().join(LOCK_FILE).exists());
+        // Refused after the lock was taken: the lock file goes all the same.
+        fs::write(dir.path().join("result.json"), b"mine").unwrap();
+        OutputFolder::open(dir.path(), &files, &[], FolderMode::New).unwrap_err();
+        assert!(!dir.path().join(LOCK_FILE).exists());
+        fs::remove_file(dir.path().join("result.json")).unwrap();
+
+        let record = dir.path().join("record.csv");
+        fs::write(&record, b"t_s,force_N\n").unwrap();
+        std::os::unix::fs::symlink(&record, dir.path().join(LOCK_FILE)).unwrap();
+        let err = OutputFolder::open(dir.path(), &files, &[], FolderMode::New).unwrap_err();
+        assert!(matches!(err, JobError::OutputPath { .. }), "{err}");
+        assert!(err.to_string().contains("symbolic link"), "{err}");
+        assert_eq!(fs::read(&record).unwrap(), b"t_s,force_N\n");
+        assert!(fs::symlink_metadata(dir.path().join(LOCK_FILE)).is_ok_and(|m| m.is_symlink()));
     }
 
     #[test]

@@ -31,6 +31,20 @@ pub enum ModesError {
         /// The offending mass (kg).
         mass: f64,
     },
+    /// A stiffness entry is not a finite number: a law is not finite (or not
+    /// differentiable) where the rig is linearised.
+    #[error(
+        "the linearisation is not finite: stiffness entry ({row}, {column}) is {value} N/m, \
+         expected a finite number (a law is not finite where the rig is linearised)"
+    )]
+    NotFinite {
+        /// Row's dof.
+        row: String,
+        /// Column's dof.
+        column: String,
+        /// The entry (NaN or ±∞).
+        value: f64,
+    },
 }
 
 /// One natural mode.
@@ -88,6 +102,13 @@ impl ModeReport {
                     mass,
                 });
             }
+        }
+        if let Some(k) = lin.stiffness.iter().position(|x| !x.is_finite()) {
+            return Err(ModesError::NotFinite {
+                row: lin.dofs[k / n].to_string(),
+                column: lin.dofs[k % n].to_string(),
+                value: lin.stiffness[k],
+            });
         }
         let inv_sqrt: Vec<f64> = lin.mass.iter().map(|m| 1.0 / m.sqrt()).collect();
         let a = DMatrix::from_fn(n, n, |i, j| {

@@ -92,8 +92,10 @@ impl RigSource {
 
 /// Parses rig text, naming the JSON path of the first thing wrong.
 pub fn parse(text: &str, source: &RigSource) -> Result<RigDesc, RigError> {
+    // A byte-order mark, as editors on some systems write it, is not content.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let de = &mut serde_json::Deserializer::from_str(text);
-    let desc: RigDesc = serde_path_to_error::deserialize(de).map_err(|e| {
+    let desc: RigDesc = serde_path_to_error::deserialize(&mut *de).map_err(|e| {
         let path = e.path().to_string();
         let inner = e.into_inner();
         RigError::new(
@@ -105,6 +107,16 @@ pub fn parse(text: &str, source: &RigSource) -> Result<RigDesc, RigError> {
             },
             "a valid rig description",
             inner.to_string(),
+        )
+    })?;
+    // Anything after the rig's object (a bad merge's second object, a stray
+    // brace) is an error, not something to ignore.
+    de.end().map_err(|e| {
+        RigError::new(
+            source.label(),
+            "(top level)",
+            "the end of the file after the rig's JSON object",
+            format!("more text at line {} column {}", e.line(), e.column()),
         )
     })?;
     Ok(desc)
@@ -132,7 +144,7 @@ pub fn resolve(
                 return Ok((parse(text, &src)?, src));
             }
             let path = dir.join(s);
-            let text = std::fs::read_to_string(&path).map_err(|e| {
+            let text = crate::base::fsutil::read_description(&path).map_err(|e| {
                 let ids: Vec<&str> = SHIPPED.iter().map(|(i, _)| *i).collect();
                 RigError::new(
                     campaign.display().to_string(),

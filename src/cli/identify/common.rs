@@ -1,10 +1,11 @@
 //! Options the identification methods share: where the fragment and the
 //! figure go, whether the fragment holds fixed values, and the fitted band.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
 
+use crate::cli::exit::BadInput;
 use crate::cli::fragment::Files;
 
 /// The band a method fits over (`--f-min`, `--f-max`).
@@ -34,6 +35,10 @@ pub struct Common {
     /// Write the figure (SVG) here.
     #[arg(long)]
     pub svg: Option<PathBuf>,
+    /// Replace the --out, --svg (and --csv) files when they exist (never the
+    /// input records).
+    #[arg(long)]
+    pub overwrite: bool,
     /// Write fixed values instead of free parameters with bounds and an init seed.
     #[arg(long)]
     pub fixed: bool,
@@ -46,5 +51,16 @@ impl Common {
             fragment: self.out.as_deref(),
             figure: self.svg.as_deref(),
         }
+    }
+
+    /// Refuses the files this method would write, before any work, where
+    /// one is one of the `inputs`, exists without `--overwrite`, is a folder
+    /// or lies in a missing folder; `more` are the method's own outputs.
+    pub fn check_files(
+        &self,
+        more: &[(&str, Option<&Path>)],
+        inputs: &[&Path],
+    ) -> Result<(), BadInput> {
+        self.files().check(more, inputs, self.overwrite)
     }
 }

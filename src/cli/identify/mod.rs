@@ -11,6 +11,8 @@ mod nimiso;
 mod rfs;
 mod sensitivity;
 
+use std::path::Path;
+
 use anyhow::Result;
 use clap::{Args, Subcommand};
 
@@ -112,8 +114,19 @@ pub enum Method {
     Sensitivity(sensitivity::SensitivityArgs),
 }
 
-/// Runs one identification method.
+/// Runs one identification method, once the files it would write are
+/// checked against its inputs and what exists.
 pub fn identify(args: &IdentifyArgs, out: &Output) -> Result<()> {
+    let (common, inputs, csv): (&common::Common, Vec<&Path>, Option<&Path>) = match &args.method {
+        Method::Rfs(a) => (&a.common, vec![&a.data], None),
+        Method::Frf(a) => (&a.common, vec![&a.data], a.csv.as_deref()),
+        Method::Idim(a) => (&a.common, vec![&a.data], None),
+        Method::Nimiso(a) => (&a.common, vec![&a.data], None),
+        Method::Arx(a) => (&a.common, vec![&a.data], a.csv.as_deref()),
+        Method::Impedance(a) => (&a.common, vec![&a.x_test, &a.y_test], None),
+        Method::Sensitivity(a) => (&a.common, vec![&a.base, &a.changed], None),
+    };
+    common.check_files(&[("--csv", csv)], &inputs)?;
     match &args.method {
         Method::Rfs(a) => rfs::rfs(a, out),
         Method::Frf(a) => frf::frf(a, out),

@@ -363,9 +363,53 @@ pub fn deriv_jacobian_box(prog: &Program, bx: &InputBox) -> Vec<Interval> {
     let mut jac = vec![Interval::point(0.0); n * n];
     let mut dot = vec![Interval::point(0.0); ops.len()];
     let one = Interval::point(1.0);
+    let zero = Interval::point(0.0);
+    // The tangent by `y_j` is zero outside the operations that read `y_j`
+    // (its cone): only those are evaluated, so a sparse rig (a chain) costs
+    // its cones, not `n × ops`. A tangent whose operands' tangents are all
+    // zero is zero (what the dense sweep computed, less its 1-ulp widening).
+    let mut users: Vec<Vec<Id>> = vec![vec![]; ops.len()];
+    let mut reads: Vec<Vec<Id>> = vec![vec![]; n];
+    for (i, &op) in ops.iter().enumerate() {
+        if !live[i] {
+            continue;
+        }
+        if let Op::In(Input::State(s)) = op
+            && (s as usize) < n
+        {
+            reads[s as usize].push(i as Id);
+        }
+        for a in crate::compile::ir::operands(&op) {
+            users[a as usize].push(i as Id);
+        }
+    }
+    let mut in_cone = vec![false; ops.len()];
     for j in 0..n {
-        for (i, &op) in ops.iter().enumerate() {
-            if !live[i] {
+        let mut cone: Vec<Id> = reads[j].clone();
+        let mut k = 0;
+        while k < cone.len() {
+            let c = cone[k] as usize;
+            if !in_cone[c] {
+                in_cone[c] = true;
+                for &u in &users[c] {
+                    if !in_cone[u as usize] {
+                        cone.push(u);
+                    }
+                }
+            }
+            k += 1;
+        }
+        cone.sort_unstable();
+        cone.dedup();
+        for &ci in &cone {
+            let i = ci as usize;
+            let op = ops[i];
+            if crate::compile::ir::operands(&op)
+                .into_iter()
+                .all(|a| !in_cone[a as usize])
+                && !matches!(op, Op::In(Input::State(_)))
+            {
+                dot[i] = zero;
                 continue;
             }
             let v = |k: Id| val[k as usize];
@@ -413,7 +457,13 @@ pub fn deriv_jacobian_box(prog: &Program, bx: &InputBox) -> Vec<Interval> {
             dot[i] = x;
         }
         for (i, &id) in prog.deriv.iter().enumerate() {
-            jac[i * n + j] = dot[id as usize];
+            if in_cone[id as usize] {
+                jac[i * n + j] = dot[id as usize];
+            }
+        }
+        for &ci in &cone {
+            in_cone[ci as usize] = false;
+            dot[ci as usize] = zero;
         }
     }
     jac
@@ -427,13 +477,22 @@ pub fn deriv_jacobian_box(prog: &Program, bx: &InputBox) -> Vec<Interval> {
 /// one mass on a spring and damper it is `c/(2m) + √(c²/(4m²) + k/m)`.
 /// Infinite when an entry is unbounded.
 pub fn spectral_bound(jac: &[Interval], n: usize) -> f64 {
-    let m: Vec<f64> = jac.iter().map(|e| e.mag()).collect();
-    if m.iter().any(|x| !x.is_finite()) {
-        return f64::INFINITY;
+    // `M` by rows, its zeros left out: a rig's Jacobian is sparse (a chain's
+    // is banded), so each product costs its nonzeros, not `n²`. Leaving out
+    // a `0·d_j` (a `+0` to a sum of non-negative terms) changes no bit.
+    let mut rows: Vec<Vec<(usize, f64)>> = vec![vec![]; n];
+    for (k, e) in jac.iter().enumerate() {
+        let mag = e.mag();
+        if !mag.is_finite() {
+            return f64::INFINITY;
+        }
+        if mag != 0.0 {
+            rows[k / n].push((k % n, mag));
+        }
     }
     let apply = |d: &[f64]| -> Vec<f64> {
-        (0..n)
-            .map(|i| (0..n).map(|j| m[i * n + j] * d[j]).sum())
+        rows.iter()
+            .map(|row| row.iter().map(|&(j, m)| m * d[j]).sum())
             .collect()
     };
     let ratio = |d: &[f64]| -> f64 {

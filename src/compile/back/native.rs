@@ -1,15 +1,19 @@
 //! The lane ensemble in native code: a program's lane code written as C
 //! ([`crate::compile::back::c`]), built by the system C compiler into a shared
-//! library in a directory of its own under the temporary folder, loaded, and
-//! the directory removed. [`crate::compile::exec::lanes::LaneRunner`] then runs its RK4 steps
+//! library in a private directory of its own under the temporary folder
+//! (mode 0700, a name no other process can guess; the library is checked to
+//! be this process's own before it is loaded), loaded, and the directory
+//! removed; directories left by killed processes go with the next build. [`crate::compile::exec::lanes::LaneRunner`] then runs its RK4 steps
 //! and its lists through the library's functions instead of interpreting
 //! them; every lane stays bit-identical to the scalar reference
 //! (`tests/rig_cpu_ensemble.rs`).
 //!
 //! The compiler is `RIGFIT_CC` or `cc`, run with `-O2 -march=native
 //! -ffp-contract=off` (the code is built for the processor that runs it, and
-//! no multiply and add is fused). One library per distinct source is built per
-//! process. Where no compiler works the ensemble interprets, and says why once.
+//! no multiply and add is fused), for at most `RIGFIT_CC_TIMEOUT` seconds
+//! ([`CC_TIMEOUT_S`] by default). One library per distinct source is built per
+//! process. Where no compiler works, or it takes too long, the ensemble
+//! interprets, and says why once.
 
 use std::collections::HashMap;
 use std::ffi::c_long;
@@ -106,10 +110,10 @@ impl Native {
             return Ok(n.clone());
         }
         let started = std::time::Instant::now();
-        let dir = scratch_dir()?;
-        let result = compile_and_load(&dir, &src, code, arith);
+        let scratch = scratch_dir()?;
+        let result = compile_and_load(&scratch, &src, code, arith);
         // Only the files written above are in it; the library stays mapped.
-        let _ = std::fs::remove_dir_all(&dir);
+        let _ = std::fs::remove_dir_all(&scratch.path);
         let n = Arc::new(result?);
         log::info!(
             "native lane code built ({arith:?}, {} registers) in {:.2} s",
@@ -201,17 +205,31 @@ impl Native {
     }
 }
 
-/// A new directory of this process's own under the temporary folder, never
-/// named alike twice in one process: the dynamic loader takes a library path
-/// it has loaded before for that library, even once the file is gone.
-fn scratch_dir() -> Result<PathBuf, NativeError> {
-    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+/// The prefix of the build directories under the temporary folder:
+/// `rigfit-native-<pid>-<token>`.
+const SCRATCH_PREFIX: &str = "rigfit-native-";
+
+/// A new directory of this process's own under the temporary folder:
+/// created by this call (never one that was there), private (mode 0700),
+/// under a name no other process can guess, and never named alike twice in
+/// one process (the dynamic loader takes a library path it has loaded before
+/// for that library, even once the file is gone). The first call in a
+/// process also removes the build directories of processes that are gone
+/// (a kill during a build leaves one).
+fn scratch_dir() -> Result<Scratch, NativeError> {
+    static SWEPT: std::sync::Once = std::sync::Once::new();
     let base = std::env::temp_dir();
-    for _ in 0..1000 {
-        let k = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        let dir = base.join(format!("rigfit-native-{}-{k}", std::process::id()));
-        match std::fs::create_dir(&dir) {
-            Ok(()) => return Ok(dir),
+    for _ in 0..100 {
+        let token: u64 = rand::random();
+        let dir = base.join(format!(
+            "{SCRATCH_PREFIX}{}-{token:016x}",
+            std::process::id()
+        ));
+        match create_private_dir(&dir) {
+            Ok(scratch) => {
+                SWEPT.call_once(|| sweep_stale(&base, &scratch));
+                return Ok(scratch);
+            }
             Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {}
             Err(source) => {
                 return Err(NativeError::Io {
@@ -229,49 +247,207 @@ fn scratch_dir() -> Result<PathBuf, NativeError> {
     })
 }
 
-/// Builds `src` (the C of `code` in `arith`) in `dir` and loads its
+/// A build directory this process created, and what it was when created.
+#[derive(Debug)]
+struct Scratch {
+    path: PathBuf,
+    meta: std::fs::Metadata,
+}
+
+/// Creates `dir` (not following anything at its name: `mkdir` fails on an
+/// existing link) with mode 0700, whatever the umask.
+fn create_private_dir(dir: &Path) -> std::io::Result<Scratch> {
+    let mut builder = std::fs::DirBuilder::new();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::{DirBuilderExt as _, PermissionsExt as _};
+        builder.mode(0o700);
+        builder.create(dir)?;
+        std::fs::set_permissions(dir, std::fs::Permissions::from_mode(0o700))?;
+    }
+    #[cfg(not(unix))]
+    builder.create(dir)?;
+    let meta = std::fs::symlink_metadata(dir)?;
+    Ok(Scratch {
+        path: dir.to_path_buf(),
+        meta,
+    })
+}
+
+/// Checks, before the library in `scratch` is loaded, that the directory is
+/// still the private one this process made (so that nobody else can have
+/// reached into it, whatever the umask gave the compiler's output) and that
+/// `lib` is a plain file in it of the same owner, linked nowhere else.
+fn check_before_loading(scratch: &Scratch, lib: &Path) -> std::io::Result<()> {
+    let refuse = |why: &str| Err(std::io::Error::other(why.to_string()));
+    let dir = std::fs::symlink_metadata(&scratch.path)?;
+    let file = std::fs::symlink_metadata(lib)?;
+    if !dir.is_dir() || !file.is_file() {
+        return refuse(
+            "the build directory or the library is no longer a plain directory and file",
+        );
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt as _;
+        let made = &scratch.meta;
+        if dir.dev() != made.dev() || dir.ino() != made.ino() || dir.mode() & 0o777 != 0o700 {
+            return refuse("the build directory was replaced or opened to others");
+        }
+        if file.uid() != made.uid() || file.nlink() != 1 {
+            return refuse("the library is not this process's own private file");
+        }
+    }
+    Ok(())
+}
+
+/// Removes the build directories under `base` of processes that no longer
+/// run, owned by the user this process runs as (the owner of `ours`).
+fn sweep_stale(base: &Path, ours: &Scratch) {
+    #[cfg(target_os = "linux")]
+    {
+        use std::os::unix::fs::MetadataExt as _;
+        let Ok(entries) = std::fs::read_dir(base) else {
+            return;
+        };
+        for entry in entries.flatten() {
+            let name = entry.file_name();
+            let Some(rest) = name.to_str().and_then(|n| n.strip_prefix(SCRATCH_PREFIX)) else {
+                continue;
+            };
+            let Some(pid) = rest.split('-').next().and_then(|p| p.parse::<u32>().ok()) else {
+                continue;
+            };
+            let path = entry.path();
+            let Ok(meta) = std::fs::symlink_metadata(&path) else {
+                continue;
+            };
+            let alive = Path::new("/proc").join(pid.to_string()).exists();
+            if !alive && meta.is_dir() && meta.uid() == ours.meta.uid() && path != ours.path {
+                log::debug!(
+                    "removing {}, left by a build that was killed",
+                    path.display()
+                );
+                let _ = std::fs::remove_dir_all(&path);
+            }
+        }
+    }
+    #[cfg(not(target_os = "linux"))]
+    let _ = (base, ours);
+}
+
+/// How long the C compiler may take: `RIGFIT_CC_TIMEOUT` seconds, else
+/// [`CC_TIMEOUT_S`].
+fn compiler_timeout() -> std::time::Duration {
+    let s = std::env::var("RIGFIT_CC_TIMEOUT")
+        .ok()
+        .and_then(|v| v.trim().parse::<f64>().ok())
+        .filter(|s| s.is_finite() && *s > 0.0)
+        .unwrap_or(CC_TIMEOUT_S);
+    std::time::Duration::from_secs_f64(s.min(86_400.0))
+}
+
+/// The default time limit of one native build (s); a compiler that takes
+/// longer is stopped and the lanes interpret.
+pub const CC_TIMEOUT_S: f64 = 60.0;
+
+/// Runs `cmd` (its stderr into `log`) until it ends or `limit` passes; then
+/// stops it and everything it started. Its exit status, or why there is
+/// none.
+fn run_limited(
+    mut cmd: Command,
+    log: &Path,
+    limit: std::time::Duration,
+) -> Result<std::process::ExitStatus, String> {
+    let err = std::fs::File::create(log).map_err(|e| format!("could not be run: {e}"))?;
+    cmd.stdin(std::process::Stdio::null())
+        .stdout(std::process::Stdio::null())
+        .stderr(err);
+    #[cfg(unix)]
+    std::os::unix::process::CommandExt::process_group(&mut cmd, 0);
+    let mut child = cmd.spawn().map_err(|e| format!("could not be run: {e}"))?;
+    let started = std::time::Instant::now();
+    let mut pause = std::time::Duration::from_millis(1);
+    loop {
+        match child.try_wait() {
+            Ok(Some(status)) => return Ok(status),
+            Ok(None) if started.elapsed() < limit => {
+                std::thread::sleep(pause);
+                pause = (pause * 2).min(std::time::Duration::from_millis(50));
+            }
+            other => {
+                // The compiler's own processes (cc1, as, ld) go with it.
+                #[cfg(unix)]
+                {
+                    let group = rustix::process::Pid::from_child(&child);
+                    let _ =
+                        rustix::process::kill_process_group(group, rustix::process::Signal::KILL);
+                }
+                let _ = child.kill();
+                let _ = child.wait();
+                return Err(match other {
+                    Err(e) => format!("could not be waited for: {e}"),
+                    _ => format!(
+                        "did not finish within {:.0} s (RIGFIT_CC_TIMEOUT) and was stopped",
+                        limit.as_secs_f64()
+                    ),
+                });
+            }
+        }
+    }
+}
+
+/// Builds `src` (the C of `code` in `arith`) in `scratch` and loads its
 /// functions.
 #[expect(unsafe_code, reason = "loads the library just built and its functions")]
 fn compile_and_load(
-    dir: &Path,
+    scratch: &Scratch,
     src: &str,
     code: &LaneCode,
     arith: Arith,
 ) -> Result<Native, NativeError> {
+    let dir = &scratch.path;
     let c = dir.join("lanes.c");
     let lib = dir.join("lanes.so");
-    std::fs::write(&c, src).map_err(|source| NativeError::Io {
-        what: "writing",
-        path: c.clone(),
-        source,
-    })?;
+    let io = |what, path: &Path| {
+        let path = path.to_path_buf();
+        move |source| NativeError::Io { what, path, source }
+    };
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&c)
+        .and_then(|mut f| std::io::Write::write_all(&mut f, src.as_bytes()))
+        .map_err(io("writing", &c))?;
     let cc = compiler();
-    let out = Command::new(&cc)
-        .args([
-            "-O2",
-            "-march=native",
-            "-ffp-contract=off",
-            "-fPIC",
-            "-shared",
-            "-w",
-            "-o",
-        ])
-        .arg(&lib)
-        .arg(&c)
-        .arg("-lm")
-        .output()
-        .map_err(|e| NativeError::Compiler {
+    let mut cmd = Command::new(&cc);
+    cmd.args([
+        "-O2",
+        "-march=native",
+        "-ffp-contract=off",
+        "-fPIC",
+        "-shared",
+        "-w",
+        "-o",
+    ])
+    .arg(&lib)
+    .arg(&c)
+    .arg("-lm");
+    let log = dir.join("cc.log");
+    let status =
+        run_limited(cmd, &log, compiler_timeout()).map_err(|why| NativeError::Compiler {
             cc: cc.clone(),
-            why: format!("could not be run: {e}"),
+            why,
         })?;
-    if !out.status.success() {
-        let msg = String::from_utf8_lossy(&out.stderr);
+    if !status.success() {
+        let msg = std::fs::read_to_string(&log).unwrap_or_default();
         let first: Vec<&str> = msg.lines().take(3).collect();
         return Err(NativeError::Compiler {
             cc,
-            why: format!("failed ({}): {}", out.status, first.join(" / ")),
+            why: format!("failed ({status}): {}", first.join(" / ")),
         });
     }
+    check_before_loading(scratch, &lib).map_err(io("checking", &lib))?;
     let load_err = |source| NativeError::Load {
         path: lib.clone(),
         source,

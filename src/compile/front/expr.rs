@@ -18,8 +18,21 @@
 //! `a = 0`), as WGSL's `pow` is undefined for negative bases. Functions: `abs`,
 //! `sign` (0 at 0), `exp`, `ln`, `sqrt` (of `|a|`), `sin`, `cos`, `tanh`, `min`,
 //! `max` and `spow(a, b) = sign(a)·|a|^b`.
+//!
+//! Limits: a law is at most [`MAX_CHARS`] characters long and nests at most
+//! [`MAX_DEPTH`] levels (each parenthesis, sign, exponent and call is one
+//! level). Parsing, lowering and dropping a law recurse along its tree; the
+//! two limits bound that tree's depth (a chain of `+` or `*` is as deep as it
+//! is long) well within any thread's stack.
 
 use crate::compile::ir::{Graph, Id, Op};
+
+/// Most characters a law may have.
+pub const MAX_CHARS: usize = 2000;
+
+/// Deepest nesting a law may have: parentheses, unary signs, exponents and
+/// function calls, each one level.
+pub const MAX_DEPTH: usize = 64;
 
 /// A parse or lowering error at a 1-based character column of the expression.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -88,10 +101,52 @@ pub enum Expr {
     Call(Func, Vec<Expr>),
 }
 
+/// A part of a law that is not a finite number (see
+/// [`Expr::fixed_part_not_finite`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct NotFinite {
+    /// The part, written out with its parentheses (`(0 / 0)`).
+    pub part: String,
+    /// The variable's value where it is not finite.
+    pub at: f64,
+    /// Its value there (NaN or ±∞).
+    pub value: f64,
+    /// Whether the part is a division by a part that is 0 there.
+    pub division: bool,
+}
+
+impl std::fmt::Display for Expr {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Expr::Num(v) => write!(f, "{v}"),
+            Expr::Name(n, _) => f.write_str(n),
+            Expr::Neg(a) => write!(f, "-{a}"),
+            Expr::Bin(op, a, b) => write!(f, "({a} {op} {b})"),
+            Expr::Pow(a, b) => write!(f, "{a}^{b}"),
+            Expr::Call(func, args) => {
+                let name = FUNCS
+                    .iter()
+                    .find(|(_, g, _)| g == func)
+                    .map_or("?", |(n, ..)| *n);
+                write!(f, "{name}(")?;
+                for (i, a) in args.iter().enumerate() {
+                    if i > 0 {
+                        f.write_str(", ")?;
+                    }
+                    write!(f, "{a}")?;
+                }
+                f.write_str(")")
+            }
+        }
+    }
+}
+
 struct Parser<'a> {
     chars: Vec<char>,
     pos: usize,
     src: &'a str,
+    /// Levels of nesting open at `pos` (see [`MAX_DEPTH`]).
+    depth: usize,
 }
 
 fn err(column: usize, message: impl Into<String>) -> ExprError {
@@ -148,7 +203,23 @@ impl Parser<'_> {
         Ok(a)
     }
 
+    /// Every level of nesting passes here, so the depth is counted here.
     fn unary(&mut self) -> Result<Expr, ExprError> {
+        if self.depth >= MAX_DEPTH {
+            return Err(err(
+                self.col(),
+                format!(
+                    "nested deeper than {MAX_DEPTH} levels (parentheses, signs, exponents and calls)"
+                ),
+            ));
+        }
+        self.depth += 1;
+        let r = self.unary_within();
+        self.depth -= 1;
+        r
+    }
+
+    fn unary_within(&mut self) -> Result<Expr, ExprError> {
         if self.peek() == Some('-') {
             self.pos += 1;
             return Ok(Expr::Neg(Box::new(self.unary()?)));
@@ -254,10 +325,21 @@ impl Parser<'_> {
 
 /// Parses `src`.
 pub fn parse(src: &str) -> Result<Expr, ExprError> {
+    let chars: Vec<char> = src.chars().collect();
+    if chars.len() > MAX_CHARS {
+        return Err(err(
+            MAX_CHARS + 1,
+            format!(
+                "a law of at most {MAX_CHARS} characters, found {} characters",
+                chars.len()
+            ),
+        ));
+    }
     let mut p = Parser {
-        chars: src.chars().collect(),
+        chars,
         pos: 0,
         src,
+        depth: 0,
     };
     let e = p.expr()?;
     match p.peek() {
@@ -374,46 +456,125 @@ impl Expr {
     }
 
     /// Its value, with `name` giving each name's value (for the stability
-    /// bound's tangent estimate).
+    /// bound's tangent estimate and the finiteness checks). As the lowered
+    /// graph computes it: `|a|^b` and `spow` are 0 at `a = 0`.
     pub fn eval(&self, name: &dyn Fn(&str) -> f64) -> f64 {
         match self {
             Expr::Num(v) => *v,
             Expr::Name(n, _) => name(n),
-            Expr::Neg(a) => -a.eval(name),
-            Expr::Bin(op, a, b) => {
-                let (a, b) = (a.eval(name), b.eval(name));
-                match op {
-                    '+' => a + b,
-                    '-' => a - b,
-                    '*' => a * b,
-                    _ => a / b,
-                }
-            }
-            Expr::Pow(a, b) => {
-                let x = a.eval(name);
-                match small_integer(b) {
-                    Some(n) => x.powi(n),
-                    None => x.abs().powf(b.eval(name)),
-                }
-            }
-            Expr::Call(f, args) => {
-                let v: Vec<f64> = args.iter().map(|a| a.eval(name)).collect();
-                match f {
-                    Func::Abs => v[0].abs(),
-                    Func::Sign if v[0] == 0.0 => 0.0,
-                    Func::Sign => v[0].signum(),
-                    Func::Exp => v[0].exp(),
-                    Func::Ln => v[0].ln(),
-                    Func::Sqrt => v[0].abs().sqrt(),
-                    Func::Sin => v[0].sin(),
-                    Func::Cos => v[0].cos(),
-                    Func::Tanh => v[0].tanh(),
-                    Func::Min => v[0].min(v[1]),
-                    Func::Max => v[0].max(v[1]),
-                    Func::Spow => v[0].signum() * v[0].abs().powf(v[1]),
-                }
+            _ => {
+                let kids: Vec<f64> = self.children().iter().map(|a| a.eval(name)).collect();
+                self.apply(&kids)
             }
         }
+    }
+
+    /// The parts it is made of, in order.
+    fn children(&self) -> Vec<&Expr> {
+        match self {
+            Expr::Num(_) | Expr::Name(..) => vec![],
+            Expr::Neg(a) => vec![a],
+            Expr::Bin(_, a, b) | Expr::Pow(a, b) => vec![a, b],
+            Expr::Call(_, args) => args.iter().collect(),
+        }
+    }
+
+    /// Its value from its parts' values `v` (not for a number or a name).
+    fn apply(&self, v: &[f64]) -> f64 {
+        // `|a|^b` as `signed_pow` lowers it: 0 at `a = 0`, whatever `b`.
+        let pow = |a: f64, b: f64| if a == 0.0 { 0.0 } else { a.abs().powf(b) };
+        match self {
+            Expr::Num(x) => *x,
+            Expr::Name(..) => f64::NAN,
+            Expr::Neg(_) => -v[0],
+            Expr::Bin(op, ..) => match op {
+                '+' => v[0] + v[1],
+                '-' => v[0] - v[1],
+                '*' => v[0] * v[1],
+                _ => v[0] / v[1],
+            },
+            Expr::Pow(_, b) => match small_integer(b) {
+                Some(n) => v[0].powi(n),
+                None => pow(v[0], v[1]),
+            },
+            Expr::Call(f, _) => match f {
+                Func::Abs => v[0].abs(),
+                Func::Sign if v[0] == 0.0 => 0.0,
+                Func::Sign => v[0].signum(),
+                Func::Exp => v[0].exp(),
+                Func::Ln => v[0].ln(),
+                Func::Sqrt => v[0].abs().sqrt(),
+                Func::Sin => v[0].sin(),
+                Func::Cos => v[0].cos(),
+                Func::Tanh => v[0].tanh(),
+                Func::Min => v[0].min(v[1]),
+                Func::Max => v[0].max(v[1]),
+                Func::Spow => v[0].signum() * pow(v[0], v[1]),
+            },
+        }
+    }
+
+    /// The first part (innermost first) that reads no parameter — only `var`
+    /// and numbers — and is not finite for some `var` in `xs`, or a division
+    /// by such a part that is 0 there. Such a part is not finite whatever
+    /// the parameters are.
+    pub fn fixed_part_not_finite(&self, var: &str, xs: &[f64]) -> Option<NotFinite> {
+        let mut found = None;
+        self.fixed_values(var, xs, &mut found);
+        found
+    }
+
+    /// Its values at `xs` where it reads no parameter; records the first
+    /// part not finite in `found`.
+    fn fixed_values(
+        &self,
+        var: &str,
+        xs: &[f64],
+        found: &mut Option<NotFinite>,
+    ) -> Option<Vec<f64>> {
+        let values = match self {
+            Expr::Num(v) => Some(vec![*v; xs.len()]),
+            Expr::Name(n, _) => (n == var).then(|| xs.to_vec()),
+            _ => {
+                let kids: Vec<Option<Vec<f64>>> = self
+                    .children()
+                    .iter()
+                    .map(|a| a.fixed_values(var, xs, found))
+                    .collect();
+                if let (Expr::Bin('/', ..), Some(Some(den))) = (self, kids.get(1))
+                    && found.is_none()
+                    && let Some(i) = den.iter().position(|d| *d == 0.0)
+                {
+                    *found = Some(NotFinite {
+                        part: self.to_string(),
+                        at: xs[i],
+                        value: f64::INFINITY,
+                        division: true,
+                    });
+                }
+                let kids: Option<Vec<Vec<f64>>> = kids.into_iter().collect();
+                kids.map(|k| {
+                    (0..xs.len())
+                        .map(|i| {
+                            let v: Vec<f64> = k.iter().map(|c| c[i]).collect();
+                            self.apply(&v)
+                        })
+                        .collect()
+                })
+            }
+        };
+        if let Some(v) = &values
+            && found.is_none()
+            && let Some(i) = v.iter().position(|x| !x.is_finite())
+        {
+            *found = Some(NotFinite {
+                part: self.to_string(),
+                at: xs[i],
+                value: v[i],
+                division: false,
+            });
+        }
+        values
     }
 
     /// Every name it reads, with its column.

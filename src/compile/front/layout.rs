@@ -57,11 +57,6 @@ impl<'a> Layout<'a> {
             regimes: vec![],
             states: vec![],
         };
-        let ident = |s: &str| {
-            !s.is_empty()
-                && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
-                && !s.starts_with(|c: char| c.is_ascii_digit())
-        };
         if !ident(&desc.id) {
             return Err(me.err(
                 "id",
@@ -242,6 +237,7 @@ impl<'a> Layout<'a> {
             };
             me.drive_var.push(v);
         }
+        me.check_outputs_and_reach()?;
         for (k, t) in touched.iter().enumerate() {
             if !t {
                 return Err(me.err(
@@ -252,6 +248,58 @@ impl<'a> Layout<'a> {
             }
         }
         Ok(me)
+    }
+
+    /// Output names are identifiers, unique; units (outputs' and
+    /// parameters') are short and of a plain unit charset: both reach CSV
+    /// headers and summaries as they are written. A reach is finite and > 0.
+    fn check_outputs_and_reach(&self) -> Result<(), RigError> {
+        let desc = self.desc;
+        for (i, p) in desc.params.iter().enumerate() {
+            if !unit_text(&p.unit) {
+                return Err(self.err(
+                    format!("params[{i}].unit"),
+                    UNIT_EXPECTED,
+                    crate::base::text::echo(&p.unit),
+                ));
+            }
+        }
+        let mut seen: HashMap<&str, usize> = HashMap::new();
+        for (o, out) in desc.outputs.iter().enumerate() {
+            if !ident(&out.name) {
+                return Err(self.err(
+                    format!("outputs[{o}].name"),
+                    "an identifier (letters, digits, '_'; not starting with a digit)",
+                    crate::base::text::echo(&out.name),
+                ));
+            }
+            if let Some(first) = seen.insert(&out.name, o) {
+                return Err(self.err(
+                    format!("outputs[{o}].name"),
+                    "a unique output name",
+                    format!("{:?}, already the name of outputs[{first}]", out.name),
+                ));
+            }
+            if !unit_text(&out.unit) {
+                return Err(self.err(
+                    format!("outputs[{o}].unit"),
+                    UNIT_EXPECTED,
+                    crate::base::text::echo(&out.unit),
+                ));
+            }
+        }
+        if let Some(r) = desc.reach {
+            for (what, v, unit) in [("elongation", r.elongation, "m"), ("rate", r.rate, "m/s")] {
+                if !(v.is_finite() && v > 0.0) {
+                    return Err(self.err(
+                        format!("reach.{what}"),
+                        format!("a finite number > 0 ({unit})"),
+                        v.to_string(),
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 
     /// What a backlash element needs: a spring and a viscous damper (the play
@@ -334,6 +382,21 @@ impl<'a> Layout<'a> {
             )
         };
         let e = crate::compile::front::expr::parse(src).map_err(at)?;
+        let (reach, unit) = if var.0 == "x" {
+            (law_reach(self.desc, None).0, "m")
+        } else {
+            (law_reach(self.desc, None).1, "m/s")
+        };
+        if let Some(nf) = e.fixed_part_not_finite(var.0, &reach_points(reach)) {
+            return Err(self.err(
+                path,
+                format!(
+                    "a law finite for every {} in [-{reach:e}, {reach:e}] {unit} (the rig's reach)",
+                    var.0
+                ),
+                not_finite_found(&short, &nf, var.0),
+            ));
+        }
         let params = &self.params;
         e.lower(g, &mut |g, name| {
             if name == var.0 {
@@ -408,6 +471,88 @@ impl<'a> Layout<'a> {
             }
         }
     }
+}
+
+/// How far an element's elongation (m) and rate (m/s) reach: the rig's
+/// `reach`, else the largest `breaks_at` (literal, or a parameter's value in
+/// `values`) and 10 m/s, else 0.01 m and 10 m/s (as the stability bound).
+pub fn law_reach(desc: &RigDesc, values: Option<&[f64]>) -> (f64, f64) {
+    if let Some(r) = desc.reach {
+        return (r.elongation, r.rate);
+    }
+    let value = |c: &Coef| -> f64 {
+        match c {
+            Coef::Number(v) => v.abs(),
+            Coef::Param(n) => values
+                .and_then(|v| {
+                    let i = desc.params.iter().position(|p| &p.name == n)?;
+                    v.get(i).map(|x| x.abs())
+                })
+                .unwrap_or(0.0),
+            Coef::Switch(_) => literals(c).iter().fold(0.0, |m, v| m.max(v.abs())),
+        }
+    };
+    let e = desc
+        .elements
+        .iter()
+        .filter_map(|e| e.breaks_at.as_ref())
+        .map(value)
+        .filter(|v| v.is_finite())
+        .fold(0.0, f64::max);
+    (if e > 0.0 { e } else { 0.01 }, 10.0)
+}
+
+/// Where a law is evaluated over a reach: 201 points from `−reach` to
+/// `reach`, 0 among them.
+pub fn reach_points(reach: f64) -> Vec<f64> {
+    (0..=200)
+        .map(|j| reach * (f64::from(j) / 100.0 - 1.0))
+        .collect()
+}
+
+/// What a law that is not finite is said to be: its text, the part and where.
+pub fn not_finite_found(
+    short: &str,
+    nf: &crate::compile::front::expr::NotFinite,
+    var: &str,
+) -> String {
+    let part = crate::base::text::echo(&nf.part);
+    if nf.division {
+        format!(
+            "{short:?}, which divides by zero at {var} = {:e}: {part}",
+            nf.at
+        )
+    } else {
+        format!(
+            "{short:?}, whose part {part} is {} at {var} = {:e}",
+            nf.value, nf.at
+        )
+    }
+}
+
+/// A name the generated code and every output file can carry as it is.
+fn ident(s: &str) -> bool {
+    !s.is_empty()
+        && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+        && !s.starts_with(|c: char| c.is_ascii_digit())
+}
+
+/// Most characters a unit may have.
+pub const MAX_UNIT_CHARS: usize = 24;
+
+const UNIT_EXPECTED: &str = "a unit of at most 24 characters: letters, digits, \
+    '/', '*', '·', '^', '(', ')', '.', '_', '-', '%', '°' and spaces, starting \
+    with a letter, a digit, '(', '%' or '°' (\"N\", \"m/s²\", \"N·s/m\")";
+
+/// A unit a CSV header, a spreadsheet and a summary line show as it is: no
+/// separators, quotes or line breaks, no formula's leading `=`, `+`, `-`, `@`.
+fn unit_text(s: &str) -> bool {
+    s.chars().count() <= MAX_UNIT_CHARS
+        && s.chars()
+            .all(|c| c.is_alphanumeric() || "/*·^()._-%° ".contains(c))
+        && s.chars()
+            .next()
+            .is_none_or(|c| c.is_alphanumeric() || "(%°".contains(c))
 }
 
 /// The numbers written into a coefficient (both sides of a switch).

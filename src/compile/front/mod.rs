@@ -10,6 +10,7 @@
 mod drive;
 mod element;
 pub mod expr;
+pub mod finite;
 mod layout;
 
 use super::program::{Program, RegimeVar, Transition};

@@ -1,0 +1,95 @@
+//! `rigfit check` on a chain of 1 000 masses finishes: the interval
+//! stability bound costs what the rig's Jacobian holds (a chain's is banded),
+//! not the square of its size. The work is asserted (the enclosure's nonzero
+//! entries grow linearly with the chain), and the binary checks the 1 000-mass
+//! chain end to end.
+
+use std::path::Path;
+use std::process::Command;
+
+use rigfit::compile::analysis::interval::{InputBox, Interval, all_regimes, deriv_jacobian_box};
+use serde_json::{Value, json};
+
+fn chain(n: usize) -> Value {
+    let nodes: Vec<Value> = (0..n)
+        .map(|i| json!({"name": format!("n{i}"), "mass": "m"}))
+        .collect();
+    let elements: Vec<Value> = (0..n)
+        .map(|i| {
+            let a = if i == 0 {
+                "ground".to_string()
+            } else {
+                format!("n{}", i - 1)
+            };
+            json!({"name": format!("e{i}"), "between": [a, format!("n{i}")],
+                   "spring": {"law": "linear", "k": "k"}, "damper": {"law": "viscous", "c": "c"}})
+        })
+        .collect();
+    json!({
+        "id": "chain",
+        "params": [{"name": "m", "unit": "kg"}, {"name": "k", "unit": "N/m"}, {"name": "c", "unit": "N·s/m"}],
+        "nodes": nodes, "elements": elements,
+        "drives": [{"node": format!("n{}", n - 1), "law": {"type": "sine", "quantity": "force", "amplitude": 1.0, "frequency": 1.0}}],
+        "outputs": [{"name": "x_end", "unit": "m", "sum": [{"displacement": format!("n{}", n - 1)}]}]
+    })
+}
+
+/// Nonzero entries of the chain's Jacobian enclosure.
+fn nonzero_entries(n: usize) -> usize {
+    let desc = serde_json::from_value(chain(n)).unwrap();
+    let lowered = rigfit::compile::lower(&desc, "chain").unwrap();
+    let prog = &lowered.programs[0];
+    let states = prog.deriv.len();
+    let bx = InputBox {
+        slots: vec![
+            Interval::point(1.0),
+            Interval::new(1e3, 1e4),
+            Interval::point(1.0),
+        ],
+        t: Interval::new(0.0, 1.0),
+        y: vec![Interval::new(-1.0, 1.0); states],
+        regimes: all_regimes(prog),
+        force: None,
+    };
+    deriv_jacobian_box(prog, &bx)
+        .iter()
+        .filter(|e| e.mag() != 0.0)
+        .count()
+}
+
+#[test]
+fn the_jacobian_enclosure_of_a_chain_is_banded() {
+    for n in [10, 100, 400] {
+        let nz = nonzero_entries(n);
+        println!("{n} masses: {nz} nonzero entries of {}", 4 * n * n);
+        // Each velocity row reads its own and its neighbours' x and v; each
+        // displacement row its own v.
+        assert!(nz <= 8 * n, "{n} masses: {nz} nonzero entries");
+    }
+}
+
+#[test]
+fn check_of_a_1000_mass_chain_finishes() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir: &Path = tmp.path();
+    std::fs::write(dir.join("chain.json"), chain(1000).to_string()).unwrap();
+    let mut csv = String::from("t_s,x_m\n");
+    for i in 0..200 {
+        csv += &format!("{},{}\n", f64::from(i) * 0.01, 1e-3 * f64::from(i % 7));
+    }
+    std::fs::write(dir.join("d.csv"), csv).unwrap();
+    let c = json!({
+        "name": "chain", "rig": "chain.json",
+        "params": {"m": 1.0, "k": {"min": 1e3, "max": 1e4}, "c": 1.0},
+        "experiments": [{"name": "e", "data": {"file": "d.csv", "time_column": "t_s", "force_column": "x_m"}, "drive": "velocity"}]
+    });
+    std::fs::write(dir.join("c.json"), c.to_string()).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_rigfit"))
+        .args(["check", "c.json"])
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(String::from_utf8_lossy(&out.stdout).contains("valid"));
+}

@@ -1,0 +1,168 @@
+//! The native lane code's build: its scratch folder is private (mode 0700
+//! under any umask) and named with a token no other process can guess, one
+//! left behind by a killed process is removed by the next build, and a C
+//! compiler that hangs is stopped after `RIGFIT_CC_TIMEOUT` seconds, the job
+//! finishing on the interpreted lanes.
+
+use std::os::unix::fs::PermissionsExt as _;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::time::{Duration, Instant};
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A one-generation CPU job, no polish, on the shipped campaign with native
+/// lanes from the first batch, its temporary folder `tmp`, run under
+/// `umask 000`, with the extra environment `env`.
+fn job(tmp: &Path, out: &Path, env: &[(&str, &str)]) -> Output {
+    let campaigns = repo().join("campaigns");
+    let text = std::fs::read_to_string(campaigns.join("aa2024_t3_synthetic.json")).unwrap();
+    let mut c: serde_json::Value = serde_json::from_str(&text).unwrap();
+    c["search"]["polish"] = serde_json::json!({"enabled": false});
+    let file = campaigns.join(c["experiments"][0]["data"]["file"].as_str().unwrap());
+    c["experiments"][0]["data"]["file"] = serde_json::json!(file.to_str().unwrap());
+    let path = out.with_extension("json");
+    std::fs::write(&path, serde_json::to_string(&c).unwrap()).unwrap();
+    let mut cmd = Command::new("sh");
+    cmd.arg("-c")
+        .arg("umask 000; exec \"$@\"")
+        .arg("sh")
+        .arg(env!("CARGO_BIN_EXE_rigfit"))
+        .arg("run")
+        .arg(&path)
+        .arg("--out")
+        .arg(out)
+        .args([
+            "--backend",
+            "cpu",
+            "--generations",
+            "1",
+            "--population",
+            "16",
+        ])
+        .env("TMPDIR", tmp)
+        .env("RIGFIT_NATIVE", "always");
+    for (k, v) in env {
+        cmd.env(k, v);
+    }
+    cmd.output().unwrap()
+}
+
+fn script(dir: &Path, name: &str, body: &str) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, format!("#!/bin/sh\n{body}\n")).unwrap();
+    std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o755)).unwrap();
+    path
+}
+
+#[test]
+fn the_scratch_folder_is_private_and_unpredictable_under_umask_000() {
+    let dir = tempfile::tempdir().unwrap();
+    let tmp = dir.path().join("tmp");
+    std::fs::create_dir(&tmp).unwrap();
+    let seen = dir.path().join("seen.txt");
+    // A compiler wrapper that records the folder it is asked to build in.
+    let cc = script(
+        dir.path(),
+        "cc-wrapper",
+        &format!(
+            "prev=; for a; do [ \"$prev\" = -o ] && stat -c '%a %n' \"$(dirname \"$a\")\" >> '{}'; prev=$a; done\nexec cc \"$@\"",
+            seen.display()
+        ),
+    );
+    let o = job(
+        &tmp,
+        &dir.path().join("out"),
+        &[("RIGFIT_CC", cc.to_str().unwrap())],
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert!(!err.contains("native lane code"), "the build failed: {err}");
+    let seen = std::fs::read_to_string(&seen).expect("the compiler was run");
+    for line in seen.lines() {
+        let (mode, path) = line.split_once(' ').unwrap();
+        assert_eq!(mode, "700", "{line}");
+        let name = Path::new(path).file_name().unwrap().to_str().unwrap();
+        let token = name.rsplit('-').next().unwrap();
+        assert!(
+            name.starts_with("rigfit-native-") && token.len() == 16,
+            "a guessable name: {name}"
+        );
+    }
+    assert_eq!(std::fs::read_dir(&tmp).unwrap().count(), 0);
+}
+
+#[test]
+fn folders_left_by_killed_builds_are_swept_and_live_ones_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let tmp = dir.path().join("tmp");
+    std::fs::create_dir(&tmp).unwrap();
+    // No process has a pid this large (Linux's limit is 2^22).
+    let dead = tmp.join("rigfit-native-999999999-0123456789abcdef");
+    let dead_old = tmp.join("rigfit-native-999999998-0");
+    let live = tmp.join(format!("rigfit-native-{}-0", std::process::id()));
+    let unrelated = tmp.join("rigfit-native-notes");
+    for d in [&dead, &dead_old, &live, &unrelated] {
+        std::fs::create_dir(d).unwrap();
+        std::fs::write(d.join("lanes.c"), b"int x;").unwrap();
+    }
+    let o = job(&tmp, &dir.path().join("out"), &[]);
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(
+        !dead.exists() && !dead_old.exists(),
+        "stale build folders stayed"
+    );
+    assert!(live.join("lanes.c").exists() && unrelated.join("lanes.c").exists());
+}
+
+#[test]
+fn a_hung_compiler_is_stopped_and_the_job_interprets() {
+    let dir = tempfile::tempdir().unwrap();
+    let tmp = dir.path().join("tmp");
+    std::fs::create_dir(&tmp).unwrap();
+    let pid_file = dir.path().join("sleeper.pid");
+    // A compiler that never ends, through a process of its own (as cc runs
+    // cc1), which must be stopped too.
+    let cc = script(
+        dir.path(),
+        "hung-cc",
+        &format!("sleep 1000 &\necho $! > '{}'\nwait", pid_file.display()),
+    );
+    let out = dir.path().join("out");
+    let started = Instant::now();
+    let o = job(
+        &tmp,
+        &out,
+        &[
+            ("RIGFIT_CC", cc.to_str().unwrap()),
+            ("RIGFIT_CC_TIMEOUT", "1"),
+        ],
+    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert!(started.elapsed() < Duration::from_secs(120), "{err}");
+    assert!(
+        err.contains("did not finish within 1 s") && err.contains("interprets instead"),
+        "{err}"
+    );
+    assert!(out.join("result.json").exists());
+    let pid = std::fs::read_to_string(&pid_file).unwrap();
+    let proc_dir = Path::new("/proc").join(pid.trim());
+    let gone = (0..100).any(|_| {
+        let state = std::fs::read_to_string(proc_dir.join("stat")).unwrap_or_default();
+        let stopped = state.is_empty() || state.contains(") Z");
+        if !stopped {
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        stopped
+    });
+    assert!(gone, "the compiler's own process {} still runs", pid.trim());
+    assert_eq!(std::fs::read_dir(&tmp).unwrap().count(), 0);
+}
