@@ -108,7 +108,7 @@ fn a_record_is_made_from_the_rigs_own_drive_without_a_data_file() {
     assert!((rows[500][0] - 0.5).abs() < 1e-12);
     let text = std::fs::read_to_string(&rec).unwrap();
     assert!(
-        text.contains("sigma = 0.000001 m on output displacement"),
+        text.contains("sigma = 1e-6 m on output displacement"),
         "{text}"
     );
     // The sine's static response is about F/k = 2.5e-4 m, far above the noise.

@@ -65,11 +65,15 @@ pub enum Command {
     #[command(after_help = "Examples:\n  \
         rigfit simulate campaigns/aa2024_t3_synthetic.json --out sim.csv\n  \
         rigfit simulate campaigns/aa2024_t3_synthetic.json --params results/aa2024/result.json --out fit.csv\n  \
-        rigfit simulate campaigns/aa2024_t3_synthetic.json --noise 20 --seed 7 --out synthetic.csv\n\n\
+        rigfit simulate campaigns/aa2024_t3_synthetic.json --noise 20 --seed 7 --out synthetic.csv\n  \
+        rigfit simulate my_campaign.json --params truth.json --duration 2 --dt 1e-3 --noise 5e-6 --out e1.csv\n\n\
         Columns: t_s (simulated time), then each of the rig's outputs as <name>_<unit>,\n\
-        then each of its states, all by the rig's own names. With --noise the file is a\n\
-        synthetic measurement instead: t_s (record time) and force_N, the rig's first\n\
-        output with Gaussian noise.")]
+        then each of its states, all by the rig's own names, then a drive column the\n\
+        campaign reads from its record. With --noise the file is a synthetic record\n\
+        instead, in the columns the campaign reads: time, the measured output (output\n\
+        0) with Gaussian noise in that output's unit, and the drive column if any.\n\
+        With --dt (and --samples or --duration) no record is read: the run starts at\n\
+        t = 0, and a drive column comes from --drive FILE.")]
     Simulate(SimulateArgs),
     /// Natural frequencies and mode shapes of the linearised rig.
     #[command(after_help = "Example:\n  rigfit modes campaigns/aa2024_t3_synthetic.json")]

@@ -153,10 +153,11 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
             let _ = writeln!(
                 s,
                 "# SYNTHETIC measurement: made by `rigfit simulate` from campaign {} (experiment {}),\n\
-                 # rig {}, Gaussian noise sigma = {sigma} {unit} on output {out_name}, seed {}. Not a measured record.",
+                 # rig {}, Gaussian noise sigma = {} {unit} on output {out_name}, seed {}. Not a measured record.",
                 c.name,
                 exp.name,
                 c.model.id(),
+                number(sigma),
                 args.seed
             );
             write_record(
@@ -185,7 +186,7 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
     out.say(|| {
         let noise = args
             .noise
-            .map(|s| format!(", noise σ = {s} {unit} on {out_name}"))
+            .map(|s| format!(", noise σ = {} {unit} on {out_name}", number(s)))
             .unwrap_or_default();
         format!(
             "simulated {} ({} samples at dt = {:e} s, {}{noise}): largest |{out_name}| {peak:.4e} {unit} → {}",
@@ -197,6 +198,15 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
         )
     });
     Ok(())
+}
+
+/// A value as people write it: `20`, `0.5`, `5e-6`.
+fn number(v: f64) -> String {
+    if v == 0.0 || (1e-3..1e6).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
 }
 
 /// RK4 steps per sample interval for the simulation. The campaign's step rule
