@@ -124,3 +124,64 @@ fn control_characters_in_a_key_are_escaped_and_types_named_in_json_words() {
         assert!(err.contains(expected), "expected {expected:?} in {err}");
     }
 }
+
+fn rigfit(args: &[&str]) -> (Option<i32>, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_rigfit"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        o.status.code(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+/// Numbers in messages are brief: a time scale of 1e300 makes a record
+/// 2.5e297 s long, said in a few characters, not three hundred digits.
+#[test]
+fn numbers_in_messages_are_brief() {
+    let dir = tempfile::tempdir().unwrap();
+    for (scale, shown) in [(1e300, "2.5e297 s"), (1e-300, "2.5e-303 s")] {
+        let c = campaign(dir.path(), |c| {
+            c["experiments"][0]["data"]["time_scale"] = json!(scale)
+        });
+        let (_, err) = rigfit(&["check", c.to_str().unwrap()]);
+        assert!(err.contains(shown), "{err}");
+        assert!(
+            !err.contains("00000000000000000000"),
+            "a number printed in full:\n{err}"
+        );
+    }
+    let c = campaign(dir.path(), |c| {
+        c["experiments"][0]["weight"] = json!(-1e300)
+    });
+    let (code, err) = rigfit(&["check", c.to_str().unwrap()]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("found -1e300"), "{err}");
+}
+
+/// A negative number given to an option that takes a number reaches the
+/// command, which refuses it by the option's name; it is neither read as an
+/// unknown flag nor blamed on the record the command reads.
+#[test]
+fn negative_option_values_are_refused_by_the_option() {
+    let record = repo().join("campaigns/ringdown_synthetic.csv");
+    let record = record.to_str().unwrap();
+    for args in [
+        vec!["ringdown", record, "--m1", "-7.9"],
+        vec!["ringdown", record, "--m1=-7.9"],
+    ] {
+        let (code, err) = rigfit(&args);
+        assert_eq!(code, Some(2), "{args:?}: {err}");
+        assert!(!err.contains("unexpected argument"), "{args:?}: {err}");
+        assert!(
+            err.contains("m1") && err.contains("-7.9"),
+            "{args:?}: {err}"
+        );
+        assert!(!err.contains("ringdown_synthetic.csv"), "{args:?}: {err}");
+    }
+    let (code, err) = rigfit(&["run", "x.json", "--population", "-3"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(!err.contains("unexpected argument"), "{err}");
+    assert!(err.contains("--population"), "{err}");
+}

@@ -34,6 +34,48 @@ pub fn echo_bare(s: &str) -> String {
     }
 }
 
+/// A number as a message shows it: at most six significant digits, in
+/// plain notation from 1e-4 to 1e6 and in exponent notation outside, so that
+/// a value of 1e300 reads `1e300`, not three hundred digits.
+///
+/// ```
+/// use rigfit::base::text::number;
+/// assert_eq!(number(2.5e303), "2.5e303");
+/// assert_eq!(number(2.5e-303), "2.5e-303");
+/// assert_eq!(number(0.0025000000000000002), "0.0025");
+/// assert_eq!(number(-2.0), "-2");
+/// assert_eq!(number(123456.7), "123457");
+/// assert_eq!(number(1234567.0), "1.23457e6");
+/// assert_eq!(number(0.0), "0");
+/// assert_eq!(number(f64::INFINITY), "inf");
+/// ```
+pub fn number(x: f64) -> String {
+    if !x.is_finite() {
+        return x.to_string();
+    }
+    if x == 0.0 {
+        return "0".into();
+    }
+    let trim = |m: &str| -> String {
+        if m.contains('.') {
+            m.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            m.to_string()
+        }
+    };
+    let a = x.abs();
+    // Rounded to six digits first, so that 999999.7 counts as 1e6.
+    let rounded: f64 = format!("{x:.5e}").parse().unwrap_or(x);
+    if (1e-4..1e6).contains(&rounded.abs()) && (1e-4..1e6).contains(&a) {
+        let decimals = (5 - rounded.abs().log10().floor() as i32).max(0) as usize;
+        trim(&format!("{rounded:.decimals$}"))
+    } else {
+        let e = format!("{x:.5e}");
+        let (m, exp) = e.split_once('e').unwrap_or((&e, "0"));
+        format!("{}e{exp}", trim(m))
+    }
+}
+
 /// `"1 RK4 step per sample"` or `"n RK4 steps per sample"`.
 ///
 /// ```

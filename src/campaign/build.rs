@@ -310,13 +310,13 @@ fn experiment(
             file,
             format!("{at}.weight"),
             "a weight > 0",
-            x.weight.to_string(),
+            crate::base::text::number(x.weight),
         ));
     }
     let d = &x.data;
     let data_at = format!("{at}.data");
     if !(d.time_scale > 0.0 && d.time_scale.is_finite()) {
-        let found = d.time_scale.to_string();
+        let found = crate::base::text::number(d.time_scale);
         return Err(invalid(
             file,
             format!("{data_at}.time_scale"),
@@ -325,7 +325,7 @@ fn experiment(
         ));
     }
     if !(d.force_scale != 0.0 && d.force_scale.is_finite()) {
-        let found = d.force_scale.to_string();
+        let found = crate::base::text::number(d.force_scale);
         return Err(invalid(
             file,
             format!("{data_at}.force_scale"),
@@ -483,12 +483,15 @@ fn window(
     });
     let (start, end) = (w.start.unwrap_or(t0), w.end.unwrap_or(tl));
     let path = format!("{at}.fit_window");
+    // For the messages: brief, whatever the record's time scale.
+    let num = crate::base::text::number;
+    let (t0_, tl_, start_, end_) = (num(t0), num(tl), num(start), num(end));
     if start >= end {
         return Err(invalid(
             file,
             format!("{path}.end"),
-            format!("end > start ({start} s)"),
-            format!("{end} s"),
+            format!("end > start ({start_} s)"),
+            format!("{end_} s"),
         ));
     }
     let tol = 1e-6;
@@ -503,7 +506,7 @@ fn window(
         Some(k1) if k1 > k0 => {
             if start < t0 - tol * s.dt || end > tl + tol * s.dt {
                 warnings.push(format!(
-                    "{}: {path}: [{start}, {end}] s reaches beyond the record ({t0} s to {tl} s); \
+                    "{}: {path}: [{start_}, {end_}] s reaches beyond the record ({t0_} s to {tl_} s); \
                      only the overlap is scored",
                     file.display()
                 ));
@@ -515,8 +518,8 @@ fn window(
             Err(invalid(
                 file,
                 path,
-                format!("a window holding at least 2 samples of the record ({t0} s to {tl} s)"),
-                format!("[{start}, {end}] s holding {count} sample(s)"),
+                format!("a window holding at least 2 samples of the record ({t0_} s to {tl_} s)"),
+                format!("[{start_}, {end_}] s holding {count} sample(s)"),
             ))
         }
     }

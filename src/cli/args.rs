@@ -1,7 +1,7 @@
 //! The command line: the top-level options and the list of commands. Each
 //! command's own arguments live beside its code.
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 use super::check::CheckArgs;
 use super::fit_specimen::FitSpecimenArgs;
@@ -113,4 +113,30 @@ pub enum Command {
     /// Validate a campaign and its data without running anything.
     #[command(after_help = "Example:\n  rigfit check campaigns/aa2024_t3_synthetic.json")]
     Check(CheckArgs),
+}
+
+impl Cli {
+    /// Parses the process's arguments as [`Parser::try_parse`] does, except
+    /// that every option taking a value accepts a negative number (`--mass
+    /// -2`, `--start=-1`): the value then reaches the command, which refuses
+    /// it with what it expected, instead of clap reading it as an unknown flag.
+    pub fn try_parse_args() -> Result<Self, clap::Error> {
+        let cmd = negative_numbers(Self::command());
+        let mut matches = cmd.try_get_matches()?;
+        Self::from_arg_matches_mut(&mut matches)
+    }
+}
+
+/// `cmd` and its subcommands with negative numbers allowed as the values of
+/// every option that takes one.
+fn negative_numbers(cmd: clap::Command) -> clap::Command {
+    cmd.mut_args(|a| {
+        let takes_value = a.get_action().takes_values();
+        if takes_value && !a.is_positional() {
+            a.allow_negative_numbers(true)
+        } else {
+            a
+        }
+    })
+    .mut_subcommands(negative_numbers)
 }

@@ -11,8 +11,16 @@ use rigfit::identify::columns::{Table, sample_interval};
 use rigfit::identify::csv_input::{self, TwoColumns};
 
 /// A pre-calibration or identification error as one line that names the
-/// input file, with its causes (why the file could not be read).
+/// input file, with its causes (why the file could not be read); an option's
+/// value refused for itself is named without the file.
 pub fn in_file(path: &Path, e: PrecalError) -> anyhow::Error {
+    // A value given on the command line is the option's fault, not the
+    // record's (a column the record lacks is both: the file is named).
+    if let PrecalError::InvalidOption { name, .. } = &e
+        && *name != "column"
+    {
+        return BadInput(e.to_string()).into();
+    }
     let mut line = format!("{}: {e}", path.display());
     let mut cause = std::error::Error::source(&e);
     while let Some(c) = cause {

@@ -296,8 +296,8 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         Err(JobError::Search(SearchError::Eval(EvalError::Cancelled))) => {
             out.note(&format!(
                 "interrupted before the first generation was complete: nothing to keep; \
-                 start it again with: rigfit run {}",
-                a.campaign.display()
+                 start it again with: {}",
+                this_command(false)
             ));
             return Ok(ExitCode::from(EXIT_INTERRUPTED));
         }
@@ -307,13 +307,46 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     out.say(|| summary::summary_text(&summary, &dir, job::steps_per_candidate(&c)));
     if interrupt.load(Ordering::SeqCst) {
         out.note(&format!(
-            "checkpoint kept in {}; continue with: rigfit run {} --resume",
+            "checkpoint kept in {}; continue with: {}",
             dir.display(),
-            a.campaign.display()
+            this_command(true)
         ));
         return Ok(ExitCode::from(EXIT_INTERRUPTED));
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The command line this job was started with, quoted for a POSIX shell, so
+/// that typed literally (in the same folder) it runs the same job: with
+/// `--resume` added (and `--overwrite`, which would discard the checkpoint,
+/// left out) when `resume`, as it was otherwise. The output folder, the
+/// overrides and the options are kept: a checkpoint resumes only under the
+/// settings it was written with.
+fn this_command(resume: bool) -> String {
+    let mut args: Vec<String> = std::env::args_os()
+        .map(|a| a.to_string_lossy().into_owned())
+        .collect();
+    if resume {
+        args.retain(|a| a != "--overwrite");
+        if !args.iter().any(|a| a == "--resume") {
+            args.push("--resume".into());
+        }
+    }
+    args.iter()
+        .map(|a| shell_quoted(a))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// `s` as one word of a POSIX shell command: as it is when it holds only
+/// characters no shell treats specially, otherwise in single quotes.
+fn shell_quoted(s: &str) -> String {
+    let plain = |c: char| c.is_ascii_alphanumeric() || "_-./=:,+@%".contains(c);
+    if !s.is_empty() && s.chars().all(plain) {
+        s.to_string()
+    } else {
+        format!("'{}'", s.replace('\'', "'\\''"))
+    }
 }
 
 /// A memory size: `2G`, `512M`, `1048576`.
