@@ -187,14 +187,17 @@ pub struct RawData {
     /// `"time_column"`: header name or 0-based index (default: 0, the first).
     #[serde(default)]
     pub time_column: Option<Column>,
-    /// `"force_column"`: header name or 0-based index (default: 1, the second).
-    #[serde(default)]
+    /// `"column"` (or `"force_column"`): the measured output's column (the
+    /// rig's output 0, a force, a displacement or an acceleration), header
+    /// name or 0-based index (default: 1, the second).
+    #[serde(default, alias = "column")]
     pub force_column: Option<Column>,
     /// `"time_scale"`: multiplier to seconds (default 1; 1e-3 for ms).
     #[serde(default = "one")]
     pub time_scale: f64,
-    /// `"force_scale"`: multiplier to newtons (default 1; 1e3 for kN).
-    #[serde(default = "one")]
+    /// `"scale"` (or `"force_scale"`): multiplier to the unit of the rig's
+    /// output 0 (default 1; 1e3 for kN into N, 1e-3 for mm into m).
+    #[serde(default = "one", alias = "scale")]
     pub force_scale: f64,
 }
 
