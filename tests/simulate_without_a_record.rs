@@ -474,3 +474,38 @@ fn a_shipped_record_is_made_again_from_its_campaign_in_one_command() {
         );
     }
 }
+
+#[test]
+fn only_the_simulated_experiment_reads_a_drive_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let c = campaign(dir.path(), json!("velocity"));
+    let mut v: Value = serde_json::from_str(&std::fs::read_to_string(&c).unwrap()).unwrap();
+    let mut e2 = v["experiments"][0].clone();
+    e2["name"] = json!("e2");
+    e2["data"]["file"] = json!("e2.csv");
+    e2["drive"] = json!({"force": {"column": "force_N"}});
+    v["experiments"].as_array_mut().unwrap().push(e2);
+    std::fs::write(&c, v.to_string()).unwrap();
+    let out = dir.path().join("e1.csv");
+    let grid = [
+        "--samples",
+        "50",
+        "--dt",
+        "1e-3",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    let o = simulate(&c, &[&grid[..], &["--experiment", "e1"]].concat());
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert_eq!(table(&out).1.len(), 50);
+    let o = simulate(
+        &c,
+        &[&grid[..], &["--experiment", "e2", "--overwrite"]].concat(),
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("experiments[1].drive.force.column"),
+        "{}",
+        stderr(&o)
+    );
+}

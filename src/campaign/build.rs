@@ -341,8 +341,10 @@ fn experiment(
     };
     // Without a record, the only file read is the one a drive column comes from.
     let column_drive = matches!(&x.drive, RawDrive::Force(t) if t.column.is_some());
+    let bystander = column_drive && reading.bystander(e, &x.name);
     let (data_file, read) = match reading.uniform() {
         None => (dir.join(&d.file), true),
+        Some(_) if bystander => (PathBuf::new(), false),
         Some((_, _, Some(f))) => (f.to_path_buf(), column_drive),
         Some((_, _, None)) if column_drive => {
             return Err(simulation::no_drive_file(
@@ -381,6 +383,7 @@ fn experiment(
             let path = format!("{at}.drive.force");
             let (t, value) = match (&table.t, &table.value, &table.column) {
                 (Some(t), Some(v), None) => (t.clone(), v.clone()),
+                (None, None, Some(_)) if bystander => (vec![0.0, 1.0], vec![0.0, 0.0]),
                 (None, None, Some(column)) => {
                     let spec = CsvSpec {
                         force: column.clone(),
@@ -418,7 +421,7 @@ fn experiment(
                 ));
             }
             let table = PiecewiseLinear { t, value };
-            if reading.uniform().is_some() && column_drive {
+            if reading.uniform().is_some() && column_drive && !bystander {
                 let at = format!("{path}.column");
                 Drive::Force(simulation::resample(
                     &table, &series.t, &data_file, &at, warnings,

@@ -26,10 +26,11 @@ pub enum SimulationGrid {
         samples: usize,
     },
     /// No record is read: every experiment is sampled at `t = k·dt`,
-    /// `k = 0..samples`. A drive the campaign reads from a column of the data
-    /// file is read from `drive_file` instead (same column, time column and
-    /// scales), and resampled onto the grid, so that the drive the run takes
-    /// is exactly the one written beside it.
+    /// `k = 0..samples`. A drive the simulated experiment reads from a column
+    /// of its data file is read from `drive_file` instead (same column, time
+    /// column and scales), and resampled onto the grid, so that the drive the
+    /// run takes is exactly the one written beside it. The other experiments'
+    /// drive columns are not read: a zero force stands in for them.
     Uniform {
         /// Sample interval (s), finite and > 0.
         dt: f64,
@@ -38,6 +39,8 @@ pub enum SimulationGrid {
         /// The file a drive column is read from (resolved as given, not
         /// against the campaign's folder: it is the user's own argument).
         drive_file: Option<PathBuf>,
+        /// The experiment simulated, by name (`None`: the first).
+        experiment: Option<String>,
     },
 }
 
@@ -80,8 +83,21 @@ impl<'a> Reading<'a> {
                 dt,
                 samples,
                 drive_file,
+                ..
             }) => Some((*dt, *samples, drive_file.as_deref())),
             _ => None,
+        }
+    }
+
+    /// Whether experiment `e`, called `name`, is on a grid without a record
+    /// but not the one simulated: its drive column is not read.
+    pub(crate) fn bystander(self, e: usize, name: &str) -> bool {
+        match self {
+            Self::Simulate(SimulationGrid::Uniform { experiment, .. }) => match experiment {
+                Some(simulated) => simulated != name,
+                None => e != 0,
+            },
+            _ => false,
         }
     }
 

@@ -280,6 +280,7 @@ fn grid(args: &SimulateArgs) -> Result<SimulationGrid, BadInput> {
         dt,
         samples,
         drive_file: args.drive.clone(),
+        experiment: args.experiment.clone(),
     })
 }
 
