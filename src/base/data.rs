@@ -32,7 +32,8 @@ pub const MAX_RESAMPLE_GROWTH: usize = 10;
 pub enum Column {
     /// By header name.
     Name(String),
-    /// By 0-based position.
+    /// By 0-based position (0 is the first column; the command line's
+    /// `identify` counts from 1, and messages say which).
     Index(usize),
 }
 
@@ -40,7 +41,7 @@ impl fmt::Display for Column {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Column::Name(n) => write!(f, "'{}'", crate::base::text::echo_bare(n)),
-            Column::Index(i) => write!(f, "#{i}"),
+            Column::Index(i) => write!(f, "#{i} (0-based: #0 is the first column)"),
         }
     }
 }

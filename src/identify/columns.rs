@@ -52,7 +52,9 @@ impl Table {
         Ok(table)
     }
 
-    /// The column named `key` in the header, or at 1-based position `key`.
+    /// The column named `key` in the header, or at 1-based position `key`
+    /// (the first column is 1, as a spreadsheet counts; a campaign's
+    /// `time_column` counts from 0, and every message says which).
     ///
     /// # Errors
     /// [`PrecalError::InvalidOption`] naming the columns there are.
@@ -70,11 +72,18 @@ impl Table {
             let known = if self.header.is_empty() {
                 format!("positions 1..={}", self.columns.len())
             } else {
-                self.header.join(", ")
+                format!(
+                    "{}, or positions 1..={}",
+                    self.header.join(", "),
+                    self.columns.len()
+                )
             };
             PrecalError::InvalidOption {
                 name: "column",
-                reason: format!("no column {key:?} (there are: {known})"),
+                reason: format!(
+                    "no column {key:?} (there are: {known}; on the command line a position \
+                     counts from 1, the first column is 1, while a campaign's counts from 0)"
+                ),
             }
         })
     }
