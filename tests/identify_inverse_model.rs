@@ -146,3 +146,41 @@ fn identify_idim_command_writes_a_fragment_and_a_figure() {
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
 }
+
+#[test]
+fn a_zero_gain_is_refused_and_writes_no_fragment() {
+    let dir = tempfile::tempdir().unwrap();
+    let data =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/emps/emps_position_voltage.csv");
+    let frag = dir.path().join("emps.json");
+    for gain in ["0", "-0"] {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_rigfit"))
+            .args(["identify", "idim"])
+            .arg(&data)
+            .args([
+                "--position",
+                "position_m",
+                "--force",
+                "controller_voltage_V",
+            ])
+            .args([&format!("--gain={gain}"), "--sample-rate", "1000"])
+            .arg("--out")
+            .arg(&frag)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        println!("{gain}: {err}");
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.contains("nothing to fit"), "{err}");
+        assert!(!frag.exists(), "a fragment was written");
+    }
+}
+
+#[test]
+fn a_force_without_spread_is_refused_by_the_library() {
+    let q: Vec<f64> = (0..2000).map(|i| (f64::from(i) * 0.01).sin()).collect();
+    for tau in [vec![0.0; 2000], vec![3.5; 2000]] {
+        let err = idim::estimate(&q, &tau, &IdimOptions::default()).unwrap_err();
+        assert!(err.to_string().contains("nothing to fit"), "{err}");
+    }
+}

@@ -261,3 +261,34 @@ fn non_numeric_and_nan_csv_lines_are_reported_with_line_numbers() {
         "{err}"
     );
 }
+
+#[test]
+fn elongations_without_spread_past_yield_are_refused() {
+    // An elastic ramp, then an extensometer that stalls: the force rises
+    // while the elongation stays (nearly) put. A cubic through that is
+    // noise amplified (a3 of order 1e15), not a law.
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    for spread in [0.0, 1e-8, 1e-6] {
+        let n = 200;
+        let mut e: Vec<f64> = (0..n).map(|i| 5e-4 * i as f64 / n as f64).collect();
+        let mut f: Vec<f64> = e.iter().map(|&e| 7e7 * e + gauss(&mut rng)).collect();
+        for i in 0..n {
+            e.push(6e-4 + spread * (i as f64 / n as f64));
+            f.push(35e3 + 5e3 * (i as f64 / n as f64) + gauss(&mut rng));
+        }
+        let err = fit(&e, &f, &options(3)).unwrap_err();
+        let text = err.to_string();
+        println!("{spread}: {text}");
+        assert!(
+            matches!(
+                err,
+                PrecalError::Numerical {
+                    stage: "specimen plastic fit",
+                    ..
+                }
+            ),
+            "{text}"
+        );
+        assert!(text.contains("too little spread"), "{text}");
+    }
+}

@@ -141,6 +141,22 @@ impl IdimReport {
 /// and the least-squares errors.
 pub fn estimate(q: &[f64], tau: &[f64], opts: &IdimOptions) -> Result<IdimReport, PrecalError> {
     check_inputs("position and force", q, tau)?;
+    // A force without spread (a gain of 0, a constant column) fits any model
+    // exactly, with R² = 1 and parameters of 0 ± NaN %: nothing to identify.
+    let (lo, hi) = tau
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+            (l.min(v), h.max(v))
+        });
+    if hi.partial_cmp(&lo) != Some(std::cmp::Ordering::Greater) {
+        return Err(PrecalError::InvalidOption {
+            name: "force",
+            reason: format!(
+                "the force (the column times --gain) is {lo:e} N at every sample: \
+                 nothing to fit (a gain of 0, or a column that does not vary)"
+            ),
+        });
+    }
     if q.len() <= opts.border + 64 {
         return Err(PrecalError::TooFewPoints {
             what: "samples after the border",

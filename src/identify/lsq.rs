@@ -72,6 +72,13 @@ pub fn least_squares(columns: &[Vec<f64>], y: &[f64]) -> Result<LinearFit, Preca
             reason: format!("regressor {} is zero or not finite", j + 1),
         });
     }
+    if y.iter().all(|v| *v == 0.0) || y.iter().any(|v| !v.is_finite()) {
+        return Err(PrecalError::Numerical {
+            stage: "least squares",
+            reason: "the fitted quantity is zero at every row, or not finite: nothing to fit"
+                .into(),
+        });
+    }
     let a = DMatrix::from_fn(n, p, |i, j| columns[j][i] / norms[j]);
     let b = DVector::from_column_slice(y);
     let svd = a.clone().svd(true, true);
@@ -104,7 +111,7 @@ pub fn least_squares(columns: &[Vec<f64>], y: &[f64]) -> Result<LinearFit, Preca
             (sigma2 * var).sqrt() / norms[j]
         })
         .collect();
-    Ok(LinearFit {
+    let fit = LinearFit {
         coefficients,
         std_errors,
         sse,
@@ -112,7 +119,17 @@ pub fn least_squares(columns: &[Vec<f64>], y: &[f64]) -> Result<LinearFit, Preca
         r2: r_squared(sse, y),
         rows: n,
         condition: s_max / s_min,
-    })
+    };
+    // A result that is not a finite number is no result: refused, never
+    // reported or written into a campaign fragment.
+    let numbers = fit.coefficients.iter().chain(&fit.std_errors);
+    if let Some(bad) = numbers.chain([&fit.sse, &fit.r2]).find(|v| !v.is_finite()) {
+        return Err(PrecalError::Numerical {
+            stage: "least squares",
+            reason: format!("the fit is not finite ({bad} among its results)"),
+        });
+    }
+    Ok(fit)
 }
 
 #[cfg(test)]

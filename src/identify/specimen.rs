@@ -46,6 +46,16 @@ pub const MAX_POLY_DEGREE: usize = 5;
 /// the data are taken to show a plastic range.
 pub const MIN_F_STATISTIC: f64 = 20.0;
 
+/// Largest condition number of the plastic branch's least squares (powers of
+/// the scaled elongation, columns of unit norm) a fit is reported with; past
+/// it the elongations past yield have too little spread for the degree, and
+/// the coefficients amplify noise by as much.
+pub const MAX_CONDITION: f64 = 1e8;
+
+/// Least spread of the middle 80 % of the elongations past yield, as a
+/// fraction of the largest elongation, a fit is reported with.
+pub const MIN_PLASTIC_SPREAD: f64 = 1e-3;
+
 /// Most candidate breakpoints in the coarse scan.
 const COARSE_CANDIDATES: usize = 200;
 
@@ -205,6 +215,32 @@ pub fn fit(e: &[f64], f: &[f64], options: &SpecimenFitOptions) -> Result<Specime
             reason: "singular system at the chosen e_yield".into(),
         })?;
 
+    // The plastic polynomial needs elongations spread past yield: most of
+    // them at one value (a stalled extensometer) or a badly conditioned
+    // system gives coefficients that only amplify the noise.
+    let condition = data.plastic_condition(split);
+    let plastic = &data.pts[split..];
+    let middle = plastic[plastic.len() * 9 / 10].0 - plastic[plastic.len() / 10].0;
+    let within = |v: f64, lo: f64, hi: f64| (lo..=hi).contains(&v);
+    if !within(condition, 1.0, MAX_CONDITION)
+        || !within(middle, MIN_PLASTIC_SPREAD * scale, f64::INFINITY)
+        || branches.scaled.iter().any(|b| !b.is_finite())
+    {
+        return Err(PrecalError::Numerical {
+            stage: "specimen plastic fit",
+            reason: format!(
+                "the {} points past yield have elongations from {:e} to {:e} m, the middle \
+                 80 % of them within {middle:.3e} m: too little spread for a degree-{degree} \
+                 polynomial (condition number {condition:.1e}; a fit needs at most \
+                 {MAX_CONDITION:e} and a middle spread of at least {MIN_PLASTIC_SPREAD:e} of \
+                 the largest elongation), its coefficients would be meaningless; record \
+                 elongations spread past yield, or fit a lower --degree",
+                plastic.len(),
+                plastic[0].0,
+                plastic[plastic.len() - 1].0,
+            ),
+        });
+    }
     let n = data.pts.len();
     let p = degree + 3;
     let sse = branches.sse_elastic + branches.sse_plastic;
@@ -291,6 +327,26 @@ impl Data {
                 Some((s, b.sse_elastic + b.sse_plastic))
             })
             .min_by(|a, b| a.1.total_cmp(&b.1))
+    }
+
+    /// Condition number of the plastic branch's least squares with the first
+    /// `split` points elastic: its columns (powers of the scaled elongation)
+    /// scaled to unit norm, largest over smallest singular value.
+    fn plastic_condition(&self, split: usize) -> f64 {
+        let plastic = &self.pts[split..];
+        let cols = self.degree + 1;
+        let a = DMatrix::from_fn(plastic.len(), cols, |r, c| {
+            (plastic[r].0 / self.scale).powi(c as i32)
+        });
+        let mut a = a;
+        for mut col in a.column_iter_mut() {
+            let norm = col.norm();
+            if norm > 0.0 {
+                col /= norm;
+            }
+        }
+        let sv = a.singular_values();
+        sv.max() / sv.min()
     }
 
     /// Fits both branches with the first `split` points elastic.
