@@ -17,7 +17,7 @@ use super::options::RunLengthArgs;
 use super::output::{Output, write_file};
 use rigfit::base::data::Column;
 use rigfit::base::noise::gaussian;
-use rigfit::base::text::echo;
+use rigfit::base::text::{echo, number};
 use rigfit::campaign::raw::{RawCampaign, RawData, RawDrive};
 use rigfit::campaign::{Campaign, SimulationGrid};
 use rigfit::eval::{History, Problem, simulate_history};
@@ -198,15 +198,6 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
         )
     });
     Ok(())
-}
-
-/// A value as people write it: `20`, `0.5`, `5e-6`.
-fn number(v: f64) -> String {
-    if v == 0.0 || (1e-3..1e6).contains(&v.abs()) {
-        format!("{v}")
-    } else {
-        format!("{v:e}")
-    }
 }
 
 /// RK4 steps per sample interval for the simulation. The campaign's step rule
