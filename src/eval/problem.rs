@@ -74,6 +74,25 @@ impl Problem {
         self.experiments.iter().map(|x| x.weight / max).collect()
     }
 
+    /// The joint cost the records' noise alone would give: each experiment's
+    /// `n σ² / SS_tot` (σ its noise estimated from the record over the fit
+    /// window, [`crate::base::noise::noise_sigma`]; `n` the window's samples),
+    /// weighted as the joint fitness weighs `1 − R²`. A perfect model scores
+    /// about this; `None` where a record's noise cannot be estimated. The
+    /// convergence plot draws it ([`crate::report::plots::convergence_svg`]).
+    pub fn noise_floor(&self) -> Option<f64> {
+        let weights = self.relative_weights();
+        let total: f64 = weights.iter().sum();
+        let mut sum = 0.0;
+        for (x, w) in self.experiments.iter().zip(&weights) {
+            let window = &x.force[x.window.clone()];
+            let sigma = crate::base::noise::noise_sigma(window)?;
+            sum += w * window.len() as f64 * sigma * sigma / x.ss_tot();
+        }
+        let floor = sum / total;
+        (floor.is_finite() && floor > 0.0).then_some(floor)
+    }
+
     /// Checks that a batch has one parameter set and one offset per candidate
     /// for every experiment, each of the model's length.
     pub fn check_batch(&self, batch: &Batch) -> Result<(), EvalError> {

@@ -76,10 +76,53 @@ fn si_prefix(peak: f64, unit: &str) -> (f64, &'static str) {
     (10f64.powi(-e), p)
 }
 
+/// The time axis's unit for a record spanning `span` seconds, and the factor
+/// from seconds: ms below 2 s, µs below 2 ms, s otherwise, so its ticks read
+/// in ones to thousands.
+fn time_unit(span: f64) -> (f64, &'static str) {
+    if span < 2e-3 {
+        (1e6, "µs")
+    } else if span < 2.0 {
+        (1e3, "ms")
+    } else {
+        (1.0, "s")
+    }
+}
+
+/// Width of the fit figure, its legend column and the height of its panels
+/// (pixels).
+const FIT_WIDTH: u32 = 1100;
+/// The legend's column, right of the plots: it never covers data.
+const LEGEND_WIDTH: u32 = 250;
+const FIT_HEIGHT: u32 = 480;
+const RESIDUAL_HEIGHT: u32 = 220;
+
+/// A legend drawn in its own area: one short line and label per series.
+fn legend(
+    area: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    top: i32,
+    entries: &[(String, RGBColor)],
+) -> Result<(), DrawingAreaErrorKind<std::io::Error>> {
+    for (i, (label, color)) in entries.iter().enumerate() {
+        let y = top + 24 * i as i32;
+        area.draw(&PathElement::new(
+            vec![(8, y), (32, y)],
+            color.stroke_width(3),
+        ))?;
+        area.draw(&Text::new(
+            label.clone(),
+            (40, y - 8),
+            ("sans-serif", 15).into_font(),
+        ))?;
+    }
+    Ok(())
+}
+
 /// The measurement against the model's output 0, with every other output
-/// in output 0's unit (the tensile rig's cleaned specimen force), against
-/// time in milliseconds. `outputs` holds at least output 0. Returns the SVG
-/// text.
+/// in output 0's unit (the tensile rig's cleaned specimen force), and under
+/// it the residual (measured − model output 0), against time in a unit
+/// chosen from the record's length; the legend stands right of the plots.
+/// `outputs` holds at least output 0. Returns the SVG text.
 pub fn fit_svg(
     title: &str,
     t_s: &[f64],
@@ -91,18 +134,20 @@ pub fn fit_svg(
         return Err(err(here, "the rig has no output to plot"));
     };
     let spaced = |name: &str| name.replace('_', " ");
+    // The measurement thin and light, under the model: a dense noisy record
+    // drawn wide reads as a solid band that hides the fit.
     let mut series: Vec<(String, &[f64], RGBColor, u32)> = vec![
         (
             format!("measured {}", spaced(first.name)),
             measured,
-            RGBColor(175, 175, 175),
-            4,
+            RGBColor(160, 160, 160),
+            1,
         ),
         (
             format!("model {}", spaced(first.name)),
             first.values,
             RGBColor(31, 119, 180),
-            1,
+            2,
         ),
     ];
     const OTHERS: [RGBColor; 5] = [
@@ -116,61 +161,128 @@ pub fn fit_svg(
     for (o, color) in same_unit.zip(OTHERS.iter().cycle()) {
         series.push((format!("model {}", spaced(o.name)), o.values, *color, 2));
     }
+    let residual: Vec<f64> = measured
+        .iter()
+        .zip(first.values)
+        .map(|(m, v)| m - v)
+        .collect();
     let values: Vec<&[f64]> = series.iter().map(|s| s.1).collect();
     let (lo, hi) = range(&values);
     let (scale, prefix) = si_prefix(lo.abs().max(hi.abs()), first.unit);
+    let (r_lo, r_hi) = range(&[&residual]);
+    let (r_scale, r_prefix) = si_prefix(r_lo.abs().max(r_hi.abs()), first.unit);
+    let span = match (t_s.first(), t_s.last()) {
+        (Some(a), Some(b)) => b - a,
+        _ => 0.0,
+    };
+    let (t_factor, t_unit) = time_unit(span);
+    let t: Vec<f64> = t_s.iter().map(|x| x * t_factor).collect();
+    let (x0, x1) = range(&[&t]);
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, (1000, 560)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, (FIT_WIDTH, FIT_HEIGHT + RESIDUAL_HEIGHT))
+            .into_drawing_area();
         root.fill(&WHITE).map_err(|e| err(here, e))?;
-        let t_ms: Vec<f64> = t_s.iter().map(|t| t * 1e3).collect();
-        let (x0, x1) = range(&[&t_ms]);
-        let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 22))
+        let root = root
+            .titled(title, ("sans-serif", 22))
+            .map_err(|e| err(here, e))?;
+        let (plots, legend_area) = root.split_horizontally(FIT_WIDTH - LEGEND_WIDTH);
+        let (upper, lower) = plots.split_vertically(FIT_HEIGHT - 30);
+        let mut chart = ChartBuilder::on(&upper)
             .margin(12)
-            .x_label_area_size(44)
+            .x_label_area_size(30)
             .y_label_area_size(70)
             .build_cartesian_2d(x0..x1, lo * scale..hi * scale)
             .map_err(|e| err(here, e))?;
         chart
             .configure_mesh()
-            .x_desc("time (ms)")
             .y_desc(format!("{} ({prefix}{})", spaced(first.name), first.unit))
             .draw()
             .map_err(|e| err(here, e))?;
-        for (label, ys, color, width) in &series {
-            let points = t_ms.iter().zip(*ys).map(|(t, v)| (*t, v * scale));
-            labelled_line(&mut chart, points, label, *color, *width).map_err(|e| err(here, e))?;
+        for (_, ys, color, width) in &series {
+            let points = t.iter().zip(*ys).map(|(t, v)| (*t, v * scale));
+            chart
+                .draw_series(LineSeries::new(points, color.stroke_width(*width)))
+                .map_err(|e| err(here, e))?;
         }
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .position(SeriesLabelPosition::UpperRight)
+        let mut residual_chart = ChartBuilder::on(&lower)
+            .margin(12)
+            .x_label_area_size(44)
+            .y_label_area_size(70)
+            .build_cartesian_2d(x0..x1, r_lo * r_scale..r_hi * r_scale)
+            .map_err(|e| err(here, e))?;
+        residual_chart
+            .configure_mesh()
+            .x_desc(format!("time ({t_unit})"))
+            .y_desc(format!("residual ({r_prefix}{})", first.unit))
             .draw()
             .map_err(|e| err(here, e))?;
+        let residual_color = RGBColor(214, 39, 40);
+        let points = t.iter().zip(&residual).map(|(t, r)| (*t, r * r_scale));
+        residual_chart
+            .draw_series(LineSeries::new(points, residual_color.stroke_width(1)))
+            .map_err(|e| err(here, e))?;
+        let mut entries: Vec<(String, RGBColor)> =
+            series.iter().map(|s| (s.0.clone(), s.2)).collect();
+        entries.push(("residual (measured − model)".into(), residual_color));
+        legend(&legend_area, 40, &entries).map_err(|e| err(here, e))?;
         root.present().map_err(|e| err(here, e))?;
     }
     Ok(svg)
 }
 
 /// Best and median fitness (1 − R², log scale) against generation. Returns the
-/// SVG text.
+/// SVG text. [`convergence_svg`] adds the polish and the noise floor.
 pub fn fitness_svg(title: &str, best: &[f64], median: &[f64]) -> Result<String, PlotError> {
+    convergence_svg(title, best, median, &[], None)
+}
+
+/// Best and median fitness (1 − R², log scale) against generation, then the
+/// polish's best cost per iteration (`polish`, from the GA's best, after the
+/// last generation), and, where known, the cost the record's noise alone
+/// would give (`noise_floor`, a horizontal line: the fit cannot go much
+/// below it). Returns the SVG text.
+pub fn convergence_svg(
+    title: &str,
+    best: &[f64],
+    median: &[f64],
+    polish: &[f64],
+    noise_floor: Option<f64>,
+) -> Result<String, PlotError> {
     let mut svg = String::new();
     let here = Path::new("fitness.svg");
     {
         let root = SVGBackend::with_string(&mut svg, (900, 500)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| err(here, e))?;
         let clean = |v: &f64| v.clamp(1e-12, 1e3);
-        let lo = best.iter().map(clean).fold(f64::INFINITY, f64::min);
-        let hi = median.iter().chain(best).map(clean).fold(0.0, f64::max);
+        let floor = noise_floor.filter(|f| f.is_finite() && *f > 0.0);
+        let lo = best
+            .iter()
+            .chain(polish)
+            .chain(floor.as_ref())
+            .map(clean)
+            .fold(f64::INFINITY, f64::min);
+        let hi = median
+            .iter()
+            .chain(best)
+            .chain(polish)
+            .map(clean)
+            .fold(0.0, f64::max);
         let (lo, hi) = if lo.is_finite() && hi > lo {
             (lo / 2.0, hi * 2.0)
         } else {
             (1e-6, 1.0)
         };
-        let n = best.len().max(2) as f64;
+        let generations = best.len();
+        let n = (generations + polish.len()).max(2) as f64;
+        let x_desc = if polish.is_empty() {
+            "generation".to_string()
+        } else {
+            format!(
+                "generation, then polish iteration (from {})",
+                generations.saturating_sub(1)
+            )
+        };
         let mut chart = ChartBuilder::on(&root)
             .caption(title, ("sans-serif", 22))
             .margin(12)
@@ -180,7 +292,7 @@ pub fn fitness_svg(title: &str, best: &[f64], median: &[f64]) -> Result<String, 
             .map_err(|e| err(here, e))?;
         chart
             .configure_mesh()
-            .x_desc("generation")
+            .x_desc(x_desc)
             .x_label_formatter(&|v| format!("{v:.0}"))
             .y_desc("1 − R²")
             .y_label_formatter(&|v| format!("{v:.0e}"))
@@ -194,10 +306,28 @@ pub fn fitness_svg(title: &str, best: &[f64], median: &[f64]) -> Result<String, 
             let points = ys.iter().enumerate().map(|(g, v)| (g as f64, clean(v)));
             labelled_line(&mut chart, points, label, color, 2).map_err(|e| err(here, e))?;
         }
+        if !polish.is_empty() {
+            // Joined to the GA's last best, where the polish starts.
+            let start = generations.saturating_sub(1);
+            let joined = best.last().into_iter().chain(polish);
+            let points = joined
+                .enumerate()
+                .map(|(i, v)| ((start + i) as f64, clean(v)));
+            labelled_line(&mut chart, points, "polish", RGBColor(44, 160, 44), 2)
+                .map_err(|e| err(here, e))?;
+        }
+        if let Some(f) = floor {
+            let points = [(0.0, clean(&f)), (n, clean(&f))].into_iter();
+            let label = "noise floor (the record's noise alone)";
+            labelled_line(&mut chart, points, label, RGBColor(120, 120, 120), 1)
+                .map_err(|e| err(here, e))?;
+        }
+        // Upper right: the costs fall from the upper left towards the floor.
         chart
             .configure_series_labels()
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
+            .position(SeriesLabelPosition::UpperRight)
             .draw()
             .map_err(|e| err(here, e))?;
         root.present().map_err(|e| err(here, e))?;
@@ -229,6 +359,65 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The x coordinates of the `<text>` elements that hold `label`.
+    fn text_x(svg: &str, label: &str) -> Vec<f64> {
+        svg.split("<text")
+            .skip(1)
+            .filter(|t| {
+                t.split_once('>')
+                    .is_some_and(|(_, rest)| rest.trim_start().starts_with(label))
+            })
+            .filter_map(|t| {
+                let at = t.find(" x=\"")? + 4;
+                t[at..].split('"').next()?.parse().ok()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_fit_of_a_long_record_reads_in_seconds_with_residuals_and_a_legend_aside() {
+        // 4 s at 1 kHz with noise: the old figure read "time (ms)" to 4000.
+        let t: Vec<f64> = (0..4000).map(|k| k as f64 * 1e-3).collect();
+        let model: Vec<f64> = t.iter().map(|t| 100.0 * (3.0 * t).sin()).collect();
+        let measured: Vec<f64> = model
+            .iter()
+            .enumerate()
+            .map(|(k, m)| m + if k % 2 == 0 { 3.0 } else { -3.0 })
+            .collect();
+        let outputs = [Series {
+            name: "load_cell",
+            unit: "N",
+            values: &model,
+        }];
+        let svg = fit_svg("fit", &t, &measured, &outputs).unwrap();
+        assert!(svg.contains("time (s)"), "no time axis in seconds");
+        assert!(!svg.contains("time (ms)"));
+        assert!(svg.contains("residual (N)"), "no residual panel");
+        let legend = text_x(&svg, "measured load cell");
+        assert_eq!(legend.len(), 1, "{legend:?}");
+        assert!(
+            legend[0] >= f64::from(FIT_WIDTH - LEGEND_WIDTH),
+            "the legend at x = {} is over the plots",
+            legend[0]
+        );
+        // A short record keeps milliseconds.
+        let short: Vec<f64> = t.iter().map(|t| t * 1e-3).collect();
+        let svg = fit_svg("fit", &short, &measured, &outputs).unwrap();
+        assert!(svg.contains("time (ms)"));
+    }
+
+    #[test]
+    fn the_convergence_plot_shows_the_polish_and_the_noise_floor() {
+        let best = [1e-1, 5e-2, 2e-2];
+        let median = [3e-1, 1e-1, 5e-2];
+        let svg = convergence_svg("c", &best, &median, &[1e-3, 2e-4], Some(1e-4)).unwrap();
+        assert!(svg.contains("\npolish\n"), "no polish in the legend");
+        assert!(svg.contains("noise floor"), "no noise floor");
+        assert!(svg.contains("then polish iteration"));
+        let plain = fitness_svg("c", &best, &median).unwrap();
+        assert!(!plain.contains("\npolish\n") && !plain.contains("noise floor"));
+    }
 
     #[test]
     fn axis_prefix_brings_the_peak_into_one_to_a_thousand() {
