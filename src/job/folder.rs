@@ -176,7 +176,9 @@ impl OutputFolder {
 }
 
 fn read_manifest(path: &Path) -> Result<Manifest, JobError> {
-    let text = match fs::read_to_string(path) {
+    // Read as an input file is: a FIFO or a device planted under its name is
+    // refused, not waited on.
+    let text = match crate::base::fsutil::read_description(path) {
         Ok(t) => t,
         Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(Manifest::default()),
         Err(e) => {
@@ -356,6 +358,20 @@ mod tests {
         assert!(err.to_string().contains("symbolic link"), "{err}");
         assert_eq!(fs::read(&record).unwrap(), b"t_s,force_N\n");
         assert!(fs::symlink_metadata(dir.path().join(LOCK_FILE)).is_ok_and(|m| m.is_symlink()));
+    }
+
+    #[test]
+    fn a_fifo_in_place_of_the_manifest_is_refused_unread() {
+        let dir = tempfile::tempdir().unwrap();
+        let made = std::process::Command::new("mkfifo")
+            .arg(dir.path().join(MANIFEST_FILE))
+            .status();
+        if !made.is_ok_and(|s| s.success()) {
+            return;
+        }
+        let files = names(&["result.json"]);
+        let err = OutputFolder::open(dir.path(), &files, &[], FolderMode::New).unwrap_err();
+        assert!(err.to_string().contains("expected a regular file"), "{err}");
     }
 
     #[test]
