@@ -124,3 +124,43 @@ fn two_dof_chain_modes_match_the_closed_form() {
         close("modal mass", mode.mass, mm, 0.05);
     }
 }
+
+#[test]
+fn identify_frf_says_its_mass_stiffness_and_damping_assume_a_force_input() {
+    let (m, k, zeta): (f64, f64, f64) = (2.0, 8000.0, 0.05);
+    let c = 2.0 * zeta * (k * m).sqrt();
+    let (u, y) = record(vec![m], vec![k], vec![c]);
+    let dir = tempfile::tempdir().unwrap();
+    let mut csv = String::from("t_s,u,x_m\n");
+    for (i, (u, y)) in u.iter().zip(&y).enumerate() {
+        csv += &format!("{},{u},{y}\n", i as f64 / 100.0);
+    }
+    let data = dir.path().join("rec.csv");
+    std::fs::write(&data, csv).unwrap();
+    let run = |json: bool| {
+        let mut cmd = std::process::Command::new(env!("CARGO_BIN_EXE_rigfit"));
+        if json {
+            cmd.arg("--json");
+        }
+        let out = cmd
+            .args(["identify", "frf"])
+            .arg(&data)
+            .args(["--f-min", "3", "--f-max", "28"])
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stdout).to_string()
+    };
+    let text = run(false);
+    assert!(text.contains(frf::FORCE_INPUT), "{text}");
+    let report: serde_json::Value = serde_json::from_str(&run(true)).unwrap();
+    assert_eq!(
+        report["assumes"].as_str(),
+        Some(frf::FORCE_INPUT),
+        "{report}"
+    );
+}

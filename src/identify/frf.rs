@@ -26,6 +26,13 @@ pub use super::psd::WelchSettings;
 use super::psd::{averaged_segments, check_rate};
 use super::{PrecalError, check_inputs};
 
+/// What a modal fit of the FRF assumes of its input: the mass, stiffness and
+/// damping it reports (and writes into a campaign fragment) are the rig's
+/// only where the input is a force on the measured point.
+pub const FORCE_INPUT: &str = "modal m, k and c assume the input column is a force (N) on \
+    the measured point; for another input (a base motion, a drive voltage) they are not the \
+    rig's mass, stiffness and damping, only f_n and ζ are";
+
 /// Frequency-response estimates on the one-sided bins `k·fs/segment_len`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Frf {

@@ -108,7 +108,10 @@ pub fn frf(a: &FrfArgs, out: &Output) -> Result<()> {
         columns: 1,
     };
     Findings {
-        report: serde_json::json!({"welch": est.settings, "modal": fit}),
+        report: serde_json::json!({
+            "welch": est.settings, "modal": fit,
+            "assumes": fit.as_ref().map(|_| frf::FORCE_INPUT),
+        }),
         fragment: match &fit {
             Some(m) => m.to_campaign_fragment(&a.names, a.common.fixed),
             None => serde_json::json!({"params": {}}),
@@ -170,8 +173,10 @@ fn report(a: &FrfArgs, est: &Frf, fit: Option<&ModalFit>, n: usize, fs: f64) -> 
             );
         }
         s += &format!(
-            "  fit over {} lines: relative RMS error {:.4}\n",
-            m.lines, m.relative_error
+            "  fit over {} lines: relative RMS error {:.4}\n  note: {}\n",
+            m.lines,
+            m.relative_error,
+            frf::FORCE_INPUT
         );
     }
     s
