@@ -107,3 +107,33 @@ fn the_largest_laws_inside_the_limits_compile_on_a_test_thread() {
         assert!(e.eval(&|_| 0.5).is_finite());
     }
 }
+
+#[test]
+fn check_refuses_a_deep_law_with_exit_2() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    let force = format!("k*x + {}x{}", "(".repeat(10_000), ")".repeat(10_000));
+    std::fs::write(
+        dir.join("deep_rig.json"),
+        duffing_with_spring(&force).to_string(),
+    )
+    .unwrap();
+    let c = json!({
+        "name": "deep", "rig": "deep_rig.json",
+        "params": {"m": 1.0, "k": 1e3, "k3": 0.0, "c": 1.0},
+        "experiments": [{"name": "e", "data": {"file": "d.csv", "time_column": "t_s", "force_column": "f_N"}}]
+    });
+    std::fs::write(dir.join("c.json"), c.to_string()).unwrap();
+    std::fs::write(dir.join("d.csv"), "t_s,f_N\n0,0\n0.01,1\n0.02,2\n").unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_rigfit"))
+        .args(["check", "c.json"])
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    println!("{err}");
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("deep_rig.json"), "{err}");
+    assert!(err.contains("elements[0].spring.force"), "{err}");
+    assert!(err.contains("at most 2000 characters"), "{err}");
+}
