@@ -8,7 +8,7 @@ use super::names::{check_campaign_name, check_experiment_names};
 use super::raw::{RawCampaign, RawDrive, RawExperiment, RawParam};
 use super::resolve::{check_map, check_physics, check_value, resolve};
 use super::simulation::{self, Reading};
-use super::stability::{SolverSettings, choose};
+use super::stability::choose;
 use super::{Campaign, CampaignError, FNV_BASIS, Gene, GeneTarget, Source, acts_in, fnv1a};
 use crate::base::data::{Column, CsvSpec, Series, parse_csv};
 use crate::base::{Drive, PiecewiseLinear};
@@ -114,18 +114,23 @@ pub(crate) fn build(
 
     check_weights(file, &experiments)?;
     let requested = raw.solver.substeps;
-    let (substeps, auto, note) = choose(
+    let step = choose(
         model,
         &experiments,
+        &genes,
         |e| corners(&r.base[e], &genes, e, &r.sources),
         |e| latest_offset(base_offsets[e], &genes, e),
+        |e| (r.base[e].clone(), base_offsets[e]),
         requested,
+        raw.solver.tolerance,
     )
     .map_err(|message| CampaignError::Unstable {
         file: file.to_path_buf(),
         path: "solver.substeps".into(),
         message,
     })?;
+    r.warnings.extend(step.warning.clone());
+    let substeps = step.substeps;
     let output = lexical_clean(&match &raw.output {
         Some(o) => dir.join(o),
         None => dir.join("results").join(&raw.name),
@@ -143,13 +148,7 @@ pub(crate) fn build(
         genes,
         base: r.base,
         base_offsets,
-        solver: SolverSettings {
-            substeps,
-            backend: raw.solver.backend,
-            precision: raw.solver.precision,
-            auto,
-            note,
-        },
+        solver: step.settings(raw.solver.backend, raw.solver.precision),
         search_given: raw.search.is_some(),
         search: raw.search.unwrap_or_else(GaSettings::unset),
         output,

@@ -35,6 +35,7 @@
 mod build;
 mod error;
 mod initial;
+mod integration_error;
 mod names;
 mod param_file;
 pub mod raw;
@@ -46,12 +47,16 @@ mod stability;
 use std::path::{Path, PathBuf};
 
 pub use error::CampaignError;
+pub use integration_error::IntegrationError;
 pub use names::{MAX_NAME_CHARS, file_stem};
 pub use run_length::{
     CPU_STEPS_PER_S_PER_CORE, DEFAULT_MAX_STEPS, ExperimentRun, RunLength, human_duration,
 };
 pub use simulation::SimulationGrid;
-pub use stability::{MAX_AUTO_SUBSTEPS, STABILITY_LIMIT, SolverSettings};
+pub use stability::{
+    ACCURACY_CAP_FACTOR, ACCURACY_MARGIN, ESTIMATE_MAX_RUN_STEPS, MAX_AUTO_SUBSTEPS,
+    NOISE_FRACTION, SPREAD_FLOOR, STABILITY_LIMIT, SolverSettings,
+};
 
 use crate::base::Scale;
 use crate::eval::{Batch, DIVERGED, Problem, Scores};

@@ -166,22 +166,25 @@ pub(crate) fn apply(campaign: &mut Campaign, path: &Path) -> Result<(), Campaign
         RawSubsteps::Count(c.solver.substeps as u64)
     };
     let offset = |e: usize| super::build::latest_offset(c.base_offsets[e], &c.genes, e);
-    let (substeps, auto, note) = choose(
+    let step = choose(
         model,
         &c.problem.experiments,
+        &c.genes,
         |e| c.bounds(e),
         offset,
+        |e| (c.base[e].clone(), c.base_offsets[e]),
         requested,
+        c.solver.tolerance,
     )
     .map_err(|message| CampaignError::Unstable {
         file: path.to_path_buf(),
         path: top.into(),
         message,
     })?;
-    c.solver.substeps = substeps;
-    c.solver.auto = auto;
-    c.solver.note = note;
-    c.problem.substeps = substeps;
+    c.warnings
+        .extend(step.warning.clone().filter(|w| !c.warnings.contains(w)));
+    c.solver = step.settings(c.solver.backend, c.solver.precision);
+    c.problem.substeps = step.substeps;
     *campaign = next;
     Ok(())
 }

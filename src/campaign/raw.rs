@@ -259,6 +259,23 @@ pub struct RawSolver {
     /// for a model without them), anything else f64.
     #[serde(default)]
     pub precision: PrecisionChoice,
+    /// `"tolerance"`: the RMS integration error of output 0 (output 0's
+    /// unit, > 0) `"auto"` substeps allow; without it, 1 % of the record's
+    /// noise estimated from the record.
+    #[serde(default, deserialize_with = "positive_tolerance")]
+    pub tolerance: Option<f64>,
+}
+
+/// A finite tolerance > 0.
+fn positive_tolerance<'de, D: Deserializer<'de>>(d: D) -> Result<Option<f64>, D::Error> {
+    let v = f64::deserialize(d)?;
+    if v > 0.0 && v.is_finite() {
+        Ok(Some(v))
+    } else {
+        Err(de::Error::custom(format!(
+            "expected a tolerance > 0 in the unit of the rig's output 0, found {v}"
+        )))
+    }
 }
 
 /// `"substeps"`: a count or `"auto"`.

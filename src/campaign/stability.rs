@@ -5,10 +5,20 @@
 //! free parameters' ranges with [`crate::model::CompiledRig::omega_bound`]; we require
 //! `h·ω_bound ≤` [`STABILITY_LIMIT`] = 2.0, a margin of about 30 % for the
 //! looseness of nonlinear springs beyond their linearisation.
+//!
+//! A stable step is not yet an accurate one: `"auto"` then estimates the
+//! integration error of output 0 by step doubling with the f64 reference at
+//! the initial parameters ([`crate::model::step_error`]) and takes the
+//! fewest substeps whose error is at most [`NOISE_FRACTION`] of the record's
+//! noise (estimated from the record, [`noise_sigma`]) or the campaign's
+//! `solver.tolerance`, up to [`ACCURACY_CAP_FACTOR`] times the stable count.
 
 use super::raw::RawSubsteps;
+use crate::base::noise::noise_sigma;
+use crate::base::text::echo_bare;
 use crate::eval::{Backend, ExperimentData, PrecisionChoice};
 use crate::model::CompiledRig;
+use crate::model::step_error::{StepDoubling, StepStop};
 
 /// Largest `h·ω_bound` accepted (RK4's own limit is about 2.8).
 pub const STABILITY_LIMIT: f64 = 2.0;
@@ -16,6 +26,32 @@ pub const STABILITY_LIMIT: f64 = 2.0;
 /// Most substeps `"auto"` will choose (or a campaign may ask for) before the
 /// campaign is refused.
 pub const MAX_AUTO_SUBSTEPS: usize = 10_000;
+
+/// The integration error `"auto"` allows, as a fraction of the record's noise
+/// (without a `solver.tolerance`), and the fraction of the fit's residual RMS
+/// above which a finished job warns of it.
+pub const NOISE_FRACTION: f64 = 0.01;
+
+/// `"auto"` aims at this fraction of the integration error it allows, so that
+/// the error stays within it where the step-doubling estimate, the record's
+/// noise estimate or the fitted parameters (away from the initial ones the
+/// step is chosen at) differ from the truth by up to this factor.
+pub const ACCURACY_MARGIN: f64 = 0.5;
+
+/// The smallest integration error `"auto"` asks for without a tolerance, as
+/// a fraction of the record's standard deviation over the fit window: far
+/// below any measured record's noise (a 24-bit converter resolves 6e-8 of its
+/// range), it bounds the steps a record without noise asks for.
+pub const SPREAD_FLOOR: f64 = 1e-6;
+
+/// `"auto"` takes at most this many times the substeps stability needs for
+/// accuracy (and warns when that is not enough): the search's cost grows with
+/// the substeps, and 8 times the step cuts a fourth-order error 4096-fold.
+pub const ACCURACY_CAP_FACTOR: usize = 8;
+
+/// Longest reference run (RK4 steps) the step-doubling estimate takes: about
+/// 2 s on one core; a longer record keeps the stable step and says so.
+pub const ESTIMATE_MAX_RUN_STEPS: f64 = 2e7;
 
 /// The campaign's `"solver"` object after validation.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -29,8 +65,43 @@ pub struct SolverSettings {
     /// Whether `substeps` was chosen automatically.
     pub auto: bool,
     /// How the step was chosen or checked: worst `h·ω`, experiment and limiting
-    /// parameter, for the log.
+    /// parameter, the integration error it leaves, for the log.
     pub note: String,
+    /// `solver.tolerance`: the integration error of output 0 `"auto"` allows
+    /// (output 0's unit); without it, [`NOISE_FRACTION`] of the record's noise.
+    pub tolerance: Option<f64>,
+    /// Per experiment, the integration error of output 0 (RMS over the fit
+    /// window, output 0's unit) estimated by step doubling at the chosen
+    /// substeps and the initial parameters; `None` where not estimated (an
+    /// explicit count, a record without a noise level, a run too long).
+    pub estimated_error: Vec<Option<f64>>,
+}
+
+/// A step chosen by [`choose`].
+#[derive(Debug, Clone)]
+pub(crate) struct Chosen {
+    pub substeps: usize,
+    pub auto: bool,
+    pub note: String,
+    /// Said once to the user: the cap held the error above its target.
+    pub warning: Option<String>,
+    pub estimated_error: Vec<Option<f64>>,
+    pub tolerance: Option<f64>,
+}
+
+impl Chosen {
+    /// The validated `"solver"` object.
+    pub fn settings(&self, backend: Backend, precision: PrecisionChoice) -> SolverSettings {
+        SolverSettings {
+            substeps: self.substeps,
+            backend,
+            precision,
+            auto: self.auto,
+            note: self.note.clone(),
+            tolerance: self.tolerance,
+            estimated_error: self.estimated_error.clone(),
+        }
+    }
 }
 
 /// The tightest experiment: its index, ω bound (rad/s) and limiting parameter.
@@ -39,18 +110,31 @@ struct Worst {
     omega: f64,
     name: &'static str,
     need: usize,
+    /// `need` before it is held to a count, for a refusal.
+    need_f: f64,
+    /// The lightest node and its mass over the bounds, for a refusal.
+    lightest: String,
 }
 
 /// Substeps for `requested`, or the one-line reason it cannot work.
 /// `bounds(e)` gives experiment `e`'s lower and upper parameter vectors,
-/// `offset(e)` its latest clock offset (s).
+/// `offset(e)` its latest clock offset (s), `initial(e)` the parameters and
+/// offset the accuracy of `"auto"` is judged at (the initial values, free
+/// ones mid-range); `genes` name a free mass's range in a refusal.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the campaign's pieces the step depends on, each read by closure"
+)]
 pub(crate) fn choose(
     model: &CompiledRig,
     exps: &[ExperimentData],
+    genes: &[super::Gene],
     bounds: impl Fn(usize) -> (Vec<f64>, Vec<f64>),
     offset: impl Fn(usize) -> f64,
+    initial: impl Fn(usize) -> (Vec<f64>, f64),
     requested: RawSubsteps,
-) -> Result<(usize, bool, String), String> {
+    tolerance: Option<f64>,
+) -> Result<Chosen, String> {
     let mut worst: Option<Worst> = None;
     for (e, x) in exps.iter().enumerate() {
         let (lo, hi) = bounds(e);
@@ -58,20 +142,45 @@ pub(crate) fn choose(
         // model must stay stable for.
         let t_end = x.t_first + x.window.end.saturating_sub(1) as f64 * x.dt + offset(e);
         let (omega, name) = model.omega_bound_in_run(&lo, &hi, &x.drive, t_end);
+        let need_f = (omega * x.dt / STABILITY_LIMIT).ceil();
+        if !omega.is_finite() || need_f > MAX_AUTO_SUBSTEPS as f64 {
+            // A mass at or below zero, or one so light that nothing can step
+            // it, is the cause whatever stiffness the bound names.
+            if let Some(cause) = mass_cause(model, genes, e, &lo, &hi, |lo| {
+                let (w, _) = model.omega_bound_in_run(lo, &hi, &x.drive, t_end);
+                w.is_finite() && (w * x.dt / STABILITY_LIMIT).ceil() <= MAX_AUTO_SUBSTEPS as f64
+            }) {
+                return Err(format!(
+                    "experiment '{}': {cause}; the frequency bound is {}",
+                    echo_bare(&x.name),
+                    if omega.is_finite() {
+                        format!(
+                            "ω ≤ {omega:.3e} rad/s, too high to step at dt = {:e} s",
+                            x.dt
+                        )
+                    } else {
+                        "not finite".into()
+                    }
+                ));
+            }
+        }
         if !omega.is_finite() {
             return Err(format!(
-                "experiment '{}': the frequency bound is not finite (limited by '{name}'); \
+                "experiment '{}': the frequency bound is not finite (limited by '{name}'{}); \
                  expected finite masses, stiffnesses and dampings",
-                x.name
+                x.name,
+                lightest(model, &lo)
             ));
         }
-        let need = ((omega * x.dt / STABILITY_LIMIT).ceil() as usize).max(1);
+        let need = need_f.min(usize::MAX as f64).max(1.0) as usize;
         if worst.as_ref().is_none_or(|w| need > w.need) {
             worst = Some(Worst {
                 exp: e,
                 omega,
                 name,
                 need,
+                need_f,
+                lightest: lightest(model, &lo),
             });
         }
     }
@@ -80,21 +189,46 @@ pub(crate) fn choose(
     match requested {
         RawSubsteps::Auto => {
             if w.need > MAX_AUTO_SUBSTEPS {
+                let need = if w.need_f < 1e9 {
+                    format!("{}", w.need)
+                } else {
+                    format!("{:.1e}", w.need_f)
+                };
                 return Err(format!(
-                    "\"auto\" would need {} substeps (more than {MAX_AUTO_SUBSTEPS}) for \
-                     experiment '{}': ω ≤ {:.3e} rad/s limited by '{}' at dt = {:e} s; \
+                    "\"auto\" would need {need} substeps (more than {MAX_AUTO_SUBSTEPS}) for \
+                     experiment '{}': ω ≤ {:.3e} rad/s limited by '{}'{} at dt = {:e} s; \
                      narrow the range of '{}'",
-                    w.need, x.name, w.omega, w.name, x.dt, w.name
+                    x.name, w.omega, w.name, w.lightest, x.dt, w.name
                 ));
             }
             let hw = w.omega * x.dt / w.need as f64;
-            let note = format!(
-                "substeps = {} chosen automatically: h·ω ≤ {hw:.2} (limit {STABILITY_LIMIT}, \
-                 RK4 diverges near 2.8), tightest in experiment '{}' where ω ≤ {:.3e} rad/s \
-                 is limited by '{}' at dt = {:e} s",
-                w.need, x.name, w.omega, w.name, x.dt
+            let stable = format!(
+                "h·ω ≤ {hw:.2} (limit {STABILITY_LIMIT}, RK4 diverges near 2.8), tightest in \
+                 experiment '{}' where ω ≤ {:.3e} rad/s is limited by '{}' at dt = {:e} s",
+                x.name, w.omega, w.name, x.dt
             );
-            Ok((w.need, true, note))
+            let acc = accurate(model, exps, &initial, w.need, tolerance);
+            let n = acc.substeps;
+            let note = if n == w.need {
+                format!(
+                    "substeps = {n} chosen automatically: {stable}; {}",
+                    acc.words
+                )
+            } else {
+                format!(
+                    "substeps = {n} chosen automatically for accuracy: {}; stability alone \
+                     needs {}: {stable}",
+                    acc.words, w.need
+                )
+            };
+            Ok(Chosen {
+                substeps: n,
+                auto: true,
+                note,
+                warning: acc.warning,
+                estimated_error: acc.errors,
+                tolerance,
+            })
         }
         RawSubsteps::Count(n) if n > MAX_AUTO_SUBSTEPS as u64 => Err(format!(
             "expected at most {MAX_AUTO_SUBSTEPS} substeps, found {n}"
@@ -117,7 +251,311 @@ pub(crate) fn choose(
                  tightest in experiment '{}' limited by '{}'",
                 x.name, w.name
             );
-            Ok((n, false, note))
+            Ok(Chosen {
+                substeps: n,
+                auto: false,
+                note,
+                warning: None,
+                estimated_error: vec![None; exps.len()],
+                tolerance,
+            })
         }
     }
+}
+
+/// The integration error `"auto"` allows in experiment `x` (output 0's
+/// unit) and how to say it: the tolerance, else [`NOISE_FRACTION`] of the
+/// record's noise over the fit window, but never below [`SPREAD_FLOOR`] of the
+/// record's spread (a record without noise, whose noise estimate is the
+/// signal's own smoothness, would otherwise ask for any number of steps).
+/// `None` for a constant record (a simulation's placeholder) or one too short
+/// for a noise estimate.
+pub(crate) fn target(
+    x: &ExperimentData,
+    tolerance: Option<f64>,
+    unit: &str,
+) -> Option<(f64, String)> {
+    if let Some(t) = tolerance {
+        return Some((t, format!("solver.tolerance = {t:.3e} {unit}")));
+    }
+    let w = &x.force[x.window.clone()];
+    let sigma = noise_sigma(w)?;
+    let mean = w.iter().sum::<f64>() / w.len() as f64;
+    let spread = (w.iter().map(|f| (f - mean) * (f - mean)).sum::<f64>() / w.len() as f64).sqrt();
+    let floor = SPREAD_FLOOR * spread;
+    let noise = NOISE_FRACTION * sigma;
+    if noise >= floor && noise > 0.0 {
+        Some((
+            noise,
+            format!(
+                "{:.0} % of the record's noise, ≈ {sigma:.3e} {unit} estimated from the record",
+                100.0 * NOISE_FRACTION
+            ),
+        ))
+    } else if floor > 0.0 {
+        Some((
+            floor,
+            format!(
+                "{SPREAD_FLOOR:e} of the record's standard deviation {spread:.3e} {unit}, above \
+                 {:.0} % of its noise estimate {sigma:.3e} {unit}",
+                100.0 * NOISE_FRACTION
+            ),
+        ))
+    } else {
+        None
+    }
+}
+
+/// What the accuracy part of `"auto"` chose.
+struct Accurate {
+    substeps: usize,
+    words: String,
+    warning: Option<String>,
+    errors: Vec<Option<f64>>,
+}
+
+/// The fewest substeps from `stable` (up to [`ACCURACY_CAP_FACTOR`]`·stable`)
+/// whose estimated integration error is at most every experiment's
+/// [`target`], each experiment judged at `initial(e)`.
+fn accurate(
+    model: &CompiledRig,
+    exps: &[ExperimentData],
+    initial: &impl Fn(usize) -> (Vec<f64>, f64),
+    stable: usize,
+    tolerance: Option<f64>,
+) -> Accurate {
+    let unit = model.output_names().first().map_or("", |o| o.1);
+    let cap = stable
+        .saturating_mul(ACCURACY_CAP_FACTOR)
+        .min(MAX_AUTO_SUBSTEPS)
+        .max(stable);
+    let at: Vec<(Vec<f64>, f64)> = (0..exps.len()).map(initial).collect();
+    let mut runs: Vec<StepDoubling<'_>> = exps
+        .iter()
+        .zip(&at)
+        .map(|(x, (p, off))| {
+            StepDoubling::new(model, p, &x.drive, x.grid(*off, stable), x.window.clone())
+        })
+        .collect();
+    let mut n = stable;
+    // (experiment, error, target, target in words) of the experiment that set n.
+    let mut setter: Option<(usize, f64, f64, String)> = None;
+    let mut unjudged = Vec::new();
+    let mut capped = None;
+    for (e, (x, run)) in exps.iter().zip(&mut runs).enumerate() {
+        let Some((t, words)) = target(x, tolerance, unit) else {
+            unjudged.push(format!(
+                "'{}': no noise level in the record",
+                echo_bare(&x.name)
+            ));
+            continue;
+        };
+        let c = run.choose(stable, cap, ACCURACY_MARGIN * t, ESTIMATE_MAX_RUN_STEPS);
+        match c.stop {
+            StepStop::TooLong => unjudged.push(format!(
+                "'{}': a reference run at {} substeps would take {:.2e} RK4 steps (more than \
+                 {ESTIMATE_MAX_RUN_STEPS:e})",
+                echo_bare(&x.name),
+                4 * c.substeps,
+                run.steps_of(4 * c.substeps)
+            )),
+            StepStop::NotFinite => unjudged.push(format!(
+                "'{}': the reference run at the initial parameters is not finite",
+                echo_bare(&x.name)
+            )),
+            StepStop::Cap | StepStop::Tries if c.error.is_none_or(|err| err > t) => {
+                let err = c.error.unwrap_or(f64::NAN);
+                capped.get_or_insert((e, c.substeps, err, t, words.clone()));
+            }
+            StepStop::Cap | StepStop::Tries => {}
+            StepStop::Met => {}
+        }
+        if c.substeps > n || setter.is_none() {
+            if let Some(err) = c.error {
+                setter = Some((e, err, t, words));
+            }
+        }
+        n = n.max(c.substeps);
+    }
+    // Every experiment's error at the substeps all of them take.
+    let errors: Vec<Option<f64>> = exps
+        .iter()
+        .zip(&mut runs)
+        .map(|(x, run)| {
+            let judged = target(x, tolerance, unit).is_some();
+            (judged && run.steps_of(4 * n) <= ESTIMATE_MAX_RUN_STEPS)
+                .then(|| run.error(n))
+                .flatten()
+        })
+        .collect();
+    let mut words = match &setter {
+        Some((e, _, t, tw)) => format!(
+            "integration error ≈ {:.2e} {unit} by step doubling at the initial parameters in \
+             experiment '{}' (allowed {t:.2e} {unit}: {tw}; aimed at {:.0} % of it)",
+            errors[*e].unwrap_or(f64::NAN),
+            echo_bare(&exps[*e].name),
+            100.0 * ACCURACY_MARGIN
+        ),
+        None => "integration error not estimated".to_string(),
+    };
+    if !unjudged.is_empty() {
+        words += &format!(
+            " (not estimated for {}: the stable step is kept there)",
+            unjudged.join("; ")
+        );
+    }
+    let warning = capped.map(|(e, m, err, t, tw)| {
+        format!(
+            "experiment '{}': the RK4 step is not as fine as accuracy asks: at {} the integration \
+             error is still ≈ {err:.2e} {unit}, against {t:.2e} {unit} allowed ({tw}); \"auto\" takes at most \
+             {ACCURACY_CAP_FACTOR}× the {} substeps stability needs, so the fit may feel the \
+             step: give solver.substeps a larger count, or a solver.tolerance you accept",
+            echo_bare(&exps[e].name),
+            crate::base::text::steps_per_sample(m),
+            stable
+        )
+    });
+    Accurate {
+        substeps: n,
+        words,
+        warning,
+        errors,
+    }
+}
+
+/// A node mass that makes the frequency bound unusable, in words with where it
+/// is set: one at or below zero (a rig file's number, in any stage of a mass
+/// that switches when an element breaks, or a parameter's range), or a free
+/// mass whose lower bound alone does it (`fixes(lo)` says whether `lo` with
+/// that bound raised to the upper one gives a usable bound).
+fn mass_cause(
+    model: &CompiledRig,
+    genes: &[super::Gene],
+    e: usize,
+    lo: &[f64],
+    hi: &[f64],
+    fixes: impl Fn(&[f64]) -> bool,
+) -> Option<String> {
+    use crate::rig::desc::Coef;
+    // Each stage of a mass: its coefficient, its JSON path in the rig and when.
+    fn stages<'c>(
+        c: &'c Coef,
+        path: String,
+        when: String,
+        out: &mut Vec<(&'c Coef, String, String)>,
+    ) {
+        match c {
+            Coef::Switch(s) => {
+                stages(
+                    &s.before,
+                    format!("{path}.before"),
+                    format!(" before '{}' breaks", s.broken),
+                    out,
+                );
+                stages(
+                    &s.after,
+                    format!("{path}.after"),
+                    format!(" after '{}' breaks", s.broken),
+                    out,
+                );
+            }
+            _ => out.push((c, path, when)),
+        }
+    }
+    let where_set = |name: &str| {
+        let i = model.params().iter().position(|p| p.name == name)?;
+        let g = genes
+            .iter()
+            .filter(|g| g.target == super::GeneTarget::Param(i))
+            .find(|g| g.experiment == Some(e))
+            .or_else(|| {
+                genes
+                    .iter()
+                    .find(|g| g.target == super::GeneTarget::Param(i) && g.experiment.is_none())
+            })?;
+        Some(match g.experiment {
+            Some(x) => format!("experiments[{x}].params.{name}"),
+            None => format!("params.{name}"),
+        })
+    };
+    for (k, node) in model.desc.nodes.iter().enumerate() {
+        let mut all = Vec::new();
+        stages(
+            &node.mass,
+            format!("nodes[{k}].mass"),
+            String::new(),
+            &mut all,
+        );
+        let node_name = echo_bare(&node.name);
+        for (c, path, when) in all {
+            match c {
+                Coef::Number(v) if !(*v > 0.0 && v.is_finite()) => {
+                    return Some(format!(
+                        "node '{node_name}' has a mass of {v} kg{when} (rig '{}', {path}); \
+                         expected a mass > 0 in every stage",
+                        model.id()
+                    ));
+                }
+                Coef::Param(name) => {
+                    let i = model.params().iter().position(|p| p.name == *name)?;
+                    let (a, b) = (lo[i], hi[i]);
+                    let at = where_set(name);
+                    if !(a > 0.0 && b.is_finite()) {
+                        let at = at.map_or_else(
+                            || format!("rig '{}', {path}", model.id()),
+                            |p| format!("{p}.min"),
+                        );
+                        return Some(format!(
+                            "node '{node_name}' has a mass '{name}'{when} that reaches {a:e} kg \
+                             ({at}); expected a mass > 0"
+                        ));
+                    }
+                    if a < b {
+                        let mut raised = lo.to_vec();
+                        raised[i] = b;
+                        if fixes(&raised) {
+                            let at = at.map_or_else(String::new, |p| format!(" ({p}.min)"));
+                            return Some(format!(
+                                "node '{node_name}' has a mass '{name}'{when} whose lower bound \
+                                 {a:e} kg{at} is too light for any RK4 step; raise that bound \
+                                 (the mass at {b:e} kg steps)"
+                            ));
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+    None
+}
+
+/// `, with the lightest node 'plate' at 1e-300 kg`: what a frequency bound is
+/// inversely proportional to, for a refusal whose named parameter is a
+/// stiffness or a damping. Empty for a rig without free nodes.
+fn lightest(model: &CompiledRig, lo: &[f64]) -> String {
+    use crate::rig::desc::Coef;
+    fn least(model: &CompiledRig, c: &Coef, lo: &[f64]) -> f64 {
+        match c {
+            Coef::Number(v) => *v,
+            Coef::Param(n) => model
+                .params()
+                .iter()
+                .position(|p| p.name == *n)
+                .map_or(f64::NAN, |i| lo[i]),
+            Coef::Switch(s) => least(model, &s.before, lo).min(least(model, &s.after, lo)),
+        }
+    }
+    model
+        .desc
+        .nodes
+        .iter()
+        .map(|n| (n, least(model, &n.mass, lo)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map_or_else(String::new, |(n, m)| {
+            format!(
+                ", with the lightest node '{}' at {m:e} kg",
+                echo_bare(&n.name)
+            )
+        })
 }

@@ -42,6 +42,9 @@ pub struct ExperimentFit {
     /// Lag-one autocorrelation of the residual over the fit window: about 0
     /// (within `2/√N`) for white noise, large where the misfit is systematic.
     pub residual_autocorrelation: Option<f64>,
+    /// The RK4 integration error of output 0 at the job's step, estimated at
+    /// the fitted parameters, and its size against the residual.
+    pub integration_error: crate::campaign::IntegrationError,
     /// Weight in the joint fitness.
     pub weight: f64,
     /// CSV with the measurement, every model output and the residual.
@@ -257,6 +260,7 @@ pub fn write_outputs(
             noise_estimate,
             cost_over_noise_floor,
             residual_autocorrelation,
+            integration_error: campaign.integration_error(e, params, *offset, residual_rms),
             weight: exp.weight,
             csv,
             plot,
@@ -281,6 +285,8 @@ pub fn write_outputs(
     warnings.extend(at_bound_warnings(campaign, uncertainty));
     warnings.extend(search_warnings(outcome, polish));
     warnings.extend(misfit_warnings(&experiments));
+    let step = |x: &ExperimentFit| x.integration_error.warning(&x.name, &x.unit);
+    warnings.extend(experiments.iter().filter_map(step));
     warnings.extend(fallback);
     let summary = JobSummary {
         rigfit_version: env!("CARGO_PKG_VERSION").into(),

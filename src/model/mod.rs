@@ -6,6 +6,7 @@ pub mod compiled;
 mod linearise;
 pub mod modes;
 mod stability;
+pub mod step_error;
 
 use std::ops::ControlFlow;
 

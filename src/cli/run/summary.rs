@@ -9,7 +9,13 @@ use rigfit::job::JobSummary;
 pub fn summary_text(s: &JobSummary, dir: &Path, steps: f64) -> String {
     let mut t = String::new();
     let rate = s.evaluations as f64 * steps / s.wall_time_s.max(1e-9);
-    let _ = writeln!(t, "\n{} — {}", s.campaign, s.stop_reason);
+    let _ = writeln!(
+        t,
+        "\n{} — {}{}",
+        s.campaign,
+        s.stop_reason,
+        integration_error(s)
+    );
     let _ = writeln!(
         t,
         "  {} generations, {} evaluations in {:.1} s on {} ({}, {}): {:.3e} candidate-steps/s",
@@ -115,4 +121,41 @@ pub fn summary_text(s: &JobSummary, dir: &Path, steps: f64) -> String {
     files.push("fitness.svg".into());
     let _ = write!(t, "  results in {}: {}", dir.display(), files.join(", "));
     t
+}
+
+/// `; RK4 integration error ≈ 1.2e-3 N, 0.01 % of the residual RMS (1 RK4
+/// step per sample)` for the experiment where it is the largest part of the
+/// residual; empty where none was estimated.
+fn integration_error(s: &JobSummary) -> String {
+    let worst = s
+        .experiments
+        .iter()
+        .filter_map(|e| Some((e, e.integration_error.estimate?)))
+        .max_by(|a, b| {
+            let f = |x: &(&rigfit::job::ExperimentFit, f64)| {
+                x.0.integration_error
+                    .fraction_of_residual_rms
+                    .unwrap_or(0.0)
+            };
+            f(a).total_cmp(&f(b)).then(a.1.total_cmp(&b.1))
+        });
+    let Some((e, est)) = worst else {
+        return String::new();
+    };
+    let frac = e
+        .integration_error
+        .fraction_of_residual_rms
+        .map_or_else(String::new, |f| {
+            format!(", {:.2} % of the residual RMS", 100.0 * f)
+        });
+    let within = if s.experiments.len() > 1 {
+        format!(" in '{}'", e.name)
+    } else {
+        String::new()
+    };
+    format!(
+        "; RK4 integration error ≈ {est:.2e} {}{frac}{within} ({})",
+        e.unit,
+        rigfit::base::text::steps_per_sample(e.integration_error.substeps)
+    )
 }
