@@ -18,7 +18,8 @@ pub struct ExperimentData {
     pub t_first: f64,
     /// Uniform sample interval (s).
     pub dt: f64,
-    /// Measured force at each sample (N).
+    /// The measured output (the rig's output 0: a force, a displacement or
+    /// an acceleration) at each sample, in that output's unit.
     pub force: Vec<f64>,
     /// Samples scored by the fitness.
     pub window: Range<usize>,
@@ -27,7 +28,7 @@ pub struct ExperimentData {
 }
 
 impl ExperimentData {
-    /// Sum of squares of the measured force about its mean over the window.
+    /// Sum of squares of the measured output about its mean over the window.
     pub fn ss_tot(&self) -> f64 {
         let w = &self.force[self.window.clone()];
         let mean = w.iter().sum::<f64>() / w.len() as f64;

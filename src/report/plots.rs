@@ -120,9 +120,10 @@ fn legend(
 
 /// The measurement against the model's output 0, with every other output
 /// in output 0's unit (the tensile rig's cleaned specimen force), and under
-/// it the residual (measured − model output 0), against time in a unit
-/// chosen from the record's length; the legend stands right of the plots.
-/// `outputs` holds at least output 0. Returns the SVG text.
+/// it the residual (model output 0 − measured, as in the experiment's CSV),
+/// against time in a unit chosen from the record's length; the legend stands
+/// right of the plots. `outputs` holds at least output 0. Returns the SVG
+/// text.
 pub fn fit_svg(
     title: &str,
     t_s: &[f64],
@@ -164,7 +165,7 @@ pub fn fit_svg(
     let residual: Vec<f64> = measured
         .iter()
         .zip(first.values)
-        .map(|(m, v)| m - v)
+        .map(|(m, v)| v - m)
         .collect();
     let values: Vec<&[f64]> = series.iter().map(|s| s.1).collect();
     let (lo, hi) = range(&values);
@@ -224,7 +225,7 @@ pub fn fit_svg(
             .map_err(|e| err(here, e))?;
         let mut entries: Vec<(String, RGBColor)> =
             series.iter().map(|s| (s.0.clone(), s.2)).collect();
-        entries.push(("residual (measured − model)".into(), residual_color));
+        entries.push(("residual (model − measured)".into(), residual_color));
         legend(&legend_area, 40, &entries).map_err(|e| err(here, e))?;
         root.present().map_err(|e| err(here, e))?;
     }
