@@ -180,6 +180,25 @@ fn negative_option_values_are_refused_by_the_option() {
         );
         assert!(!err.contains("ringdown_synthetic.csv"), "{args:?}: {err}");
     }
+    // The restoring-force method's measured mass, on a record of its own.
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("rfs.csv");
+    let rows: String = (0..400)
+        .map(|k| {
+            let t = k as f64 * 1e-3;
+            format!(
+                "{t},{},{}\n",
+                1e-3 * (20.0 * t).sin(),
+                -0.4 * (20.0 * t).sin()
+            )
+        })
+        .collect();
+    std::fs::write(&csv, format!("t,x,a\n{rows}")).unwrap();
+    let (code, err) = rigfit(&["identify", "rfs", csv.to_str().unwrap(), "--mass", "-2"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(!err.contains("unexpected argument"), "{err}");
+    assert!(err.contains("mass: -2 kg is not positive"), "{err}");
+    assert!(!err.contains("rfs.csv"), "{err}");
     let (code, err) = rigfit(&["run", "x.json", "--population", "-3"]);
     assert_eq!(code, Some(2), "{err}");
     assert!(!err.contains("unexpected argument"), "{err}");
