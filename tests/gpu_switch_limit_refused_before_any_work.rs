@@ -86,6 +86,7 @@ fn run_on_the_gpu_refuses_before_the_output_folder() {
     assert!(err.contains("--backend gpu: rig `many_dampers`"), "{err}");
     assert!(switches_named(&err) > 32, "{err}");
     assert!(!err.contains("no GPU implementation"), "{err}");
+    assert!(err.contains("run it on the CPU (--backend cpu)"), "{err}");
     assert!(!out.exists(), "the refused job left {}", out.display());
 
     // A rig within the limit is not refused for it.

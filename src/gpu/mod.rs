@@ -132,7 +132,7 @@ pub enum GpuError {
     /// The rig has more located switches than the kernels hold.
     #[error(
         "rig `{rig}` has {count} located switches in its {mode} drive mode; the GPU kernels \
-         hold at most {limit} (use the CPU: --backend cpu)"
+         hold at most {limit}"
     )]
     TooManySwitches {
         /// The rig's id.

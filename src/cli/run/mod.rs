@@ -208,7 +208,11 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
             Some(_) => "--backend gpu".to_string(),
             None => format!("{}: solver.backend \"gpu\"", a.campaign.display()),
         };
-        return Err(BadInput(format!("{asked}: {e}")).into());
+        let cpu = match e {
+            rigfit::gpu::GpuError::TooManySwitches { .. } => "; run it on the CPU (--backend cpu)",
+            _ => "",
+        };
+        return Err(BadInput(format!("{asked}: {e}{cpu}")).into());
     }
     // The evaluator before the output folder: a GPU that is required and
     // missing leaves no folder behind.
