@@ -20,6 +20,9 @@
 //! generic twin (`gpu-f32` against `gpu-f32-generic`, …) in N alternating
 //! rounds and prints the ratio of their rates per CPU-second (median over the
 //! rounds);
+//! `RIGFIT_BENCH_CAMPAIGN=campaigns/emps_closed_loop.json` measures another
+//! campaign's problem instead of the shipped example (a rig driven by a
+//! measured column, say);
 //! `RIGFIT_BENCH_CPU_TIME=1` adds candidate-steps per CPU-second of the process
 //! (its CPU-time clock, all threads, lavapipe's included).
 //!
@@ -45,10 +48,13 @@ const POPULATIONS: [usize; 3] = [1024, 4096, 16384];
 /// Timed evaluations per table cell; the table shows the fastest.
 const REPEATS: usize = 5;
 
-/// The shipped example.
+/// The shipped example, or the campaign `RIGFIT_BENCH_CAMPAIGN` names
+/// (relative to the crate's folder).
 fn campaign() -> Campaign {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("campaigns/aa2024_t3_synthetic.json");
-    Campaign::load(&path).expect("the shipped example loads")
+    let file = std::env::var("RIGFIT_BENCH_CAMPAIGN")
+        .unwrap_or_else(|_| "campaigns/aa2024_t3_synthetic.json".into());
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(&file);
+    Campaign::load(&path).unwrap_or_else(|e| panic!("{file}: {e:#}"))
 }
 
 fn problem() -> Problem {
@@ -90,10 +96,13 @@ fn batch(n: usize) -> Batch {
     c.batch(&genomes)
 }
 
+/// RK4 steps one candidate takes, over every experiment.
 fn steps(problem: &Problem) -> usize {
-    problem.experiments[0]
-        .grid(0.0, problem.substeps)
-        .total_steps()
+    problem
+        .experiments
+        .iter()
+        .map(|e| e.grid(0.0, problem.substeps).total_steps())
+        .sum()
 }
 
 type Factory = Box<dyn Fn() -> Box<dyn Evaluator>>;

@@ -1,12 +1,14 @@
-// Linear interpolation in a table of the data buffer, shared by the
-// hand-written model's force drive and the compiled rigs' tables.
+// Linear interpolation in a table of the data buffer, for the compiled rigs'
+// tables (a rig file's own and an experiment's drive column).
 //
-// The search halves a fixed 32 times and keeps the interval by selects: a
-// data-dependent `while` loop here was miscompiled by lavapipe (it returned a
-// wrong segment at some times).
+// Loops here run a fixed number of times and keep their result by selects: a
+// data-dependent `while` loop was miscompiled by lavapipe (it returned a wrong
+// segment at some times).
 
 // Table value at t (PiecewiseLinear::at; 0 for t < 0): breakpoint times at
-// data[off..off + n], values after them.
+// data[off..off + n], values after them, and at data[off - 1] the table's
+// uniform inverse spacing (PiecewiseLinear::uniform_inverse_spacing), 0 when
+// the breakpoints are not on a uniform grid.
 fn table_at(off: u32, n: u32, t: real) -> real {
     if t < real(0.0) || n == 0u {
         return real(0.0);
@@ -18,16 +20,32 @@ fn table_at(off: u32, n: u32, t: real) -> real {
     if t >= data[off + n - 1u] {
         return data[vv + n - 1u];
     }
-    // Largest i with T[i] <= t, as partition_point(x <= t) − 1: a fixed number
-    // of halvings (enough for 2^32 breakpoints), the interval kept by selects.
+    // Largest i with T[i] <= t, as partition_point(x <= t) − 1.
     var lo = 0u;
-    var hi = n - 1u;
-    for (var it = 0u; it < 32u; it += 1u) {
-        let open = hi - lo > 1u;
-        let mid = (lo + hi) / 2u;
-        let below = data[off + mid] <= t;
-        lo = select(lo, mid, open && below);
-        hi = select(hi, mid, open && !below);
+    let inv = data[off - 1u];
+    if inv > real(0.0) {
+        // On a uniform grid (a record's own samples): the segment from the
+        // spacing, which the host guarantees is within two breakpoints of the
+        // right one, then two corrections down and two up.
+        let guess = floor((t - data[off]) * inv);
+        lo = min(u32(max(guess, real(0.0))), n - 2u);
+        for (var it = 0u; it < 2u; it += 1u) {
+            lo = select(lo, lo - 1u, lo > 0u && data[off + lo] > t);
+        }
+        for (var it = 0u; it < 2u; it += 1u) {
+            lo = select(lo, lo + 1u, lo + 2u < n && data[off + lo + 1u] <= t);
+        }
+    } else {
+        // Anywhere else: a fixed number of halvings (enough for 2^32
+        // breakpoints), the interval kept by selects.
+        var hi = n - 1u;
+        for (var it = 0u; it < 32u; it += 1u) {
+            let open = hi - lo > 1u;
+            let mid = (lo + hi) / 2u;
+            let below = data[off + mid] <= t;
+            lo = select(lo, mid, open && below);
+            hi = select(hi, mid, open && !below);
+        }
     }
     let w = (t - data[off + lo]) / (data[off + lo + 1u] - data[off + lo]);
     return data[vv + lo] + w * (data[vv + lo + 1u] - data[vv + lo]);

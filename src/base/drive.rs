@@ -28,6 +28,39 @@ impl PiecewiseLinear {
         let w = (t - self.t[i]) / (self.t[i + 1] - self.t[i]);
         self.value[i] + w * (self.value[i + 1] - self.value[i])
     }
+
+    /// `1/Δt` when the breakpoints lie on a uniform grid closely enough that
+    /// `⌊(t − t₀)/Δt⌋`, computed in f64 or in f32 from the f32-rounded
+    /// breakpoints, is within two breakpoints of the segment holding `t`;
+    /// `0` otherwise. A kernel then finds the segment from the spacing and two
+    /// corrections each way instead of a binary search (a record's own sample
+    /// grid always qualifies). Each breakpoint must lie within a quarter of a
+    /// spacing of the grid, in both precisions, and the table is limited to
+    /// 2²¹ breakpoints, so that the f32 index arithmetic (one rounding of
+    /// `t − t₀` and one of the product, each at most half a spacing there) keeps
+    /// the guess within the corrections' reach.
+    pub fn uniform_inverse_spacing(&self) -> f64 {
+        const MAX_LEN: usize = 1 << 21;
+        let n = self.t.len();
+        if !(2..=MAX_LEN).contains(&n) {
+            return 0.0;
+        }
+        let on_grid = |t: &[f64]| -> Option<f64> {
+            let (t0, tn) = (t[0], t[n - 1]);
+            let dt = (tn - t0) / (n - 1) as f64;
+            let ok = dt > 0.0
+                && dt.is_finite()
+                && t.iter()
+                    .enumerate()
+                    .all(|(i, &x)| (x - (t0 + i as f64 * dt)).abs() <= 0.25 * dt);
+            ok.then_some(dt)
+        };
+        let rounded: Vec<f64> = self.t.iter().map(|&x| f64::from(x as f32)).collect();
+        match (on_grid(&self.t), on_grid(&rounded)) {
+            (Some(dt), Some(_)) => 1.0 / dt,
+            _ => 0.0,
+        }
+    }
 }
 
 /// The actuator's drive mode for one experiment.
@@ -48,5 +81,64 @@ impl Drive {
             Self::Force(t) => Some(t),
             Self::Velocity => None,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The segment `table_at` would take on a uniform table: the guess from
+    /// the spacing, two corrections down, two up.
+    fn guessed_segment(t: &[f64], inv: f64, x: f64) -> usize {
+        let n = t.len();
+        let mut lo = (((x - t[0]) * inv).floor().max(0.0) as usize).min(n - 2);
+        for _ in 0..2 {
+            if lo > 0 && t[lo] > x {
+                lo -= 1;
+            }
+        }
+        for _ in 0..2 {
+            if lo + 2 < n && t[lo + 1] <= x {
+                lo += 1;
+            }
+        }
+        lo
+    }
+
+    #[test]
+    fn a_jittered_uniform_grid_finds_every_segment_from_its_spacing() {
+        let dt = 1e-3;
+        let t: Vec<f64> = (0..5000)
+            .map(|i| i as f64 * dt + 0.2 * dt * ((i * 7919 % 11) as f64 / 10.0 - 0.5))
+            .collect();
+        let table = PiecewiseLinear {
+            value: vec![0.0; t.len()],
+            t: t.clone(),
+        };
+        let inv = table.uniform_inverse_spacing();
+        assert!(inv > 0.0, "within a quarter spacing of the grid");
+        for k in 1..40_000 {
+            let x = k as f64 * 1.2345e-4;
+            if x <= t[0] || x >= t[t.len() - 1] {
+                continue;
+            }
+            let want = t.partition_point(|&b| b <= x) - 1;
+            assert_eq!(guessed_segment(&t, inv, x), want, "t = {x}");
+        }
+    }
+
+    #[test]
+    fn uneven_breakpoints_keep_the_binary_search() {
+        let table = PiecewiseLinear {
+            t: vec![0.0, 0.1, 0.5, 0.6],
+            value: vec![0.0; 4],
+        };
+        assert_eq!(table.uniform_inverse_spacing(), 0.0);
+        let one = PiecewiseLinear {
+            t: vec![0.0],
+            value: vec![1.0],
+        };
+        assert_eq!(one.uniform_inverse_spacing(), 0.0);
     }
 }

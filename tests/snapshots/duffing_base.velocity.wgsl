@@ -36,7 +36,7 @@ fn rig_load(base: u32, ex: ExpInfo) -> RunConsts {
     kc.k9 = param(base, P_K9);
     kc.k14 = param(base, P_K14);
     kc.k18 = param(base, P_K18);
-    kc.toff0 = 0u;
+    kc.toff0 = 1u;
     kc.tlen0 = 251u;
     return kc;
 }

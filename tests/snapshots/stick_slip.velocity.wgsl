@@ -37,7 +37,7 @@ fn rig_load(base: u32, ex: ExpInfo) -> RunConsts {
     kc.k9 = param(base, P_K9);
     kc.k17 = param(base, P_K17);
     kc.k22 = param(base, P_K22);
-    kc.toff0 = 0u;
+    kc.toff0 = 1u;
     kc.tlen0 = 2u;
     return kc;
 }

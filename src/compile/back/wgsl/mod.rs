@@ -125,6 +125,7 @@ impl GpuRig {
         let mut table_data = Vec::new();
         for (k, t) in prog.tables.iter().enumerate() {
             if let Some(t) = t {
+                table_data.push(t.uniform_inverse_spacing());
                 inline.push((k as u32, table_data.len() as u32, t.t.len() as u32));
                 table_data.extend_from_slice(&t.t);
                 table_data.extend_from_slice(&t.value);
@@ -181,8 +182,9 @@ impl GpuRig {
         (1 + self.prog.outputs.len() + self.prog.full_state.len()) as u32
     }
 
-    /// The inline tables, breakpoint times then values per table, which the data
-    /// buffer holds first.
+    /// The inline tables, which the data buffer holds first: per table its
+    /// [`crate::base::PiecewiseLinear::uniform_inverse_spacing`] (`table_at` reads it just
+    /// before the breakpoints), the breakpoint times, then the values.
     pub fn table_data(&self) -> &[f64] {
         &self.table_data
     }
