@@ -147,6 +147,16 @@ pub fn fingerprint(campaign: &Campaign, backend: &str, precision: &str) -> Finge
         .with("backend", backend)
         .with("precision", precision)
         .with("substeps", campaign.solver.substeps.to_string());
+    // One item per input file as well, so a refused resume names the file
+    // that changed rather than only the digest of them all.
+    for (i, path) in campaign.inputs.iter().enumerate() {
+        let what = if i == 0 {
+            "campaign file"
+        } else {
+            "input file"
+        };
+        f = f.with_file(what, path);
+    }
     for g in &campaign.genes {
         f = f.with(
             format!("gene {}", g.name),

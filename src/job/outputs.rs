@@ -155,8 +155,11 @@ pub struct JobSummary {
     pub generations: usize,
     /// Candidate evaluations.
     pub evaluations: u64,
-    /// Search wall time (s).
+    /// The GA's wall time (s), across resumes: what the candidate-steps/s
+    /// rate is measured over.
     pub wall_time_s: f64,
+    /// The GA's and the polish's wall time together (s): the job's search.
+    pub job_wall_time_s: f64,
     /// Why the search stopped.
     pub stop_reason: String,
     /// Best joint fitness (weighted mean of `1 − R²`), after the polish.
@@ -271,10 +274,15 @@ pub fn write_outputs(
     write_history_csv(&history_path, &outcome.history, genes)?;
     let best_curve: Vec<f64> = outcome.history.iter().map(|r| r.best_cost).collect();
     let median_curve: Vec<f64> = outcome.history.iter().map(|r| r.median_cost).collect();
-    let svg = plots::fitness_svg(
-        &format!("{}: fitness by generation", campaign.name),
+    let polish_curve: Vec<f64> = polish.map_or_else(Vec::new, |p| {
+        p.history.iter().map(|i| i.best_cost).collect()
+    });
+    let svg = plots::convergence_svg(
+        &format!("{}: fitness by generation, then the polish", campaign.name),
         &best_curve,
         &median_curve,
+        &polish_curve,
+        campaign.problem.noise_floor(),
     )?;
     write("fitness.svg", svg.as_bytes())?;
 
@@ -301,6 +309,7 @@ pub fn write_outputs(
         generations: outcome.generations,
         evaluations: outcome.evaluations,
         wall_time_s: outcome.wall_time_s,
+        job_wall_time_s: outcome.wall_time_s + polish.map_or(0.0, |p| p.wall_time_s),
         stop_reason: outcome.termination.to_string(),
         fitness,
         polish: polish.map(|p| polish_summary(p, outcome.best_cost)),
