@@ -367,6 +367,24 @@ fn bad_campaign_values_name_path_and_expectation() {
             ["name: expected a non-empty name"]
         ),
         case!(
+            "the time column again as the measured column",
+            |v| set(v, "/experiments/0/data/force_column", json!("t_s")),
+            [
+                "experiments[0].data.force_column: expected a measured column other than the time column",
+                "v2.csv",
+                "the time values again"
+            ]
+        ),
+        case!(
+            "a measured sample whose square overflows",
+            |_| {},
+            data = csv_with_line(100, "9.6e-5,1e300"),
+            [
+                "experiments[0].data: expected measured values whose squared deviations add up to a finite number",
+                "1e300 at t = 9.6e-5 s"
+            ]
+        ),
+        case!(
             "constant force in the fit window",
             |_| {},
             data = csv_constant(),

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use super::error::{invalid, parse_json};
 use super::initial;
 use super::names::{check_campaign_name, check_experiment_names};
-use super::raw::{RawCampaign, RawDrive, RawExperiment, RawParam};
+use super::raw::{RawCampaign, RawData, RawDrive, RawExperiment, RawParam};
 use super::resolve::{check_map, check_physics, check_value, resolve};
 use super::simulation::{self, Reading};
 use super::stability::choose;
@@ -450,6 +450,9 @@ fn experiment(
             format!("{} N at every sample", scored[0]),
         ));
     }
+    if reading.scores() {
+        check_scored_record(file, &at, &data_file, &series, window.clone(), d)?;
+    }
     let mut force = series.force;
     force.truncate(window.end);
     let mut exp = ExperimentData {
@@ -547,4 +550,55 @@ fn lexical_clean(path: &Path) -> PathBuf {
         out.push(".");
     }
     out
+}
+
+/// A scored record must be one R² means something for: its measured column is
+/// not the time column again, and the squares of its deviations stay finite.
+fn check_scored_record(
+    file: &Path,
+    at: &str,
+    data_file: &Path,
+    series: &Series,
+    window: std::ops::Range<usize>,
+    d: &RawData,
+) -> Result<(), CampaignError> {
+    let (t, f) = (&series.t[window.clone()], &series.force[window]);
+    let same = |a: f64, b: f64| (a - b).abs() <= 1e-12 * a.abs().max(b.abs());
+    if t.iter()
+        .zip(f)
+        .all(|(&t, &f)| same(t / d.time_scale, f / d.force_scale))
+    {
+        return Err(invalid(
+            file,
+            format!("{at}.data.force_column"),
+            format!(
+                "a measured column other than the time column of {}",
+                data_file.display()
+            ),
+            "the time values again at every sample of the fit window",
+        ));
+    }
+    let mean = f.iter().sum::<f64>() / f.len() as f64;
+    let ss: f64 = f.iter().map(|&x| (x - mean) * (x - mean)).sum();
+    if !ss.is_finite() {
+        let (k, big) = f
+            .iter()
+            .enumerate()
+            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+            .map_or((0, 0.0), |(k, &x)| (k, x));
+        return Err(invalid(
+            file,
+            format!("{at}.data"),
+            format!(
+                "measured values whose squared deviations add up to a finite number in {}                  (R² divides by that sum)",
+                data_file.display()
+            ),
+            format!(
+                "{} at t = {} s",
+                crate::base::text::number(big),
+                crate::base::text::number(t[k])
+            ),
+        ));
+    }
+    Ok(())
 }
