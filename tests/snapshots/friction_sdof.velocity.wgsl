@@ -17,11 +17,11 @@ struct RigRegime {
 struct RunConsts {
     k6: real,
     k8: real,
-    k24: real,
-    k26: real,
+    k23: real,
+    k25: real,
+    k28: real,
     k29: real,
-    k30: real,
-    k42: real,
+    k41: real,
 }
 
 struct RigReport {
@@ -36,11 +36,11 @@ fn rig_load(base: u32, ex: ExpInfo) -> RunConsts {
     var kc: RunConsts;
     kc.k6 = param(base, P_K6);
     kc.k8 = param(base, P_K8);
-    kc.k24 = param(base, P_K24);
-    kc.k26 = param(base, P_K26);
+    kc.k23 = param(base, P_K23);
+    kc.k25 = param(base, P_K25);
+    kc.k28 = param(base, P_K28);
     kc.k29 = param(base, P_K29);
-    kc.k30 = param(base, P_K30);
-    kc.k42 = param(base, P_K42);
+    kc.k41 = param(base, P_K41);
     return kc;
 }
 
@@ -114,39 +114,38 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     let v3 = y.s0;
     let v4 = y.s1;
     let v9 = kc.k8 * v0;
-    let v10 = select(real(0.0), real(1.0), v0 <= real(0e0));
-    let v11 = select(real(1e0), real(0e0), v10 != real(0.0));
-    let v12 = sin_r(v9);
-    let v14 = kc.k6 * v12;
-    let v21 = select(real(0e0), v14, v11 != real(0.0));
-    let v25 = kc.k24 * v3;
-    let v27 = kc.k26 * v4;
-    let v28 = v25 + v27;
-    let v31 = y.s2;
-    let v32 = kc.k30 * v31;
-    let v35 = real(md.m0);
-    let v36 = select(real(0.0), real(1.0), v35 == real(0e0));
-    let v37 = select(real(0e0), v4, v36 != real(0.0));
-    let v38 = real(0e0) - v28;
-    let v39 = v38 - v32;
-    let v40 = v39 + v21;
-    let v43 = v40 * kc.k42;
+    let v10 = select(real(0.0), real(1.0), real(0e0) <= v0);
+    let v11 = sin_r(v9);
+    let v13 = kc.k6 * v11;
+    let v20 = select(real(0e0), v13, v10 != real(0.0));
+    let v24 = kc.k23 * v3;
+    let v26 = kc.k25 * v4;
+    let v27 = v24 + v26;
+    let v30 = y.s2;
+    let v31 = kc.k29 * v30;
+    let v34 = real(md.m0);
+    let v35 = select(real(0.0), real(1.0), v34 == real(0e0));
+    let v36 = select(real(0e0), v4, v35 != real(0.0));
+    let v37 = real(0e0) - v27;
+    let v38 = v37 - v31;
+    let v39 = v38 + v20;
+    let v42 = v39 * kc.k41;
     var r: RigState;
     r.s0 = v4;
-    r.s1 = v43;
-    r.s2 = v37;
+    r.s1 = v42;
+    r.s2 = v36;
     return r;
 }
 
 fn rig_events_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigEventValues {
     let v4 = y.s1;
-    let v31 = y.s2;
-    let v32 = kc.k30 * v31;
-    let v33 = v32 - kc.k29;
-    let v34 = v32 + kc.k29;
+    let v30 = y.s2;
+    let v31 = kc.k29 * v30;
+    let v32 = v31 - kc.k28;
+    let v33 = v31 + kc.k28;
     var r: RigEventValues;
-    r.g[0] = v33;
-    r.g[1] = v34;
+    r.g[0] = v32;
+    r.g[1] = v33;
     r.g[2] = v4;
     r.g[3] = v4;
     return r;
@@ -169,12 +168,12 @@ struct EventBases {
 
 fn rig_bases_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> EventBases {
     let v4 = y.s1;
-    let v31 = y.s2;
-    let v32 = kc.k30 * v31;
-    let v34 = v32 + kc.k29;
+    let v30 = y.s2;
+    let v31 = kc.k29 * v30;
+    let v33 = v31 + kc.k28;
     var r: EventBases;
-    r.b0 = v32;
-    r.b1 = v34;
+    r.b0 = v31;
+    r.b1 = v33;
     r.b2 = v4;
     return r;
 }
@@ -192,7 +191,7 @@ fn rig_window(kc: RunConsts, md: RigRegime) -> EventWindows {
     var w: EventWindows;
     w.lo0 = -REAL_MAX;
     w.hi0 = REAL_MAX;
-    w.hi0 = select(w.hi0, min(w.hi0, kc.k29), md.m0 == 0u);
+    w.hi0 = select(w.hi0, min(w.hi0, kc.k28), md.m0 == 0u);
     w.lo1 = -REAL_MAX;
     w.hi1 = REAL_MAX;
     w.lo1 = select(w.lo1, max(w.lo1, real(0.0)), md.m0 == 0u);
@@ -235,23 +234,22 @@ fn rig_output0_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCl
     let v3 = y.s0;
     let v4 = y.s1;
     let v9 = kc.k8 * v0;
-    let v10 = select(real(0.0), real(1.0), v0 <= real(0e0));
-    let v11 = select(real(1e0), real(0e0), v10 != real(0.0));
-    let v12 = sin_r(v9);
-    let v14 = kc.k6 * v12;
-    let v21 = select(real(0e0), v14, v11 != real(0.0));
-    let v25 = kc.k24 * v3;
-    let v27 = kc.k26 * v4;
-    let v28 = v25 + v27;
-    let v31 = y.s2;
-    let v32 = kc.k30 * v31;
-    let v38 = real(0e0) - v28;
-    let v39 = v38 - v32;
-    let v40 = v39 + v21;
-    let v43 = v40 * kc.k42;
-    let v45 = real(2.374e-1) * v43;
-    let v46 = v32 + v45;
-    return v46;
+    let v10 = select(real(0.0), real(1.0), real(0e0) <= v0);
+    let v11 = sin_r(v9);
+    let v13 = kc.k6 * v11;
+    let v20 = select(real(0e0), v13, v10 != real(0.0));
+    let v24 = kc.k23 * v3;
+    let v26 = kc.k25 * v4;
+    let v27 = v24 + v26;
+    let v30 = y.s2;
+    let v31 = kc.k29 * v30;
+    let v37 = real(0e0) - v27;
+    let v38 = v37 - v31;
+    let v39 = v38 + v20;
+    let v42 = v39 * kc.k41;
+    let v44 = real(2.374e-1) * v42;
+    let v45 = v31 + v44;
+    return v45;
 }
 
 fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigReport {
@@ -259,30 +257,29 @@ fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
     let v3 = y.s0;
     let v4 = y.s1;
     let v9 = kc.k8 * v0;
-    let v10 = select(real(0.0), real(1.0), v0 <= real(0e0));
-    let v11 = select(real(1e0), real(0e0), v10 != real(0.0));
-    let v12 = sin_r(v9);
-    let v14 = kc.k6 * v12;
-    let v21 = select(real(0e0), v14, v11 != real(0.0));
-    let v25 = kc.k24 * v3;
-    let v27 = kc.k26 * v4;
-    let v28 = v25 + v27;
-    let v31 = y.s2;
-    let v32 = kc.k30 * v31;
-    let v38 = real(0e0) - v28;
-    let v39 = v38 - v32;
-    let v40 = v39 + v21;
-    let v43 = v40 * kc.k42;
-    let v45 = real(2.374e-1) * v43;
-    let v46 = v32 + v45;
+    let v10 = select(real(0.0), real(1.0), real(0e0) <= v0);
+    let v11 = sin_r(v9);
+    let v13 = kc.k6 * v11;
+    let v20 = select(real(0e0), v13, v10 != real(0.0));
+    let v24 = kc.k23 * v3;
+    let v26 = kc.k25 * v4;
+    let v27 = v24 + v26;
+    let v30 = y.s2;
+    let v31 = kc.k29 * v30;
+    let v37 = real(0e0) - v27;
+    let v38 = v37 - v31;
+    let v39 = v38 + v20;
+    let v42 = v39 * kc.k41;
+    let v44 = real(2.374e-1) * v42;
+    let v45 = v31 + v44;
     var r: RigReport;
-    r.v[0] = v46;
-    r.v[1] = v32;
+    r.v[0] = v45;
+    r.v[1] = v31;
     r.v[2] = v3;
     r.v[3] = v4;
     r.v[4] = v3;
     r.v[5] = v4;
-    r.v[6] = v31;
+    r.v[6] = v30;
     return r;
 }
 

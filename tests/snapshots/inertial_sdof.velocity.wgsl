@@ -17,15 +17,15 @@ struct RunConsts {
     k6: real,
     k7: real,
     k8: real,
+    k32: real,
     k33: real,
-    k34: real,
-    k39: real,
+    k38: real,
+    k41: real,
     k42: real,
-    k43: real,
+    k54: real,
     k55: real,
-    k56: real,
-    k69: real,
-    k81: real,
+    k68: real,
+    k80: real,
 }
 
 struct RigReport {
@@ -41,15 +41,15 @@ fn rig_load(base: u32, ex: ExpInfo) -> RunConsts {
     kc.k6 = param(base, P_K6);
     kc.k7 = param(base, P_K7);
     kc.k8 = param(base, P_K8);
+    kc.k32 = param(base, P_K32);
     kc.k33 = param(base, P_K33);
-    kc.k34 = param(base, P_K34);
-    kc.k39 = param(base, P_K39);
+    kc.k38 = param(base, P_K38);
+    kc.k41 = param(base, P_K41);
     kc.k42 = param(base, P_K42);
-    kc.k43 = param(base, P_K43);
+    kc.k54 = param(base, P_K54);
     kc.k55 = param(base, P_K55);
-    kc.k56 = param(base, P_K56);
-    kc.k69 = param(base, P_K69);
-    kc.k81 = param(base, P_K81);
+    kc.k68 = param(base, P_K68);
+    kc.k80 = param(base, P_K80);
     return kc;
 }
 
@@ -120,54 +120,53 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     let v12 = kc.k7 + v11;
     let v13 = v12 * v0;
     let v14 = real(6.283185307179586e0) * v13;
-    let v18 = select(real(0.0), real(1.0), v0 <= real(0e0));
-    let v19 = select(real(1e0), real(0e0), v18 != real(0.0));
-    let v20 = sin_r(v14);
-    let v22 = kc.k6 * v20;
-    let v30 = select(real(0e0), v22, v19 != real(0.0));
-    let v35 = kc.k34 * v3;
-    let v36 = v35 * v3;
-    let v37 = v36 + kc.k33;
-    let v38 = v37 * v3;
-    let v40 = kc.k39 * v4;
-    let v41 = v38 + v40;
-    let v44 = abs(v3);
-    let v45 = select(real(0.0), real(1.0), v44 <= real(0e0));
-    let v46 = select(v44, real(1e0), v45 != real(0.0));
-    let v47 = ln_r(v46);
-    let v48 = kc.k43 * v47;
-    let v49 = exp_r(v48);
-    let v50 = select(v49, real(0e0), v45 != real(0.0));
-    let v51 = select(real(0.0), real(1.0), v3 <= real(0e0));
-    let v52 = -v50;
-    let v53 = select(v50, v52, v51 != real(0.0));
-    let v54 = kc.k42 * v53;
-    let v57 = abs(v4);
-    let v58 = select(real(0.0), real(1.0), v57 <= real(0e0));
-    let v59 = select(v57, real(1e0), v58 != real(0.0));
-    let v60 = ln_r(v59);
-    let v61 = kc.k56 * v60;
-    let v62 = exp_r(v61);
-    let v63 = select(v62, real(0e0), v58 != real(0.0));
-    let v64 = select(real(0.0), real(1.0), v4 <= real(0e0));
-    let v65 = -v63;
-    let v66 = select(v63, v65, v64 != real(0.0));
-    let v67 = kc.k55 * v66;
-    let v68 = v54 + v67;
-    let v71 = real(3e0) * v60;
-    let v72 = exp_r(v71);
-    let v73 = select(v72, real(0e0), v58 != real(0.0));
-    let v74 = -v73;
-    let v75 = select(v73, v74, v64 != real(0.0));
-    let v76 = kc.k69 * v75;
-    let v77 = real(0e0) - v41;
-    let v78 = v77 - v68;
-    let v79 = v78 - v76;
-    let v82 = v79 * kc.k81;
-    let v83 = v82 - v30;
+    let v18 = select(real(0.0), real(1.0), real(0e0) <= v0);
+    let v19 = sin_r(v14);
+    let v21 = kc.k6 * v19;
+    let v29 = select(real(0e0), v21, v18 != real(0.0));
+    let v34 = kc.k33 * v3;
+    let v35 = v34 * v3;
+    let v36 = v35 + kc.k32;
+    let v37 = v36 * v3;
+    let v39 = kc.k38 * v4;
+    let v40 = v37 + v39;
+    let v43 = abs(v3);
+    let v44 = select(real(0.0), real(1.0), v43 <= real(0e0));
+    let v45 = select(v43, real(1e0), v44 != real(0.0));
+    let v46 = ln_r(v45);
+    let v47 = kc.k42 * v46;
+    let v48 = exp_r(v47);
+    let v49 = select(v48, real(0e0), v44 != real(0.0));
+    let v50 = select(real(0.0), real(1.0), v3 <= real(0e0));
+    let v51 = -v49;
+    let v52 = select(v49, v51, v50 != real(0.0));
+    let v53 = kc.k41 * v52;
+    let v56 = abs(v4);
+    let v57 = select(real(0.0), real(1.0), v56 <= real(0e0));
+    let v58 = select(v56, real(1e0), v57 != real(0.0));
+    let v59 = ln_r(v58);
+    let v60 = kc.k55 * v59;
+    let v61 = exp_r(v60);
+    let v62 = select(v61, real(0e0), v57 != real(0.0));
+    let v63 = select(real(0.0), real(1.0), v4 <= real(0e0));
+    let v64 = -v62;
+    let v65 = select(v62, v64, v63 != real(0.0));
+    let v66 = kc.k54 * v65;
+    let v67 = v53 + v66;
+    let v70 = real(3e0) * v59;
+    let v71 = exp_r(v70);
+    let v72 = select(v71, real(0e0), v57 != real(0.0));
+    let v73 = -v72;
+    let v74 = select(v72, v73, v63 != real(0.0));
+    let v75 = kc.k68 * v74;
+    let v76 = real(0e0) - v40;
+    let v77 = v76 - v67;
+    let v78 = v77 - v75;
+    let v81 = v78 * kc.k80;
+    let v82 = v81 - v29;
     var r: RigState;
     r.s0 = v4;
-    r.s1 = v83;
+    r.s1 = v82;
     return r;
 }
 
@@ -233,58 +232,57 @@ fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
     let v12 = kc.k7 + v11;
     let v13 = v12 * v0;
     let v14 = real(6.283185307179586e0) * v13;
-    let v18 = select(real(0.0), real(1.0), v0 <= real(0e0));
-    let v19 = select(real(1e0), real(0e0), v18 != real(0.0));
-    let v20 = sin_r(v14);
-    let v22 = kc.k6 * v20;
-    let v30 = select(real(0e0), v22, v19 != real(0.0));
-    let v35 = kc.k34 * v3;
-    let v36 = v35 * v3;
-    let v37 = v36 + kc.k33;
-    let v38 = v37 * v3;
-    let v40 = kc.k39 * v4;
-    let v41 = v38 + v40;
-    let v44 = abs(v3);
-    let v45 = select(real(0.0), real(1.0), v44 <= real(0e0));
-    let v46 = select(v44, real(1e0), v45 != real(0.0));
-    let v47 = ln_r(v46);
-    let v48 = kc.k43 * v47;
-    let v49 = exp_r(v48);
-    let v50 = select(v49, real(0e0), v45 != real(0.0));
-    let v51 = select(real(0.0), real(1.0), v3 <= real(0e0));
-    let v52 = -v50;
-    let v53 = select(v50, v52, v51 != real(0.0));
-    let v54 = kc.k42 * v53;
-    let v57 = abs(v4);
-    let v58 = select(real(0.0), real(1.0), v57 <= real(0e0));
-    let v59 = select(v57, real(1e0), v58 != real(0.0));
-    let v60 = ln_r(v59);
-    let v61 = kc.k56 * v60;
-    let v62 = exp_r(v61);
-    let v63 = select(v62, real(0e0), v58 != real(0.0));
-    let v64 = select(real(0.0), real(1.0), v4 <= real(0e0));
-    let v65 = -v63;
-    let v66 = select(v63, v65, v64 != real(0.0));
-    let v67 = kc.k55 * v66;
-    let v68 = v54 + v67;
-    let v71 = real(3e0) * v60;
-    let v72 = exp_r(v71);
-    let v73 = select(v72, real(0e0), v58 != real(0.0));
-    let v74 = -v73;
-    let v75 = select(v73, v74, v64 != real(0.0));
-    let v76 = kc.k69 * v75;
-    let v77 = real(0e0) - v41;
-    let v78 = v77 - v68;
-    let v79 = v78 - v76;
-    let v82 = v79 * kc.k81;
-    let v83 = v82 - v30;
-    let v84 = v41 + v68;
-    let v85 = v84 + v76;
+    let v18 = select(real(0.0), real(1.0), real(0e0) <= v0);
+    let v19 = sin_r(v14);
+    let v21 = kc.k6 * v19;
+    let v29 = select(real(0e0), v21, v18 != real(0.0));
+    let v34 = kc.k33 * v3;
+    let v35 = v34 * v3;
+    let v36 = v35 + kc.k32;
+    let v37 = v36 * v3;
+    let v39 = kc.k38 * v4;
+    let v40 = v37 + v39;
+    let v43 = abs(v3);
+    let v44 = select(real(0.0), real(1.0), v43 <= real(0e0));
+    let v45 = select(v43, real(1e0), v44 != real(0.0));
+    let v46 = ln_r(v45);
+    let v47 = kc.k42 * v46;
+    let v48 = exp_r(v47);
+    let v49 = select(v48, real(0e0), v44 != real(0.0));
+    let v50 = select(real(0.0), real(1.0), v3 <= real(0e0));
+    let v51 = -v49;
+    let v52 = select(v49, v51, v50 != real(0.0));
+    let v53 = kc.k41 * v52;
+    let v56 = abs(v4);
+    let v57 = select(real(0.0), real(1.0), v56 <= real(0e0));
+    let v58 = select(v56, real(1e0), v57 != real(0.0));
+    let v59 = ln_r(v58);
+    let v60 = kc.k55 * v59;
+    let v61 = exp_r(v60);
+    let v62 = select(v61, real(0e0), v57 != real(0.0));
+    let v63 = select(real(0.0), real(1.0), v4 <= real(0e0));
+    let v64 = -v62;
+    let v65 = select(v62, v64, v63 != real(0.0));
+    let v66 = kc.k54 * v65;
+    let v67 = v53 + v66;
+    let v70 = real(3e0) * v59;
+    let v71 = exp_r(v70);
+    let v72 = select(v71, real(0e0), v57 != real(0.0));
+    let v73 = -v72;
+    let v74 = select(v72, v73, v63 != real(0.0));
+    let v75 = kc.k68 * v74;
+    let v76 = real(0e0) - v40;
+    let v77 = v76 - v67;
+    let v78 = v77 - v75;
+    let v81 = v78 * kc.k80;
+    let v82 = v81 - v29;
+    let v83 = v40 + v67;
+    let v84 = v83 + v75;
     var r: RigReport;
     r.v[0] = v3;
-    r.v[1] = v85;
+    r.v[1] = v84;
     r.v[2] = v4;
-    r.v[3] = v83;
+    r.v[3] = v82;
     r.v[4] = v3;
     r.v[5] = v4;
     return r;

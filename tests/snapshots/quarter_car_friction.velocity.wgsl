@@ -24,19 +24,19 @@ struct RunConsts {
     k11: real,
     k12: real,
     k21: real,
-    k39: real,
-    k41: real,
-    k46: real,
+    k38: real,
+    k40: real,
+    k45: real,
+    k47: real,
     k48: real,
     k49: real,
-    k50: real,
-    k54: real,
-    k63: real,
-    k70: real,
+    k53: real,
+    k62: real,
+    k69: real,
+    k74: real,
     k75: real,
-    k76: real,
-    k89: real,
-    k95: real,
+    k88: real,
+    k94: real,
 }
 
 struct RigReport {
@@ -53,19 +53,19 @@ fn rig_load(base: u32, ex: ExpInfo) -> RunConsts {
     kc.k11 = param(base, P_K11);
     kc.k12 = param(base, P_K12);
     kc.k21 = param(base, P_K21);
-    kc.k39 = param(base, P_K39);
-    kc.k41 = param(base, P_K41);
-    kc.k46 = param(base, P_K46);
+    kc.k38 = param(base, P_K38);
+    kc.k40 = param(base, P_K40);
+    kc.k45 = param(base, P_K45);
+    kc.k47 = param(base, P_K47);
     kc.k48 = param(base, P_K48);
     kc.k49 = param(base, P_K49);
-    kc.k50 = param(base, P_K50);
-    kc.k54 = param(base, P_K54);
-    kc.k63 = param(base, P_K63);
-    kc.k70 = param(base, P_K70);
+    kc.k53 = param(base, P_K53);
+    kc.k62 = param(base, P_K62);
+    kc.k69 = param(base, P_K69);
+    kc.k74 = param(base, P_K74);
     kc.k75 = param(base, P_K75);
-    kc.k76 = param(base, P_K76);
-    kc.k89 = param(base, P_K89);
-    kc.k95 = param(base, P_K95);
+    kc.k88 = param(base, P_K88);
+    kc.k94 = param(base, P_K94);
     return kc;
 }
 
@@ -169,64 +169,63 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     let v18 = real(6.283185307179586e0) * v17;
     let v19 = kc.k11 + v14;
     let v20 = real(6.283185307179586e0) * v19;
-    let v22 = select(real(0.0), real(1.0), v0 <= real(0e0));
-    let v23 = select(real(1e0), real(0e0), v22 != real(0.0));
-    let v24 = sin_r(v18);
-    let v25 = cos_r(v18);
-    let v26 = kc.k10 * v24;
-    let v27 = v25 * v20;
-    let v28 = kc.k10 * v27;
-    let v34 = select(real(0e0), v26, v23 != real(0.0));
-    let v35 = select(real(0e0), v28, v23 != real(0.0));
-    let v37 = v5 - v34;
-    let v38 = v6 - v35;
-    let v40 = kc.k39 * v37;
-    let v42 = kc.k41 * v38;
-    let v43 = v40 + v42;
-    let v44 = v7 - v5;
-    let v45 = v8 - v6;
-    let v47 = kc.k46 * v44;
-    let v51 = abs(v45);
-    let v52 = select(real(0.0), real(1.0), v51 <= kc.k50);
-    let v53 = kc.k48 * v45;
-    let v55 = v51 - kc.k50;
-    let v56 = kc.k49 * v55;
-    let v57 = kc.k54 + v56;
-    let v58 = select(real(0.0), real(1.0), v45 <= real(0e0));
-    let v59 = -v57;
-    let v60 = select(v57, v59, v58 != real(0.0));
-    let v61 = select(v60, v53, v52 != real(0.0));
-    let v62 = v47 + v61;
-    let v64 = v44 - kc.k63;
-    let v65 = v44 + kc.k63;
-    let v66 = real(md.m0);
-    let v67 = select(real(0.0), real(1.0), v66 == real(1e0));
-    let v69 = select(real(0.0), real(1.0), v66 == real(2e0));
-    let v71 = kc.k70 * v64;
-    let v72 = kc.k70 * v65;
-    let v73 = select(real(0e0), v72, v69 != real(0.0));
-    let v74 = select(v73, v71, v67 != real(0.0));
-    let v77 = y.s6;
-    let v78 = kc.k76 * v77;
-    let v81 = real(md.m1);
-    let v82 = select(real(0.0), real(1.0), v81 == real(0e0));
-    let v83 = select(real(0e0), v45, v82 != real(0.0));
-    let v85 = v62 - v43;
-    let v86 = v85 + v74;
-    let v87 = v86 + v78;
-    let v90 = v87 * kc.k89;
-    let v91 = real(0e0) - v62;
-    let v92 = v91 - v74;
-    let v93 = v92 - v78;
-    let v96 = v93 * kc.k95;
+    let v22 = select(real(0.0), real(1.0), real(0e0) <= v0);
+    let v23 = sin_r(v18);
+    let v24 = cos_r(v18);
+    let v25 = kc.k10 * v23;
+    let v26 = v24 * v20;
+    let v27 = kc.k10 * v26;
+    let v33 = select(real(0e0), v25, v22 != real(0.0));
+    let v34 = select(real(0e0), v27, v22 != real(0.0));
+    let v36 = v5 - v33;
+    let v37 = v6 - v34;
+    let v39 = kc.k38 * v36;
+    let v41 = kc.k40 * v37;
+    let v42 = v39 + v41;
+    let v43 = v7 - v5;
+    let v44 = v8 - v6;
+    let v46 = kc.k45 * v43;
+    let v50 = abs(v44);
+    let v51 = select(real(0.0), real(1.0), v50 <= kc.k49);
+    let v52 = kc.k47 * v44;
+    let v54 = v50 - kc.k49;
+    let v55 = kc.k48 * v54;
+    let v56 = kc.k53 + v55;
+    let v57 = select(real(0.0), real(1.0), v44 <= real(0e0));
+    let v58 = -v56;
+    let v59 = select(v56, v58, v57 != real(0.0));
+    let v60 = select(v59, v52, v51 != real(0.0));
+    let v61 = v46 + v60;
+    let v63 = v43 - kc.k62;
+    let v64 = v43 + kc.k62;
+    let v65 = real(md.m0);
+    let v66 = select(real(0.0), real(1.0), v65 == real(1e0));
+    let v68 = select(real(0.0), real(1.0), v65 == real(2e0));
+    let v70 = kc.k69 * v63;
+    let v71 = kc.k69 * v64;
+    let v72 = select(real(0e0), v71, v68 != real(0.0));
+    let v73 = select(v72, v70, v66 != real(0.0));
+    let v76 = y.s6;
+    let v77 = kc.k75 * v76;
+    let v80 = real(md.m1);
+    let v81 = select(real(0.0), real(1.0), v80 == real(0e0));
+    let v82 = select(real(0e0), v44, v81 != real(0.0));
+    let v84 = v61 - v42;
+    let v85 = v84 + v73;
+    let v86 = v85 + v77;
+    let v89 = v86 * kc.k88;
+    let v90 = real(0e0) - v61;
+    let v91 = v90 - v73;
+    let v92 = v91 - v77;
+    let v95 = v92 * kc.k94;
     var r: RigState;
     r.s0 = real(0e0);
     r.s1 = v6;
     r.s2 = v8;
     r.s3 = real(0e0);
-    r.s4 = v90;
-    r.s5 = v96;
-    r.s6 = v83;
+    r.s4 = v89;
+    r.s5 = v95;
+    r.s6 = v82;
     return r;
 }
 
@@ -235,23 +234,23 @@ fn rig_events_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
     let v6 = y.s4;
     let v7 = y.s2;
     let v8 = y.s5;
-    let v44 = v7 - v5;
-    let v45 = v8 - v6;
-    let v64 = v44 - kc.k63;
-    let v65 = v44 + kc.k63;
-    let v77 = y.s6;
-    let v78 = kc.k76 * v77;
-    let v79 = v78 - kc.k75;
-    let v80 = v78 + kc.k75;
+    let v43 = v7 - v5;
+    let v44 = v8 - v6;
+    let v63 = v43 - kc.k62;
+    let v64 = v43 + kc.k62;
+    let v76 = y.s6;
+    let v77 = kc.k75 * v76;
+    let v78 = v77 - kc.k74;
+    let v79 = v77 + kc.k74;
     var r: RigEventValues;
-    r.g[0] = v64;
-    r.g[1] = v64;
-    r.g[2] = v65;
-    r.g[3] = v65;
-    r.g[4] = v79;
-    r.g[5] = v80;
-    r.g[6] = v45;
-    r.g[7] = v45;
+    r.g[0] = v63;
+    r.g[1] = v63;
+    r.g[2] = v64;
+    r.g[3] = v64;
+    r.g[4] = v78;
+    r.g[5] = v79;
+    r.g[6] = v44;
+    r.g[7] = v44;
     return r;
 }
 
@@ -281,18 +280,18 @@ fn rig_bases_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     let v6 = y.s4;
     let v7 = y.s2;
     let v8 = y.s5;
-    let v44 = v7 - v5;
-    let v45 = v8 - v6;
-    let v65 = v44 + kc.k63;
-    let v77 = y.s6;
-    let v78 = kc.k76 * v77;
-    let v80 = v78 + kc.k75;
+    let v43 = v7 - v5;
+    let v44 = v8 - v6;
+    let v64 = v43 + kc.k62;
+    let v76 = y.s6;
+    let v77 = kc.k75 * v76;
+    let v79 = v77 + kc.k74;
     var r: EventBases;
-    r.b0 = v44;
-    r.b1 = v65;
-    r.b2 = v78;
-    r.b3 = v80;
-    r.b4 = v45;
+    r.b0 = v43;
+    r.b1 = v64;
+    r.b2 = v77;
+    r.b3 = v79;
+    r.b4 = v44;
     return r;
 }
 
@@ -313,15 +312,15 @@ fn rig_window(kc: RunConsts, md: RigRegime) -> EventWindows {
     var w: EventWindows;
     w.lo0 = -REAL_MAX;
     w.hi0 = REAL_MAX;
-    w.hi0 = select(w.hi0, min(w.hi0, kc.k63), md.m0 == 0u);
-    w.lo0 = select(w.lo0, max(w.lo0, kc.k63), md.m0 == 1u);
+    w.hi0 = select(w.hi0, min(w.hi0, kc.k62), md.m0 == 0u);
+    w.lo0 = select(w.lo0, max(w.lo0, kc.k62), md.m0 == 1u);
     w.lo1 = -REAL_MAX;
     w.hi1 = REAL_MAX;
     w.hi1 = select(w.hi1, min(w.hi1, real(0.0)), md.m0 == 2u);
     w.lo1 = select(w.lo1, max(w.lo1, real(0.0)), md.m0 == 0u);
     w.lo2 = -REAL_MAX;
     w.hi2 = REAL_MAX;
-    w.hi2 = select(w.hi2, min(w.hi2, kc.k75), md.m1 == 0u);
+    w.hi2 = select(w.hi2, min(w.hi2, kc.k74), md.m1 == 0u);
     w.lo3 = -REAL_MAX;
     w.hi3 = REAL_MAX;
     w.lo3 = select(w.lo3, max(w.lo3, real(0.0)), md.m1 == 0u);
@@ -376,36 +375,36 @@ fn rig_output0_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCl
     let v6 = y.s4;
     let v7 = y.s2;
     let v8 = y.s5;
-    let v44 = v7 - v5;
-    let v45 = v8 - v6;
-    let v47 = kc.k46 * v44;
-    let v51 = abs(v45);
-    let v52 = select(real(0.0), real(1.0), v51 <= kc.k50);
-    let v53 = kc.k48 * v45;
-    let v55 = v51 - kc.k50;
-    let v56 = kc.k49 * v55;
-    let v57 = kc.k54 + v56;
-    let v58 = select(real(0.0), real(1.0), v45 <= real(0e0));
-    let v59 = -v57;
-    let v60 = select(v57, v59, v58 != real(0.0));
-    let v61 = select(v60, v53, v52 != real(0.0));
-    let v62 = v47 + v61;
-    let v64 = v44 - kc.k63;
-    let v65 = v44 + kc.k63;
-    let v66 = real(md.m0);
-    let v67 = select(real(0.0), real(1.0), v66 == real(1e0));
-    let v69 = select(real(0.0), real(1.0), v66 == real(2e0));
-    let v71 = kc.k70 * v64;
-    let v72 = kc.k70 * v65;
-    let v73 = select(real(0e0), v72, v69 != real(0.0));
-    let v74 = select(v73, v71, v67 != real(0.0));
-    let v77 = y.s6;
-    let v78 = kc.k76 * v77;
-    let v91 = real(0e0) - v62;
-    let v92 = v91 - v74;
-    let v93 = v92 - v78;
-    let v96 = v93 * kc.k95;
-    return v96;
+    let v43 = v7 - v5;
+    let v44 = v8 - v6;
+    let v46 = kc.k45 * v43;
+    let v50 = abs(v44);
+    let v51 = select(real(0.0), real(1.0), v50 <= kc.k49);
+    let v52 = kc.k47 * v44;
+    let v54 = v50 - kc.k49;
+    let v55 = kc.k48 * v54;
+    let v56 = kc.k53 + v55;
+    let v57 = select(real(0.0), real(1.0), v44 <= real(0e0));
+    let v58 = -v56;
+    let v59 = select(v56, v58, v57 != real(0.0));
+    let v60 = select(v59, v52, v51 != real(0.0));
+    let v61 = v46 + v60;
+    let v63 = v43 - kc.k62;
+    let v64 = v43 + kc.k62;
+    let v65 = real(md.m0);
+    let v66 = select(real(0.0), real(1.0), v65 == real(1e0));
+    let v68 = select(real(0.0), real(1.0), v65 == real(2e0));
+    let v70 = kc.k69 * v63;
+    let v71 = kc.k69 * v64;
+    let v72 = select(real(0e0), v71, v68 != real(0.0));
+    let v73 = select(v72, v70, v66 != real(0.0));
+    let v76 = y.s6;
+    let v77 = kc.k75 * v76;
+    let v90 = real(0e0) - v61;
+    let v91 = v90 - v73;
+    let v92 = v91 - v77;
+    let v95 = v92 * kc.k94;
+    return v95;
 }
 
 fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigReport {
@@ -421,80 +420,79 @@ fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
     let v18 = real(6.283185307179586e0) * v17;
     let v19 = kc.k11 + v14;
     let v20 = real(6.283185307179586e0) * v19;
-    let v22 = select(real(0.0), real(1.0), v0 <= real(0e0));
-    let v23 = select(real(1e0), real(0e0), v22 != real(0.0));
-    let v24 = sin_r(v18);
-    let v25 = cos_r(v18);
-    let v26 = kc.k10 * v24;
-    let v27 = v25 * v20;
-    let v28 = kc.k10 * v27;
-    let v29 = v20 * v20;
-    let v30 = v24 * v29;
-    let v31 = v25 * kc.k21;
-    let v32 = v31 - v30;
-    let v33 = kc.k10 * v32;
-    let v34 = select(real(0e0), v26, v23 != real(0.0));
-    let v35 = select(real(0e0), v28, v23 != real(0.0));
-    let v36 = select(real(0e0), v33, v23 != real(0.0));
-    let v37 = v5 - v34;
-    let v38 = v6 - v35;
-    let v40 = kc.k39 * v37;
-    let v42 = kc.k41 * v38;
-    let v43 = v40 + v42;
-    let v44 = v7 - v5;
-    let v45 = v8 - v6;
-    let v47 = kc.k46 * v44;
-    let v51 = abs(v45);
-    let v52 = select(real(0.0), real(1.0), v51 <= kc.k50);
-    let v53 = kc.k48 * v45;
-    let v55 = v51 - kc.k50;
-    let v56 = kc.k49 * v55;
-    let v57 = kc.k54 + v56;
-    let v58 = select(real(0.0), real(1.0), v45 <= real(0e0));
-    let v59 = -v57;
-    let v60 = select(v57, v59, v58 != real(0.0));
-    let v61 = select(v60, v53, v52 != real(0.0));
-    let v62 = v47 + v61;
-    let v64 = v44 - kc.k63;
-    let v65 = v44 + kc.k63;
-    let v66 = real(md.m0);
-    let v67 = select(real(0.0), real(1.0), v66 == real(1e0));
-    let v69 = select(real(0.0), real(1.0), v66 == real(2e0));
-    let v71 = kc.k70 * v64;
-    let v72 = kc.k70 * v65;
-    let v73 = select(real(0e0), v72, v69 != real(0.0));
-    let v74 = select(v73, v71, v67 != real(0.0));
-    let v77 = y.s6;
-    let v78 = kc.k76 * v77;
-    let v85 = v62 - v43;
-    let v86 = v85 + v74;
-    let v87 = v86 + v78;
-    let v90 = v87 * kc.k89;
-    let v91 = real(0e0) - v62;
-    let v92 = v91 - v74;
-    let v93 = v92 - v78;
-    let v96 = v93 * kc.k95;
-    let v97 = v62 + v74;
-    let v98 = v97 + v78;
-    let v100 = real(-1e0) * v5;
-    let v101 = v7 + v100;
-    let v102 = real(-1e0) * v6;
-    let v103 = v8 + v102;
+    let v22 = select(real(0.0), real(1.0), real(0e0) <= v0);
+    let v23 = sin_r(v18);
+    let v24 = cos_r(v18);
+    let v25 = kc.k10 * v23;
+    let v26 = v24 * v20;
+    let v27 = kc.k10 * v26;
+    let v28 = v20 * v20;
+    let v29 = v23 * v28;
+    let v30 = v24 * kc.k21;
+    let v31 = v30 - v29;
+    let v32 = kc.k10 * v31;
+    let v33 = select(real(0e0), v25, v22 != real(0.0));
+    let v34 = select(real(0e0), v27, v22 != real(0.0));
+    let v35 = select(real(0e0), v32, v22 != real(0.0));
+    let v36 = v5 - v33;
+    let v37 = v6 - v34;
+    let v39 = kc.k38 * v36;
+    let v41 = kc.k40 * v37;
+    let v42 = v39 + v41;
+    let v43 = v7 - v5;
+    let v44 = v8 - v6;
+    let v46 = kc.k45 * v43;
+    let v50 = abs(v44);
+    let v51 = select(real(0.0), real(1.0), v50 <= kc.k49);
+    let v52 = kc.k47 * v44;
+    let v54 = v50 - kc.k49;
+    let v55 = kc.k48 * v54;
+    let v56 = kc.k53 + v55;
+    let v57 = select(real(0.0), real(1.0), v44 <= real(0e0));
+    let v58 = -v56;
+    let v59 = select(v56, v58, v57 != real(0.0));
+    let v60 = select(v59, v52, v51 != real(0.0));
+    let v61 = v46 + v60;
+    let v63 = v43 - kc.k62;
+    let v64 = v43 + kc.k62;
+    let v65 = real(md.m0);
+    let v66 = select(real(0.0), real(1.0), v65 == real(1e0));
+    let v68 = select(real(0.0), real(1.0), v65 == real(2e0));
+    let v70 = kc.k69 * v63;
+    let v71 = kc.k69 * v64;
+    let v72 = select(real(0e0), v71, v68 != real(0.0));
+    let v73 = select(v72, v70, v66 != real(0.0));
+    let v76 = y.s6;
+    let v77 = kc.k75 * v76;
+    let v84 = v61 - v42;
+    let v85 = v84 + v73;
+    let v86 = v85 + v77;
+    let v89 = v86 * kc.k88;
+    let v90 = real(0e0) - v61;
+    let v91 = v90 - v73;
+    let v92 = v91 - v77;
+    let v95 = v92 * kc.k94;
+    let v96 = v61 + v73;
+    let v97 = v96 + v77;
+    let v99 = real(-1e0) * v5;
+    let v100 = v7 + v99;
+    let v101 = real(-1e0) * v6;
+    let v102 = v8 + v101;
     var r: RigReport;
-    r.v[0] = v96;
-    r.v[1] = v90;
-    r.v[2] = v36;
-    r.v[3] = v98;
-    r.v[4] = v78;
-    r.v[5] = v101;
-    r.v[6] = v103;
-    r.v[7] = v34;
+    r.v[0] = v95;
+    r.v[1] = v89;
+    r.v[2] = v35;
+    r.v[3] = v97;
+    r.v[4] = v77;
+    r.v[5] = v100;
+    r.v[6] = v102;
+    r.v[7] = v33;
     r.v[8] = v5;
     r.v[9] = v7;
-    r.v[10] = v35;
+    r.v[10] = v34;
     r.v[11] = v6;
     r.v[12] = v8;
-    r.v[13] = v77;
+    r.v[13] = v76;
     return r;
 }
 

@@ -215,9 +215,11 @@ pub(super) fn signal(
     ))
 }
 
-/// 1 from `t > 0` on, 0 before: a periodic drive is at rest until it starts.
+/// 1 from `t = 0` on, 0 before: a periodic drive is at rest until it starts.
+/// At `t = 0` itself the drive is on: the step from 0 integrates over `[0, h]`,
+/// so its first stage needs the drive's value just after the start (a sine's
+/// displacement starts with velocity `A·ω`). Taking the value before the start
+/// there cost RK4 its order: every run was first order in the step.
 fn started(g: &mut Graph, t: Id, zero: Id) -> Id {
-    let before = g.le(t, zero);
-    let one = g.c(1.0);
-    g.select(before, zero, one)
+    g.le(zero, t)
 }
