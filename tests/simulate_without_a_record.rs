@@ -509,3 +509,38 @@ fn only_the_simulated_experiment_reads_a_drive_file() {
         stderr(&o)
     );
 }
+
+#[test]
+fn the_drive_file_and_a_missing_folder_are_refused_as_outputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let c = campaign(dir.path(), json!({"force": {"column": "force_N"}}));
+    let drive = dir.path().join("drive.csv");
+    let text: String = std::iter::once("t_s,force_N\n".to_string())
+        .chain((0..50).map(|k| format!("{},{}\n", k as f64 * 1e-3, k as f64)))
+        .collect();
+    std::fs::write(&drive, &text).unwrap();
+    let grid = ["--samples", "50", "--dt", "1e-3"];
+    let d = drive.to_str().unwrap();
+
+    // The drive file is an input: never written over, not even with --overwrite.
+    let o = simulate(
+        &c,
+        &[&grid[..], &["--drive", d, "--out", d, "--overwrite"]].concat(),
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(stderr(&o).contains("input"), "{}", stderr(&o));
+    assert_eq!(std::fs::read_to_string(&drive).unwrap(), text);
+
+    // An --out in a folder that does not exist is bad input, before any work.
+    let missing = dir.path().join("no/such/folder/e1.csv");
+    let o = simulate(
+        &c,
+        &[
+            &grid[..],
+            &["--drive", d, "--out", missing.to_str().unwrap()],
+        ]
+        .concat(),
+    );
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(!dir.path().join("no").exists());
+}

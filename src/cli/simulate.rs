@@ -14,7 +14,7 @@ use rand_chacha::ChaCha8Rng;
 
 use super::exit::BadInput;
 use super::options::RunLengthArgs;
-use super::output::{Output, write_file};
+use super::output::{Output, check_out_files, write_file};
 use rigfit::base::data::Column;
 use rigfit::base::noise::gaussian;
 use rigfit::base::text::{echo, number};
@@ -129,7 +129,13 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
         n,
         1 + c.model.output_names().len() + c.model.state_names().len() + drives,
     )?;
-    check_out_file(&args.out, &c, args.params.as_deref(), args.overwrite)?;
+    check_out_file(
+        &args.out,
+        &c,
+        args.params.as_deref(),
+        args.drive.as_deref(),
+        args.overwrite,
+    )?;
 
     let mut problem: Problem = c.problem.clone();
     problem.substeps = substeps;
@@ -526,42 +532,22 @@ fn memory_size(s: &str) -> Result<f64, String> {
     })
 }
 
-/// Refuses an `--out` file that is one of the job's inputs, or that exists
-/// without `--overwrite`.
+/// Refuses an `--out` file that is one of the job's inputs (the campaign's
+/// files, `--params`, `--drive`), or exists without `--overwrite`, or cannot be
+/// a file: the check every command that writes a file makes.
 fn check_out_file(
     out: &Path,
     c: &Campaign,
     params: Option<&Path>,
+    drive: Option<&Path>,
     overwrite: bool,
 ) -> Result<(), BadInput> {
-    let Ok(meta) = std::fs::metadata(out) else {
-        return Ok(());
-    };
-    let target = out.canonicalize().ok();
-    let input = c
+    let inputs: Vec<&Path> = c
         .inputs
         .iter()
         .map(PathBuf::as_path)
         .chain(params)
-        .find(|p| p.canonicalize().ok() == target);
-    if let Some(input) = input {
-        return Err(BadInput(format!(
-            "--out `{}` is the input file `{}`; rigfit never writes over its inputs",
-            out.display(),
-            input.display()
-        )));
-    }
-    if !meta.is_file() {
-        return Err(BadInput(format!(
-            "--out `{}`: expected a file name, found an existing folder or device",
-            out.display()
-        )));
-    }
-    if !overwrite {
-        return Err(BadInput(format!(
-            "--out `{}` exists; pass --overwrite to replace it",
-            out.display()
-        )));
-    }
-    Ok(())
+        .chain(drive)
+        .collect();
+    check_out_files(&[("--out", out)], &inputs, overwrite)
 }
