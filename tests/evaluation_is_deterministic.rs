@@ -14,7 +14,7 @@ use tensile_common::{REFERENCE_DT, REFERENCE_SUBSTEPS, reference_experiment};
 
 fn setup() -> (Problem, Batch) {
     let problem = Problem {
-        model: tensile4(),
+        model: tensile4().clone(),
         experiments: vec![reference_experiment(
             500,
             REFERENCE_DT,

@@ -25,7 +25,7 @@ const CANDIDATES: usize = 256;
 
 fn problem() -> Problem {
     Problem {
-        model: tensile4(),
+        model: tensile4().clone(),
         experiments: vec![reference_experiment(
             SAMPLES,
             REFERENCE_DT,
@@ -122,7 +122,7 @@ fn f64_force_histories_match_cpu_at_one_and_three_steps_per_sample() {
         let samples = SAMPLES * REFERENCE_SUBSTEPS / substeps;
         let dt = h * substeps as f64;
         let problem = Problem {
-            model: tensile4(),
+            model: tensile4().clone(),
             experiments: vec![reference_experiment(samples, dt, substeps, 20.0, 7)],
             substeps,
         };

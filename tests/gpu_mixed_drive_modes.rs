@@ -29,8 +29,8 @@ use rigfit::search::ResidualCost;
 use serde_json::{Value, json};
 use tensile_common::REFERENCE;
 
-fn rig() -> &'static CompiledRig {
-    CompiledRig::leaked(rigfit::rig::shipped("tensile4").unwrap(), "tensile4").unwrap()
+fn rig() -> std::sync::Arc<CompiledRig> {
+    CompiledRig::shared(rigfit::rig::shipped("tensile4").unwrap(), "tensile4").unwrap()
 }
 
 fn table() -> PiecewiseLinear {
@@ -43,7 +43,7 @@ fn table() -> PiecewiseLinear {
 /// Reference parameters with the actuator at `velocity` (m/s).
 fn reference(velocity: f64) -> Vec<f64> {
     let mut p = REFERENCE.to_vec();
-    p[param_index(rig(), "velocity").unwrap()] = velocity;
+    p[param_index(&rig(), "velocity").unwrap()] = velocity;
     p
 }
 
@@ -58,7 +58,7 @@ fn experiment(
     t_first: f64,
 ) -> ExperimentData {
     common::self_measured(
-        rig(),
+        &rig(),
         &reference(velocity),
         name,
         drive,
@@ -84,7 +84,7 @@ fn problem() -> Problem {
 /// own speed, clock offsets varying by candidate.
 fn batch(candidates: usize) -> Batch {
     let params = common::spread_params(candidates, 17);
-    let v = param_index(rig(), "velocity").unwrap();
+    let v = param_index(&rig(), "velocity").unwrap();
     let p = rig().params().len();
     let at = |speed: f64| -> Vec<f64> {
         let mut q = params.clone();
@@ -188,7 +188,7 @@ fn each_mode_scores_as_it_would_alone() {
     .unwrap();
     for group in [vec![0, 2], vec![1]] {
         let sub = Problem {
-            model: problem.model,
+            model: problem.model.clone(),
             experiments: group
                 .iter()
                 .map(|&e| problem.experiments[e].clone())
@@ -277,7 +277,7 @@ fn write_campaign(dir: &Path) -> std::path::PathBuf {
     let mut params = serde_json::Map::new();
     for (info, value) in rig().params().iter().zip(REFERENCE) {
         if info.name != "velocity" {
-            params.insert(info.name.into(), json!(value));
+            params.insert(info.name.clone(), json!(value));
         }
     }
     params.insert(

@@ -29,7 +29,7 @@ fn problem() -> Problem {
     let mut force = experiment("force", Drive::Force(table), 200, 2.0e-6, 0.0);
     force.window = 10..150;
     Problem {
-        model: tensile4(),
+        model: tensile4().clone(),
         experiments: vec![velocity, force],
         substeps: 2,
     }
@@ -150,7 +150,7 @@ fn long_force_table_histories_match_cpu() {
         0.0,
     );
     let problem = Problem {
-        model: tensile4(),
+        model: tensile4().clone(),
         experiments: vec![exp],
         substeps: 2,
     };

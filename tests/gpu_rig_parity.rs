@@ -28,7 +28,7 @@ use rigfit::search::GeneSpec;
 /// One rig, one drive, a seeded spread of candidates around `centre`.
 struct Case {
     name: &'static str,
-    rig: &'static CompiledRig,
+    rig: std::sync::Arc<CompiledRig>,
     drive: Drive,
     centre: Vec<f64>,
     /// Which parameters vary between candidates (log-uniform ×/÷ `spread`).
@@ -43,8 +43,8 @@ struct Case {
     f32_samples: Option<usize>,
 }
 
-fn shipped(id: &str) -> &'static CompiledRig {
-    CompiledRig::leaked(rigfit::rig::shipped(id).unwrap(), id).unwrap()
+fn shipped(id: &str) -> std::sync::Arc<CompiledRig> {
+    CompiledRig::shared(rigfit::rig::shipped(id).unwrap(), id).unwrap()
 }
 
 fn sine_table(amplitude: f64, freq: f64, duration: f64, points: usize) -> Drive {
@@ -88,7 +88,7 @@ fn cases() -> Vec<Case> {
     let tensile = shipped("tensile4");
     let reference = tensile_common::REFERENCE.to_vec();
     let ix = |r: &CompiledRig, n: &str| r.params().iter().position(|p| p.name == n).unwrap();
-    let free_play = CompiledRig::leaked(
+    let free_play = CompiledRig::shared(
         serde_json::from_str(FREE_PLAY).unwrap(),
         "free_play_oscillator (test)",
     )
@@ -108,14 +108,14 @@ fn cases() -> Vec<Case> {
         "law": "expression",
         "force": "c*v + 0.5*c*v*abs(v) + 0.1*c*tanh(v/0.01)"
     });
-    let formula = CompiledRig::leaked(
+    let formula = CompiledRig::shared(
         serde_json::from_value(formula).unwrap(),
         "duffing with expression laws (test)",
     )
     .unwrap();
     let stick = shipped("stick_slip");
     let backlash_file = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/backlash_sdof.json");
-    let backlash = CompiledRig::leaked(
+    let backlash = CompiledRig::shared(
         rigfit::rig::parse(
             &std::fs::read_to_string(backlash_file).unwrap(),
             &rigfit::rig::RigSource::File(backlash_file.into()),
@@ -127,11 +127,11 @@ fn cases() -> Vec<Case> {
     vec![
         Case {
             name: "tensile4 (slack engagement, yield, fracture)",
-            rig: tensile,
+            rig: tensile.clone(),
             drive: Drive::Velocity,
             vary: ["k1", "c1", "k3", "k4_lin", "c4", "gap", "e_fracture", "m2"]
                 .iter()
-                .map(|n| ix(tensile, n))
+                .map(|n| ix(&tensile, n))
                 .collect(),
             centre: reference,
             spread: 1.5,
@@ -249,7 +249,7 @@ fn problem(case: &Case) -> Problem {
         weight: 1.0,
     };
     let mut p = Problem {
-        model: case.rig,
+        model: case.rig.clone(),
         experiments: vec![exp.clone()],
         substeps: case.substeps,
     };
@@ -423,8 +423,9 @@ fn genomes(c: &Campaign, n: usize) -> Vec<Vec<f64>> {
 #[test]
 fn every_shipped_rig_has_a_parity_case() {
     let all = cases();
+    let campaigns = rig_campaigns();
     let mut covered: Vec<&str> = all.iter().map(|c| c.rig.id()).collect();
-    covered.extend(rig_campaigns().iter().map(|c| c.model.id()));
+    covered.extend(campaigns.iter().map(|c| c.model.id()));
     for (id, _) in rigfit::rig::SHIPPED {
         assert!(covered.contains(&id), "rig {id} has no GPU parity case");
     }

@@ -17,7 +17,7 @@ use tensile_common::tensile4;
 fn single_mass_rings_at_sqrt_k_over_m() {
     let (m, k) = (7.9, 8.4e9);
     let r = ModeReport::new(&Linearised {
-        dofs: vec!["x"],
+        dofs: vec!["x".into()],
         mass: vec![m],
         stiffness: vec![k],
     })
@@ -38,7 +38,7 @@ fn two_mass_chain_matches_its_closed_form() {
     // ground –k1– m1 –k2– m2 (free).
     let (m1, m2, k1, k2) = (2.0, 0.5, 3.0e6, 1.0e6);
     let lin = Linearised {
-        dofs: vec!["a", "b"],
+        dofs: vec!["a".into(), "b".into()],
         mass: vec![m1, m2],
         stiffness: vec![k1 + k2, -k2, -k2, k2],
     };
@@ -82,7 +82,7 @@ fn oracle_at_rest(p: &[f64], drive: &Drive) -> Linearised {
     q[ix::K4_LIN] = p[ix::SLACK_A] * (-p[ix::SLACK_B] * p[ix::GAP]).exp() + p[ix::SLACK_C];
     let o = oracle::tensile::linearise(&q, drive);
     Linearised {
-        dofs: o.dofs,
+        dofs: o.dofs.iter().map(|d| d.to_string()).collect(),
         mass: o.mass,
         stiffness: o.stiffness,
     }
@@ -177,7 +177,7 @@ fn reference_rig_has_a_load_cell_mode_near_5_2_khz() {
 #[test]
 fn bad_input_is_an_error_not_a_panic() {
     let bad_mass = Linearised {
-        dofs: vec!["x"],
+        dofs: vec!["x".into()],
         mass: vec![0.0],
         stiffness: vec![1.0],
     };
@@ -186,7 +186,7 @@ fn bad_input_is_an_error_not_a_panic() {
         Err(ModesError::Mass { .. })
     ));
     let bad_size = Linearised {
-        dofs: vec!["x", "y"],
+        dofs: vec!["x".into(), "y".into()],
         mass: vec![1.0, 1.0],
         stiffness: vec![1.0],
     };

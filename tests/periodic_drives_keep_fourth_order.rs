@@ -21,7 +21,7 @@ fn errors(campaign: &str) -> Vec<f64> {
     let x = &c.problem.experiments[0];
     let (params, offset) = (batch.params_of(0, 0), batch.offsets[0][0]);
     let run =
-        |n: usize| output_0(c.model, params, &x.drive, &x.grid(offset, n), &x.window).unwrap();
+        |n: usize| output_0(&c.model, params, &x.drive, &x.grid(offset, n), &x.window).unwrap();
     let fine = run(64);
     [1, 2, 4]
         .iter()

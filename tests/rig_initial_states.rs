@@ -113,7 +113,7 @@ fn fixed_initial_displacement_and_velocity_match_the_free_response() {
     )
     .unwrap();
     let p = &c.base[0];
-    let ix = |n: &str| param_index(c.model, n).unwrap();
+    let ix = |n: &str| param_index(&c.model, n).unwrap();
     assert_eq!((p[ix("initial_x_mass")], p[ix("initial_v_mass")]), (x0, v0));
     let h = simulate_history(&c.problem, 0, p, 0.0);
     let amp = x0.hypot(v0 / (K / M).sqrt());
@@ -207,7 +207,7 @@ fn a_gap_already_closed_starts_in_contact() {
     assert_eq!(st.y0, vec![x0, 0.0]);
     // Exactly at the gap the stop stays open (no switch is past), and below it.
     for x in [0.001, 0.0005] {
-        p[param_index(model, "initial_x_mass").unwrap()] = x;
+        p[param_index(&model, "initial_x_mass").unwrap()] = x;
         assert_eq!(compiled.stepper(&p, &exp.drive).unwrap().regimes, vec![0]);
     }
 }
@@ -278,8 +278,8 @@ fn values_from_the_data_are_read_from_the_column() {
     )
     .unwrap();
     let p = &c.base[0];
-    let x = p[param_index(c.model, "initial_x_mass").unwrap()];
-    let v = p[param_index(c.model, "initial_v_mass").unwrap()];
+    let x = p[param_index(&c.model, "initial_x_mass").unwrap()];
+    let v = p[param_index(&c.model, "initial_v_mass").unwrap()];
     println!("from the column: x0 = {x:e} m, v0 = {v:e} m/s");
     assert!((x - 0.002).abs() < 1e-15, "{x}");
     assert!((v - 0.3).abs() < 1e-9, "{v}");
@@ -295,8 +295,8 @@ fn values_from_the_data_are_read_from_the_column() {
     )
     .unwrap();
     let p = &c.base[0];
-    let x = p[param_index(c.model, "initial_x_mass").unwrap()];
-    let v = p[param_index(c.model, "initial_v_mass").unwrap()];
+    let x = p[param_index(&c.model, "initial_x_mass").unwrap()];
+    let v = p[param_index(&c.model, "initial_v_mass").unwrap()];
     assert!((x - 0.002e-3).abs() < 1e-15, "{x}");
     assert!((v - (0.3 + 5.0 * DT)).abs() < 1e-9, "{v}");
 }

@@ -99,7 +99,7 @@ fn the_compiled_rig_has_the_oracles_parameters_outputs_and_states() {
         assert_eq!(param_index(c, name), Some(i), "{name}");
     }
     // The oracle's outputs: load-cell force (fitted), then specimen force.
-    let names: Vec<&str> = c.output_names().iter().map(|o| o.0).collect();
+    let names: Vec<&str> = c.output_names().iter().map(|o| o.0.as_str()).collect();
     assert_eq!(names, ["load_cell_force", "specimen_force"]);
     assert!(c.output_names().iter().all(|o| o.1 == "N"));
     // The oracle's state: displacements y1..y4, then velocities v1..v4.

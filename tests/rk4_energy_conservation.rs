@@ -38,7 +38,7 @@ fn modes(c: &LinearChain) -> ModeReport {
         }
     }
     let lin = Linearised {
-        dofs: vec!["a", "b", "c", "d", "e"],
+        dofs: ["a", "b", "c", "d", "e"].map(String::from).to_vec(),
         mass: c.mass.clone(),
         stiffness: k,
     };

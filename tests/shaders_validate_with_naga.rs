@@ -18,7 +18,7 @@ fn gpu_models() -> Vec<(String, GpuModel)> {
     });
     for (id, _) in rigfit::rig::SHIPPED {
         let desc = rigfit::rig::shipped(id).expect("shipped");
-        let rig = CompiledRig::leaked(desc, id).expect("compiles");
+        let rig = CompiledRig::shared(desc, id).expect("compiles");
         let mut any = false;
         for drive in [&Drive::Velocity, &force] {
             if let Some(g) = rig.gpu(drive) {
@@ -163,7 +163,7 @@ fn shared_constants_reach_the_shader_unchanged() {
 #[test]
 fn the_fitness_kernel_skips_the_switches_behind_the_break() {
     let desc = rigfit::rig::shipped("tensile4").expect("shipped");
-    let rig = CompiledRig::leaked(desc, "tensile4").expect("compiles");
+    let rig = CompiledRig::shared(desc, "tensile4").expect("compiles");
     let model = rig.gpu(&Drive::Velocity).expect("GPU kernels");
     let hits = |kernel: Kernel| {
         let src = shaders::source(&model, Precision::F32, kernel, Default::default(), &[]);

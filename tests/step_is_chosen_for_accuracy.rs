@@ -38,7 +38,7 @@ fn reference(c: &Campaign, file: &str, e: usize) -> (Vec<f64>, f64) {
     let v: Value = serde_json::from_str(&text).unwrap();
     let mut p = c.base[e].clone();
     for (i, info) in c.model.params().iter().enumerate() {
-        if let Some(x) = v["params"][info.name].as_f64() {
+        if let Some(x) = v["params"][info.name.as_str()].as_f64() {
             p[i] = x;
         }
     }
@@ -49,7 +49,7 @@ fn reference(c: &Campaign, file: &str, e: usize) -> (Vec<f64>, f64) {
 /// against the run at [`EXACT`] steps per sample.
 fn true_error(c: &Campaign, e: usize, params: &[f64], offset: f64, substeps: usize) -> f64 {
     let x = &c.problem.experiments[e];
-    let run = |n| output_0(c.model, params, &x.drive, &x.grid(offset, n), &x.window).unwrap();
+    let run = |n| output_0(&c.model, params, &x.drive, &x.grid(offset, n), &x.window).unwrap();
     rms_difference(&run(substeps), &run(EXACT))
 }
 
@@ -253,7 +253,9 @@ fn a_finished_job_reports_its_integration_error_next_to_the_residual() {
     let c = Campaign::load(&file).unwrap();
     let mut p = c.base[0].clone();
     for (i, info) in c.model.params().iter().enumerate() {
-        p[i] = result["params"][info.name].as_f64().unwrap_or(p[i]);
+        p[i] = result["params"][info.name.as_str()]
+            .as_f64()
+            .unwrap_or(p[i]);
     }
     let truth = true_error(&c, 0, &p, c.base_offsets[0], c.solver.substeps);
     assert!(within_3x(estimate, truth), "{estimate} against {truth}");

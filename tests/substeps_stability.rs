@@ -41,7 +41,7 @@ fn load(v: &Value) -> Result<Campaign, String> {
 }
 
 /// `h·ω` bound of experiment 0 with `substeps`.
-fn h_omega(c: &Campaign, substeps: usize) -> (f64, &'static str) {
+fn h_omega(c: &Campaign, substeps: usize) -> (f64, String) {
     let (lo, hi) = c.bounds(0);
     let x = &c.problem.experiments[0];
     let (omega, name) = c.model.omega_bound(&lo, &hi, &x.drive);

@@ -24,14 +24,14 @@ pub enum Scale {
 }
 
 /// One model parameter.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct ParamInfo {
     /// Name used in campaign and result files.
-    pub name: &'static str,
+    pub name: String,
     /// SI unit.
-    pub unit: &'static str,
+    pub unit: String,
     /// What it is, in a phrase.
-    pub doc: &'static str,
+    pub doc: String,
     /// Rig-wide or per experiment.
     pub scope: ParamScope,
     /// Value used when a campaign does not mention the parameter, if any.

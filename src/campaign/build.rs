@@ -1,6 +1,7 @@
 //! Raw campaign → validated [`Campaign`]: names, experiments, data, genes, step.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use super::error::{invalid, parse_json};
 use super::initial;
@@ -28,8 +29,8 @@ pub(crate) fn build(
     let raw: RawCampaign = parse_json(text, file)?;
     check_campaign_name(file, &raw.name)?;
     let mut rig_file = None;
-    let mut compiled = None;
-    let model = model_of(&raw, dir, file, &mut rig_file, &mut compiled)?;
+    let rig = model_of(&raw, dir, file, &mut rig_file)?;
+    let model: &CompiledRig = &rig;
     if let Some(search) = &raw.search {
         search
             .validate()
@@ -104,9 +105,7 @@ pub(crate) fn build(
                 "a force table (the rig has no \"force\"-mode drive)",
             ));
         }
-        if let Some(rig) = compiled {
-            initial::check_prescribed(file, rig, e, x, &exp.drive)?;
-        }
+        initial::check_prescribed(file, model, e, x, &exp.drive)?;
         digest = bytes_hash;
         experiments.push(exp);
         inputs.extend(read);
@@ -139,9 +138,9 @@ pub(crate) fn build(
         path: file.to_path_buf(),
         name: raw.name,
         description: raw.description,
-        model,
+        model: rig.clone(),
         problem: Problem {
-            model,
+            model: rig,
             experiments,
             substeps,
         },
@@ -225,8 +224,7 @@ fn model_of(
     dir: &Path,
     file: &Path,
     rig_file: &mut Option<PathBuf>,
-    compiled: &mut Option<&'static CompiledRig>,
-) -> Result<&'static CompiledRig, CampaignError> {
+) -> Result<Arc<CompiledRig>, CampaignError> {
     if let Some(m) = &raw.model {
         // The key only ever named the tensile rig; a shipped id is kept.
         let id = m
@@ -269,9 +267,7 @@ fn model_of(
                     crate::compile::front::state_names(&desc, &src.label()).map_err(at_campaign)?;
                 initial::declare(file, &raw.experiments, &mut desc, &states)?;
             }
-            let rig = CompiledRig::leaked(desc, &src.label()).map_err(at_campaign)?;
-            *compiled = Some(rig);
-            Ok(rig)
+            CompiledRig::shared(desc, &src.label()).map_err(at_campaign)
         }
         None => Err(invalid(
             file,

@@ -73,7 +73,7 @@ impl Campaign {
         let x = &self.problem.experiments[e];
         let n = self.problem.substeps;
         let mut run = StepDoubling::new(
-            self.model,
+            &self.model,
             params,
             &x.drive,
             x.grid(offset, n),
@@ -117,7 +117,7 @@ impl Campaign {
         };
         let c = &*self;
         let step = choose(
-            c.model,
+            &c.model,
             &c.problem.experiments,
             &c.genes,
             |e| c.bounds(e),

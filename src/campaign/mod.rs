@@ -45,6 +45,7 @@ mod simulation;
 mod stability;
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 pub use error::CampaignError;
 pub use integration_error::IntegrationError;
@@ -91,7 +92,7 @@ pub struct Gene {
     /// Seed value for the initial population.
     pub init: Option<f64>,
     /// SI unit.
-    pub unit: &'static str,
+    pub unit: String,
 }
 
 /// Whether gene `g` acts in experiment `e`: its own genes, and shared genes of
@@ -125,7 +126,7 @@ pub struct Campaign {
     /// Free text from the file.
     pub description: Option<String>,
     /// The rig model.
-    pub model: &'static CompiledRig,
+    pub model: Arc<CompiledRig>,
     /// Model plus measured experiments; `problem.substeps` is `solver.substeps`.
     pub problem: Problem,
     /// The searched quantities, in genome order.

@@ -14,6 +14,7 @@ use super::resolve::unknown_param;
 use super::stability::choose;
 use super::{Campaign, CampaignError, Source};
 use crate::base::ParamScope;
+use crate::model::CompiledRig;
 use crate::model::param_index;
 
 /// `{"params": {...}}`; other keys (a `result.json`'s) are ignored.
@@ -103,7 +104,8 @@ pub(crate) fn apply(campaign: &mut Campaign, path: &Path) -> Result<(), Campaign
     } else {
         "params"
     };
-    let model = c.model;
+    let rig = c.model.clone();
+    let model: &CompiledRig = &rig;
     for (key, &value) in &values {
         // `null` is +∞, as in a campaign (a result.json writes it for a
         // specimen that never breaks).

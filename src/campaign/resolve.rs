@@ -44,7 +44,7 @@ impl Spec {
         name: String,
         experiment: Option<usize>,
         target: GeneTarget,
-        unit: &'static str,
+        unit: &str,
     ) -> Option<Gene> {
         match *self {
             Spec::Fixed(_) => None,
@@ -61,7 +61,7 @@ impl Spec {
                 upper,
                 scale,
                 init,
-                unit,
+                unit: unit.to_string(),
             }),
         }
     }
@@ -136,7 +136,7 @@ pub(crate) fn unknown_param(
     model: &CompiledRig,
     name: &str,
 ) -> CampaignError {
-    let names: Vec<&str> = model.params().iter().map(|p| p.name).collect();
+    let names: Vec<&str> = model.params().iter().map(|p| p.name.as_str()).collect();
     let poly_max = names
         .iter()
         .filter_map(|n| n.strip_prefix('a').and_then(|d| d.parse::<usize>().ok()))
@@ -243,7 +243,7 @@ pub(crate) fn resolve(
             infos[i].name.to_string(),
             None,
             GeneTarget::Param(i),
-            infos[i].unit,
+            &infos[i].unit,
         ) else {
             continue;
         };
@@ -278,7 +278,7 @@ pub(crate) fn resolve(
             if source == Source::Own {
                 let name = format!("{}.{}", names[e], info.name);
                 r.genes
-                    .extend(spec.gene(name, Some(e), GeneTarget::Param(i), info.unit));
+                    .extend(spec.gene(name, Some(e), GeneTarget::Param(i), &info.unit));
             }
             base.push(spec.base());
             sources.push(source);

@@ -108,7 +108,7 @@ impl Chosen {
 struct Worst {
     exp: usize,
     omega: f64,
-    name: &'static str,
+    name: String,
     need: usize,
     /// `need` before it is held to a count, for a refusal.
     need_f: f64,
@@ -324,7 +324,7 @@ fn accurate(
     stable: usize,
     tolerance: Option<f64>,
 ) -> Accurate {
-    let unit = model.output_names().first().map_or("", |o| o.1);
+    let unit = model.output_names().first().map_or("", |o| o.1.as_str());
     let cap = stable
         .saturating_mul(ACCURACY_CAP_FACTOR)
         .min(MAX_AUTO_SUBSTEPS)

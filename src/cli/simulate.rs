@@ -91,7 +91,7 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
             ))
         })?,
     };
-    let (out_name, unit) = c.model.output_names()[0];
+    let (out_name, unit) = c.model.output_names()[0].clone();
     if let Some(sigma) = args.noise {
         if !(sigma >= 0.0 && sigma.is_finite()) {
             return Err(BadInput(format!(
@@ -154,7 +154,7 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
     });
     let text = match args.noise {
         Some(sigma) => {
-            let layout = record_layout(&x.data, drive.as_ref().map(|d| d.0), (out_name, unit))?;
+            let layout = record_layout(&x.data, drive.as_ref().map(|d| d.0), (&out_name, &unit))?;
             let mut s = String::new();
             let _ = writeln!(
                 s,

@@ -126,7 +126,7 @@ pub fn score_many(
 pub fn simulate_history(problem: &Problem, e: usize, params: &[f64], offset: f64) -> History {
     let exp = &problem.experiments[e];
     let grid = exp.grid(offset, problem.substeps);
-    let model = problem.model;
+    let model = &problem.model;
     let mut h = History {
         t: Vec::with_capacity(grid.samples),
         outputs: vec![Vec::with_capacity(grid.samples); model.output_names().len()],

@@ -1,6 +1,7 @@
 //! The validated, evaluable part of a campaign.
 
 use std::ops::Range;
+use std::sync::Arc;
 
 use super::{Batch, EvalError};
 use crate::base::Drive;
@@ -56,7 +57,7 @@ impl ExperimentData {
 #[derive(Debug, Clone)]
 pub struct Problem {
     /// The rig model.
-    pub model: &'static CompiledRig,
+    pub model: Arc<CompiledRig>,
     /// The experiments.
     pub experiments: Vec<ExperimentData>,
     /// RK4 steps per sample interval.

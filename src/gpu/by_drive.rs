@@ -33,7 +33,7 @@ pub struct KernelGroup {
 /// order each group's first experiment appears. An error when the model has
 /// no kernels for some experiment (or the problem has no experiments).
 pub fn kernel_groups(problem: &Problem) -> Result<Vec<KernelGroup>, GpuError> {
-    let id = problem.model.id();
+    let id = problem.model.id().to_string();
     let mut groups: Vec<KernelGroup> = Vec::new();
     for (e, exp) in problem.experiments.iter().enumerate() {
         let g = super::kernels_for(problem, &exp.drive)?;
@@ -83,7 +83,7 @@ impl GpuByDrive {
             .into_iter()
             .map(|group| {
                 let sub = Problem {
-                    model: problem.model,
+                    model: problem.model.clone(),
                     experiments: group
                         .experiments
                         .iter()

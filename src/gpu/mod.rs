@@ -128,7 +128,7 @@ pub enum GpuError {
     NoF64(String),
     /// The model has no GPU kernels.
     #[error("model `{0}` has no GPU implementation")]
-    UnsupportedModel(&'static str),
+    UnsupportedModel(String),
     /// The rig has more located switches than the kernels hold.
     #[error(
         "rig `{rig}` has {count} located switches in its {mode} drive mode; the GPU kernels \
@@ -136,7 +136,7 @@ pub enum GpuError {
     )]
     TooManySwitches {
         /// The rig's id.
-        rig: &'static str,
+        rig: String,
         /// The drive mode (`velocity`, `force`).
         mode: String,
         /// Its located switches.
@@ -150,7 +150,7 @@ pub enum GpuError {
     #[error(
         "rig `{0}` runs its drive modes in separate GPU kernels; one GpuEvaluator takes experiments of one drive mode (GpuByDrive takes a mix)"
     )]
-    MixedDrives(&'static str),
+    MixedDrives(String),
     /// A shader failed to parse or validate.
     #[error("shader {kernel} is invalid:\n{message}")]
     Shader {
@@ -185,7 +185,7 @@ pub enum GpuError {
 /// several ([`kernel_groups`]) gets [`GpuError::MixedDrives`]; whether the GPU
 /// can run a problem at all is [`kernel_groups`]`(…).is_ok()`.
 pub fn gpu_model(problem: &Problem) -> Result<GpuModel, GpuError> {
-    let id = problem.model.id();
+    let id = problem.model.id().to_string();
     let mut found: Option<GpuModel> = None;
     for exp in &problem.experiments {
         let g = kernels_for(problem, &exp.drive)?;
@@ -202,7 +202,7 @@ pub fn gpu_model(problem: &Problem) -> Result<GpuModel, GpuError> {
 /// located switches than the kernels hold ([`GpuError::TooManySwitches`]),
 /// or no kernels at all.
 pub fn kernels_for(problem: &Problem, drive: &crate::base::Drive) -> Result<GpuModel, GpuError> {
-    let model = problem.model;
+    let model = &problem.model;
     if let Some(g) = model.gpu(drive) {
         return Ok(g);
     }
@@ -210,13 +210,13 @@ pub fn kernels_for(problem: &Problem, drive: &crate::base::Drive) -> Result<GpuM
     match program {
         Some(p) if p.transitions.len() > crate::compile::back::wgsl::MAX_TRANSITIONS => {
             Err(GpuError::TooManySwitches {
-                rig: model.id(),
+                rig: model.id().to_string(),
                 mode: p.mode.to_string(),
                 count: p.transitions.len(),
                 limit: crate::compile::back::wgsl::MAX_TRANSITIONS,
             })
         }
-        _ => Err(GpuError::UnsupportedModel(model.id())),
+        _ => Err(GpuError::UnsupportedModel(model.id().to_string())),
     }
 }
 

@@ -177,7 +177,7 @@ pub fn chunk_candidates(campaign: &Campaign) -> usize {
 /// per sample; on the GPU path also the raw history buffer, its read-back
 /// and its host copy.
 fn history_bytes_per_candidate(campaign: &Campaign, gpu_real: Option<usize>) -> f64 {
-    let m = campaign.model;
+    let m = &campaign.model;
     let values = 1 + m.output_names().len() + m.state_names().len();
     let samples: usize = campaign
         .problem

@@ -235,7 +235,7 @@ pub fn write_outputs(
         let series: Vec<plots::Series<'_>> = outputs
             .iter()
             .zip(&hist.outputs)
-            .map(|(&(name, unit), h)| plots::Series {
+            .map(|((name, unit), h)| plots::Series {
                 name,
                 unit,
                 values: &h[..n.min(h.len())],
@@ -259,7 +259,7 @@ pub fn write_outputs(
             one_minus_r2: 1.0 - r2,
             r2_cpu_reference: 1.0 - reference,
             residual_rms,
-            unit: outputs.first().map_or("", |o| o.1).to_string(),
+            unit: outputs.first().map_or(String::new(), |o| o.1.clone()),
             noise_estimate,
             cost_over_noise_floor,
             residual_autocorrelation,
@@ -348,9 +348,9 @@ fn experiment_csv(
     exp: &crate::eval::ExperimentData,
     hist: &History,
     offset: f64,
-    outputs: &[(&str, &str)],
+    outputs: &[(String, String)],
 ) -> String {
-    let (name0, unit0) = outputs[0];
+    let (name0, unit0) = &outputs[0];
     let mut s = format!("t_record_s,t_model_s,measured_{name0}_{unit0}");
     for (name, unit) in outputs {
         let _ = write!(s, ",model_{name}_{unit}");
@@ -407,7 +407,7 @@ fn parameter_tables(
     uncertainty: Option<&Uncertainty>,
 ) -> (BTreeMap<String, f64>, Vec<ParamSummary>) {
     let full = campaign.full_params(best);
-    let model = campaign.model;
+    let model = &campaign.model;
     let exps = &campaign.problem.experiments;
     let mut params = BTreeMap::new();
     let mut rows = Vec::new();
@@ -440,10 +440,10 @@ fn parameter_tables(
             .iter()
             .any(|g| g.target == GeneTarget::Param(i) && g.experiment.is_some());
         if !per_experiment && full.iter().all(|(p, _)| p[i] == first) {
-            row(info.name.to_string(), info.unit, first);
+            row(info.name.to_string(), &info.unit, first);
         } else {
             for (e, (p, _)) in full.iter().enumerate() {
-                row(format!("{}.{}", exps[e].name, info.name), info.unit, p[i]);
+                row(format!("{}.{}", exps[e].name, info.name), &info.unit, p[i]);
             }
         }
     }

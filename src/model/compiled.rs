@@ -15,13 +15,14 @@ use crate::rig::desc::{Coef, DamperLaw, RigDesc};
 
 pub use super::stability::SUBLINEAR_FLOOR;
 
-/// A compiled rig. Built once per job; its names live for the whole process.
+/// A compiled rig. Built once per job and shared (`Arc`) by the campaign, its
+/// problem and its evaluators.
 #[derive(Debug)]
 pub struct CompiledRig {
-    pub(super) id: &'static str,
-    pub(super) params: &'static [ParamInfo],
-    pub(super) states: &'static [&'static str],
-    outputs: &'static [(&'static str, &'static str)],
+    pub(super) id: String,
+    pub(super) params: Vec<ParamInfo>,
+    pub(super) states: Vec<String>,
+    outputs: Vec<(String, String)>,
     /// The description it was compiled from.
     pub desc: RigDesc,
     /// The compiled programs, one per drive mode.
@@ -65,10 +66,6 @@ enum Observe<'a> {
     Measured(&'a mut dyn FnMut(&MeasuredSample<'_>, &mut u64)),
 }
 
-pub(super) fn leak(s: &str) -> &'static str {
-    Box::leak(s.to_string().into_boxed_str())
-}
-
 /// Whether the drive prescribes node `k`'s motion in `prog`: its
 /// displacement slot's derivative is then the constant 0, so it is not a
 /// degree of freedom and the stability bound has no row for it.
@@ -95,19 +92,19 @@ impl CompiledRig {
             .params
             .iter()
             .map(|p| ParamInfo {
-                name: leak(&p.name),
-                unit: leak(&p.unit),
-                doc: leak(&p.doc),
+                name: p.name.clone(),
+                unit: p.unit.clone(),
+                doc: p.doc.clone(),
                 scope: p.scope,
                 default: p.default,
                 scale: p.scale,
             })
             .collect();
-        let states: Vec<&'static str> = lowered.states.iter().map(|s| leak(s)).collect();
-        let outputs: Vec<(&'static str, &'static str)> = desc
+        let states: Vec<String> = lowered.states.clone();
+        let outputs: Vec<(String, String)> = desc
             .outputs
             .iter()
-            .map(|o| (leak(&o.name), leak(&o.unit)))
+            .map(|o| (o.name.clone(), o.unit.clone()))
             .collect();
         let tapes: Vec<Tape> = lowered.programs.iter().map(Tape::new).collect();
         let lane_code = lowered
@@ -144,10 +141,10 @@ impl CompiledRig {
             })
             .collect();
         Ok(Self {
-            id: leak(&desc.id),
-            params: Box::leak(params.into_boxed_slice()),
-            states: Box::leak(states.into_boxed_slice()),
-            outputs: Box::leak(outputs.into_boxed_slice()),
+            id: desc.id.clone(),
+            params,
+            states,
+            outputs,
             desc,
             lowered,
             native: std::iter::repeat_with(NativeSlot::default)
@@ -163,9 +160,10 @@ impl CompiledRig {
         })
     }
 
-    /// Compiles and leaks, for the `&'static CompiledRig` the campaign holds.
-    pub fn leaked(desc: RigDesc, file: &str) -> Result<&'static Self, RigError> {
-        Ok(Box::leak(Box::new(Self::new(desc, file)?)))
+    /// Compiles `desc` to share between the campaign, its problem and its
+    /// evaluators.
+    pub fn shared(desc: RigDesc, file: &str) -> Result<std::sync::Arc<Self>, RigError> {
+        Ok(std::sync::Arc::new(Self::new(desc, file)?))
     }
 
     /// The f64 native build of `code` in `slot` for running `params` on
@@ -241,23 +239,23 @@ impl CompiledRig {
     /// A lumped rig model: its parameters, its equations and how to pack them for the
     /// GPU.
     /// The rig's id (its file's `"id"`).
-    pub fn id(&self) -> &'static str {
-        self.id
+    pub fn id(&self) -> &str {
+        &self.id
     }
 
     /// The model's parameters, in the order of every parameter vector.
-    pub fn params(&self) -> &'static [ParamInfo] {
-        self.params
+    pub fn params(&self) -> &[ParamInfo] {
+        &self.params
     }
 
     /// Names of the state variables.
-    pub fn state_names(&self) -> &'static [&'static str] {
-        self.states
+    pub fn state_names(&self) -> &[String] {
+        &self.states
     }
 
     /// Names and units of the outputs; output 0 is fitted to the measurement.
-    pub fn output_names(&self) -> &'static [(&'static str, &'static str)] {
-        self.outputs
+    pub fn output_names(&self) -> &[(String, String)] {
+        &self.outputs
     }
 
     /// Whether the model can run under `drive` (a rig without a force-mode
@@ -268,17 +266,17 @@ impl CompiledRig {
 
     /// Checks a full parameter vector for physical sense (positive masses, …).
     /// Returns the offending parameter's name and what was expected.
-    pub fn check(&self, params: &[f64]) -> Result<(), (&'static str, String)> {
+    pub fn check(&self, params: &[f64]) -> Result<(), (&str, String)> {
         for (i, info) in self.params.iter().enumerate() {
             if !params[i].is_finite() {
-                return Err((info.name, "a finite number".into()));
+                return Err((&info.name, "a finite number".into()));
             }
         }
         for node in &self.desc.nodes {
             if let Coef::Param(n) = &node.mass {
                 let i = self.param_index(n);
                 if params[i] <= 0.0 {
-                    return Err((self.params[i].name, "a mass > 0".into()));
+                    return Err((&self.params[i].name, "a mass > 0".into()));
                 }
             }
         }
@@ -289,7 +287,7 @@ impl CompiledRig {
                 let i = self.param_index(n);
                 if params[i] <= 0.0 {
                     return Err((
-                        self.params[i].name,
+                        &self.params[i].name,
                         format!(
                             "a damping > 0 (backlash element {:?}: its play moves with ṗ = ė + F_s/c)",
                             e.name
@@ -452,7 +450,7 @@ impl CompiledRig {
     /// Upper bound on the highest natural frequency (rad/s) of any parameter
     /// vector inside `[lower, upper]`, with the name of the parameter that limits
     /// it most. Used to choose or refuse the RK4 step.
-    pub fn omega_bound(&self, lower: &[f64], upper: &[f64], drive: &Drive) -> (f64, &'static str) {
+    pub fn omega_bound(&self, lower: &[f64], upper: &[f64], drive: &Drive) -> (f64, String) {
         self.omega_bound_in_run(lower, upper, drive, f64::INFINITY)
     }
 
@@ -465,7 +463,7 @@ impl CompiledRig {
         upper: &[f64],
         drive: &Drive,
         t_end: f64,
-    ) -> (f64, &'static str) {
+    ) -> (f64, String) {
         // The graph's interval bound where it is finite and no looser than the
         // per-law one; the per-law one otherwise (see `interval_omega`).
         let old = self.per_law_omega(lower, upper, drive);

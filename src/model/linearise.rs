@@ -3,7 +3,7 @@
 //! configuration, as `M·ẍ + K·x = 0`.
 
 use super::Linearised;
-use super::compiled::{CompiledRig, leak, prescribed};
+use super::compiled::{CompiledRig, prescribed};
 use crate::base::Drive;
 use crate::rig::desc::{Coef, GapKind};
 
@@ -52,7 +52,7 @@ impl CompiledRig {
         Linearised {
             dofs: free
                 .iter()
-                .map(|&k| leak(&self.desc.nodes[k].name))
+                .map(|&k| self.desc.nodes[k].name.clone())
                 .collect(),
             mass,
             stiffness: kmat,

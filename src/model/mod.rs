@@ -61,7 +61,7 @@ pub fn many_one_by_one(
 #[derive(Debug, Clone)]
 pub struct Linearised {
     /// Name of each degree of freedom.
-    pub dofs: Vec<&'static str>,
+    pub dofs: Vec<String>,
     /// Diagonal of the mass matrix (kg).
     pub mass: Vec<f64>,
     /// Stiffness matrix, row-major, `dofs.len()²` (N/m).

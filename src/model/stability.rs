@@ -4,7 +4,7 @@
 //! largest tangent) and the interval one (the compiled Jacobian enclosed over
 //! an input box); the tighter finite one wins.
 
-use super::compiled::{CompiledRig, leak, prescribed};
+use super::compiled::{CompiledRig, prescribed};
 use crate::base::Drive;
 use crate::rig::desc::{Coef, DamperLaw, FrictionLaw, SpringLaw};
 
@@ -173,12 +173,7 @@ impl CompiledRig {
     /// The per-law bound: Gershgorin on each free node's row of M⁻¹K and
     /// M⁻¹C from each element law's largest tangent ([`Self::element_bound`]),
     /// `c/m + √(k/m)` per row.
-    pub fn per_law_omega(
-        &self,
-        lower: &[f64],
-        upper: &[f64],
-        drive: &Drive,
-    ) -> (f64, &'static str) {
+    pub fn per_law_omega(&self, lower: &[f64], upper: &[f64], drive: &Drive) -> (f64, String) {
         // Gershgorin on each free node's row of M⁻¹K and M⁻¹C, with every
         // element's largest tangent stiffness and damping over the box and the
         // reach. A node whose motion the drive prescribes (its displacement
@@ -188,7 +183,12 @@ impl CompiledRig {
             .collect();
         let prog = self.program_for(drive).map(|i| &self.lowered.programs[i]);
         let driven = |k: usize| prog.is_some_and(|p| prescribed(p, k));
-        let mut best = (0.0, self.params.first().map_or("", |p| p.name));
+        let mut best = (
+            0.0,
+            self.params
+                .first()
+                .map_or(String::new(), |p| p.name.clone()),
+        );
         for (k, node) in self.desc.nodes.iter().enumerate() {
             if driven(k) {
                 continue;
@@ -219,7 +219,7 @@ impl CompiledRig {
                 } else {
                     &stiffest.1
                 };
-                best = (lam, leak(limiter));
+                best = (lam, limiter.clone());
             }
         }
         // A backlash element's play relaxes at the rate F_s'/c (its row of
@@ -234,7 +234,7 @@ impl CompiledRig {
                         Coef::Param(n) => n.clone(),
                         _ => b.2.clone(),
                     };
-                    best = (lam, leak(&name));
+                    best = (lam, name);
                 }
             }
         }
@@ -312,7 +312,7 @@ impl CompiledRig {
         upper: &[f64],
         drive: &Drive,
         t_end: f64,
-    ) -> Option<(f64, &'static str)> {
+    ) -> Option<(f64, String)> {
         use crate::compile::analysis::interval::{Interval, deriv_jacobian_box, spectral_bound};
         let prog = &self.lowered.programs[self.program_for(drive)?];
         let n = prog.deriv.len();
@@ -339,7 +339,7 @@ impl CompiledRig {
             }
         }
         let name = match driver {
-            Some((_, p)) => self.params[p].name,
+            Some((_, p)) => self.params[p].name.clone(),
             None => self.per_law_omega(lower, upper, drive).1,
         };
         Some((all, name))

@@ -3,6 +3,7 @@
 #![allow(dead_code, reason = "each test file uses a different subset")]
 
 use std::io::Write;
+use std::sync::Arc;
 
 use crate::tensile_common::{REFERENCE, ix};
 use rand::{Rng, SeedableRng};
@@ -115,7 +116,7 @@ pub fn batch_of(problem: &Problem, params: Vec<f64>) -> Batch {
 /// at `params` (exactly fitted there), over `samples` samples `dt` apart from
 /// `t_first`, fitted over all of them.
 pub fn self_measured(
-    model: &'static CompiledRig,
+    model: &Arc<CompiledRig>,
     params: &[f64],
     name: &str,
     drive: Drive,
@@ -131,7 +132,7 @@ pub fn self_measured(
         weight: 1.0,
     };
     let one = Problem {
-        model,
+        model: model.clone(),
         experiments: vec![exp.clone()],
         substeps: 2,
     };

@@ -46,7 +46,7 @@ pub fn params(rig: &CompiledRig, values: &serde_json::Map<String, Value>) -> Vec
         .map(|p| {
             values
                 .iter()
-                .find(|(k, _)| k.rsplit('.').next() == Some(p.name))
+                .find(|(k, _)| k.rsplit('.').next() == Some(p.name.as_str()))
                 .and_then(|(_, v)| v.as_f64())
                 .or(p.default)
                 .unwrap_or_else(|| panic!("no value for {}", p.name))

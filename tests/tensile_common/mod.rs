@@ -8,7 +8,7 @@
     reason = "each test file uses a different subset"
 )]
 
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -21,11 +21,11 @@ use rigfit::model::compiled::CompiledRig;
 pub use crate::oracle::tensile::{REFERENCE, ix};
 
 /// The shipped `rigs/tensile4.json`, compiled once per test process.
-pub fn tensile4() -> &'static CompiledRig {
-    static RIG: OnceLock<&'static CompiledRig> = OnceLock::new();
+pub fn tensile4() -> &'static Arc<CompiledRig> {
+    static RIG: OnceLock<Arc<CompiledRig>> = OnceLock::new();
     RIG.get_or_init(|| {
         let desc = rigfit::rig::shipped("tensile4").expect("the shipped tensile4 rig");
-        CompiledRig::leaked(desc, "rigs/tensile4.json").expect("tensile4 compiles")
+        CompiledRig::shared(desc, "rigs/tensile4.json").expect("tensile4 compiles")
     })
 }
 
@@ -68,7 +68,7 @@ pub fn reference_like(
         weight: 1.0,
     };
     let problem = Problem {
-        model: tensile4(),
+        model: tensile4().clone(),
         experiments: vec![exp.clone()],
         substeps,
     };
@@ -85,7 +85,7 @@ pub fn reference_like(
 /// samples with 20 N of noise.
 pub fn reference_problem() -> Problem {
     Problem {
-        model: tensile4(),
+        model: tensile4().clone(),
         experiments: vec![reference_experiment(
             REFERENCE_SAMPLES,
             REFERENCE_DT,
