@@ -380,7 +380,8 @@ fn bad_campaign_values_name_path_and_expectation() {
             |_| {},
             data = csv_with_line(100, "9.6e-5,1e300"),
             [
-                "experiments[0].data: expected measured values whose squared deviations add up to a finite number",
+                "experiments[0].data: expected measured values whose squared deviations add up to a finite number in",
+                "v2.csv (R² divides by that sum), found",
                 "1e300 at t = 9.6e-5 s"
             ]
         ),

@@ -446,9 +446,6 @@ fn experiment(
             format!("{} N at every sample", scored[0]),
         ));
     }
-    if reading.scores() {
-        check_scored_record(file, &at, &data_file, &series, window.clone(), d)?;
-    }
     let mut force = series.force;
     force.truncate(window.end);
     let mut exp = ExperimentData {
@@ -460,6 +457,9 @@ fn experiment(
         window,
         weight: x.weight,
     };
+    if reading.scores() {
+        check_scored_record(file, &at, &data_file, &series.t, &exp, d)?;
+    }
     if let Some(samples) = reading.record_samples() {
         // Continued past the record or cut short; the placeholder is never scored.
         exp.force.resize(samples, 0.0);
@@ -554,11 +554,11 @@ fn check_scored_record(
     file: &Path,
     at: &str,
     data_file: &Path,
-    series: &Series,
-    window: std::ops::Range<usize>,
+    t: &[f64],
+    exp: &ExperimentData,
     d: &RawData,
 ) -> Result<(), CampaignError> {
-    let (t, f) = (&series.t[window.clone()], &series.force[window]);
+    let (t, f) = (&t[exp.window.clone()], &exp.force[exp.window.clone()]);
     let same = |a: f64, b: f64| (a - b).abs() <= 1e-12 * a.abs().max(b.abs());
     if t.iter()
         .zip(f)
@@ -574,9 +574,7 @@ fn check_scored_record(
             "the time values again at every sample of the fit window",
         ));
     }
-    let mean = f.iter().sum::<f64>() / f.len() as f64;
-    let ss: f64 = f.iter().map(|&x| (x - mean) * (x - mean)).sum();
-    if !ss.is_finite() {
+    if !exp.ss_tot().is_finite() {
         let (k, big) = f
             .iter()
             .enumerate()
@@ -586,7 +584,8 @@ fn check_scored_record(
             file,
             format!("{at}.data"),
             format!(
-                "measured values whose squared deviations add up to a finite number in {}                  (R² divides by that sum)",
+                "measured values whose squared deviations add up to a finite number in {} \
+                 (R² divides by that sum)",
                 data_file.display()
             ),
             format!(

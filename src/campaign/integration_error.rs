@@ -2,6 +2,8 @@
 //! parameters, and the step chosen for a tolerance given after loading
 //! (`rigfit simulate --tolerance`).
 
+use std::path::Path;
+
 use serde::Serialize;
 
 use super::stability::{NOISE_FRACTION, choose};
@@ -110,6 +112,20 @@ impl Campaign {
                 tolerance.to_string(),
             ));
         }
+        let path = self.path.clone();
+        self.choose_step_again(Some(tolerance), &path, "solver.tolerance")
+    }
+
+    /// Chooses the substeps again at the campaign's current values (an
+    /// explicit count is kept and only checked) for `tolerance`, or the noise
+    /// rule without one; a refusal names `file` and `at`. After a parameter
+    /// file or a tolerance given after loading.
+    pub(super) fn choose_step_again(
+        &mut self,
+        tolerance: Option<f64>,
+        file: &Path,
+        at: &str,
+    ) -> Result<(), CampaignError> {
         let requested = if self.solver.auto {
             RawSubsteps::Auto
         } else {
@@ -124,11 +140,11 @@ impl Campaign {
             |e| super::build::latest_offset(c.base_offsets[e], &c.genes, e),
             |e| (c.base[e].clone(), c.base_offsets[e]),
             requested,
-            Some(tolerance),
+            tolerance,
         )
         .map_err(|message| CampaignError::Unstable {
-            file: self.path.clone(),
-            path: "solver.tolerance".into(),
+            file: file.to_path_buf(),
+            path: at.into(),
             message,
         })?;
         if let Some(w) = &step.warning

@@ -9,9 +9,7 @@ use std::path::Path;
 use serde::Deserialize;
 
 use super::error::{invalid, parse_json};
-use super::raw::RawSubsteps;
 use super::resolve::unknown_param;
-use super::stability::choose;
 use super::{Campaign, CampaignError, Source};
 use crate::base::ParamScope;
 use crate::model::CompiledRig;
@@ -162,31 +160,7 @@ pub(crate) fn apply(campaign: &mut Campaign, path: &Path) -> Result<(), Campaign
             }
         }
     }
-    let requested = if c.solver.auto {
-        RawSubsteps::Auto
-    } else {
-        RawSubsteps::Count(c.solver.substeps as u64)
-    };
-    let offset = |e: usize| super::build::latest_offset(c.base_offsets[e], &c.genes, e);
-    let step = choose(
-        model,
-        &c.problem.experiments,
-        &c.genes,
-        |e| c.bounds(e),
-        offset,
-        |e| (c.base[e].clone(), c.base_offsets[e]),
-        requested,
-        c.solver.tolerance,
-    )
-    .map_err(|message| CampaignError::Unstable {
-        file: path.to_path_buf(),
-        path: top.into(),
-        message,
-    })?;
-    c.warnings
-        .extend(step.warning.clone().filter(|w| !c.warnings.contains(w)));
-    c.solver = step.settings(c.solver.backend, c.solver.precision);
-    c.problem.substeps = step.substeps;
+    c.choose_step_again(c.solver.tolerance, path, top)?;
     *campaign = next;
     Ok(())
 }

@@ -10,11 +10,10 @@
 //! integration error of output 0 by step doubling with the f64 reference at
 //! the initial parameters ([`crate::model::step_error`]) and takes the
 //! fewest substeps whose error is at most [`NOISE_FRACTION`] of the record's
-//! noise (estimated from the record, [`noise_sigma`]) or the campaign's
+//! noise (estimated from the record, [`crate::base::noise::noise_sigma`]) or the campaign's
 //! `solver.tolerance`, up to [`ACCURACY_CAP_FACTOR`] times the stable count.
 
 use super::raw::RawSubsteps;
-use crate::base::noise::noise_sigma;
 use crate::base::text::echo_bare;
 use crate::eval::{Backend, ExperimentData, PrecisionChoice};
 use crate::model::CompiledRig;
@@ -278,10 +277,8 @@ pub(crate) fn target(
     if let Some(t) = tolerance {
         return Some((t, format!("solver.tolerance = {t:.3e} {unit}")));
     }
-    let w = &x.force[x.window.clone()];
-    let sigma = noise_sigma(w)?;
-    let mean = w.iter().sum::<f64>() / w.len() as f64;
-    let spread = (w.iter().map(|f| (f - mean) * (f - mean)).sum::<f64>() / w.len() as f64).sqrt();
+    let sigma = x.noise_estimate()?;
+    let spread = (x.ss_tot() / x.window.len() as f64).sqrt();
     let floor = SPREAD_FLOOR * spread;
     let noise = NOISE_FRACTION * sigma;
     if noise >= floor && noise > 0.0 {

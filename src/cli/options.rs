@@ -21,3 +21,25 @@ fn positive(s: &str) -> Result<f64, String> {
         )),
     }
 }
+
+/// `--max-memory`'s parser, for every command that takes it: a memory size,
+/// `2G`, `512M`, `1048576`.
+pub fn memory_size(s: &str) -> Result<f64, String> {
+    rigfit::job::memory::parse_bytes(s).ok_or_else(|| {
+        format!(
+            "expected a size > 0 in bytes or with K, M, G or T (512M, 2G), found {}",
+            rigfit::base::text::echo(s)
+        )
+    })
+}
+
+/// The memory a command may use (bytes) and where that limit comes from:
+/// `--max-memory` (`max_memory`) where given, else the memory available now;
+/// `None` when neither is known.
+pub fn memory_limit(max_memory: Option<f64>) -> Option<(f64, &'static str)> {
+    match (max_memory, rigfit::job::memory::available_memory()) {
+        (Some(m), _) => Some((m, "--max-memory")),
+        (None, Some(m)) => Some((m, "the memory available now, MemAvailable in /proc/meminfo")),
+        (None, None) => None,
+    }
+}

@@ -13,7 +13,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
 use super::exit::BadInput;
-use super::options::RunLengthArgs;
+use super::options::{RunLengthArgs, memory_limit, memory_size};
 use super::output::{Output, check_out_files, write_file};
 use rigfit::base::data::Column;
 use rigfit::base::noise::gaussian;
@@ -21,7 +21,7 @@ use rigfit::base::text::{echo, number};
 use rigfit::campaign::raw::{RawCampaign, RawData, RawDrive};
 use rigfit::campaign::{Campaign, SimulationGrid};
 use rigfit::eval::{History, Problem, simulate_history};
-use rigfit::job::memory::{self, human_bytes};
+use rigfit::job::memory::human_bytes;
 
 /// `rigfit simulate`.
 #[derive(Debug, Args)]
@@ -315,10 +315,8 @@ const BYTES_PER_VALUE: f64 = 8.0 + 2.0 * 17.0;
 /// available now; the record's own copy and the grid's placeholder count too.
 fn check_memory(args: &SimulateArgs, samples: usize, values: usize) -> Result<(), BadInput> {
     let need = samples as f64 * (values as f64 * BYTES_PER_VALUE + 16.0);
-    let (limit, source) = match (args.max_memory, memory::available_memory()) {
-        (Some(m), _) => (m, "--max-memory"),
-        (None, Some(m)) => (m, "the memory available now, MemAvailable in /proc/meminfo"),
-        (None, None) => return Ok(()),
+    let Some((limit, source)) = memory_limit(args.max_memory) else {
+        return Ok(());
     };
     if need <= limit {
         return Ok(());
@@ -520,16 +518,6 @@ fn column_label(c: &Column) -> serde_json::Value {
         Column::Name(n) => n.clone().into(),
         Column::Index(i) => (*i).into(),
     }
-}
-
-/// `--max-memory`'s parser.
-fn memory_size(s: &str) -> Result<f64, String> {
-    memory::parse_bytes(s).ok_or_else(|| {
-        format!(
-            "expected a size > 0 in bytes or with K, M, G or T (512M, 2G), found {}",
-            echo(s)
-        )
-    })
 }
 
 /// Refuses an `--out` file that is one of the job's inputs (the campaign's

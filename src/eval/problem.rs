@@ -36,6 +36,13 @@ impl ExperimentData {
         w.iter().map(|f| (f - mean) * (f - mean)).sum()
     }
 
+    /// The record's noise over the fit window, estimated from the record
+    /// itself ([`crate::base::noise::noise_sigma`]); `None` for a window too
+    /// short to tell.
+    pub fn noise_estimate(&self) -> Option<f64> {
+        crate::base::noise::noise_sigma(&self.force[self.window.clone()])
+    }
+
     /// Magnitude beyond which a model output counts as having blown up: 1000 ×
     /// the largest measured magnitude (at least 1).
     pub fn blowup_limit(&self) -> f64 {
@@ -87,9 +94,8 @@ impl Problem {
         let total: f64 = weights.iter().sum();
         let mut sum = 0.0;
         for (x, w) in self.experiments.iter().zip(&weights) {
-            let window = &x.force[x.window.clone()];
-            let sigma = crate::base::noise::noise_sigma(window)?;
-            sum += w * window.len() as f64 * sigma * sigma / x.ss_tot();
+            let sigma = x.noise_estimate()?;
+            sum += w * x.window.len() as f64 * sigma * sigma / x.ss_tot();
         }
         let floor = sum / total;
         (floor.is_finite() && floor > 0.0).then_some(floor)

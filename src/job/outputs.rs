@@ -8,7 +8,6 @@ use serde::Serialize;
 
 use super::JobError;
 use crate::base::fsutil::atomic_write;
-use crate::base::noise::noise_sigma;
 use crate::campaign::{Campaign, GeneTarget, file_stem};
 use crate::eval::{Batch, Evaluator, History, score_one};
 use crate::report::plots;
@@ -34,7 +33,7 @@ pub struct ExperimentFit {
     /// The unit of output 0 (and of `residual_rms`).
     pub unit: String,
     /// The record's noise (standard deviation, output 0's unit) estimated
-    /// from the record itself over the fit window ([`noise_sigma`]).
+    /// from the record itself over the fit window ([`crate::base::noise::noise_sigma`]).
     pub noise_estimate: Option<f64>,
     /// `(residual_rms / noise_estimate)²`: the fit's mean square as a multiple
     /// of the noise floor that estimate implies (about 1 at the floor).
@@ -248,7 +247,7 @@ pub fn write_outputs(
             .as_ref()
             .map(|r| (r.iter().map(|x| x * x).sum::<f64>() / r.len() as f64).sqrt());
         let residual_autocorrelation = residuals.as_deref().and_then(lag_one_autocorrelation);
-        let noise_estimate = noise_sigma(&exp.force[exp.window.clone()]);
+        let noise_estimate = exp.noise_estimate();
         let cost_over_noise_floor = match (residual_rms, noise_estimate) {
             (Some(r), Some(n)) if n > 0.0 => Some((r / n).powi(2)),
             _ => None,

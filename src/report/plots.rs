@@ -232,12 +232,6 @@ pub fn fit_svg(
     Ok(svg)
 }
 
-/// Best and median fitness (1 − R², log scale) against generation. Returns the
-/// SVG text. [`convergence_svg`] adds the polish and the noise floor.
-pub fn fitness_svg(title: &str, best: &[f64], median: &[f64]) -> Result<String, PlotError> {
-    convergence_svg(title, best, median, &[], None)
-}
-
 /// Best and median fitness (1 − R², log scale) against generation, then the
 /// polish's best cost per iteration (`polish`, from the GA's best, after the
 /// last generation), and, where known, the cost the record's noise alone
@@ -416,7 +410,7 @@ mod tests {
         assert!(svg.contains("\npolish\n"), "no polish in the legend");
         assert!(svg.contains("noise floor"), "no noise floor");
         assert!(svg.contains("then polish iteration"));
-        let plain = fitness_svg("c", &best, &median).unwrap();
+        let plain = convergence_svg("c", &best, &median, &[], None).unwrap();
         assert!(!plain.contains("\npolish\n") && !plain.contains("noise floor"));
     }
 

@@ -50,16 +50,18 @@ impl Fingerprint {
     /// (`data file v2.csv: 1f… → 9a…`) instead of one digest of them all. A
     /// file that cannot be read gets its error as the value.
     pub fn with_file(self, what: &str, path: &Path) -> Self {
-        let value = match std::fs::read(path) {
-            Ok(bytes) => {
-                let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-                for b in bytes {
-                    h = (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3);
+        // Read as the loader read it: a regular file within the record limit.
+        let value =
+            match crate::base::fsutil::read_input(path, crate::base::fsutil::MAX_RECORD_BYTES) {
+                Ok(bytes) => {
+                    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+                    for b in bytes {
+                        h = (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3);
+                    }
+                    format!("{h:016x}")
                 }
-                format!("{h:016x}")
-            }
-            Err(e) => format!("unreadable: {e}"),
-        };
+                Err(e) => format!("unreadable: {e}"),
+            };
         self.with(format!("{what} {}", path.display()), value)
     }
 

@@ -4,9 +4,10 @@
 use std::path::{Component, Path, PathBuf};
 
 use crate::cli::exit::BadInput;
+use crate::cli::options::memory_limit;
 use rigfit::campaign::Campaign;
 use rigfit::eval::{Backend, PrecisionChoice};
-use rigfit::job::memory::{self, MemoryEstimate, human_bytes};
+use rigfit::job::memory::{MemoryEstimate, human_bytes};
 
 /// Estimates the job's memory and refuses it, with the estimate and the
 /// limit, when it exceeds `max_memory` (`--max-memory`) or the memory
@@ -28,10 +29,12 @@ pub(super) fn check_memory(
         _ => Some(8),
     };
     let estimate = MemoryEstimate::of(c, gpu_real);
-    let (limit, what) = match (max_memory, memory::available_memory()) {
-        (Some(m), _) => (m, format!("--max-memory {}", human_bytes(m))),
-        (None, Some(m)) => (m, format!("{} available", human_bytes(m))),
-        (None, None) => return Ok((estimate, "an unknown amount available".into())),
+    let Some((limit, source)) = memory_limit(max_memory) else {
+        return Ok((estimate, "an unknown amount available".into()));
+    };
+    let what = match max_memory {
+        Some(_) => format!("--max-memory {}", human_bytes(limit)),
+        None => format!("{} available", human_bytes(limit)),
     };
     if estimate.total <= limit {
         return Ok((estimate, what));
@@ -48,10 +51,6 @@ pub(super) fn check_memory(
     Err(BadInput(format!(
         "{whom}: expected a job that fits in {limit_text} ({source}), found {estimate}; {hint}",
         limit_text = human_bytes(limit),
-        source = match max_memory {
-            Some(_) => "--max-memory",
-            None => "the memory available now, MemAvailable in /proc/meminfo",
-        },
     )))
 }
 

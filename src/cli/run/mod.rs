@@ -13,7 +13,7 @@ use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 
 use super::exit::{BadInput, EXIT_INTERRUPTED};
-use super::options::RunLengthArgs;
+use super::options::{RunLengthArgs, memory_size};
 use super::output::Output;
 use rigfit::campaign::Campaign;
 use rigfit::eval::{Backend, CpuEvaluator, EvalError, PrecisionChoice};
@@ -351,14 +351,4 @@ fn shell_quoted(s: &str) -> String {
     } else {
         format!("'{}'", s.replace('\'', "'\\''"))
     }
-}
-
-/// A memory size: `2G`, `512M`, `1048576`.
-fn memory_size(s: &str) -> Result<f64, String> {
-    rigfit::job::memory::parse_bytes(s).ok_or_else(|| {
-        format!(
-            "expected a size > 0 in bytes or with K, M, G or T (512M, 2G), found {}",
-            rigfit::base::text::echo(s)
-        )
-    })
 }
