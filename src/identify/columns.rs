@@ -13,7 +13,7 @@
 
 use std::path::Path;
 
-use super::PrecalError;
+use super::{PrecalError, require_points};
 use crate::base::data::content_lines;
 
 /// A table of numeric columns.
@@ -42,13 +42,7 @@ impl Table {
     /// without data rows.
     pub fn parse(text: &str) -> Result<Self, PrecalError> {
         let table = parse_rows(text, None)?;
-        if table.columns.first().is_none_or(Vec::is_empty) {
-            return Err(PrecalError::TooFewPoints {
-                what: "data rows",
-                needed: 1,
-                found: 0,
-            });
-        }
+        require_points("data rows", 1, table.columns.first().map_or(0, Vec::len))?;
         Ok(table)
     }
 
@@ -173,13 +167,7 @@ fn parse_field(text: &str, line: usize, column: usize) -> Result<f64, PrecalErro
 /// [`PrecalError::TooFewPoints`] for fewer than two samples and
 /// [`PrecalError::NonUniformTime`] for uneven spacing.
 pub fn sample_interval(t: &[f64]) -> Result<f64, PrecalError> {
-    if t.len() < 2 {
-        return Err(PrecalError::TooFewPoints {
-            what: "time stamps",
-            needed: 2,
-            found: t.len(),
-        });
-    }
+    require_points("time stamps", 2, t.len())?;
     let dt = (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64;
     for (index, w) in t.windows(2).enumerate() {
         let step = w[1] - w[0];

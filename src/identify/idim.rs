@@ -31,7 +31,7 @@ use serde_json::{Value, json};
 
 use super::lsq::{LinearFit, least_squares};
 use super::signal::{self, butter_lowpass, decimate, derivative, downsample, filtfilt};
-use super::{PrecalError, check_inputs};
+use super::{PrecalError, check_inputs, require_points};
 
 /// Options of [`estimate`].
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -157,13 +157,7 @@ pub fn estimate(q: &[f64], tau: &[f64], opts: &IdimOptions) -> Result<IdimReport
             ),
         });
     }
-    if q.len() <= opts.border + 64 {
-        return Err(PrecalError::TooFewPoints {
-            what: "samples after the border",
-            needed: opts.border + 65,
-            found: q.len(),
-        });
-    }
+    require_points("samples after the border", opts.border + 65, q.len())?;
     let fs = opts.sample_rate_hz;
     let sections = butter_lowpass(opts.filter_order, opts.cutoff_hz, fs)?;
     let dt = 1.0 / fs;

@@ -33,7 +33,7 @@ use serde::Serialize;
 
 use super::lsq::least_squares;
 use super::psd::{check_rate, lines_in_band};
-use super::{PrecalError, check_inputs, r_squared};
+use super::{PrecalError, check_inputs, r_squared, require_points};
 
 /// One impact test: the hammer force and the x and y displacements.
 #[derive(Debug, Clone, Copy)]
@@ -83,13 +83,7 @@ pub fn matrices(
     }
     check_rate(fs)?;
     let n = x_test.force.len().max(y_test.force.len());
-    if n < 64 {
-        return Err(PrecalError::TooFewPoints {
-            what: "samples per impact record",
-            needed: 64,
-            found: n,
-        });
-    }
+    require_points("samples per impact record", 64, n)?;
     let dt = 1.0 / fs;
     let (f1, x1, y1) = (
         dft(x_test.force, n, dt),
@@ -223,13 +217,7 @@ pub fn fit(
                 .all(|z| z.re.is_finite() && z.im.is_finite())
         })
         .collect();
-    if lines.len() < 4 {
-        return Err(PrecalError::TooFewPoints {
-            what: "lines in the band",
-            needed: 4,
-            found: lines.len(),
-        });
-    }
+    require_points("lines in the band", 4, lines.len())?;
     let w: Vec<f64> = lines.iter().map(|&k| 2.0 * PI * m.freqs[k]).collect();
     let z = |i: usize, j: usize| -> Vec<Complex64> {
         lines.iter().map(|&k| m.impedance[k][(i, j)]).collect()

@@ -10,7 +10,7 @@
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
-use super::{PrecalError, r_squared};
+use super::{PrecalError, r_squared, require_points};
 
 /// A least-squares fit `y ≈ Σ θ_j·column_j`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -55,13 +55,7 @@ pub fn least_squares(columns: &[Vec<f64>], y: &[f64]) -> Result<LinearFit, Preca
             y_len: n,
         });
     }
-    if n <= p {
-        return Err(PrecalError::TooFewPoints {
-            what: "rows for the least-squares fit",
-            needed: p + 1,
-            found: n,
-        });
-    }
+    require_points("rows for the least-squares fit", p + 1, n)?;
     let norms: Vec<f64> = columns
         .iter()
         .map(|c| c.iter().map(|v| v * v).sum::<f64>().sqrt())

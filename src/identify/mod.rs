@@ -198,6 +198,23 @@ pub enum PrecalError {
     },
 }
 
+/// [`PrecalError::TooFewPoints`] when `found` is less than `needed`: the one
+/// check every method makes before it fits.
+pub(crate) fn require_points(
+    what: &'static str,
+    needed: usize,
+    found: usize,
+) -> Result<(), PrecalError> {
+    if found < needed {
+        return Err(PrecalError::TooFewPoints {
+            what,
+            needed,
+            found,
+        });
+    }
+    Ok(())
+}
+
 /// Coefficient of determination `1 − SSE/SST`; 1 when the data are constant and
 /// fitted exactly.
 pub(crate) fn r_squared(sse: f64, values: &[f64]) -> f64 {

@@ -33,7 +33,7 @@ use nalgebra::{DMatrix, DVector};
 use rustfft::num_complex::Complex64;
 use serde::Serialize;
 
-use super::PrecalError;
+use super::{PrecalError, require_points};
 
 /// What the measured response is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -172,13 +172,11 @@ pub fn fit(
     let nb = 2 * n - 1;
     let na = 2 * n;
     let unknowns = nb + na;
-    if 2 * lines.len() < unknowns + 2 {
-        return Err(PrecalError::TooFewPoints {
-            what: "coherent lines in the band",
-            needed: unknowns.div_ceil(2) + 1,
-            found: lines.len(),
-        });
-    }
+    require_points(
+        "coherent lines in the band",
+        unknowns.div_ceil(2) + 1,
+        lines.len(),
+    )?;
     let omega_ref = 2.0 * PI * (opts.f_min * opts.f_max).sqrt();
     let s: Vec<Complex64> = lines
         .iter()

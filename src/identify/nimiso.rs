@@ -34,7 +34,7 @@ use super::frf::WelchSettings;
 use super::lsq::least_squares;
 use super::psd::{averaged_segments, check_rate, lines_in_band};
 use super::signal::{derivative, sign};
-use super::{PrecalError, check_inputs};
+use super::{PrecalError, check_inputs, require_points};
 
 /// The nonlinear input `v = g(x, ẋ)`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -188,13 +188,7 @@ pub fn analyse(
         .into_iter()
         .filter(|&k| path.h[k].norm().is_finite() && path.a[k].norm().is_finite())
         .collect();
-    if band.len() < 4 {
-        return Err(PrecalError::TooFewPoints {
-            what: "lines in the fitted band",
-            needed: 4,
-            found: band.len(),
-        });
-    }
+    require_points("lines in the fitted band", 4, band.len())?;
     let w2: Vec<f64> = band
         .iter()
         .map(|&k| (2.0 * PI * path.freqs[k]).powi(2))

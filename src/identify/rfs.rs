@@ -24,7 +24,7 @@ use serde::Serialize;
 
 use super::columns::sample_interval;
 use super::signal::{butter_lowpass, derivative, filtfilt, second_derivative};
-use super::{PrecalError, check_inputs};
+use super::{PrecalError, check_inputs, require_points};
 
 /// How the surface is formed.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -82,13 +82,7 @@ pub fn surface(t: &[f64], x: &[f64], a: &[f64], opts: &RfsOptions) -> Result<Sur
             reason: format!("{} kg is not positive", opts.mass),
         });
     }
-    if t.len() < 16 {
-        return Err(PrecalError::TooFewPoints {
-            what: "samples",
-            needed: 16,
-            found: t.len(),
-        });
-    }
+    require_points("samples", 16, t.len())?;
     let dt = sample_interval(t)?;
     let fs = 1.0 / dt;
     let (x, a) = match opts.cutoff_hz {

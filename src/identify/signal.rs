@@ -11,7 +11,7 @@
 
 use std::f64::consts::PI;
 
-use super::PrecalError;
+use super::{PrecalError, require_points};
 
 /// One section `H(z) = (b0 + b1 z⁻¹ + b2 z⁻²) / (1 + a1 z⁻¹ + a2 z⁻²)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -173,13 +173,7 @@ pub fn filter(sections: &[Section], x: &[f64]) -> Vec<f64> {
 /// [`PrecalError::TooFewPoints`] when `x` is not longer than the padding.
 pub fn filtfilt(sections: &[Section], x: &[f64]) -> Result<Vec<f64>, PrecalError> {
     let pad = 3 * (2 * sections.len() + 1);
-    if x.len() <= pad {
-        return Err(PrecalError::TooFewPoints {
-            what: "samples to filter",
-            needed: pad + 1,
-            found: x.len(),
-        });
-    }
+    require_points("samples to filter", pad + 1, x.len())?;
     let n = x.len();
     let mut ext = Vec::with_capacity(n + 2 * pad);
     ext.extend((1..=pad).rev().map(|i| 2.0 * x[0] - x[i]));

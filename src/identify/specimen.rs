@@ -36,7 +36,7 @@ use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 use serde_json::{Value, json};
 
-use super::{PrecalError, check_inputs, r_squared};
+use super::{PrecalError, check_inputs, r_squared, require_points};
 
 /// Highest degree of the specimen's plastic polynomial (`a0` … `a5` of the tensile
 /// rig file).
@@ -174,13 +174,11 @@ pub fn fit(e: &[f64], f: &[f64], options: &SpecimenFitOptions) -> Result<Specime
     }
     check_inputs("specimen data", e, f)?;
     let needed = degree + 4;
-    if e.len() < needed {
-        return Err(PrecalError::TooFewPoints {
-            what: "specimen data (2 elastic + degree + 2 plastic)",
-            needed,
-            found: e.len(),
-        });
-    }
+    require_points(
+        "specimen data (2 elastic + degree + 2 plastic)",
+        needed,
+        e.len(),
+    )?;
     let mut pts: Vec<(f64, f64)> = e.iter().copied().zip(f.iter().copied()).collect();
     pts.sort_by(|a, b| a.0.total_cmp(&b.0));
     let scale = pts.iter().map(|p| p.0.abs()).fold(0.0, f64::max);

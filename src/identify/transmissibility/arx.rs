@@ -20,7 +20,7 @@ use rustfft::num_complex::Complex64;
 use serde::Serialize;
 
 use super::spectra::BlockSpectra;
-use crate::identify::PrecalError;
+use crate::identify::{PrecalError, require_points};
 
 /// Which ARX form.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -70,13 +70,7 @@ pub fn arx(
 ) -> Result<Vec<ArxLine>, PrecalError> {
     let bins = spec.freqs.len();
     let segs = spec.reference.len();
-    if segs < 5 {
-        return Err(PrecalError::TooFewPoints {
-            what: "segments for three complex ARX coefficients",
-            needed: 5,
-            found: segs,
-        });
-    }
+    require_points("segments for three complex ARX coefficients", 5, segs)?;
     let y = &spec.responses[0];
     let mut out = vec![];
     for k in 1..bins - 1 {
@@ -150,13 +144,7 @@ fn complex_least_squares(
     target: &[Complex64],
 ) -> Result<Vec<Complex64>, PrecalError> {
     let (n, p) = (target.len(), cols.len());
-    if n < p + 2 {
-        return Err(PrecalError::TooFewPoints {
-            what: "segments for the ARX coefficients",
-            needed: p + 2,
-            found: n,
-        });
-    }
+    require_points("segments for the ARX coefficients", p + 2, n)?;
     let scale: Vec<f64> = cols
         .iter()
         .map(|c| {

@@ -20,9 +20,9 @@ use std::f64::consts::PI;
 use rustfft::num_complex::Complex64;
 use serde::Serialize;
 
-use crate::identify::PrecalError;
 use crate::identify::lsq::least_squares;
 use crate::identify::psd::lines_in_band;
+use crate::identify::{PrecalError, require_points};
 
 /// The element between the reference node and the first response node.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -113,13 +113,7 @@ pub fn element_fit(
         .filter(|&k| coherence[k] >= min_coherence)
         .filter(|&k| transmissibilities.iter().all(|t| t[k].norm().is_finite()))
         .collect();
-    if lines.len() < 3 {
-        return Err(PrecalError::TooFewPoints {
-            what: "coherent lines in the band",
-            needed: 3,
-            found: lines.len(),
-        });
-    }
+    require_points("coherent lines in the band", 3, lines.len())?;
     let (mut ck, mut cc, mut rhs) = (vec![], vec![], vec![]);
     for &k in &lines {
         let w = 2.0 * PI * freqs[k];

@@ -22,9 +22,9 @@ use rustfft::num_complex::Complex64;
 use serde::Serialize;
 
 use super::spectra::BlockSpectra;
-use crate::identify::PrecalError;
 use crate::identify::plot::{FIT, MEASURED, OTHER, Panel, Series, Style, line_over};
 use crate::identify::psd::lines_in_band;
+use crate::identify::{PrecalError, require_points};
 
 /// Eq. 7a: `∂H_jk/∂K_mn = −(H_jm − H_jn)·(H_mk − H_nk)`, with `h(a, b)` the
 /// receptance between DOFs `a` and `b` (1-based) and DOF 0 the ground (Eq. 7d).
@@ -106,13 +106,7 @@ pub fn stiffness_change(
         .map(|k| (freqs[k], (delta_h[k] / sensitivity[k]).re))
         .filter(|(_, v)| v.is_finite())
         .collect();
-    if per_line.is_empty() {
-        return Err(PrecalError::TooFewPoints {
-            what: "lines in the band",
-            needed: 1,
-            found: 0,
-        });
-    }
+    require_points("lines in the band", 1, per_line.len())?;
     let n = per_line.len() as f64;
     let mean = per_line.iter().map(|p| p.1).sum::<f64>() / n;
     let spread = (per_line.iter().map(|p| (p.1 - mean).powi(2)).sum::<f64>() / n).sqrt();
