@@ -338,6 +338,23 @@ fn fit_fixed(
     least_squares(&columns, &surface.f)
 }
 
+/// The exponents one grid level tries on one axis: `centre + i·step` for `i`
+/// in `−half_width..=half_width`, inside `range`; the centre alone on an axis
+/// that is not searched.
+fn axis_points(
+    centre: f64,
+    step: f64,
+    half_width: i64,
+    searched: bool,
+    range: (f64, f64),
+) -> Vec<f64> {
+    (-half_width..=half_width)
+        .filter(|&i| searched || i == 0)
+        .map(|i| centre + i as f64 * step)
+        .filter(|x| (range.0..=range.1).contains(x))
+        .collect()
+}
+
 /// Direct parameter estimation on a restoring-force surface.
 ///
 /// # Errors
@@ -362,22 +379,10 @@ pub fn estimate(surface: &Surface, opts: &DpeOptions) -> Result<DpeReport, Preca
         let hw = g.half_width as i64;
         while step >= g.tolerance {
             let mut best: Option<(f64, f64, f64)> = None;
-            for i in -hw..=hw {
-                if !search_alpha && i != 0 {
-                    continue;
-                }
-                let a = alpha + i as f64 * step;
-                if a < g.alpha_range.0 || a > g.alpha_range.1 {
-                    continue;
-                }
-                for j in -hw..=hw {
-                    if !search_beta && j != 0 {
-                        continue;
-                    }
-                    let b = beta + j as f64 * step;
-                    if b < g.beta_range.0 || b > g.beta_range.1 {
-                        continue;
-                    }
+            let alphas = axis_points(alpha, step, hw, search_alpha, g.alpha_range);
+            let betas = axis_points(beta, step, hw, search_beta, g.beta_range);
+            for &a in &alphas {
+                for &b in &betas {
                     if let Ok(fit) = fit_fixed(surface, &terms, a, b)
                         && best.is_none_or(|(_, _, s)| fit.sse < s)
                     {
