@@ -300,33 +300,33 @@ fn experiment(
     warnings: &mut Vec<String>,
 ) -> Result<(ExperimentData, u64, Option<PathBuf>), CampaignError> {
     let at = format!("experiments[{e}]");
-    if !(x.weight > 0.0 && x.weight.is_finite()) {
-        return Err(invalid(
-            file,
-            format!("{at}.weight"),
-            "a weight > 0",
-            crate::base::text::number(x.weight),
-        ));
-    }
     let d = &x.data;
     let data_at = format!("{at}.data");
-    if !(d.time_scale > 0.0 && d.time_scale.is_finite()) {
-        let found = crate::base::text::number(d.time_scale);
-        return Err(invalid(
-            file,
+    let checks: [(String, f64, bool, &str); 3] = [
+        (
+            format!("{at}.weight"),
+            x.weight,
+            x.weight > 0.0,
+            "a weight > 0",
+        ),
+        (
             format!("{data_at}.time_scale"),
+            d.time_scale,
+            d.time_scale > 0.0,
             "a multiplier > 0",
-            found,
-        ));
-    }
-    if !(d.force_scale != 0.0 && d.force_scale.is_finite()) {
-        let found = crate::base::text::number(d.force_scale);
-        return Err(invalid(
-            file,
+        ),
+        (
             format!("{data_at}.force_scale"),
+            d.force_scale,
+            d.force_scale != 0.0,
             "a non-zero multiplier",
-            found,
-        ));
+        ),
+    ];
+    for (path, value, ok, expected) in checks {
+        if !(ok && value.is_finite()) {
+            let found = crate::base::text::number(value);
+            return Err(invalid(file, path, expected, found));
+        }
     }
     let spec = CsvSpec {
         time: d.time_column.clone().unwrap_or(Column::Index(0)),
