@@ -14,6 +14,7 @@ use std::fmt;
 use serde::Serialize;
 
 use crate::campaign::Campaign;
+use crate::eval::ExperimentData;
 
 /// Memory one evaluation chunk may take (bytes). A constant, not a share of
 /// the memory available, so that the chunks (and with them the GPU kernels'
@@ -74,12 +75,7 @@ impl MemoryEstimate {
         let evaluation = chunk as f64 * per_candidate;
         let unchunked_evaluation = n as f64 * per_candidate;
         let histories = histories_bytes(campaign, gpu_real);
-        let samples: usize = campaign
-            .problem
-            .experiments
-            .iter()
-            .map(|x| x.force.len())
-            .sum();
+        let samples = summed(campaign, |x| x.force.len());
         let base = if gpu_real.is_some() {
             BASE_CPU + BASE_GPU
         } else {
@@ -115,6 +111,12 @@ impl fmt::Display for MemoryEstimate {
             human_bytes(self.base)
         )
     }
+}
+
+/// `count` summed over the campaign's experiments (their samples, their fit
+/// windows' samples).
+fn summed(campaign: &Campaign, count: impl Fn(&ExperimentData) -> usize) -> usize {
+    campaign.problem.experiments.iter().map(count).sum()
 }
 
 /// Heap bytes of a `Vec<f64>` of `n` values: the vector itself and its block
@@ -212,12 +214,7 @@ fn histories_bytes(campaign: &Campaign, gpu_real: Option<usize>) -> f64 {
     } else {
         1
     };
-    let window: usize = campaign
-        .problem
-        .experiments
-        .iter()
-        .map(|x| x.window.len())
-        .sum();
+    let window = summed(campaign, |x| x.window.len());
     let residuals = if polish.enabled {
         (batch * window * 8) as f64
     } else {
