@@ -3,7 +3,7 @@
 
 use plotters::prelude::*;
 
-use crate::report::plots::PlotError;
+use crate::report::plots::{PlotError, series_labels};
 
 /// How a series is drawn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -163,13 +163,7 @@ pub fn panels_svg(title: &str, panels: &[Panel], columns: usize) -> Result<Strin
                     });
                 }
             }
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .position(SeriesLabelPosition::UpperLeft)
-                .draw()
-                .map_err(err)?;
+            series_labels(&mut chart, SeriesLabelPosition::UpperLeft).map_err(err)?;
         }
         root.present().map_err(err)?;
     }

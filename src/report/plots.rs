@@ -1,7 +1,10 @@
 //! SVG plots a person looks at first: the fit and the search's progress.
 
+use std::ops::Range;
 use std::path::Path;
 
+use plotters::coord::Shift;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 /// Errors raised while drawing.
@@ -99,7 +102,7 @@ const RESIDUAL_HEIGHT: u32 = 220;
 
 /// A legend drawn in its own area: one short line and label per series.
 fn legend(
-    area: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    area: &DrawingArea<SVGBackend<'_>, Shift>,
     top: i32,
     entries: &[(String, RGBColor)],
 ) -> Result<(), DrawingAreaErrorKind<std::io::Error>> {
@@ -116,6 +119,24 @@ fn legend(
         ))?;
     }
     Ok(())
+}
+
+/// A panel of the fit figure on `area`: time across, a quantity up, with
+/// `x_labels` pixels under it for the time axis's labels.
+fn fit_panel<'a, 'b>(
+    area: &'a DrawingArea<SVGBackend<'b>, Shift>,
+    x_labels: u32,
+    x: Range<f64>,
+    y: Range<f64>,
+) -> Result<
+    ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    DrawingAreaErrorKind<std::io::Error>,
+> {
+    ChartBuilder::on(area)
+        .margin(12)
+        .x_label_area_size(x_labels)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x, y)
 }
 
 /// The measurement against the model's output 0, with every other output
@@ -189,12 +210,8 @@ pub fn fit_svg(
             .map_err(|e| err(here, e))?;
         let (plots, legend_area) = root.split_horizontally(FIT_WIDTH - LEGEND_WIDTH);
         let (upper, lower) = plots.split_vertically(FIT_HEIGHT - 30);
-        let mut chart = ChartBuilder::on(&upper)
-            .margin(12)
-            .x_label_area_size(30)
-            .y_label_area_size(70)
-            .build_cartesian_2d(x0..x1, lo * scale..hi * scale)
-            .map_err(|e| err(here, e))?;
+        let mut chart =
+            fit_panel(&upper, 30, x0..x1, lo * scale..hi * scale).map_err(|e| err(here, e))?;
         chart
             .configure_mesh()
             .y_desc(format!("{} ({prefix}{})", spaced(first.name), first.unit))
@@ -206,12 +223,9 @@ pub fn fit_svg(
                 .draw_series(LineSeries::new(points, color.stroke_width(*width)))
                 .map_err(|e| err(here, e))?;
         }
-        let mut residual_chart = ChartBuilder::on(&lower)
-            .margin(12)
-            .x_label_area_size(44)
-            .y_label_area_size(70)
-            .build_cartesian_2d(x0..x1, r_lo * r_scale..r_hi * r_scale)
-            .map_err(|e| err(here, e))?;
+        let r_range = r_lo * r_scale..r_hi * r_scale;
+        let mut residual_chart =
+            fit_panel(&lower, 44, x0..x1, r_range).map_err(|e| err(here, e))?;
         residual_chart
             .configure_mesh()
             .x_desc(format!("time ({t_unit})"))
@@ -318,16 +332,24 @@ pub fn convergence_svg(
                 .map_err(|e| err(here, e))?;
         }
         // Upper right: the costs fall from the upper left towards the floor.
-        chart
-            .configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()
-            .map_err(|e| err(here, e))?;
+        series_labels(&mut chart, SeriesLabelPosition::UpperRight).map_err(|e| err(here, e))?;
         root.present().map_err(|e| err(here, e))?;
     }
     Ok(svg)
+}
+
+/// Draws the chart's legend at `position`, in the box every figure's legend
+/// has (white, mostly opaque, a black border).
+pub(crate) fn series_labels<'a, DB: DrawingBackend + 'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    position: SeriesLabelPosition,
+) -> Result<(), DrawingAreaErrorKind<DB::ErrorType>> {
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .position(position)
+        .draw()
 }
 
 /// Draws one line series with a legend entry.
