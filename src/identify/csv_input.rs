@@ -64,43 +64,25 @@ mod tests {
 
     #[test]
     fn errors_name_the_line() {
-        let e = parse_two_columns("t,f\n0,1\n1,abc\n").unwrap_err();
-        assert!(
-            matches!(
-                e,
-                PrecalError::NotNumeric {
-                    line: 3,
-                    column: 2,
-                    ..
-                }
+        // Each message names the line (and the column) and quotes the field.
+        let cases = [
+            (
+                "t,f\n0,1\n1,abc\n",
+                "line 3, column 2: \"abc\" is not a number",
             ),
-            "{e}"
-        );
-        let e = parse_two_columns("# c\n0,1\nNaN,2\n").unwrap_err();
-        assert!(
-            matches!(
-                e,
-                PrecalError::NotFinite {
-                    line: 3,
-                    column: 1,
-                    ..
-                }
+            (
+                "# c\n0,1\nNaN,2\n",
+                "line 3, column 1: \"NaN\" is not a finite number",
             ),
-            "{e}"
-        );
-        let e = parse_two_columns("0,1,2\n").unwrap_err();
-        assert!(
-            matches!(
-                e,
-                PrecalError::ColumnCount {
-                    line: 1,
-                    found: 3,
-                    ..
-                }
+            ("0,1,2\n", "line 1: expected 2 columns, found 3"),
+            (
+                "0,1\ninf,2\n",
+                "line 2, column 1: \"inf\" is not a finite number",
             ),
-            "{e}"
-        );
-        let e = parse_two_columns("0,1\ninf,2\n").unwrap_err();
-        assert!(matches!(e, PrecalError::NotFinite { line: 2, .. }), "{e}");
+        ];
+        for (text, message) in cases {
+            let e = parse_two_columns(text).unwrap_err();
+            assert_eq!(e.to_string(), message, "{text:?}");
+        }
     }
 }
