@@ -87,10 +87,9 @@ pub fn arx(a: &ArxArgs, out: &Output) -> Result<()> {
         )));
     }
     let record = Record::read(&a.data)?;
-    let t = record.column(&a.time)?;
+    let fs = record.time_column_rate(&a.time)?;
     let u = record.column(&a.input)?;
     let ys = record.columns(&a.output)?;
-    let fs = record.sample_rate(t)?;
     let spec = tr::block_spectra(u, &ys, fs, a.segment).map_err(|e| record.error(e))?;
     let (ts, coherences) = (0..ys.len()).map(|c| spec.transmissibility(c)).unzip();
     let ratios = Ratios { ts, coherences };

@@ -79,10 +79,9 @@ impl From<ResponseArg> for Response {
 /// Estimates the frequency response, fits the modes and delivers the fragment.
 pub fn frf(a: &FrfArgs, out: &Output) -> Result<()> {
     let record = Record::read(&a.data)?;
-    let t = record.column(&a.time)?;
+    let fs = record.time_column_rate(&a.time)?;
     let u = record.column(&a.input)?;
     let y = record.column(&a.output)?;
-    let fs = record.sample_rate(t)?;
     let est = frf::estimate(u, y, fs, a.segment).map_err(|e| record.error(e))?;
     let response = Response::from(a.response);
     let fit = if a.modes > 0 {

@@ -63,10 +63,9 @@ impl NonlinearArg {
 /// Runs the reverse-path analysis and delivers the fragment.
 pub fn nimiso(a: &NimisoArgs, out: &Output) -> Result<()> {
     let record = Record::read(&a.data)?;
-    let t = record.column(&a.time)?;
+    let fs = record.time_column_rate(&a.time)?;
     let x = record.column(&a.motion)?;
     let f = record.column(&a.force)?;
-    let fs = record.sample_rate(t)?;
     let (nonlinearity, name) = a.nonlinear.nonlinearity();
     let opts = NimisoOptions {
         sample_rate_hz: fs,
