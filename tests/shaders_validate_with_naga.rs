@@ -37,13 +37,17 @@ fn sources() -> Vec<(String, Precision, Kernel, String)> {
         for precision in [Precision::F32, Precision::F64] {
             for kernel in Kernel::ALL {
                 // Both drive flags; the measured values from `data` and
-                // from a uniform copy (one vec4, and 64 KiB's worth).
-                for (force_drive, record_vec4s) in
-                    [(false, None), (true, Some(1)), (false, Some(4096))]
-                {
+                // from a uniform copy (one vec4, and 64 KiB's worth); the
+                // tables' search paths kept and compiled out.
+                for (force_drive, record_vec4s, exact_tables) in [
+                    (false, None, false),
+                    (true, Some(1), true),
+                    (false, Some(4096), false),
+                ] {
                     let shape = ProblemShape {
                         force_drive,
                         record_vec4s,
+                        exact_tables,
                     };
                     let src = match kernel {
                         Kernel::ExpProbe => shaders::probe_source(precision),
@@ -132,6 +136,7 @@ fn shared_constants_reach_the_shader_unchanged() {
         let shape = ProblemShape {
             force_drive: true,
             record_vec4s: None,
+            exact_tables: false,
         };
         let src = shaders::source(&model, Precision::F32, Kernel::Fitness, shape, &[]);
         let m = shaders::reflect(&src, Precision::F32, Kernel::Fitness)

@@ -5,16 +5,43 @@
 // data-dependent `while` loop was miscompiled by lavapipe (it returned a wrong
 // segment at some times).
 
+// The header data[off - 1] of a table: PiecewiseLinear::kernel_header, +1/Δt
+// on an exactly uniform grid, −1/Δt on a roughly uniform one, 0 otherwise; a
+// run reads it once (rig_load), with the first breakpoint time.
+fn table_header(off: u32, n: u32) -> real {
+    if n == 0u {
+        return real(0.0);
+    }
+    return data[off - 1u];
+}
+
+fn table_start(off: u32, n: u32) -> real {
+    if n == 0u {
+        return real(0.0);
+    }
+    return data[off];
+}
+
 // Table value at t (PiecewiseLinear::at; 0 for t < 0): breakpoint times at
-// data[off..off + n], values after them, and at data[off - 1] the table's
-// uniform inverse spacing (PiecewiseLinear::uniform_inverse_spacing), 0 when
-// the breakpoints are not on a uniform grid.
-fn table_at(off: u32, n: u32, t: real) -> real {
+// data[off..off + n], values after them; t0 the first breakpoint time and inv
+// the table's header (table_header).
+fn table_at(off: u32, n: u32, t0: real, inv: real, t: real) -> real {
     if t < real(0.0) || n == 0u {
         return real(0.0);
     }
     let vv = off + n;
-    if t <= data[off] {
+    if TABLE_EXACT || inv > real(0.0) {
+        // On an exactly uniform grid (a record's own samples): the value at
+        // the fractional index, clamped to the table's ends, with no search
+        // and no breakpoint read: two reads of the data buffer. Where every
+        // table is on one (TABLE_EXACT, src/gpu/shaders.rs) the paths below
+        // are compiled out: a CPU driver would run them under a mask.
+        let u = min(max((t - t0) * inv, real(0.0)), real(n - 1u));
+        let lo = min(u32(u), n - 2u);
+        let a = data[vv + lo];
+        return a + (u - real(lo)) * (data[vv + lo + 1u] - a);
+    }
+    if t <= t0 {
         return data[vv];
     }
     if t >= data[off + n - 1u] {
@@ -22,12 +49,11 @@ fn table_at(off: u32, n: u32, t: real) -> real {
     }
     // Largest i with T[i] <= t, as partition_point(x <= t) − 1.
     var lo = 0u;
-    let inv = data[off - 1u];
-    if inv > real(0.0) {
-        // On a uniform grid (a record's own samples): the segment from the
-        // spacing, which the host guarantees is within two breakpoints of the
-        // right one, then two corrections down and two up.
-        let guess = floor((t - data[off]) * inv);
+    if inv < real(0.0) {
+        // On a roughly uniform grid: the segment from the spacing, which the
+        // host guarantees is within two breakpoints of the right one, then
+        // two corrections down and two up.
+        let guess = floor((t - t0) * -inv);
         lo = min(u32(max(guess, real(0.0))), n - 2u);
         for (var it = 0u; it < 2u; it += 1u) {
             lo = select(lo, lo - 1u, lo > 0u && data[off + lo] > t);

@@ -29,6 +29,29 @@ impl PiecewiseLinear {
         self.value[i] + w * (self.value[i + 1] - self.value[i])
     }
 
+    /// What a kernel's `table_at` reads just before the breakpoints:
+    /// `+1/Δt` when every breakpoint lies on the uniform grid `t₀ + i·Δt` to
+    /// within `1e-9·Δt` (a record's own sample grid: then the value at `t` is
+    /// interpolated at the fractional index `(t − t₀)/Δt` with no search and
+    /// no breakpoint read, and differs from [`Self::at`] by the rounding of
+    /// that index alone); `−1/Δt` when the grid is only uniform enough for
+    /// [`Self::uniform_inverse_spacing`]'s guess and corrections; `0` for a
+    /// binary search.
+    pub fn kernel_header(&self) -> f64 {
+        let inv = self.uniform_inverse_spacing();
+        if inv == 0.0 {
+            return 0.0;
+        }
+        let n = self.t.len();
+        let (t0, dt) = (self.t[0], (self.t[n - 1] - self.t[0]) / (n - 1) as f64);
+        let exact = self
+            .t
+            .iter()
+            .enumerate()
+            .all(|(i, &x)| (x - (t0 + i as f64 * dt)).abs() <= 1e-9 * dt);
+        if exact { inv } else { -inv }
+    }
+
     /// `1/Δt` when the breakpoints lie on a uniform grid closely enough that
     /// `⌊(t − t₀)/Δt⌋`, computed in f64 or in f32 from the f32-rounded
     /// breakpoints, is within two breakpoints of the segment holding `t`;
@@ -126,6 +149,25 @@ mod tests {
             let want = t.partition_point(|&b| b <= x) - 1;
             assert_eq!(guessed_segment(&t, inv, x), want, "t = {x}");
         }
+    }
+
+    #[test]
+    fn the_kernel_header_tells_exact_grids_from_rough_ones() {
+        let exact = PiecewiseLinear {
+            t: (0..100).map(|i| 0.5 + i as f64 * 1e-3).collect(),
+            value: vec![0.0; 100],
+        };
+        assert_eq!(exact.kernel_header(), exact.uniform_inverse_spacing());
+        assert!(exact.kernel_header() > 0.0);
+        let mut rough = exact.clone();
+        rough.t[7] += 1e-6 * 1e-3;
+        assert_eq!(rough.kernel_header(), -rough.uniform_inverse_spacing());
+        assert!(rough.kernel_header() < 0.0);
+        let uneven = PiecewiseLinear {
+            t: vec![0.0, 0.1, 0.5, 0.6],
+            value: vec![0.0; 4],
+        };
+        assert_eq!(uneven.kernel_header(), 0.0);
     }
 
     #[test]

@@ -136,6 +136,7 @@ impl GpuEvaluator {
         let shape = ProblemShape {
             force_drive: force,
             record_vec4s: record_vec4s(&ctx, &packed, precision, options),
+            exact_tables: exact_tables(&problem, &model),
         };
         // Each kernel on an explicit layout, so that its specialised variants
         // share one bind group with it.
@@ -221,6 +222,12 @@ impl GpuEvaluator {
         self.shape.record_vec4s.is_some()
     }
 
+    /// Whether the kernels were built with every table on an exactly uniform
+    /// grid ([`ProblemShape::exact_tables`]): lookups without a search.
+    pub fn tables_exact(&self) -> bool {
+        self.shape.exact_tables
+    }
+
     /// How many per-run values the kernel that scored the last batch had baked
     /// in; `None` when the generic kernel scored it.
     pub fn specialised_constants(&self) -> Option<usize> {
@@ -301,4 +308,15 @@ impl Evaluator for GpuEvaluator {
     fn set_cancel(&mut self, flag: Arc<AtomicBool>) {
         self.cancel = Some(flag);
     }
+}
+
+/// Whether every table the kernels read lies on an exactly uniform grid: the
+/// experiments' drive tables and the rig file's own (their headers in the
+/// model's table data).
+fn exact_tables(problem: &Problem, model: &crate::model::GpuModel) -> bool {
+    let drives = problem.experiments.iter().all(|e| match &e.drive {
+        Drive::Force(t) => t.kernel_header() > 0.0,
+        Drive::Velocity => true,
+    });
+    drives && model.inline_table_headers().all(|h| h > 0.0)
 }

@@ -47,8 +47,8 @@ pub fn pack_problem(problem: &Problem, model: &GpuModel) -> PackedProblem {
     for (info, exp) in experiments.iter_mut().zip(&problem.experiments) {
         if let Drive::Force(table) = &exp.drive {
             info.drive_kind = DRIVE_FORCE;
-            // `table_at` reads the spacing just before the breakpoints.
-            data.push(table.uniform_inverse_spacing());
+            // `table_header` reads the header just before the breakpoints.
+            data.push(table.kernel_header());
             info.table_offset = data.len() as u32;
             info.table_len = table.t.len() as u32;
             data.extend_from_slice(&table.t);

@@ -101,6 +101,14 @@ pub struct ProblemShape {
     /// from `record`, a uniform-buffer copy of `data` in `n` vec4s (see
     /// [`record_fn`]); `None` reads them from `data`.
     pub record_vec4s: Option<u32>,
+    /// Whether every table the kernel reads (the rig file's own and each
+    /// experiment's drive table) lies on an exactly uniform grid
+    /// ([`crate::base::PiecewiseLinear::kernel_header`] positive):
+    /// `TABLE_EXACT`, and `table_at` keeps only its interpolation at the
+    /// fractional index. A CPU driver runs every branch of a lookup under a
+    /// mask, so without the constant each lookup paid for the search paths
+    /// too: on the EMPS record that was 95 % of the kernel's time.
+    pub exact_tables: bool,
 }
 
 /// The binding of `record` in the fitness kernels' layout (after
@@ -129,10 +137,15 @@ pub fn record_fn(vec4s: Option<u32>) -> String {
     }
 }
 
-/// The prelude: [`precision_prelude`], `FORCE_DRIVE` and the integer constants
+/// The prelude: [`precision_prelude`], `TABLE_EXACT`, `FORCE_DRIVE` and the integer constants
 /// of `layout.rs`.
-pub fn prelude(model: &GpuModel, precision: Precision, force_drive: bool) -> String {
+pub fn prelude(model: &GpuModel, precision: Precision, shape: ProblemShape) -> String {
     let mut s = precision_prelude(precision);
+    let force_drive = shape.force_drive;
+    s.push_str(&format!(
+        "const TABLE_EXACT: bool = {};\n",
+        shape.exact_tables
+    ));
     // A compile-time constant, so kernels for velocity-only problems carry no
     // force-drive code (lavapipe would execute it under a mask at every stage).
     s.push_str(&format!("const FORCE_DRIVE: bool = {force_drive};\n"));
@@ -209,10 +222,7 @@ pub fn source(
     shape: ProblemShape,
     baked: &[Option<f64>],
 ) -> String {
-    let mut parts = vec![
-        prelude(model, precision, shape.force_drive),
-        SHARED_EXP.to_string(),
-    ];
+    let mut parts = vec![prelude(model, precision, shape), SHARED_EXP.to_string()];
     match (kernel, model) {
         (Kernel::ExpProbe, _) => {
             parts.push(SHARED_MATH.to_string());

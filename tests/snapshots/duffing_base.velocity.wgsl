@@ -20,6 +20,8 @@ struct RunConsts {
     k18: real,
     toff0: u32,
     tlen0: u32,
+    tt00: real,
+    tinv0: real,
 }
 
 struct RigReport {
@@ -38,6 +40,8 @@ fn rig_load(base: u32, ex: ExpInfo) -> RunConsts {
     kc.k18 = param(base, P_K18);
     kc.toff0 = 1u;
     kc.tlen0 = 251u;
+    kc.tt00 = table_start(kc.toff0, kc.tlen0);
+    kc.tinv0 = table_header(kc.toff0, kc.tlen0);
     return kc;
 }
 
@@ -102,7 +106,7 @@ fn rig_clock_shift(c: DriveClocks, q: DriveClocks) -> DriveClocks {
 fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigState {
     let v3 = y.s0;
     let v4 = y.s1;
-    let v5 = table_at(kc.toff0, kc.tlen0, t);
+    let v5 = table_at(kc.toff0, kc.tlen0, kc.tt00, kc.tinv0, t);
     let v6 = real(0e0) - v3;
     let v7 = real(0e0) - v4;
     let v10 = kc.k9 * v6;

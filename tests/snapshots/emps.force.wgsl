@@ -24,6 +24,8 @@ struct RunConsts {
     k30: real,
     toff0: u32,
     tlen0: u32,
+    tt00: real,
+    tinv0: real,
 }
 
 struct RigReport {
@@ -45,6 +47,8 @@ fn rig_load(base: u32, ex: ExpInfo) -> RunConsts {
     kc.k30 = param(base, P_K30);
     kc.toff0 = ex.table_offset;
     kc.tlen0 = ex.table_len;
+    kc.tt00 = table_start(kc.toff0, kc.tlen0);
+    kc.tinv0 = table_header(kc.toff0, kc.tlen0);
     return kc;
 }
 
@@ -116,7 +120,7 @@ fn rig_clock_shift(c: DriveClocks, q: DriveClocks) -> DriveClocks {
 fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigState {
     let v3 = y.s0;
     let v4 = y.s1;
-    let v5 = table_at(kc.toff0, kc.tlen0, t);
+    let v5 = table_at(kc.toff0, kc.tlen0, kc.tt00, kc.tinv0, t);
     let v7 = kc.k6 * v5;
     let v8 = kc.k6 * v3;
     let v10 = kc.k9 * v4;

@@ -25,6 +25,8 @@ struct RunConsts {
     k40: real,
     toff0: u32,
     tlen0: u32,
+    tt00: real,
+    tinv0: real,
 }
 
 struct RigReport {
@@ -46,6 +48,8 @@ fn rig_load(base: u32, ex: ExpInfo) -> RunConsts {
     kc.k40 = param(base, P_K40);
     kc.toff0 = ex.table_offset;
     kc.tlen0 = ex.table_len;
+    kc.tt00 = table_start(kc.toff0, kc.tlen0);
+    kc.tinv0 = table_header(kc.toff0, kc.tlen0);
     return kc;
 }
 
@@ -120,7 +124,7 @@ fn rig_clock_shift(c: DriveClocks, q: DriveClocks) -> DriveClocks {
 fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigState {
     let v0 = t;
     let v4 = y.s2;
-    let v7 = table_at(kc.toff0, kc.tlen0, t);
+    let v7 = table_at(kc.toff0, kc.tlen0, kc.tt00, kc.tinv0, t);
     let v9 = kc.k8 * v7;
     let v11 = select(real(0.0), real(1.0), v0 <= real(0e0));
     let v16 = select(kc.k10, real(0e0), v11 != real(0.0));

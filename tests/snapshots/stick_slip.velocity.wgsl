@@ -21,6 +21,8 @@ struct RunConsts {
     k22: real,
     toff0: u32,
     tlen0: u32,
+    tt00: real,
+    tinv0: real,
 }
 
 struct RigReport {
@@ -39,6 +41,8 @@ fn rig_load(base: u32, ex: ExpInfo) -> RunConsts {
     kc.k22 = param(base, P_K22);
     kc.toff0 = 1u;
     kc.tlen0 = 2u;
+    kc.tt00 = table_start(kc.toff0, kc.tlen0);
+    kc.tinv0 = table_header(kc.toff0, kc.tlen0);
     return kc;
 }
 
@@ -109,7 +113,7 @@ fn rig_clock_shift(c: DriveClocks, q: DriveClocks) -> DriveClocks {
 
 fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigState {
     let v4 = y.s1;
-    let v5 = table_at(kc.toff0, kc.tlen0, t);
+    let v5 = table_at(kc.toff0, kc.tlen0, kc.tt00, kc.tinv0, t);
     let v7 = real(0e0) - v4;
     let v10 = y.s2;
     let v11 = kc.k9 * v10;

@@ -51,6 +51,8 @@ struct RunConsts {
     k116: real,
     toff0: u32,
     tlen0: u32,
+    tt00: real,
+    tinv0: real,
 }
 
 struct RigReport {
@@ -92,6 +94,8 @@ fn rig_load(base: u32, ex: ExpInfo) -> RunConsts {
     kc.k116 = param(base, P_K116);
     kc.toff0 = ex.table_offset;
     kc.tlen0 = ex.table_len;
+    kc.tt00 = table_start(kc.toff0, kc.tlen0);
+    kc.tinv0 = table_header(kc.toff0, kc.tlen0);
     return kc;
 }
 
@@ -198,7 +202,7 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     let v8 = y.s6;
     let v9 = y.s3;
     let v10 = y.s7;
-    let v11 = table_at(kc.toff0, kc.tlen0, t);
+    let v11 = table_at(kc.toff0, kc.tlen0, kc.tt00, kc.tinv0, t);
     let v13 = kc.k12 * v3;
     let v16 = real(md.m0);
     let v17 = select(real(0.0), real(1.0), v16 == real(1e0));

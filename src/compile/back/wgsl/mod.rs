@@ -125,7 +125,7 @@ impl GpuRig {
         let mut table_data = Vec::new();
         for (k, t) in prog.tables.iter().enumerate() {
             if let Some(t) = t {
-                table_data.push(t.uniform_inverse_spacing());
+                table_data.push(t.kernel_header());
                 inline.push((k as u32, table_data.len() as u32, t.t.len() as u32));
                 table_data.extend_from_slice(&t.t);
                 table_data.extend_from_slice(&t.value);
@@ -183,10 +183,17 @@ impl GpuRig {
     }
 
     /// The inline tables, which the data buffer holds first: per table its
-    /// [`crate::base::PiecewiseLinear::uniform_inverse_spacing`] (`table_at` reads it just
+    /// [`crate::base::PiecewiseLinear::kernel_header`] (`table_header` reads it just
     /// before the breakpoints), the breakpoint times, then the values.
     pub fn table_data(&self) -> &[f64] {
         &self.table_data
+    }
+
+    /// The inline tables' headers (`table_header`), one per table.
+    pub fn inline_table_headers(&self) -> impl Iterator<Item = f64> + '_ {
+        self.inline
+            .iter()
+            .map(|&(_, off, _)| self.table_data[off as usize - 1])
     }
 
     /// Slot names (`K<id>`), for the prelude's `P_*` indices; a program with
@@ -269,7 +276,9 @@ impl Emitter<'_> {
                 Op::In(Input::Slot(_)) => unreachable!("slots are run constants"),
                 Op::In(Input::State(k)) => format!("y.s{k}"),
                 Op::In(Input::Regime(m)) => format!("real(md.m{m})"),
-                Op::In(Input::Table(k)) => format!("table_at(kc.toff{k}, kc.tlen{k}, t)"),
+                Op::In(Input::Table(k)) => {
+                    format!("table_at(kc.toff{k}, kc.tlen{k}, kc.tt0{k}, kc.tinv{k}, t)")
+                }
                 Op::Add(a, b) => format!("{} + {}", n(a), n(b)),
                 Op::Sub(a, b) => format!("{} - {}", n(a), n(b)),
                 Op::Mul(a, b) => format!("{} * {}", n(a), n(b)),
@@ -334,7 +343,10 @@ impl Emitter<'_> {
             let _ = writeln!(kc, "    k{i}: real,");
         }
         for k in 0..p.tables.len() {
-            let _ = writeln!(kc, "    toff{k}: u32,\n    tlen{k}: u32,");
+            let _ = writeln!(
+                kc,
+                "    toff{k}: u32,\n    tlen{k}: u32,\n    tt0{k}: real,\n    tinv{k}: real,"
+            );
         }
         if kc.is_empty() {
             kc.push_str("    unused: u32,\n");
@@ -378,6 +390,12 @@ impl Emitter<'_> {
                     );
                 }
             }
+        }
+        for k in 0..p.tables.len() {
+            let _ = writeln!(
+                s,
+                "    kc.tt0{k} = table_start(kc.toff{k}, kc.tlen{k});\n    kc.tinv{k} = table_header(kc.toff{k}, kc.tlen{k});"
+            );
         }
         s.push_str("    return kc;\n}\n\n");
         s.push_str("fn rig_state_load(sb: u32) -> RigState {\n    var y: RigState;\n");
