@@ -27,6 +27,10 @@ if [ -z "${XDG_RUNTIME_DIR:-}" ]; then
     XDG_RUNTIME_DIR="$(mktemp -d)"
     export XDG_RUNTIME_DIR
 fi
+# `--backend auto` caches what it measured (src/job/backend.rs): in a folder of
+# the run's own, not the user's cache.
+RIGFIT_CACHE_DIR="$(mktemp -d)"
+export RIGFIT_CACHE_DIR
 # Lavapipe is the adapter the tests pin their tolerances on; use all cores.
 export LP_NUM_THREADS="${LP_NUM_THREADS:-$(nproc)}"
 

@@ -185,6 +185,12 @@ impl Evaluator for CpuEvaluator {
         }))
     }
 
+    fn prepare(&mut self) {
+        for e in &self.problem.experiments {
+            self.problem.model.prepare_native(&e.drive);
+        }
+    }
+
     fn set_cancel(&mut self, flag: Arc<AtomicBool>) {
         self.cancel = Some(flag);
     }

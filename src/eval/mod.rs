@@ -170,6 +170,11 @@ pub trait Evaluator: Send {
     /// in flight stop as soon as it can and return [`EvalError::Cancelled`].
     /// An evaluator that cannot stop early ignores it.
     fn set_cancel(&mut self, _flag: std::sync::Arc<std::sync::atomic::AtomicBool>) {}
+
+    /// Makes ready now what the evaluator would make ready once it pays (the
+    /// CPU lanes' native build), so that a timed trial measures the path
+    /// the job runs. Nothing by default.
+    fn prepare(&mut self) {}
 }
 
 /// Samples an experiment's run must reach: `0..window.end`.

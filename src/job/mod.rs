@@ -4,6 +4,7 @@
 //! the evaluator are ready, writes every file atomically, keeps a checkpoint
 //! while it runs and removes it only once the results are complete.
 
+pub mod backend;
 mod cost;
 mod folder;
 pub mod memory;
@@ -197,6 +198,17 @@ pub fn run(
     evaluator: Box<dyn Evaluator>,
     opts: &JobOptions,
 ) -> Result<JobSummary, JobError> {
+    run_chosen(campaign, evaluator, opts, None)
+}
+
+/// [`run`] on an evaluator that `auto` chose by measurement
+/// ([`backend::race`]): `result.json` says what was measured.
+pub fn run_chosen(
+    campaign: &Campaign,
+    evaluator: Box<dyn Evaluator>,
+    opts: &JobOptions,
+    backend_trial: Option<backend::BackendTrial>,
+) -> Result<JobSummary, JobError> {
     let info = evaluator.info();
     let precision = format!("{:?}", info.precision).to_lowercase();
     let fp = fingerprint(campaign, &info.backend, &precision);
@@ -252,6 +264,7 @@ pub fn run(
         &genes,
         &opts.out,
         fallback,
+        backend_trial,
     )?;
     if outcome.termination != TerminationReason::Interrupted {
         // The results are complete: the checkpoint has served its purpose.

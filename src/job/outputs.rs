@@ -146,6 +146,10 @@ pub struct JobSummary {
     pub backend: String,
     /// Device description.
     pub device: String,
+    /// What `auto` measured on each path and chose (absent when the path was
+    /// forced, or `auto` had one path only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub backend_trial: Option<super::backend::BackendTrial>,
     /// `"f32"` or `"f64"`.
     pub precision: String,
     /// RK4 steps per sample.
@@ -193,6 +197,7 @@ pub fn write_outputs(
     genes: &[GeneSpec],
     out: &Path,
     fallback: Option<String>,
+    backend_trial: Option<super::backend::BackendTrial>,
 ) -> Result<JobSummary, JobError> {
     let polish = outcome.polish.as_ref();
     let write = |name: &str, bytes: &[u8]| -> Result<(), JobError> {
@@ -303,6 +308,7 @@ pub fn write_outputs(
         seed: campaign.search.seed,
         backend: info.backend,
         device: info.device,
+        backend_trial,
         precision: format!("{:?}", info.precision).to_lowercase(),
         substeps: campaign.solver.substeps,
         generations: outcome.generations,

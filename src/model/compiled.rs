@@ -166,6 +166,20 @@ impl CompiledRig {
         Ok(std::sync::Arc::new(Self::new(desc, file)?))
     }
 
+    /// Builds now the f64 native code the fitness runs of `drive` use, rather
+    /// than once their work has made it pay ([`NativeSlot::get`]): for a timed
+    /// trial, which should measure the path the job will run. Nothing where
+    /// the drive has no lane program or `RIGFIT_NATIVE=off`.
+    pub fn prepare_native(&self, drive: &Drive) {
+        let Some(i) = self.program_for(drive) else {
+            return;
+        };
+        match &self.fitness[i] {
+            Some(f) => f.native.now(&f.lane_code, Arith::F64),
+            None => self.native[i].now(&self.lane_code[i], Arith::F64),
+        };
+    }
+
     /// The f64 native build of `code` in `slot` for running `params` on
     /// `grid`, once its work so far makes it pay ([`NativeSlot::get`]).
     fn native_for(

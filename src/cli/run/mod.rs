@@ -176,9 +176,11 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     // any work; a model without them is scored in f64 (as before they
     // existed), with a warning.
     let mut cpu = cpu;
-    if backend == Backend::Cpu
+    // `auto` races the CPU against the GPU in the precision asked for.
+    if backend != Backend::Gpu
         && precision == PrecisionChoice::F32
         && let Err(e) = cpu.use_f32()
+        && backend == Backend::Cpu
     {
         let asked = match a.precision {
             Some(_) => "--precision f32".to_string(),
@@ -216,10 +218,26 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     }
     // The evaluator before the output folder: a GPU that is required and
     // missing leaves no folder behind.
+    // `auto`: a choice measured before for this job on this machine (a CPU
+    // choice opens no GPU), else a race between the two paths once both are
+    // open (src/job/backend.rs).
+    let trial_key = (backend == Backend::Auto).then(|| {
+        let adapters = rigfit::gpu::list_adapters()
+            .iter()
+            .map(|a| format!("{} ({}, {})", a.name, a.backend, a.driver))
+            .collect::<Vec<_>>()
+            .join(", ");
+        let p = format!("{precision:?}").to_lowercase();
+        job::backend::cache_key(&c, &adapters, &p, c.search.population)
+    });
+    let cached = trial_key.as_deref().and_then(job::backend::cached);
+    let mut backend_trial = None;
     let mut evaluator: Box<dyn rigfit::eval::Evaluator> = if backend == Backend::Cpu {
         Box::new(cpu)
+    } else if let Some(t) = cached.clone().filter(|t| t.chosen == "cpu") {
+        backend_trial = Some(t);
+        Box::new(cpu)
     } else {
-        drop(cpu);
         let opened = rigfit::gpu::open_evaluator_on(
             c.problem.clone(),
             backend,
@@ -235,8 +253,35 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
                 out.note(&format!("note: {note}"));
             }
         }
-        opened.evaluator
+        match (&trial_key, opened.note.is_none()) {
+            (Some(key), true) => match cached {
+                Some(t) => {
+                    backend_trial = Some(t);
+                    opened.evaluator
+                }
+                None => {
+                    let (chosen, t) = job::backend::race(
+                        &c,
+                        c.search.population,
+                        opened.evaluator,
+                        Box::new(cpu),
+                    )?;
+                    if let Err(e) = job::backend::remember(key, &t) {
+                        out.note(&format!(
+                            "warning: the backend choice could not be cached ({e}); the next \
+                             run measures again"
+                        ));
+                    }
+                    backend_trial = Some(t);
+                    chosen
+                }
+            },
+            _ => opened.evaluator,
+        }
     };
+    if let Some(t) = &backend_trial {
+        out.note(&format!("note: {}", t.line()));
+    }
     if a.out.is_none() {
         limits::check_output_inside(&c, &a.campaign)?;
     }
@@ -296,7 +341,7 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         require_gpu: backend == Backend::Gpu || rigfit::gpu::gpu_required(),
         threads: a.threads,
     };
-    let summary = match job::run(&c, evaluator, &opts) {
+    let summary = match job::run_chosen(&c, evaluator, &opts, backend_trial) {
         Err(JobError::Search(SearchError::Eval(EvalError::Cancelled))) => {
             out.note(&format!(
                 "interrupted before the first generation was complete: nothing to keep; \

@@ -1,0 +1,249 @@
+//! `auto` chooses the faster path by measurement.
+//!
+//! Which path scores a rig fastest depends on the rig, its records and the
+//! machine: a 2-core machine's lavapipe runs the tensile rig at twice the CPU
+//! lanes' rate and a long measured-drive record at half of it. So `auto`
+//! scores one trial batch (the job's population, at most
+//! [`TRIAL_CANDIDATES`], spread over the search box by a fixed seed) on each
+//! path it can open, after one warm-up batch that builds the kernels the job
+//! would build anyway, and keeps the faster. The choice and the measured rates
+//! go into the job's first line and `result.json` (`backend_trial`), and into
+//! a cache ([`cache_file`]) keyed by the processor, the adapters, the
+//! campaign's digest (its file and records), the precision and the
+//! population, so the next run of the same job on the same machine skips the
+//! trial and repeats the choice (and a resumed job keeps its path).
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+
+use crate::campaign::Campaign;
+use crate::eval::{EvalError, Evaluator};
+
+/// Most candidates a trial batch scores on each path.
+pub const TRIAL_CANDIDATES: usize = 256;
+
+/// Candidates of the warm-up batch (enough for the GPU evaluator to build the
+/// specialised kernel the job's generations use).
+const WARM_UP_CANDIDATES: usize = 64;
+
+/// What `auto` measured and chose.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct BackendTrial {
+    /// `"gpu"` or `"cpu"`: the path chosen.
+    pub chosen: String,
+    /// The GPU path's rate (candidate-steps per second).
+    pub gpu_rate: f64,
+    /// The CPU path's rate (candidate-steps per second).
+    pub cpu_rate: f64,
+    /// Candidates in the timed batch.
+    pub candidates: usize,
+    /// Wall time the trial took (s), warm-up batches included; 0 when the
+    /// choice came from the cache.
+    pub trial_s: f64,
+    /// Whether the choice came from the cache ([`cache_file`]).
+    pub cached: bool,
+}
+
+impl BackendTrial {
+    /// One line for the job's start: the choice and the rates behind it.
+    pub fn line(&self) -> String {
+        let how = if self.cached {
+            "as measured before on this machine".to_string()
+        } else {
+            format!("measured in {:.2} s", self.trial_s)
+        };
+        format!(
+            "backend auto chose the {}: GPU {:.2e}, CPU {:.2e} candidate-steps/s ({how})",
+            self.chosen.to_uppercase(),
+            self.gpu_rate,
+            self.cpu_rate
+        )
+    }
+}
+
+/// Errors of a trial.
+#[derive(Debug, thiserror::Error)]
+pub enum TrialError {
+    /// A path failed to score the trial batch.
+    #[error("the {path} trial batch failed: {source}")]
+    Eval {
+        /// `"gpu"` or `"cpu"`.
+        path: &'static str,
+        /// What failed.
+        source: EvalError,
+    },
+}
+
+/// The trial batch: `n` genomes spread over the search box by a fixed seed.
+fn trial_genomes(campaign: &Campaign, n: usize) -> Vec<Vec<f64>> {
+    let genes = super::gene_specs(campaign);
+    let mut rng = ChaCha8Rng::seed_from_u64(0x7e57_ba7c);
+    (0..n)
+        .map(|_| genes.iter().map(|g| g.at_fraction(rng.random())).collect())
+        .collect()
+}
+
+/// Candidate-steps per second of `evaluator` on `genomes`, made ready
+/// ([`Evaluator::prepare`]: the CPU lanes' native build, which a job makes
+/// after its first 4·10⁶ candidate-steps) and warmed up first.
+fn rate(
+    campaign: &Campaign,
+    evaluator: &mut dyn Evaluator,
+    genomes: &[Vec<f64>],
+    path: &'static str,
+) -> Result<f64, TrialError> {
+    let fail = |source| TrialError::Eval { path, source };
+    evaluator.prepare();
+    let warm = &genomes[..genomes.len().min(WARM_UP_CANDIDATES)];
+    evaluator.fitness(&campaign.batch(warm)).map_err(fail)?;
+    let batch = campaign.batch(genomes);
+    let start = Instant::now();
+    evaluator.fitness(&batch).map_err(fail)?;
+    let s = start.elapsed().as_secs_f64().max(1e-9);
+    Ok(genomes.len() as f64 * super::steps_per_candidate(campaign) / s)
+}
+
+/// Scores the trial batch on both paths and returns the faster evaluator
+/// with what was measured; `population` is the job's.
+pub fn race(
+    campaign: &Campaign,
+    population: usize,
+    mut gpu: Box<dyn Evaluator>,
+    mut cpu: Box<dyn Evaluator>,
+) -> Result<(Box<dyn Evaluator>, BackendTrial), TrialError> {
+    let start = Instant::now();
+    let n = population.clamp(1, TRIAL_CANDIDATES);
+    let genomes = trial_genomes(campaign, n);
+    let gpu_rate = rate(campaign, gpu.as_mut(), &genomes, "gpu")?;
+    let cpu_rate = rate(campaign, cpu.as_mut(), &genomes, "cpu")?;
+    let gpu_wins = gpu_rate >= cpu_rate;
+    let trial = BackendTrial {
+        chosen: if gpu_wins { "gpu" } else { "cpu" }.into(),
+        gpu_rate,
+        cpu_rate,
+        candidates: n,
+        trial_s: start.elapsed().as_secs_f64(),
+        cached: false,
+    };
+    Ok((if gpu_wins { gpu } else { cpu }, trial))
+}
+
+/// Where the choices are kept: `RIGFIT_CACHE_DIR`, else
+/// `$XDG_CACHE_HOME/rigfit`, else `~/.cache/rigfit`; the file
+/// `backend-trials.json`. `None` when none of them is set.
+pub fn cache_file() -> Option<PathBuf> {
+    let var = |k: &str| {
+        std::env::var_os(k)
+            .filter(|v| !v.is_empty())
+            .map(PathBuf::from)
+    };
+    let dir = var("RIGFIT_CACHE_DIR")
+        .or_else(|| var("XDG_CACHE_HOME").map(|d| d.join("rigfit")))
+        .or_else(|| var("HOME").map(|d| d.join(".cache").join("rigfit")))?;
+    Some(dir.join("backend-trials.json"))
+}
+
+/// The cache key of a job: processor, adapters, campaign digest, precision,
+/// population.
+pub fn cache_key(
+    campaign: &Campaign,
+    adapters: &str,
+    precision: &str,
+    population: usize,
+) -> String {
+    format!(
+        "{} | {adapters} | campaign {:016x} | {precision} | population {population}",
+        processor(),
+        campaign.digest
+    )
+}
+
+/// The processor's model name (Linux's /proc/cpuinfo), else the architecture.
+pub fn processor() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split_once(':'))
+                .map(|(_, v)| v.trim().to_string())
+        })
+        .unwrap_or_else(|| std::env::consts::ARCH.to_string())
+}
+
+fn read_cache(file: &Path) -> BTreeMap<String, BackendTrial> {
+    crate::base::fsutil::read_input(file, 1 << 20)
+        .ok()
+        .and_then(|b| serde_json::from_slice(&b).ok())
+        .unwrap_or_default()
+}
+
+/// The choice cached under `key` in [`cache_file`], marked as cached.
+pub fn cached(key: &str) -> Option<BackendTrial> {
+    cached_in(&cache_file()?, key)
+}
+
+fn cached_in(file: &Path, key: &str) -> Option<BackendTrial> {
+    read_cache(file).remove(key).map(|t| BackendTrial {
+        cached: true,
+        trial_s: 0.0,
+        ..t
+    })
+}
+
+/// Keeps `trial` under `key` in [`cache_file`] (the file written whole,
+/// atomically). A cache that cannot be written is only a missed saving: the
+/// caller warns, the job goes on.
+pub fn remember(key: &str, trial: &BackendTrial) -> std::io::Result<()> {
+    match cache_file() {
+        Some(file) => remember_in(&file, key, trial),
+        None => Ok(()),
+    }
+}
+
+fn remember_in(file: &Path, key: &str, trial: &BackendTrial) -> std::io::Result<()> {
+    if let Some(dir) = file.parent() {
+        std::fs::create_dir_all(dir)?;
+    }
+    let mut all = read_cache(file);
+    all.insert(key.to_string(), trial.clone());
+    let json = serde_json::to_vec_pretty(&all).expect("trials serialise");
+    crate::base::fsutil::atomic_write(file, &json)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_cached_choice_reads_back_marked_as_cached() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("cache").join("backend-trials.json");
+        let t = BackendTrial {
+            chosen: "cpu".into(),
+            gpu_rate: 1e7,
+            cpu_rate: 1e8,
+            candidates: 128,
+            trial_s: 0.25,
+            cached: false,
+        };
+        assert_eq!(cached_in(&file, "k"), None);
+        remember_in(&file, "k", &t).unwrap();
+        let back = cached_in(&file, "k").unwrap();
+        assert!(back.cached);
+        assert_eq!(back.trial_s, 0.0);
+        assert_eq!((back.chosen.as_str(), back.cpu_rate), ("cpu", 1e8));
+        assert_eq!(cached_in(&file, "other"), None);
+        assert!(
+            back.line().contains("as measured before"),
+            "{}",
+            back.line()
+        );
+        assert!(t.line().contains("chose the CPU"), "{}", t.line());
+    }
+}

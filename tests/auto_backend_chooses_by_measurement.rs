@@ -1,0 +1,67 @@
+//! `--backend auto` scores a trial batch on the GPU and on the CPU and runs
+//! the job on the faster path (src/job/backend.rs): result.json's
+//! `backend_trial` gives both measured rates and the choice, the job ran on
+//! the path with the higher rate, and a second run of the same job reads the
+//! choice back from the cache instead of measuring again. A forced backend
+//! measures nothing.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use serde_json::Value;
+
+fn run(campaign: &Path, out: &Path, cache: &Path, backend: &str) -> Value {
+    let o = Command::new(env!("CARGO_BIN_EXE_rigfit"))
+        .arg("run")
+        .arg(campaign)
+        .arg("--out")
+        .arg(out)
+        .args(["--backend", backend])
+        .args(["--population", "64", "--generations", "2", "--seed", "3"])
+        .env("RIGFIT_CACHE_DIR", cache)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "rigfit run failed: {err}");
+    if backend == "auto" {
+        assert!(
+            err.contains("backend auto chose the"),
+            "no choice said: {err}"
+        );
+    }
+    serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap()
+}
+
+#[test]
+fn auto_runs_on_the_path_it_measured_faster_and_remembers_it() {
+    let campaign =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("campaigns/friction_sdof_synthetic.json");
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let first = run(&campaign, &dir.path().join("a"), &cache, "auto");
+    let t = &first["backend_trial"];
+    let (gpu, cpu) = (
+        t["gpu_rate"].as_f64().unwrap(),
+        t["cpu_rate"].as_f64().unwrap(),
+    );
+    assert!(gpu > 0.0 && cpu > 0.0, "{t}");
+    let faster = if gpu >= cpu { "gpu" } else { "cpu" };
+    assert_eq!(t["chosen"], faster, "{t}");
+    assert_eq!(first["backend"], faster, "the job ran where the trial said");
+    assert_eq!(t["cached"], false);
+    assert!(t["trial_s"].as_f64().unwrap() > 0.0);
+    assert!(cache.join("backend-trials.json").is_file());
+
+    let second = run(&campaign, &dir.path().join("b"), &cache, "auto");
+    let t2 = &second["backend_trial"];
+    assert_eq!(t2["cached"], true, "{t2}");
+    assert_eq!(t2["chosen"], faster);
+    assert_eq!(t2["gpu_rate"], t["gpu_rate"]);
+    assert_eq!(second["backend"], faster);
+
+    let forced = run(&campaign, &dir.path().join("c"), &cache, "cpu");
+    assert!(
+        forced.get("backend_trial").is_none(),
+        "a forced path measures nothing"
+    );
+}
