@@ -34,6 +34,8 @@
 
 #[path = "common/cpu_time.rs"]
 mod cpu_time;
+#[path = "common/machine.rs"]
+mod machine;
 use cpu_time::process_cpu_seconds;
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -176,8 +178,9 @@ fn populations() -> Vec<usize> {
 
 fn print_table(evals: &[Row]) {
     let steps = steps(&problem());
+    println!("\n{}", machine::machine_line());
     println!(
-        "\nShipped example, {} samples × {} substeps = {steps} RK4 steps per candidate",
+        "Shipped example, {} samples × {} substeps = {steps} RK4 steps per candidate",
         problem().experiments[0].force.len(),
         problem().substeps
     );

@@ -14,6 +14,8 @@ use std::time::Instant;
 
 #[path = "common/cpu_time.rs"]
 mod cpu_time;
+#[path = "common/machine.rs"]
+mod machine;
 use cpu_time::process_cpu_seconds;
 use rayon::prelude::*;
 use rigfit::base::SampleGrid;
@@ -90,6 +92,7 @@ fn main() {
         });
         s
     };
+    println!("{}", machine::machine_line());
     println!(
         "population {}, {steps} RK4 steps per run, {} threads",
         ps.len(),

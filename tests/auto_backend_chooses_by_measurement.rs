@@ -3,7 +3,8 @@
 //! `backend_trial` gives both measured rates and the choice, the job ran on
 //! the path with the higher rate, and a second run of the same job reads the
 //! choice back from the cache instead of measuring again. A forced backend
-//! measures nothing.
+//! measures nothing, and `rigfit check` estimates the job's time from the
+//! rates measured for it.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -17,7 +18,6 @@ fn run(campaign: &Path, out: &Path, cache: &Path, backend: &str) -> Value {
         .arg("--out")
         .arg(out)
         .args(["--backend", backend])
-        .args(["--population", "64", "--generations", "2", "--seed", "3"])
         .env("RIGFIT_CACHE_DIR", cache)
         .output()
         .unwrap();
@@ -34,9 +34,8 @@ fn run(campaign: &Path, out: &Path, cache: &Path, backend: &str) -> Value {
 
 #[test]
 fn auto_runs_on_the_path_it_measured_faster_and_remembers_it() {
-    let campaign =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("campaigns/friction_sdof_synthetic.json");
     let dir = tempfile::tempdir().unwrap();
+    let campaign = small_campaign(dir.path());
     let cache = dir.path().join("cache");
     let first = run(&campaign, &dir.path().join("a"), &cache, "auto");
     let t = &first["backend_trial"];
@@ -64,4 +63,36 @@ fn auto_runs_on_the_path_it_measured_faster_and_remembers_it() {
         forced.get("backend_trial").is_none(),
         "a forced path measures nothing"
     );
+
+    let o = Command::new(env!("CARGO_BIN_EXE_rigfit"))
+        .args(["--json", "check"])
+        .arg(&campaign)
+        .env("RIGFIT_CACHE_DIR", &cache)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let check: Value = serde_json::from_slice(&o.stdout).unwrap();
+    let e = &check["search_estimate"];
+    assert_eq!(e["measured"], true, "{e}");
+    assert_eq!(e["gpu_steps_per_s_assumed"], t["gpu_rate"]);
+    assert_eq!(e["cpu_steps_per_s_assumed"], t["cpu_rate"]);
+}
+
+/// The shipped friction rig's campaign with a small search (population 64,
+/// 2 generations) written into the campaign itself, so `check` reads the
+/// population `run` ran.
+fn small_campaign(dir: &Path) -> PathBuf {
+    let repo = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("campaigns");
+    let text = std::fs::read_to_string(repo.join("friction_sdof_synthetic.json")).unwrap();
+    let mut c: Value = serde_json::from_str(&text).unwrap();
+    for x in c["experiments"].as_array_mut().unwrap() {
+        let file = repo.join(x["data"]["file"].as_str().unwrap());
+        x["data"]["file"] = Value::from(file.to_str().unwrap());
+    }
+    c["search"]["population"] = Value::from(64);
+    c["search"]["generations"] = Value::from(2);
+    c["search"]["seed"] = Value::from(3);
+    let path = dir.join("small.json");
+    std::fs::write(&path, c.to_string()).unwrap();
+    path
 }

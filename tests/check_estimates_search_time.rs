@@ -12,7 +12,15 @@ fn check(c: &Path, json: bool) -> String {
     if json {
         cmd.arg("--json");
     }
-    let o = cmd.arg("check").arg(c).output().unwrap();
+    // No measurement of an earlier `run --backend auto` (src/job/backend.rs):
+    // the assumed rates.
+    let cache = tempfile::tempdir().unwrap();
+    let o = cmd
+        .arg("check")
+        .arg(c)
+        .env("RIGFIT_CACHE_DIR", cache.path())
+        .output()
+        .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     String::from_utf8(o.stdout).unwrap() + &String::from_utf8_lossy(&o.stderr)
 }

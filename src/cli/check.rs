@@ -31,10 +31,20 @@ const GPU_STEPS_PER_S_ASSUMED: f64 = 1e8;
 /// The job's wall time, estimated from its steps: the GA's candidates on
 /// every core and at [`GPU_STEPS_PER_S_ASSUMED`] on the GPU, then the polish's
 /// ([`memory::TimeEstimate`]).
+/// Where `run --backend auto` has measured this job on this machine before
+/// (src/job/backend.rs), its measured rates take the assumed ones' place.
 fn search_estimate(c: &Campaign, steps_per_candidate: f64) -> serde_json::Value {
     let cores = std::thread::available_parallelism().map_or(1, usize::from);
-    let e = memory::TimeEstimate::of(c, steps_per_candidate, cores, GPU_STEPS_PER_S_ASSUMED);
-    serde_json::to_value(e).unwrap_or_default()
+    let precision = format!("{:?}", c.solver.precision).to_lowercase();
+    let measured = rigfit::job::backend::cached(&rigfit::job::backend::auto_key(c, &precision));
+    let e = match &measured {
+        Some(t) => memory::TimeEstimate::of(c, steps_per_candidate, cores, t.gpu_rate)
+            .with_cpu_rate(t.cpu_rate),
+        None => memory::TimeEstimate::of(c, steps_per_candidate, cores, GPU_STEPS_PER_S_ASSUMED),
+    };
+    let mut v = serde_json::to_value(e).unwrap_or_default();
+    v["measured"] = serde_json::Value::Bool(measured.is_some());
+    v
 }
 
 /// Validates a campaign and its data.
@@ -102,21 +112,36 @@ pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
         }
         if let Some(e) = &search {
             let f = |k: &str| e[k].as_f64().unwrap_or(0.0);
+            let rates = if e["measured"].as_bool() == Some(true) {
+                format!(
+                    "about {} on the CPU (at {:.2e} candidate-steps/s), about {} on the GPU \
+                     (at {:.2e}), the rates `run --backend auto` measured for this job here",
+                    rigfit::campaign::human_duration(f("cpu_seconds")),
+                    f("cpu_steps_per_s_assumed"),
+                    rigfit::campaign::human_duration(f("gpu_seconds")),
+                    f("gpu_steps_per_s_assumed"),
+                )
+            } else {
+                format!(
+                    "about {} on the CPU ({} cores at an assumed {:.0e} steps/s each), about \
+                     {} on the GPU (at an assumed {:.0e} candidate-steps/s, lavapipe's f32 rate; \
+                     a discrete GPU runs 10 to 100 times more); `run --backend auto` measures \
+                     both, and `check` uses its figures once it has",
+                    rigfit::campaign::human_duration(f("cpu_seconds")),
+                    f("cpu_cores"),
+                    rigfit::campaign::CPU_STEPS_PER_S_PER_CORE,
+                    rigfit::campaign::human_duration(f("gpu_seconds")),
+                    GPU_STEPS_PER_S_ASSUMED
+                )
+            };
             let _ = write!(
                 s,
                 "\n  the search: at most {:.3e} candidates ({} × {} generations), {:.3e} RK4 \
-                 steps: about {} on the CPU ({} cores at an assumed {:.0e} steps/s each), about \
-                 {} on the GPU (at an assumed {:.0e} candidate-steps/s, lavapipe's f32 rate; a \
-                 discrete GPU runs 10 to 100 times more)",
+                 steps: {rates}",
                 f("candidates"),
                 c.search.population,
                 c.search.generations,
                 f("steps"),
-                rigfit::campaign::human_duration(f("cpu_seconds")),
-                f("cpu_cores"),
-                rigfit::campaign::CPU_STEPS_PER_S_PER_CORE,
-                rigfit::campaign::human_duration(f("gpu_seconds")),
-                GPU_STEPS_PER_S_ASSUMED
             );
             let _ = write!(s, "{}", memory::polish_estimate_text(e));
         }

@@ -163,6 +163,17 @@ pub fn cache_key(
     )
 }
 
+/// The cache key of `campaign` run with `--backend auto` at `precision`
+/// (`"auto"`, `"f32"` or `"f64"`, as asked) on this machine's adapters.
+pub fn auto_key(campaign: &Campaign, precision: &str) -> String {
+    let adapters = crate::gpu::list_adapters()
+        .iter()
+        .map(|a| format!("{} ({}, {})", a.name, a.backend, a.driver))
+        .collect::<Vec<_>>()
+        .join(", ");
+    cache_key(campaign, &adapters, precision, campaign.search.population)
+}
+
 /// The processor's model name (Linux's /proc/cpuinfo), else the architecture.
 pub fn processor() -> String {
     std::fs::read_to_string("/proc/cpuinfo")

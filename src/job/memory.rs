@@ -329,6 +329,18 @@ impl TimeEstimate {
     }
 }
 
+impl TimeEstimate {
+    /// The same with the GA's CPU rate `rate` (candidate-steps per second,
+    /// every core), as measured.
+    pub fn with_cpu_rate(self, rate: f64) -> Self {
+        Self {
+            cpu_steps_per_s_assumed: rate,
+            cpu_seconds: self.steps / rate + self.polish_seconds,
+            ..self
+        }
+    }
+}
+
 /// The polish's part of a [`TimeEstimate`] (as `check --json` writes it),
 /// as `check` words it after the GA's line: empty without a polish.
 pub fn polish_estimate_text(e: &serde_json::Value) -> String {

@@ -221,15 +221,8 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     // `auto`: a choice measured before for this job on this machine (a CPU
     // choice opens no GPU), else a race between the two paths once both are
     // open (src/job/backend.rs).
-    let trial_key = (backend == Backend::Auto).then(|| {
-        let adapters = rigfit::gpu::list_adapters()
-            .iter()
-            .map(|a| format!("{} ({}, {})", a.name, a.backend, a.driver))
-            .collect::<Vec<_>>()
-            .join(", ");
-        let p = format!("{precision:?}").to_lowercase();
-        job::backend::cache_key(&c, &adapters, &p, c.search.population)
-    });
+    let trial_key = (backend == Backend::Auto)
+        .then(|| job::backend::auto_key(&c, &format!("{precision:?}").to_lowercase()));
     let cached = trial_key.as_deref().and_then(job::backend::cached);
     let mut backend_trial = None;
     let mut evaluator: Box<dyn rigfit::eval::Evaluator> = if backend == Backend::Cpu {
