@@ -24,9 +24,38 @@ impl PiecewiseLinear {
         if t >= self.t[n - 1] {
             return self.value[n - 1];
         }
-        let i = self.t.partition_point(|&x| x <= t) - 1;
+        let i = self.segment(t);
         let w = (t - self.t[i]) / (self.t[i + 1] - self.t[i]);
         self.value[i] + w * (self.value[i + 1] - self.value[i])
+    }
+
+    /// The largest `i` with `t[i] ≤ t`, for `t` strictly inside the table:
+    /// guessed from the mean spacing and walked at most two breakpoints each
+    /// way, which finds it at once on a record's uniform grid; where the walk
+    /// does not bracket `t`, the binary search. Either way the one segment
+    /// holding `t`, so [`Self::at`] gives the same bits as with the search
+    /// alone (the lanes and the reference look a drive up at every RK4
+    /// stage: on a 24 841-sample record the search was a quarter of the
+    /// CPU's time).
+    fn segment(&self, t: f64) -> usize {
+        let (x, n) = (&self.t, self.t.len());
+        let u = (t - x[0]) / (x[n - 1] - x[0]) * (n - 1) as f64;
+        let mut i = (u as usize).min(n - 2);
+        for _ in 0..2 {
+            if i > 0 && x[i] > t {
+                i -= 1;
+            }
+        }
+        for _ in 0..2 {
+            if i + 2 < n && x[i + 1] <= t {
+                i += 1;
+            }
+        }
+        if x[i] <= t && t < x[i + 1] {
+            i
+        } else {
+            x.partition_point(|&b| b <= t) - 1
+        }
     }
 
     /// What a kernel's `table_at` reads just before the breakpoints:
@@ -148,6 +177,35 @@ mod tests {
             }
             let want = t.partition_point(|&b| b <= x) - 1;
             assert_eq!(guessed_segment(&t, inv, x), want, "t = {x}");
+        }
+    }
+
+    #[test]
+    fn the_guessed_segment_is_the_searched_one() {
+        let uniform: Vec<f64> = (0..300).map(|i| 0.25 + i as f64 * 1e-3).collect();
+        let uneven: Vec<f64> = (0..300)
+            .map(|i| (i as f64).powf(1.7) * 1e-4 + ((i * 7919 % 13) as f64) * 1e-6)
+            .collect();
+        for t in [uniform, uneven] {
+            let table = PiecewiseLinear {
+                value: (0..t.len()).map(|i| (i as f64 * 0.37).sin()).collect(),
+                t: t.clone(),
+            };
+            let (a, b) = (t[0], t[t.len() - 1]);
+            for k in 1..5000 {
+                let x = a + (b - a) * k as f64 / 5000.0;
+                if x <= a || x >= b {
+                    continue;
+                }
+                let want = t.partition_point(|&y| y <= x) - 1;
+                assert_eq!(table.segment(x), want, "t = {x}");
+            }
+            // Breakpoints themselves, and just below them.
+            for &x in &t[1..t.len() - 1] {
+                assert_eq!(table.segment(x), t.partition_point(|&y| y <= x) - 1);
+                let below = f64::from_bits(x.to_bits() - 1);
+                assert_eq!(table.segment(below), t.partition_point(|&y| y <= below) - 1);
+            }
         }
     }
 

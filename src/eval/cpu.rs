@@ -9,7 +9,7 @@ use rayon::prelude::*;
 
 use super::{
     Batch, EvalError, Evaluator, EvaluatorInfo, History, Precision, Problem, Scores, score_many,
-    score_one, simulate_history,
+    score_one, simulate_histories, simulate_history,
 };
 
 /// Scores candidates with the f64 reference on a rayon pool.
@@ -171,18 +171,44 @@ impl Evaluator for CpuEvaluator {
         self.problem.check_batch(batch)?;
         batch.check_indices(which)?;
         let problem = &self.problem;
-        Ok(self.pool.install(|| {
+        // Groups of a lane block's worth of runs, each group advanced by the
+        // lane ensemble where its runs share the clock offset (the same bits
+        // as the reference run by run, at the lanes' rate: the polish asks
+        // for histories at every iteration).
+        let groups: Vec<Vec<Vec<History>>> = self.pool.install(|| {
             which
-                .par_iter()
-                .map(|&i| {
-                    (0..problem.experiments.len())
+                .par_chunks(crate::compile::exec::lanes::LANES)
+                .map(|group| {
+                    let per_exp: Vec<Vec<History>> = (0..problem.experiments.len())
                         .map(|e| {
-                            simulate_history(problem, e, batch.params_of(e, i), batch.offsets[e][i])
+                            let offset = batch.offsets[e][group[0]];
+                            let shared = group
+                                .iter()
+                                .all(|&i| batch.offsets[e][i].to_bits() == offset.to_bits());
+                            if shared {
+                                let params: Vec<&[f64]> =
+                                    group.iter().map(|&i| batch.params_of(e, i)).collect();
+                                simulate_histories(problem, e, &params, offset)
+                            } else {
+                                group
+                                    .iter()
+                                    .map(|&i| {
+                                        let (p, o) = (batch.params_of(e, i), batch.offsets[e][i]);
+                                        simulate_history(problem, e, p, o)
+                                    })
+                                    .collect()
+                            }
                         })
+                        .collect();
+                    // Candidate-major: each run's histories over the experiments.
+                    let mut per_exp: Vec<_> = per_exp.into_iter().map(Vec::into_iter).collect();
+                    (0..group.len())
+                        .map(|_| per_exp.iter_mut().filter_map(Iterator::next).collect())
                         .collect()
                 })
                 .collect()
-        }))
+        });
+        Ok(groups.into_iter().flatten().collect())
     }
 
     fn prepare(&mut self) {

@@ -3,6 +3,7 @@
 use std::ops::ControlFlow;
 
 use super::{DIVERGED, ExperimentData, History, Precision, Problem};
+use crate::base::Report;
 
 /// Running residual sum over the fit window, with the blow-up guard.
 #[derive(Debug, Clone, Copy)]
@@ -120,6 +121,39 @@ pub fn score_many(
             (v, acc.diverged() || v >= DIVERGED)
         })
         .collect()
+}
+
+/// [`simulate_history`] of several runs of experiment `e` at one clock
+/// offset, advanced together by the rig's lane ensemble
+/// ([`crate::model::CompiledRig::simulate_many`]): the same histories, bit
+/// for bit, at the lanes' rate.
+pub fn simulate_histories(
+    problem: &Problem,
+    e: usize,
+    params: &[&[f64]],
+    offset: f64,
+) -> Vec<History> {
+    let exp = &problem.experiments[e];
+    let grid = exp.grid(offset, problem.substeps);
+    let model = &problem.model;
+    let empty = || History {
+        t: Vec::with_capacity(grid.samples),
+        outputs: vec![Vec::with_capacity(grid.samples); model.output_names().len()],
+        states: vec![Vec::with_capacity(grid.samples); model.state_names().len()],
+    };
+    let mut hs: Vec<History> = params.iter().map(|_| empty()).collect();
+    model.simulate_many(params, &exp.drive, &grid, Report::Full, &mut |i, s| {
+        let h = &mut hs[i];
+        h.t.push(s.t);
+        for (o, v) in h.outputs.iter_mut().zip(s.outputs) {
+            o.push(*v);
+        }
+        for (o, v) in h.states.iter_mut().zip(s.state) {
+            o.push(*v);
+        }
+        ControlFlow::Continue(())
+    });
+    hs
 }
 
 /// Full f64 reference history of one candidate in one experiment.

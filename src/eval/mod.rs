@@ -13,7 +13,9 @@ mod residuals;
 use std::ops::Range;
 
 pub use cpu::CpuEvaluator;
-pub use fitness::{FitnessAccumulator, score_many, score_one, simulate_history};
+pub use fitness::{
+    FitnessAccumulator, score_many, score_one, simulate_histories, simulate_history,
+};
 pub use problem::{ExperimentData, Problem};
 pub use residuals::window_residuals;
 

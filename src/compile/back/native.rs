@@ -543,9 +543,17 @@ impl NativeSlot {
             .get_or_init(|| match Native::build(code, arith) {
                 Ok(n) => Some(n),
                 Err(e) => {
-                    match arith {
-                        Arith::F64 => log::warn!("{e}; the lane ensemble interprets instead"),
-                        Arith::F32 => log::warn!("{e}; no f32 lanes"),
+                    // Once per process and failure: a drive program's fitness
+                    // variant and its full code are two builds that fail alike.
+                    static SAID: std::sync::Mutex<Vec<String>> = std::sync::Mutex::new(Vec::new());
+                    let what = match arith {
+                        Arith::F64 => format!("{e}; the lane ensemble interprets instead"),
+                        Arith::F32 => format!("{e}; no f32 lanes"),
+                    };
+                    let mut said = SAID.lock().unwrap_or_else(|p| p.into_inner());
+                    if !said.contains(&what) {
+                        log::warn!("{what}");
+                        said.push(what);
                     }
                     None
                 }
