@@ -245,6 +245,7 @@ fn run_live(k: RunSetup, s: RunProgress) -> bool {
 // computed once per block and carried from step to step by rig_clock_shift,
 // where the reference computes them afresh at every step: the two differ by
 // rounding (at most a block's worth of ulps), inside the parity tolerances.
+// The tables ride in the clocks, looked up at the stage times themselves.
 fn run_block(k: RunSetup, s: ptr<function, RunProgress>, budget: ptr<function, u32>) -> bool {
     var st = *s;
     var left = *budget;
@@ -259,8 +260,8 @@ fn run_block(k: RunSetup, s: ptr<function, RunProgress>, budget: ptr<function, u
         if st.prog.x < k.pro {
             q = k.qhp;
         }
-        let ckh = rig_clock_shift(ck0, q);
-        let ck1 = rig_clock_shift(ckh, q);
+        let ckh = rig_clock_shift(k.kc, ck0, q, at.x + real(0.5) * at.y);
+        let ck1 = rig_clock_shift(k.kc, ckh, q, at.x + at.y);
         let f0 = rig_deriv_c(k.kc, at.x, st.y, st.md, ck0);
         let y1 = rig_rk4_c(k.kc, at.x, at.y, st.y, f0, st.md, ckh, ck1);
         // Evaluated before the test and joined by `&`, not `&&`: WGSL's

@@ -103,24 +103,25 @@ fn st_hermite(y0: RigState, f0: RigState, y1: RigState, f1: RigState, c00: real,
 }
 
 struct DriveClocks {
-    unused: real,
+    tab0: real,
 }
 
 fn rig_clock(kc: RunConsts, t: real) -> DriveClocks {
     var c: DriveClocks;
-    c.unused = t;
+    c.tab0 = table_at(kc.toff0, kc.tlen0, kc.tt00, kc.tinv0, t);
     return c;
 }
 
-fn rig_clock_shift(c: DriveClocks, q: DriveClocks) -> DriveClocks {
+fn rig_clock_shift(kc: RunConsts, c: DriveClocks, q: DriveClocks, t: real) -> DriveClocks {
     var r = c;
+    r.tab0 = table_at(kc.toff0, kc.tlen0, kc.tt00, kc.tinv0, t);
     return r;
 }
 
 fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigState {
     let v3 = y.s0;
     let v4 = y.s1;
-    let v5 = table_at(kc.toff0, kc.tlen0, kc.tt00, kc.tinv0, t);
+    let v5 = ck.tab0;
     let v7 = kc.k6 * v5;
     let v8 = kc.k6 * v3;
     let v10 = kc.k9 * v4;

@@ -107,24 +107,25 @@ fn st_hermite(y0: RigState, f0: RigState, y1: RigState, f1: RigState, c00: real,
 }
 
 struct DriveClocks {
-    unused: real,
+    tab0: real,
 }
 
 fn rig_clock(kc: RunConsts, t: real) -> DriveClocks {
     var c: DriveClocks;
-    c.unused = t;
+    c.tab0 = table_at(kc.toff0, kc.tlen0, kc.tt00, kc.tinv0, t);
     return c;
 }
 
-fn rig_clock_shift(c: DriveClocks, q: DriveClocks) -> DriveClocks {
+fn rig_clock_shift(kc: RunConsts, c: DriveClocks, q: DriveClocks, t: real) -> DriveClocks {
     var r = c;
+    r.tab0 = table_at(kc.toff0, kc.tlen0, kc.tt00, kc.tinv0, t);
     return r;
 }
 
 fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigState {
     let v0 = t;
     let v4 = y.s2;
-    let v7 = table_at(kc.toff0, kc.tlen0, kc.tt00, kc.tinv0, t);
+    let v7 = ck.tab0;
     let v9 = kc.k8 * v7;
     let v11 = select(real(0.0), real(1.0), v0 <= real(0e0));
     let v16 = select(kc.k10, real(0e0), v11 != real(0.0));

@@ -104,7 +104,7 @@ fn rig_clock(kc: RunConsts, t: real) -> DriveClocks {
     return c;
 }
 
-fn rig_clock_shift(c: DriveClocks, q: DriveClocks) -> DriveClocks {
+fn rig_clock_shift(kc: RunConsts, c: DriveClocks, q: DriveClocks, t: real) -> DriveClocks {
     var r = c;
     return r;
 }

@@ -179,17 +179,18 @@ fn st_hermite(y0: RigState, f0: RigState, y1: RigState, f1: RigState, c00: real,
 }
 
 struct DriveClocks {
-    unused: real,
+    tab0: real,
 }
 
 fn rig_clock(kc: RunConsts, t: real) -> DriveClocks {
     var c: DriveClocks;
-    c.unused = t;
+    c.tab0 = table_at(kc.toff0, kc.tlen0, kc.tt00, kc.tinv0, t);
     return c;
 }
 
-fn rig_clock_shift(c: DriveClocks, q: DriveClocks) -> DriveClocks {
+fn rig_clock_shift(kc: RunConsts, c: DriveClocks, q: DriveClocks, t: real) -> DriveClocks {
     var r = c;
+    r.tab0 = table_at(kc.toff0, kc.tlen0, kc.tt00, kc.tinv0, t);
     return r;
 }
 
@@ -202,7 +203,7 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     let v8 = y.s6;
     let v9 = y.s3;
     let v10 = y.s7;
-    let v11 = table_at(kc.toff0, kc.tlen0, kc.tt00, kc.tinv0, t);
+    let v11 = ck.tab0;
     let v13 = kc.k12 * v3;
     let v16 = real(md.m0);
     let v17 = select(real(0.0), real(1.0), v16 == real(1e0));

@@ -58,34 +58,54 @@ impl Emitter<'_> {
         self.clocks.iter().position(|c| c.0 == a)
     }
 
-    /// `struct DriveClocks` (each clock's `expm1(c·t)`), `rig_clock(kc, t)` and
-    /// `rig_clock_shift(c, q)`, the clocks `δ` later from the clocks at `t`
-    /// and `q` (the clocks at `δ`): `e^{c(t+δ)} − 1 = m + q + m·q`, exact in
-    /// real arithmetic and without cancellation where both are small.
+    /// `struct DriveClocks` (each clock's `expm1(c·t)`, and each table's
+    /// value at `t`), `rig_clock(kc, t)` and `rig_clock_shift(kc, c, q, t)`,
+    /// the clocks at `t`, `δ` later than `c`, from `c` and `q` (the clocks at
+    /// `δ`): `e^{c(t+δ)} − 1 = m + q + m·q`, exact in real arithmetic and
+    /// without cancellation where both are small; the tables looked up at
+    /// `t` itself. A step's stages read the tables from the clocks, so the
+    /// two middle stages share one lookup and the step's end is the next
+    /// step's start: two lookups a step instead of four (lavapipe reads the
+    /// data buffer lane by lane).
     pub(super) fn clock_functions(&self) -> String {
+        let tables = self.prog().tables.len();
         let mut s = String::from("struct DriveClocks {\n");
-        if self.clocks.is_empty() {
+        if self.clocks.is_empty() && tables == 0 {
             s.push_str("    unused: real,\n");
         }
         for j in 0..self.clocks.len() {
             let _ = writeln!(s, "    m{j}: real,");
         }
+        for k in 0..tables {
+            let _ = writeln!(s, "    tab{k}: real,");
+        }
         s.push_str(
             "}\n\nfn rig_clock(kc: RunConsts, t: real) -> DriveClocks {\n    var c: DriveClocks;\n",
         );
-        if self.clocks.is_empty() {
+        if self.clocks.is_empty() && tables == 0 {
             s.push_str("    c.unused = t;\n");
         }
         for (j, (_, coef)) in self.clocks.iter().enumerate() {
             let _ = writeln!(s, "    c.m{j} = expm1_r(({coef}) * t);");
         }
+        for k in 0..tables {
+            let _ = writeln!(s, "    c.tab{k} = {};", table_lookup(k));
+        }
         s.push_str(
-            "    return c;\n}\n\nfn rig_clock_shift(c: DriveClocks, q: DriveClocks) -> DriveClocks {\n    var r = c;\n",
+            "    return c;\n}\n\nfn rig_clock_shift(kc: RunConsts, c: DriveClocks, q: DriveClocks, t: real) -> DriveClocks {\n    var r = c;\n",
         );
         for j in 0..self.clocks.len() {
             let _ = writeln!(s, "    r.m{j} = (c.m{j} + q.m{j}) + c.m{j} * q.m{j};");
         }
+        for k in 0..tables {
+            let _ = writeln!(s, "    r.tab{k} = {};", table_lookup(k));
+        }
         s.push_str("    return r;\n}\n\n");
         s
     }
+}
+
+/// Table `k`'s value at `t` (shared/table.wgsl).
+fn table_lookup(k: usize) -> String {
+    format!("table_at(kc.toff{k}, kc.tlen{k}, kc.tt0{k}, kc.tinv{k}, t)")
 }

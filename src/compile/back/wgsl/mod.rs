@@ -29,7 +29,8 @@
 //! - `rig_output0_c(kc, t, y, md, ck) -> real` (the scored output) and
 //!   `rig_report_c(kc, t, y, md, ck) -> RigReport` (every output, then the full state);
 //! - the drive clocks: `struct DriveClocks`, `rig_clock(kc, t)` and
-//!   `rig_clock_shift(c, q)`. An `exp` or `expm1` whose exponent is `c·t` (`c`
+//!   `rig_clock_shift(kc, c, q, t)`, which also carry each table's value at
+//!   the clock's time (a stage reads `ck.tab<k>`). An `exp` or `expm1` whose exponent is `c·t` (`c`
 //!   a run constant; the velocity drive's ramp `e^{−v·t/r}`) is read from `ck`,
 //!   which the run loop computes once per step and carries to the stage times
 //!   by `m + q + m·q`. The derivative, the events and the outputs are emitted
@@ -277,7 +278,7 @@ impl Emitter<'_> {
                 Op::In(Input::State(k)) => format!("y.s{k}"),
                 Op::In(Input::Regime(m)) => format!("real(md.m{m})"),
                 Op::In(Input::Table(k)) => {
-                    format!("table_at(kc.toff{k}, kc.tlen{k}, kc.tt0{k}, kc.tinv{k}, t)")
+                    format!("ck.tab{k}")
                 }
                 Op::Add(a, b) => format!("{} + {}", n(a), n(b)),
                 Op::Sub(a, b) => format!("{} - {}", n(a), n(b)),
