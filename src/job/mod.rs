@@ -22,8 +22,8 @@ use crate::campaign::Campaign;
 use crate::eval::Evaluator;
 use crate::eval::Precision;
 use crate::search::{
-    Executor, Fingerprint, GeneSpec, GeneticAlgorithm, HistoryCsvObserver, ObserverMode, Polish,
-    ProgressObserver, SearchError, TerminationReason,
+    Executor, Fingerprint, GeneSpec, GeneticAlgorithm, HistoryCsvObserver, Observer, ObserverMode,
+    Polish, ProgressObserver, SearchError, TerminationReason,
 };
 
 /// Name of the checkpoint file inside the output folder.
@@ -209,6 +209,18 @@ pub fn run_chosen(
     opts: &JobOptions,
     backend_trial: Option<backend::BackendTrial>,
 ) -> Result<JobSummary, JobError> {
+    run_observed(campaign, evaluator, opts, backend_trial, Vec::new())
+}
+
+/// [`run_chosen`] with more observers of the search, called every generation
+/// and polish iteration (the Python package's progress and Ctrl-C).
+pub fn run_observed(
+    campaign: &Campaign,
+    evaluator: Box<dyn Evaluator>,
+    opts: &JobOptions,
+    backend_trial: Option<backend::BackendTrial>,
+    observers: Vec<Box<dyn Observer>>,
+) -> Result<JobSummary, JobError> {
     let info = evaluator.info();
     let precision = format!("{:?}", info.precision).to_lowercase();
     let fp = fingerprint(campaign, &info.backend, &precision);
@@ -236,6 +248,9 @@ pub fn run_chosen(
             HistoryCsvObserver::new(opts.out.join("history.csv"), &genes),
             ObserverMode::Every(10),
         );
+    for o in observers {
+        exec = exec.observe(o, ObserverMode::Always);
+    }
     if let Some(polish) = polish {
         exec = exec.then_polish(polish, campaign.search.polish.starts);
     }

@@ -33,6 +33,26 @@ pub trait Observer {
     }
 }
 
+/// A boxed observer observes as the observer inside (a caller's list of
+/// observers of different types).
+impl<O: Observer + ?Sized> Observer for Box<O> {
+    fn observe(&mut self, report: &GenerationReport) -> Result<(), SearchError> {
+        (**self).observe(report)
+    }
+
+    fn polished(&mut self, iteration: &PolishIteration) -> Result<(), SearchError> {
+        (**self).polished(iteration)
+    }
+
+    fn resumed(&mut self, history: &[GenerationReport]) -> Result<(), SearchError> {
+        (**self).resumed(history)
+    }
+
+    fn finish(&mut self, outcome: &SearchOutcome) -> Result<(), SearchError> {
+        (**self).finish(outcome)
+    }
+}
+
 /// When an observer is called.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ObserverMode {

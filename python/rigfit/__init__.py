@@ -1,0 +1,23 @@
+"""rigfit: calibrate lumped mass-spring-damper models of mechanical test rigs
+to measured records, from numpy, pandas and Jupyter.
+
+The package binds the rigfit library (the same code as the ``rigfit``
+command line): :class:`Campaign` objects, :func:`fit` (the job ``rigfit run``
+runs), :func:`simulate` and :meth:`Campaign.objective` (the ensemble
+integrator as a function), :func:`load_result`, and the classical
+identification in :mod:`rigfit.identify`.
+"""
+
+from ._rigfit import __version__
+from .campaign import Campaign
+from .ensemble import Objective, simulate
+from .errors import CampaignError, DataError, DeviceError, Error, GpuFallbackWarning, Interrupted
+from .fitting import fit
+from .params import Parameter, Parameters
+from .result import ExperimentResult, FitResult, load_result
+
+__all__ = [
+    "Campaign", "CampaignError", "DataError", "DeviceError", "Error", "ExperimentResult",
+    "FitResult", "GpuFallbackWarning", "Interrupted", "Objective", "Parameter", "Parameters",
+    "__version__", "fit", "load_result", "simulate",
+]

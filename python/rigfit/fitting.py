@@ -1,0 +1,97 @@
+"""``rigfit.fit``: the job ``rigfit run`` runs, from Python."""
+
+import os
+import shutil
+import tempfile
+import warnings
+
+from . import _rigfit
+from .errors import GpuFallbackWarning, Interrupted
+from .result import FitResult, read_result_files
+
+
+def fit(campaign, *, seed=None, backend=None, precision=None, adapter=None, out=None,
+        resume=False, overwrite=False, population=None, generations=None,
+        target_fitness=None, threads=0, progress=False):
+    """Calibrates ``campaign``'s free parameters: the genetic algorithm, the
+    Levenberg–Marquardt polish and the 95 % intervals, the same job (and for
+    the same seed and backend, the same numbers, bit for bit) as ``rigfit
+    run``. The GIL is released while it runs.
+
+    ``backend`` (``"auto"``, ``"gpu"``, ``"cpu"``), ``precision`` (``"auto"``,
+    ``"f32"``, ``"f64"``), ``adapter``, ``seed``, ``population``,
+    ``generations``, ``target_fitness`` and ``threads`` are the CLI's flags
+    (default: the campaign's). ``out``: the folder the job writes (default: a
+    temporary one, removed once the result is read into memory);
+    ``resume=True`` continues the checkpoint in ``out``; ``overwrite=True``
+    replaces an earlier job's files there.
+
+    ``progress``: ``True`` for a ``tqdm.auto`` bar (live in Jupyter), or a
+    callable given a dict per generation (``stage="ga"``, ``generation``,
+    ``best_cost``, ``median_cost``, ``evaluations``, ...) and per polish
+    iteration (``stage="polish"``).
+
+    Ctrl-C stops the job within the generation in flight and raises
+    :class:`rigfit.Interrupted` (a KeyboardInterrupt) whose ``checkpoint`` is
+    the folder to resume from. Returns a :class:`rigfit.FitResult`.
+    """
+    temporary = out is None
+    if temporary:
+        out = tempfile.mkdtemp(prefix="rigfit-fit-")
+        os.rmdir(out)  # a new job wants a folder that is not there yet (or empty)
+    out = os.fspath(out)
+    callback, close = _progress(progress, campaign, generations)
+    try:
+        status = _rigfit.run_job(
+            campaign._inner, out, resume=resume, overwrite=overwrite, backend=backend,
+            precision=precision, adapter=adapter, threads=threads, population=population,
+            generations=generations, seed=seed, target_fitness=target_fitness,
+            progress=callback)
+    except BaseException:
+        if temporary and not os.path.exists(os.path.join(out, "checkpoint.json")):
+            shutil.rmtree(out, ignore_errors=True)
+        raise
+    finally:
+        close()
+    _warn(status["notes"])
+    if status["interrupted"]:
+        if status["checkpoint"]:
+            raise Interrupted(
+                f"fit interrupted; checkpoint kept in {out}; continue with "
+                f"rigfit.fit(campaign, out={out!r}, resume=True)", checkpoint=out)
+        if temporary:
+            shutil.rmtree(out, ignore_errors=True)
+        raise Interrupted("fit interrupted before the first generation was complete: "
+                          "nothing to keep")
+    result = FitResult(read_result_files(out))
+    if temporary:
+        shutil.rmtree(out, ignore_errors=True)
+    return result
+
+
+def _warn(notes):
+    for note in notes:
+        category = GpuFallbackWarning if "CPU" in note or "cpu" in note else UserWarning
+        warnings.warn(f"rigfit: {note}", category, stacklevel=3)
+
+
+def _progress(progress, campaign, generations):
+    """The callback run_job calls, and what closes it."""
+    if callable(progress):
+        return progress, lambda: None
+    if not progress:
+        return None, lambda: None
+    from tqdm.auto import tqdm
+    total = generations or campaign._info["generations"]
+    bar = tqdm(total=total, desc=campaign.name, unit="gen")
+
+    def update(p):
+        if p["stage"] == "ga":
+            bar.n = p["generation"] + 1
+            bar.set_postfix(best_r2=f"{1 - p['best_cost']:.6f}", refresh=False)
+            bar.refresh()
+        else:
+            bar.set_description(f"{campaign.name} (polish)", refresh=False)
+            bar.set_postfix(best_r2=f"{1 - p['best_cost']:.6f}", it=p["iteration"], refresh=False)
+            bar.refresh()
+    return update, bar.close

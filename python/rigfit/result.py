@@ -1,0 +1,283 @@
+"""The result of a fit: what ``rigfit run`` writes, held in memory, with
+lmfit-style parameters, numpy arrays, a tidy DataFrame, a text report and an
+HTML view for Jupyter."""
+
+import html
+import io
+import json
+import os
+
+import numpy as np
+
+from .params import Parameter, Parameters, _num
+
+#: The files a result holds besides the per-experiment CSVs and figures.
+_FIXED_FILES = ("result.json", "history.csv", "fitness.svg", "rigfit-files.json")
+
+
+class ExperimentResult:
+    """One experiment's fit: R² and the record's columns as numpy arrays
+    (``t`` record time in s, ``measured``, ``model`` (samples, outputs),
+    ``residual`` = model output 0 − measurement, ``in_fit_window``), as
+    ``rigfit run`` writes them in ``<experiment>.csv`` (7 significant
+    digits)."""
+
+    def __init__(self, summary, csv_bytes):
+        self.summary = summary
+        self.name = summary["name"]
+        self.r2 = summary["r2"]
+        self.one_minus_r2 = summary["one_minus_r2"]
+        self.residual_rms = summary.get("residual_rms")
+        self.unit = summary.get("unit", "")
+        header, table = _read_csv(csv_bytes)
+        self.columns = header
+        self.t = table[:, 0]
+        self.t_model = table[:, 1]
+        self.measured = table[:, 2]
+        model_cols = [i for i, h in enumerate(header) if h.startswith("model_")]
+        self.output_columns = [header[i] for i in model_cols]
+        self.model = table[:, model_cols]
+        self.residual = table[:, header.index(next(h for h in header if h.startswith("residual_")))]
+        self.in_fit_window = table[:, -1].astype(bool)
+
+    @property
+    def cleaned_force(self):
+        """The model's specimen force (the *cleaned* force) where the rig
+        has a ``specimen_force`` output, else ``None``."""
+        for i, h in enumerate(self.output_columns):
+            if h.startswith("model_specimen_force"):
+                return self.model[:, i]
+        return None
+
+    def to_dataframe(self):
+        """The experiment's CSV as a pandas DataFrame."""
+        import pandas as pd
+        header, table = self.columns, np.column_stack(
+            [self.t, self.t_model, self.measured, self.model, self.residual, self.in_fit_window])
+        df = pd.DataFrame(table, columns=header)
+        df["in_fit_window"] = df["in_fit_window"].astype(bool)
+        return df
+
+    def __repr__(self):
+        return f"<ExperimentResult {self.name!r}: R² = {self.r2:.6f}, {len(self.t)} samples>"
+
+
+class FitResult:
+    """The result of :func:`rigfit.fit` (or :func:`load_result`).
+
+    ``params`` (lmfit-style, with ``value``, ``stderr``, ``interval95``,
+    ``min``, ``max``, ``unit``, ``determined``, ``at_bound``), ``correlation``
+    (the free parameters' correlation matrix, ``var_names`` its order),
+    ``experiments`` (name → :class:`ExperimentResult` with R², residuals and
+    model outputs as arrays), ``r2``, ``fitness`` (the weighted 1 − R²),
+    ``summary`` (result.json as a dict), ``fit_report()``,
+    ``to_dataframe()``, ``save(folder)``. Picklable.
+    """
+
+    def __init__(self, files):
+        #: file name -> bytes, exactly as ``rigfit run`` wrote them.
+        self.files = dict(files)
+        self.summary = json.loads(self.files["result.json"])
+        s = self.summary
+        self.params = Parameters()
+        for p in s["parameters"]:
+            b = p.get("bounds")
+            self.params[p["name"]] = Parameter(
+                p["name"], value=p["value"], min=b[0] if b else None, max=b[1] if b else None,
+                vary=p["free"], unit=p.get("unit", ""), stderr=p.get("std_error"),
+                interval95=tuple(p["interval_95"]) if p.get("interval_95") else None,
+                determined=p.get("determined"), at_bound=p.get("at_bound"),
+                correlated_with=p.get("correlated_with", ()), elite_range=p.get("elite_range"),
+                uncertainty_note=p.get("uncertainty_note"))
+        polish = s.get("polish") or {}
+        self.var_names = list(polish.get("genes", [p["name"] for p in s["parameters"] if p["free"]]))
+        corr = polish.get("correlation")
+        self.correlation = (np.array([[np.nan if v is None else v for v in row] for row in corr], dtype=float)
+                            if corr else None)
+        self.experiments = {
+            x["name"]: ExperimentResult(x, self.files[x["csv"]]) for x in s["experiments"]
+        }
+        self.fitness = s["fitness"]
+        self.r2 = {k: x.r2 for k, x in self.experiments.items()}
+        self.seed = s["seed"]
+        self.backend = s["backend"]
+        self.device = s["device"]
+        self.stop_reason = s["stop_reason"]
+        self.warnings = list(s.get("warnings", []))
+
+    # -- arrays -------------------------------------------------------
+    @property
+    def best_values(self):
+        """name → value of every parameter (the flat ``params`` of
+        result.json, which feeds back as a parameter file)."""
+        return dict(self.summary["params"])
+
+    @property
+    def x(self):
+        """The free parameters' values in the genes' order (SciPy's ``x``)."""
+        return np.array([self.params[n].value for n in self.var_names])
+
+    @property
+    def stderr(self):
+        return np.array([np.nan if self.params[n].stderr is None else self.params[n].stderr
+                         for n in self.var_names])
+
+    @property
+    def history(self):
+        """history.csv (one row per generation logged) as a dict of arrays."""
+        header, table = _read_csv(self.files["history.csv"])
+        return {h: table[:, i] for i, h in enumerate(header)}
+
+    def to_dataframe(self):
+        """Every experiment's samples as one tidy DataFrame (one row per
+        experiment, sample and output: ``experiment, t, output, measured,
+        model, residual, in_fit_window``)."""
+        import pandas as pd
+        frames = []
+        for name, x in self.experiments.items():
+            for i, col in enumerate(x.output_columns):
+                frames.append(pd.DataFrame({
+                    "experiment": name, "t": x.t, "output": col[len("model_"):],
+                    "measured": x.measured if i == 0 else np.nan, "model": x.model[:, i],
+                    "residual": x.residual if i == 0 else np.nan,
+                    "in_fit_window": x.in_fit_window,
+                }))
+        return pd.concat(frames, ignore_index=True)
+
+    def params_dataframe(self):
+        """The parameters as a DataFrame (one row each)."""
+        import pandas as pd
+        rows = []
+        for p in self.params.values():
+            lo, hi = p.interval95 if p.interval95 else (None, None)
+            rows.append({"name": p.name, "value": p.value, "stderr": p.stderr, "ci95_low": lo,
+                         "ci95_high": hi, "min": p.min, "max": p.max, "vary": p.vary,
+                         "determined": p.determined, "at_bound": p.at_bound, "unit": p.unit})
+        return pd.DataFrame(rows).set_index("name")
+
+    # -- reports ------------------------------------------------------
+    def fit_report(self):
+        """A text report in lmfit's shape: fit statistics, the variables with
+        their standard errors and 95 % intervals, the fixed values, the
+        correlations above 0.1."""
+        s = self.summary
+        lines = ["[[Fit Statistics]]",
+                 f"    campaign           = {s['campaign']} (rig {s['rig']})",
+                 f"    backend            = {s['backend']} ({s['device']}, {s['precision']})",
+                 f"    generations        = {s['generations']}",
+                 f"    function evals     = {s['evaluations']}",
+                 f"    stop reason        = {s['stop_reason']}",
+                 f"    1 - R² (weighted)  = {s['fitness']:.6e}"]
+        for name, x in self.experiments.items():
+            lines.append(f"    R² {name:<15} = {x.r2:.8f}")
+        lines.append("[[Variables]]")
+        for p in self.params.values():
+            if not p.vary:
+                continue
+            txt = f"    {p.name + ':':<16} {_num(p.value):>12}"
+            if p.stderr is not None:
+                rel = abs(p.stderr / p.value) * 100 if p.value else float("nan")
+                txt += f" +/- {_num(p.stderr):<11} ({rel:.2f}%)"
+            if p.interval95:
+                txt += f" 95%: [{_num(p.interval95[0])}, {_num(p.interval95[1])}]"
+            txt += f" {p.unit} (bounds [{_num(p.min)}, {_num(p.max)}])"
+            if p.at_bound:
+                txt += f" AT {str(p.at_bound).upper()} BOUND"
+            elif p.determined is False:
+                txt += " not determined"
+            lines.append(txt)
+        fixed = [p for p in self.params.values() if not p.vary]
+        if fixed:
+            lines.append("[[Fixed]]")
+            for p in fixed:
+                lines.append(f"    {p.name + ':':<16} {_num(p.value):>12} {p.unit}")
+        if self.correlation is not None:
+            pairs = []
+            n = len(self.var_names)
+            for i in range(n):
+                for j in range(i + 1, n):
+                    c = self.correlation[i, j]
+                    if np.isfinite(c) and abs(c) > 0.1:
+                        pairs.append((abs(c), self.var_names[i], self.var_names[j], c))
+            if pairs:
+                lines.append("[[Correlations]] (unreported correlations are < 0.100)")
+                for _, a, b, c in sorted(pairs, reverse=True):
+                    label = f"C({a}, {b})"
+                    lines.append(f"    {label:<28} = {c:+.4f}")
+        if self.warnings:
+            lines.append("[[Warnings]]")
+            lines.extend(f"    {w}" for w in self.warnings)
+        return "\n".join(lines)
+
+    def _repr_html_(self):
+        rows = []
+        for p in self.params.values():
+            ci = f"[{_num(p.interval95[0])}, {_num(p.interval95[1])}]" if p.interval95 else ""
+            flag = ("at " + str(p.at_bound) + " bound") if p.at_bound else (
+                "" if p.determined in (None, True) else "not determined")
+            rows.append(
+                "<tr>" + "".join(f"<td>{html.escape(str(v))}</td>" for v in (
+                    p.name, _num(p.value), _num(p.stderr), ci,
+                    f"[{_num(p.min)}, {_num(p.max)}]" if p.vary else "fixed", p.unit, flag)) + "</tr>")
+        r2 = ", ".join(f"{html.escape(k)}: {v:.6f}" for k, v in self.r2.items())
+        return (f"<h4>rigfit fit: {html.escape(self.summary['campaign'])}</h4>"
+                f"<p>rig {html.escape(self.summary['rig'])}, {html.escape(self.backend)} "
+                f"({html.escape(self.device)}), {self.summary['generations']} generations, "
+                f"stop: {html.escape(self.stop_reason)}; R² {r2}</p>"
+                "<table><tr><th>name</th><th>value</th><th>std error</th><th>95 % interval</th>"
+                "<th>bounds</th><th>unit</th><th></th></tr>" + "".join(rows) + "</table>")
+
+    def __repr__(self):
+        r2 = ", ".join(f"{k} {v:.6f}" for k, v in self.r2.items())
+        return f"<rigfit.FitResult {self.summary['campaign']!r}: R² {r2}>"
+
+    # -- files --------------------------------------------------------
+    def save(self, folder):
+        """Writes exactly the files ``rigfit run`` wrote (result.json, the
+        experiment CSVs, history.csv, the figures, rigfit-files.json) into
+        ``folder`` (created if missing)."""
+        folder = os.fspath(folder)
+        os.makedirs(folder, exist_ok=True)
+        for name, data in self.files.items():
+            with open(os.path.join(folder, name), "wb") as f:
+                f.write(data)
+        return folder
+
+    def __getstate__(self):
+        return {"files": self.files}
+
+    def __setstate__(self, state):
+        self.__init__(state["files"])
+
+    def __eq__(self, other):
+        return isinstance(other, FitResult) and self.files == other.files
+
+
+def load_result(path):
+    """Reads the result ``rigfit run`` (or :meth:`FitResult.save`) left in a
+    folder (or its ``result.json``)."""
+    path = os.fspath(path)
+    folder = os.path.dirname(path) if os.path.isfile(path) else path
+    return FitResult(read_result_files(folder))
+
+
+def read_result_files(folder):
+    """The files of a result folder, by name."""
+    summary = json.loads(open(os.path.join(folder, "result.json"), "rb").read())
+    names = list(_FIXED_FILES)
+    for x in summary["experiments"]:
+        names += [x["csv"], x.get("plot")]
+    files = {}
+    for name in names:
+        if name and os.path.isfile(os.path.join(folder, name)):
+            with open(os.path.join(folder, name), "rb") as f:
+                files[name] = f.read()
+    return files
+
+
+def _read_csv(data):
+    text = data.decode() if isinstance(data, bytes) else data
+    lines = [l for l in text.splitlines() if l and not l.startswith("#")]
+    header = lines[0].split(",")
+    table = np.loadtxt(io.StringIO("\n".join(lines[1:])), delimiter=",", ndmin=2)
+    return header, table

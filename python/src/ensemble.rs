@@ -1,0 +1,151 @@
+//! The ensemble as a function: `rigfit.simulate` (histories of many
+//! parameter sets at once) and the campaign's objective (their costs), on the
+//! CPU lanes or the GPU, the GIL released while they run.
+
+use std::sync::{Arc, Mutex};
+
+use numpy::ndarray::{Array4, ArrayView2, Axis};
+use numpy::{IntoPyArray, PyArray1, PyArray4, PyReadonlyArray2, PyUntypedArrayMethods};
+use pyo3::prelude::*;
+
+use crate::campaign::PyCampaign;
+use crate::errors::{self, Kind};
+use rigfit::campaign::Campaign;
+use rigfit::eval::Evaluator;
+
+/// Candidates simulated per call of the evaluator: bounds the histories held
+/// at once beside the output array.
+const CHUNK: usize = 1024;
+
+/// Rows of `theta` as genomes, checked against the genes.
+fn genomes(c: &Campaign, theta: ArrayView2<'_, f64>) -> PyResult<Vec<Vec<f64>>> {
+    let p = c.genes.len();
+    if theta.ncols() != p {
+        let names: Vec<&str> = c.genes.iter().map(|g| g.name.as_str()).collect();
+        return Err(errors::raise(
+            Kind::Campaign,
+            format!(
+                "theta: expected {p} column(s), one per free parameter ({}), found {}",
+                names.join(", "),
+                theta.ncols()
+            ),
+        ));
+    }
+    Ok(theta.axis_iter(Axis(0)).map(|r| r.to_vec()).collect())
+}
+
+/// Histories of the parameter sets `theta` (S, P) in every experiment, as
+/// (S, experiments, samples, outputs); an experiment with fewer samples than
+/// the longest is padded with NaN. Also returns the notes to warn with.
+#[pyfunction]
+#[pyo3(signature = (campaign, theta, *, backend = None, precision = None, adapter = None, threads = 0))]
+pub fn simulate<'py>(
+    py: Python<'py>,
+    campaign: &PyCampaign,
+    theta: PyReadonlyArray2<'py, f64>,
+    backend: Option<&str>,
+    precision: Option<&str>,
+    adapter: Option<String>,
+    threads: usize,
+) -> PyResult<(Bound<'py, PyArray4<f64>>, Vec<String>)> {
+    errors::guard(|| {
+        let c = &*campaign.inner;
+        let sets = genomes(c, theta.as_array())?;
+        let b = crate::evaluator::backend(c, backend)?;
+        let pr = crate::evaluator::precision(c, precision)?;
+        let out = py.allow_threads(|| -> PyResult<_> {
+            let mut opened = crate::evaluator::open(c, b, pr, adapter.as_deref(), threads)?;
+            let n_exp = c.problem.experiments.len();
+            let n = c
+                .problem
+                .experiments
+                .iter()
+                .map(|x| x.window.end)
+                .max()
+                .unwrap_or(0);
+            let n_out = c.model.output_names().len();
+            let mut out = Array4::<f64>::from_elem((sets.len(), n_exp, n, n_out), f64::NAN);
+            for (k, chunk) in sets.chunks(CHUNK).enumerate() {
+                let batch = c.batch(chunk);
+                let which: Vec<usize> = (0..chunk.len()).collect();
+                let h = opened
+                    .evaluator
+                    .histories(&batch, &which)
+                    .map_err(|e| errors::eval(&e))?;
+                for (i, runs) in h.iter().enumerate() {
+                    for (e, run) in runs.iter().enumerate() {
+                        for (o, values) in run.outputs.iter().enumerate() {
+                            for (s, v) in values.iter().enumerate() {
+                                out[[k * CHUNK + i, e, s, o]] = *v;
+                            }
+                        }
+                    }
+                }
+            }
+            Ok((out, opened.notes))
+        })?;
+        Ok((out.0.into_pyarray(py), out.1))
+    })
+}
+
+/// The campaign's cost of parameter sets: the weighted mean of 1 − R² over
+/// its experiments, what the GA minimises (1e30 for a run that diverged).
+#[pyclass(module = "rigfit._rigfit", frozen)]
+pub struct Objective {
+    campaign: Arc<Campaign>,
+    evaluator: Mutex<Box<dyn Evaluator>>,
+    #[pyo3(get)]
+    notes: Vec<String>,
+}
+
+#[pymethods]
+impl Objective {
+    #[new]
+    #[pyo3(signature = (campaign, *, backend = None, precision = None, adapter = None, threads = 0))]
+    fn new(
+        py: Python<'_>,
+        campaign: &PyCampaign,
+        backend: Option<&str>,
+        precision: Option<&str>,
+        adapter: Option<String>,
+        threads: usize,
+    ) -> PyResult<Self> {
+        errors::guard(|| {
+            let c = campaign.inner.clone();
+            let b = crate::evaluator::backend(&c, backend)?;
+            let pr = crate::evaluator::precision(&c, precision)?;
+            let opened = py
+                .allow_threads(|| crate::evaluator::open(&c, b, pr, adapter.as_deref(), threads))?;
+            Ok(Self {
+                campaign: c,
+                evaluator: Mutex::new(opened.evaluator),
+                notes: opened.notes,
+            })
+        })
+    }
+
+    /// Costs of the rows of `theta` (S, P), one per row.
+    fn costs<'py>(
+        &self,
+        py: Python<'py>,
+        theta: PyReadonlyArray2<'py, f64>,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        errors::guard(|| {
+            let c = &*self.campaign;
+            if theta.shape()[0] == 0 {
+                return Ok(Vec::<f64>::new().into_pyarray(py));
+            }
+            let sets = genomes(c, theta.as_array())?;
+            let costs = py.allow_threads(|| -> PyResult<Vec<f64>> {
+                let batch = c.batch(&sets);
+                let mut ev = self
+                    .evaluator
+                    .lock()
+                    .map_err(|_| errors::raise(Kind::Error, "the evaluator failed earlier"))?;
+                let scores = ev.fitness(&batch).map_err(|e| errors::eval(&e))?;
+                Ok(c.combine(&scores))
+            })?;
+            Ok(costs.into_pyarray(py))
+        })
+    }
+}

@@ -1,0 +1,23 @@
+//! `rigfit._rigfit`: the compiled half of the `rigfit` Python package. It
+//! binds the library (campaigns, the job, the evaluators, identification);
+//! the pure-Python half (`python/rigfit/`) gives it lmfit- and SciPy-shaped
+//! objects.
+
+mod campaign;
+mod ensemble;
+mod errors;
+mod evaluator;
+mod fit;
+
+use pyo3::prelude::*;
+
+#[pymodule]
+fn _rigfit(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_class::<campaign::PyCampaign>()?;
+    m.add_class::<ensemble::Objective>()?;
+    m.add_function(wrap_pyfunction!(campaign::record_csv, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::run_job, m)?)?;
+    m.add_function(wrap_pyfunction!(ensemble::simulate, m)?)?;
+    Ok(())
+}

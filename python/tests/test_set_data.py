@@ -1,0 +1,41 @@
+"""A record set from a DataFrame (or a dict of arrays) without a CSV on disk
+equals its CSV-fed twin."""
+
+import json
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import rigfit
+from conftest import CAMPAIGNS
+
+
+def test_dataframe_fed_experiment_equals_its_csv_fed_twin(bearing):
+    twin = rigfit.Campaign.from_json(bearing)
+    c = rigfit.Campaign.from_json(bearing)
+    raw = json.loads(bearing.read_text())
+    for x in raw["experiments"]:
+        frame = pd.read_csv(bearing.parent / x["data"]["file"], comment="#",
+                            float_precision="round_trip")
+        c.set_data(x["name"], frame)
+    assert all(x["data"]["file"].startswith("<memory:") for x in c.to_dict()["experiments"])
+    theta = (twin.bounds[:, 0] + twin.bounds[:, 1])[None, :] / 2
+    assert np.array_equal(rigfit.simulate(c, theta), rigfit.simulate(twin, theta))
+    a = rigfit.fit(c, backend="cpu", seed=5)
+    b = rigfit.fit(twin, backend="cpu", seed=5)
+    assert json.loads(a.files["result.json"])["params"] == json.loads(b.files["result.json"])["params"]
+    assert a.files["hx.csv"] == b.files["hx.csv"] and a.files["hy.csv"] == b.files["hy.csv"]
+
+
+def test_dict_of_arrays_and_a_bad_column_name():
+    path = CAMPAIGNS / "bearing_2dof_synthetic.json"
+    c = rigfit.Campaign.from_json(path)
+    t = np.arange(500) * 2.56e-4
+    y = np.sin(2 * np.pi * 50 * t)
+    c.set_data("hx", {"t_s": t, "force_N": y})
+    assert c.experiment_info("hx")["samples"] > 0
+    with pytest.raises(rigfit.DataError, match=r"<memory:hy>\.csv.*force_N"):
+        c.set_data("hy", {"t_s": t, "x": y})
+    with pytest.raises(rigfit.DataError, match="no experiment 'nope'"):
+        c.set_data("nope", {"t_s": t, "force_N": y})
