@@ -8,9 +8,11 @@ integrator as a function), :func:`load_result`, and the classical
 identification in :mod:`rigfit.identify`.
 """
 
+from . import identify
 from ._rigfit import __version__
 from .campaign import Campaign
 from .ensemble import Objective, simulate
+from .identify import fit_specimen, ringdown
 from .errors import CampaignError, DataError, DeviceError, Error, GpuFallbackWarning, Interrupted
 from .fitting import fit
 from .params import Parameter, Parameters
@@ -19,5 +21,5 @@ from .result import ExperimentResult, FitResult, load_result
 __all__ = [
     "Campaign", "CampaignError", "DataError", "DeviceError", "Error", "ExperimentResult",
     "FitResult", "GpuFallbackWarning", "Interrupted", "Objective", "Parameter", "Parameters",
-    "__version__", "fit", "load_result", "simulate",
+    "__version__", "fit", "fit_specimen", "identify", "load_result", "ringdown", "simulate",
 ]

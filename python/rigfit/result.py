@@ -232,12 +232,19 @@ class FitResult:
         return f"<rigfit.FitResult {self.summary['campaign']!r}: R² {r2}>"
 
     # -- files --------------------------------------------------------
-    def save(self, folder):
+    def save(self, folder, overwrite=False):
         """Writes exactly the files ``rigfit run`` wrote (result.json, the
         experiment CSVs, history.csv, the figures, rigfit-files.json) into
-        ``folder`` (created if missing)."""
+        ``folder`` (created if missing). Like the CLI, it replaces files
+        there only with ``overwrite=True``."""
         folder = os.fspath(folder)
         os.makedirs(folder, exist_ok=True)
+        if not overwrite:
+            there = [n for n in self.files if os.path.lexists(os.path.join(folder, n))]
+            if there:
+                raise FileExistsError(
+                    f"{folder} already holds {', '.join(sorted(there))}; pass overwrite=True "
+                    "to replace them or choose another folder")
         for name, data in self.files.items():
             with open(os.path.join(folder, name), "wb") as f:
                 f.write(data)

@@ -8,6 +8,7 @@ mod ensemble;
 mod errors;
 mod evaluator;
 mod fit;
+mod identify;
 
 use pyo3::prelude::*;
 
@@ -19,5 +20,7 @@ fn _rigfit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(campaign::record_csv, m)?)?;
     m.add_function(wrap_pyfunction!(fit::run_job, m)?)?;
     m.add_function(wrap_pyfunction!(ensemble::simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(identify::ringdown_report, m)?)?;
+    m.add_function(wrap_pyfunction!(identify::specimen_report, m)?)?;
     Ok(())
 }

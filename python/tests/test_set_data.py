@@ -16,8 +16,10 @@ def test_dataframe_fed_experiment_equals_its_csv_fed_twin(bearing):
     c = rigfit.Campaign.from_json(bearing)
     raw = json.loads(bearing.read_text())
     for x in raw["experiments"]:
-        frame = pd.read_csv(bearing.parent / x["data"]["file"], comment="#",
-                            float_precision="round_trip")
+        # numpy parses each number to the nearest double, as rigfit does.
+        text = (bearing.parent / x["data"]["file"]).read_text().splitlines()
+        rows = [r for r in text if r and not r.startswith("#")]
+        frame = pd.DataFrame(np.loadtxt(rows[1:], delimiter=",", ndmin=2), columns=rows[0].split(","))
         c.set_data(x["name"], frame)
     assert all(x["data"]["file"].startswith("<memory:") for x in c.to_dict()["experiments"])
     theta = (twin.bounds[:, 0] + twin.bounds[:, 1])[None, :] / 2

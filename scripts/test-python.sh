@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# The Python package's checks (python/): rustfmt and clippy on its crate, the
+# wheel built and installed into a fresh virtual environment with what the
+# tests need (maturin, pytest, numpy, pandas, SciPy, tqdm, nbclient, ...), then
+# pytest. scripts/test.sh runs it after the Rust tests; every failure fails it.
+#
+# The crate is its own workspace (python/Cargo.lock) but builds in the root's
+# target folder with the root's test profile, so the library and its
+# dependencies compiled by `cargo test` are reused, not built again.
+set -euo pipefail
+cd "$(dirname "$0")/../python"
+
+if ! python3 -c 'import ensurepip, venv' >/dev/null 2>&1; then
+    echo "test-python.sh: installing python3-venv"
+    sudo=""
+    if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+    $sudo env DEBIAN_FRONTEND=noninteractive apt-get update -q
+    $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends \
+        python3-venv python3-pip
+fi
+
+export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/../target}"
+profile="${RIGFIT_WHEEL_PROFILE:-test}"
+
+echo "test-python.sh: cargo fmt --check (python/)"
+cargo fmt --all --check
+echo "test-python.sh: cargo clippy (python/)"
+cargo clippy --all-targets --locked -- -D warnings
+
+venv="${RIGFIT_PYTHON_VENV:-$PWD/.venv}"
+if [ ! -x "$venv/bin/python" ]; then
+    python3 -m venv "$venv"
+fi
+echo "test-python.sh: pip install (maturin, pytest, numpy, pandas, scipy, tqdm, nbclient, ...)"
+"$venv/bin/python" -m pip install -q --disable-pip-version-check \
+    "maturin>=1.5,<2" pytest numpy pandas scipy tqdm nbclient nbformat ipykernel matplotlib
+
+echo "test-python.sh: maturin build (profile $profile)"
+rm -rf dist
+"$venv/bin/maturin" build --locked --profile "$profile" --out dist
+"$venv/bin/python" -m pip install -q --disable-pip-version-check --force-reinstall --no-deps dist/rigfit-*.whl
+
+# The tests hold the package to the CLI that `cargo test` built.
+export RIGFIT_BIN="${RIGFIT_BIN:-$CARGO_TARGET_DIR/debug/rigfit}"
+echo "test-python.sh: pytest"
+# Run from tests/ so that `import rigfit` is the installed wheel, not the source folder.
+cd tests && "$venv/bin/python" -m pytest -q -p no:cacheprovider .
