@@ -11,12 +11,12 @@ set -euo pipefail
 cd "$(dirname "$0")/../python"
 
 if ! python3 -c 'import ensurepip, venv' >/dev/null 2>&1; then
-    echo "test-python.sh: installing python3-venv"
+    echo "test-python.sh: installing python3 and python3-venv"
     sudo=""
     if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
     $sudo env DEBIAN_FRONTEND=noninteractive apt-get update -q
     $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends \
-        python3-venv python3-pip
+        python3 python3-venv python3-pip
 fi
 
 export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/../target}"

@@ -2,7 +2,8 @@
 # The README's test command, and exactly what CI runs (.ci/run calls it).
 #
 # On a fresh Debian machine it installs Mesa's lavapipe (software Vulkan) so the
-# GPU tests have an adapter, then runs rustfmt, clippy and every test. The GPU
+# GPU tests have an adapter, then runs rustfmt, clippy and every test, then the
+# Python package's checks (scripts/test-python.sh: its wheel and pytest). The GPU
 # tests run with RIGFIT_REQUIRE_GPU=1: no adapter is a failure, never a skip.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -41,3 +42,5 @@ cargo clippy --all-targets --locked -- -D warnings
 echo "test.sh: cargo test"
 cargo test --locked --lib --bins --tests
 cargo test --locked --doc
+echo "test.sh: the Python package (python/: wheel and pytest)"
+./scripts/test-python.sh

@@ -78,7 +78,10 @@ pub fn open(
                 Kind::Device,
                 format!(
                     "{}: {why}; the adapters are: {}",
-                    selected_by.replace("--adapter", "adapter="),
+                    match adapter {
+                        Some(a) => format!("adapter={a:?}"),
+                        None => selected_by,
+                    },
                     rigfit::gpu::adapter_list(&adapters)
                 ),
             ));

@@ -37,7 +37,7 @@ impl Observer for Forward {
     }
 
     fn polished(&mut self, iteration: &PolishIteration) -> Result<(), SearchError> {
-        let _ = self.0.send(Progress::Polish(iteration.clone()));
+        let _ = self.0.send(Progress::Polish(*iteration));
         Ok(())
     }
 }
