@@ -1,6 +1,7 @@
-"""Pre-calibration on arrays: the numbers ``rigfit ringdown`` and ``rigfit
-fit-specimen`` print with ``--json``, as dicts, and the campaign fragment
-each suggests (``.fragment``)."""
+"""Pre-calibration and identification on arrays: the numbers ``rigfit
+ringdown``, ``rigfit fit-specimen`` and ``rigfit identify frf`` print with
+``--json``, as dicts, and the campaign fragment each suggests
+(``.fragment``)."""
 
 import json
 
@@ -14,6 +15,7 @@ class Report(dict):
     campaign keys it suggests (``{"params": {...}}``)."""
 
     fragment = None
+    spectra = None
 
 
 def _arrays(x, y):
@@ -44,3 +46,24 @@ def fit_specimen(e, f, *, degree=3):
     (N). Returns ``{"fit": {...}}`` as ``rigfit fit-specimen --json`` prints it."""
     e, f = _arrays(e, f)
     return _report(_rigfit.specimen_report(e, f, degree=degree))
+
+
+def frf(t, u, y, *, response="displacement", segment=None, modes=1, f_min=None, f_max=None,
+        min_coherence=0.8, names=("m", "k", "c"), fixed=False):
+    """The H1/H2 frequency response of output ``y`` to input ``u`` (a force,
+    N, for the modal m, k, c) at times ``t`` (s, uniform), its coherence, and
+    a modal fit of ``modes`` modes (0: none), as ``rigfit identify frf``
+    computes them. ``response``: what ``y`` is (``"displacement"``,
+    ``"velocity"``, ``"acceleration"``). Returns ``{"welch", "modal",
+    "assumes"}`` as the CLI's ``--json`` prints them, with ``.fragment`` and
+    ``.spectra``: a dict of ``freqs`` (Hz), ``h1``, ``h2`` (complex) and
+    ``coherence`` arrays."""
+    t, u = _arrays(t, u)
+    y = np.ascontiguousarray(np.asarray(y, dtype=np.float64))
+    report, fragment, cols = _rigfit.frf_report(
+        t, u, y, response=response, segment=segment, modes=modes, f_min=f_min, f_max=f_max,
+        min_coherence=min_coherence, names=list(names), fixed=fixed)
+    r = _report((report, fragment))
+    freqs, h1r, h1i, h2r, h2i, coh = (np.asarray(c) for c in cols)
+    r.spectra = {"freqs": freqs, "h1": h1r + 1j * h1i, "h2": h2r + 1j * h2i, "coherence": coh}
+    return r

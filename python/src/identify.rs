@@ -80,3 +80,90 @@ pub fn specimen_report(
         ))
     })
 }
+
+/// The H1/H2 frequency response of output `y` to input `u` sampled at times
+/// `t` (s), its coherence, and a modal fit of `modes` modes (none for 0), as
+/// `rigfit identify frf` computes them. Returns the `--json` report, the
+/// fragment, and the spectra as (freqs, h1 re, h1 im, h2 re, h2 im,
+/// coherence).
+#[pyfunction]
+#[pyo3(signature = (t, u, y, *, response = "displacement", segment = None, modes = 1,
+    f_min = None, f_max = None, min_coherence = 0.8, names = None, fixed = false))]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the options of rigfit identify frf"
+)]
+#[expect(clippy::type_complexity, reason = "the spectra as six columns")]
+pub fn frf_report(
+    py: Python<'_>,
+    t: PyReadonlyArray1<'_, f64>,
+    u: PyReadonlyArray1<'_, f64>,
+    y: PyReadonlyArray1<'_, f64>,
+    response: &str,
+    segment: Option<usize>,
+    modes: usize,
+    f_min: Option<f64>,
+    f_max: Option<f64>,
+    min_coherence: f64,
+    names: Option<Vec<String>>,
+    fixed: bool,
+) -> PyResult<(String, String, [Vec<f64>; 6])> {
+    use rigfit::identify::{columns, frf, modal};
+    errors::guard(|| {
+        let (t, u) = slices(&t, &u)?;
+        let y = y
+            .as_slice()
+            .map_err(|e| errors::raise(Kind::Data, e.to_string()))?;
+        let response = match response {
+            "displacement" => modal::Response::Displacement,
+            "velocity" => modal::Response::Velocity,
+            "acceleration" => modal::Response::Acceleration,
+            other => {
+                return Err(errors::raise(
+                    Kind::Campaign,
+                    format!(
+                        "response={other:?}: expected \"displacement\", \"velocity\" or \"acceleration\""
+                    ),
+                ));
+            }
+        };
+        let names = names.unwrap_or_else(|| vec!["m".into(), "k".into(), "c".into()]);
+        py.allow_threads(|| {
+            let fs = 1.0 / columns::sample_interval(t).map_err(|e| precal(&e))?;
+            let est = frf::estimate(u, y, fs, segment).map_err(|e| precal(&e))?;
+            let fit = if modes > 0 {
+                let opts = modal::ModalOptions {
+                    modes,
+                    f_min: f_min.unwrap_or(est.settings.resolution_hz),
+                    f_max: f_max.unwrap_or(fs / 2.0),
+                    response,
+                    min_coherence,
+                    iterations: 10,
+                };
+                Some(
+                    modal::fit(&est.freqs, &est.h1, &est.coherence, &opts)
+                        .map_err(|e| precal(&e))?,
+                )
+            } else {
+                None
+            };
+            let report = serde_json::json!({
+                "welch": est.settings, "modal": fit,
+                "assumes": fit.as_ref().map(|_| frf::FORCE_INPUT),
+            });
+            let fragment = match &fit {
+                Some(m) => m.to_campaign_fragment(&names, fixed),
+                None => serde_json::json!({"params": {}}),
+            };
+            let spectra = [
+                est.freqs.clone(),
+                est.h1.iter().map(|h| h.re).collect(),
+                est.h1.iter().map(|h| h.im).collect(),
+                est.h2.iter().map(|h| h.re).collect(),
+                est.h2.iter().map(|h| h.im).collect(),
+                est.coherence.clone(),
+            ];
+            Ok((report.to_string(), fragment.to_string(), spectra))
+        })
+    })
+}

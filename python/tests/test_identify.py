@@ -38,3 +38,22 @@ def test_a_too_short_record_is_a_data_error():
     import pytest
     with pytest.raises(rigfit.DataError):
         rigfit.ringdown([0.0, 1.0], [1.0, 0.0])
+
+
+def test_frf_matches_the_cli(cli, tmp_path):
+    from scipy import signal
+    m, k, zeta = 2.0, 8000.0, 0.05
+    c = 2 * zeta * np.sqrt(k * m)
+    t = np.arange(8192) / 100.0
+    u = np.random.default_rng(3).normal(0.0, 10.0, t.size)
+    _, y, _ = signal.lsim(signal.lti([1.0], [m, c, k]), u, t)
+    path = tmp_path / "rec.csv"
+    rows = zip(t.tolist(), u.tolist(), y.tolist())
+    path.write_text("t_s,u_N,x_m\n" + "".join(f"{a!r},{b!r},{d!r}\n" for a, b, d in rows))
+    r = rigfit.frf(t, u, y, f_min=3.0, f_max=28.0)
+    want = json.loads(cli("--json", "identify", "frf", path, "--f-min", "3", "--f-max", "28").stdout)
+    assert r["modal"] == want["modal"] and r["welch"] == want["welch"]
+    assert r.fragment == want["fragment"]
+    mode = r["modal"]["modes"][0]
+    assert abs(mode["natural_frequency_hz"] - np.sqrt(k / m) / (2 * np.pi)) < 0.05
+    assert r.spectra["h1"].dtype == complex and len(r.spectra["freqs"]) == len(r.spectra["coherence"])
