@@ -93,7 +93,6 @@ pub fn specimen_report(
     clippy::too_many_arguments,
     reason = "the options of rigfit identify frf"
 )]
-#[expect(clippy::type_complexity, reason = "the spectra as six columns")]
 pub fn frf_report(
     py: Python<'_>,
     t: PyReadonlyArray1<'_, f64>,
