@@ -91,3 +91,23 @@ def test_a_search_setting_out_of_range_is_a_campaign_error(bearing):
         rigfit.fit(rigfit.Campaign.from_json(bearing), population=1, backend="cpu")
     with pytest.raises(rigfit.CampaignError, match="backend"):
         rigfit.fit(rigfit.Campaign.from_json(bearing), backend="tpu")
+
+
+def test_the_gil_is_released_while_a_fit_runs(bearing):
+    import threading
+    import time
+    c = rigfit.Campaign.from_json(bearing)
+    done = threading.Event()
+    ticks = 0
+
+    def job():
+        rigfit.fit(c, backend="cpu", population=128, generations=12)
+        done.set()
+
+    th = threading.Thread(target=job)
+    th.start()
+    while not done.is_set():
+        ticks += 1          # Python bytecode running beside the fit
+        time.sleep(0.001)
+    th.join()
+    assert ticks > 50, ticks

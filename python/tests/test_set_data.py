@@ -41,3 +41,25 @@ def test_dict_of_arrays_and_a_bad_column_name():
         c.set_data("hy", {"t_s": t, "x": y})
     with pytest.raises(rigfit.DataError, match="no experiment 'nope'"):
         c.set_data("nope", {"t_s": t, "force_N": y})
+
+
+class _FrameWithToPandas:
+    """A polars- or pyarrow-like frame: only `to_pandas()`."""
+
+    def __init__(self, df):
+        self._df = df
+
+    def to_pandas(self):
+        return self._df
+
+
+def test_a_frame_with_to_pandas_is_read_through_it():
+    path = CAMPAIGNS / "bearing_2dof_synthetic.json"
+    a, b = rigfit.Campaign.from_json(path), rigfit.Campaign.from_json(path)
+    t = np.arange(500) * 2.56e-4
+    df = pd.DataFrame({"t_s": t, "force_N": np.cos(2 * np.pi * 40 * t)})
+    a.set_data("hx", df)
+    b.set_data("hx", _FrameWithToPandas(df))
+    theta = a.bounds.mean(axis=1)[None, :]
+    assert np.array_equal(rigfit.simulate(a, theta), rigfit.simulate(b, theta))
+    assert a.objective()(theta.T) == b.objective()(theta.T)
