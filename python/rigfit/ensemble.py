@@ -49,6 +49,7 @@ class Objective:
     def __init__(self, campaign, vectorized=True, **kwargs):
         self.campaign = campaign
         self.vectorized = vectorized
+        self._kwargs = kwargs
         self._inner = _rigfit.Objective(campaign._inner, **kwargs)
         self.evaluations = 0
         _warn(self._inner.notes)
@@ -71,5 +72,11 @@ class Objective:
         self.evaluations += len(costs)
         return costs
 
-    def __getstate__(self):
-        raise TypeError("a rigfit Objective holds an evaluator; pickle its campaign instead")
+    def __reduce__(self):
+        # The evaluator is opened again where it is unpickled (a worker
+        # process of multiprocessing, joblib or submitit).
+        return (_objective, (self.campaign, self.vectorized, self._kwargs))
+
+
+def _objective(campaign, vectorized, kwargs):
+    return Objective(campaign, vectorized, **kwargs)

@@ -60,6 +60,8 @@ def test_objective_is_the_search_cost_and_takes_p_by_s(bearing):
     assert f(best) == pytest.approx(r.fitness, rel=1e-9)
     with pytest.raises(rigfit.CampaignError, match="column"):
         f(np.ones((len(c.genes) + 1, 2)))
+    import pickle
+    assert np.array_equal(pickle.loads(pickle.dumps(f))(x), costs)
 
 
 def test_scipy_differential_evolution_on_the_shipped_example():
