@@ -5,8 +5,12 @@
 # pytest. scripts/test.sh runs it after the Rust tests; every failure fails it.
 #
 # The crate is its own workspace (python/Cargo.lock) but builds in the root's
-# target folder with the root's test profile, so the library and its
-# dependencies compiled by `cargo test` are reused, not built again.
+# target folder with the dev profile (dependencies and the library at
+# opt-level 2, as the root's tests build them; no LTO), so the dependencies
+# `cargo clippy` and `cargo test` compiled are reused where their features
+# agree; those PyO3 adds features to (syn, serde, naga, wgpu, ...) and the
+# library are built once more. (The `test` profile would build the module
+# with the test harness, without its PyInit symbol.)
 set -euo pipefail
 cd "$(dirname "$0")/../python"
 
@@ -20,7 +24,7 @@ if ! python3 -c 'import ensurepip, venv' >/dev/null 2>&1; then
 fi
 
 export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/../target}"
-profile="${RIGFIT_WHEEL_PROFILE:-test}"
+profile="${RIGFIT_WHEEL_PROFILE:-dev}"
 
 echo "test-python.sh: cargo fmt --check (python/)"
 cargo fmt --all --check
