@@ -26,26 +26,28 @@ fi
 export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/../target}"
 profile="${RIGFIT_WHEEL_PROFILE:-dev}"
 
-echo "test-python.sh: cargo fmt --check (python/)"
+step() { echo "test-python.sh: [${SECONDS} s] $*"; }
+step "cargo fmt --check (python/)"
 cargo fmt --all --check
-echo "test-python.sh: cargo clippy (python/)"
+step "cargo clippy (python/)"
 cargo clippy --all-targets --locked -- -D warnings
 
 venv="${RIGFIT_PYTHON_VENV:-$PWD/.venv}"
 if [ ! -x "$venv/bin/python" ]; then
     python3 -m venv "$venv"
 fi
-echo "test-python.sh: pip install (maturin, pytest, numpy, pandas, scipy, tqdm, nbclient, ...)"
+step "pip install (maturin, pytest, numpy, pandas, scipy, tqdm, nbclient, ...)"
 "$venv/bin/python" -m pip install -q --disable-pip-version-check \
     "maturin>=1.5,<2" pytest numpy pandas scipy tqdm nbclient nbformat ipykernel matplotlib
 
-echo "test-python.sh: maturin build (profile $profile)"
+step "maturin build (profile $profile)"
 rm -rf dist
 "$venv/bin/maturin" build --locked --profile "$profile" --out dist
 "$venv/bin/python" -m pip install -q --disable-pip-version-check --force-reinstall --no-deps dist/rigfit-*.whl
 
 # The tests hold the package to the CLI that `cargo test` built.
 export RIGFIT_BIN="${RIGFIT_BIN:-$CARGO_TARGET_DIR/debug/rigfit}"
-echo "test-python.sh: pytest"
+step "pytest"
 # Run from tests/ so that `import rigfit` is the installed wheel, not the source folder.
-cd tests && "$venv/bin/python" -m pytest -q -p no:cacheprovider .
+(cd tests && "$venv/bin/python" -m pytest -q -p no:cacheprovider .)
+step "done"

@@ -12,7 +12,10 @@ import time
 import rigfit
 
 SCRIPT = textwrap.dedent("""
-    import sys, rigfit
+    import signal, sys, rigfit
+    # As in a terminal or Jupyter, even where the test runner was started
+    # with SIGINT ignored (a background job of a non-interactive shell).
+    signal.signal(signal.SIGINT, signal.default_int_handler)
     c = rigfit.Campaign.from_json(sys.argv[1])
     def progress(p):
         if p["stage"] == "ga" and p["generation"] == 3:
