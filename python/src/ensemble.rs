@@ -54,7 +54,7 @@ pub fn simulate<'py>(
         let b = crate::evaluator::backend(c, backend)?;
         let pr = crate::evaluator::precision(c, precision)?;
         let out = py.allow_threads(|| -> PyResult<_> {
-            let mut opened = crate::evaluator::open(c, b, pr, adapter.as_deref(), threads)?;
+            let mut opened = crate::evaluator::open(c, b, pr, adapter.as_deref(), threads, false)?;
             let n_exp = c.problem.experiments.len();
             let n = c
                 .problem
@@ -175,8 +175,9 @@ impl Objective {
             let c = campaign.inner.clone();
             let b = crate::evaluator::backend(&c, backend)?;
             let pr = crate::evaluator::precision(&c, precision)?;
-            let opened = py
-                .allow_threads(|| crate::evaluator::open(&c, b, pr, adapter.as_deref(), threads))?;
+            let opened = py.allow_threads(|| {
+                crate::evaluator::open(&c, b, pr, adapter.as_deref(), threads, false)
+            })?;
             Ok(Self {
                 campaign: c,
                 evaluator: Mutex::new(opened.evaluator),

@@ -145,9 +145,11 @@ pub fn run_job<'py>(
                 precision_choice,
                 adapter.as_deref(),
                 threads,
+                true,
             )
         })?;
         let mut evaluator = opened.evaluator;
+        let trial = opened.trial;
         let mode = match (resume, overwrite) {
             (true, _) => FolderMode::Resume,
             (false, true) => FolderMode::Overwrite,
@@ -174,7 +176,7 @@ pub fn run_job<'py>(
             std::thread::scope(|s| {
                 let worker = s.spawn(|| {
                     let observers: Vec<Box<dyn Observer>> = vec![Box::new(Forward(tx))];
-                    job::run_observed(c, evaluator, opts, observers)
+                    job::run_observed(c, evaluator, opts, trial, observers)
                 });
                 loop {
                     let message = match rx.recv_timeout(SIGNAL_POLL) {

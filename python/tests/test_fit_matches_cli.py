@@ -111,3 +111,16 @@ def test_the_gil_is_released_while_a_fit_runs(bearing):
         time.sleep(0.001)
     th.join()
     assert ticks > 50, ticks
+
+
+def test_backend_auto_takes_the_clis_measured_choice(bearing, cli, tmp_path, monkeypatch):
+    # `auto` races the two paths once and caches the choice per machine and
+    # job; both sides read the same cache, so they run on the same path.
+    monkeypatch.setenv("RIGFIT_CACHE_DIR", str(tmp_path / "cache"))
+    cli("run", bearing, "--backend", "auto", "--seed", "4", "--out", tmp_path / "cli")
+    cli_json = json.loads((tmp_path / "cli" / "result.json").read_text())
+    r = rigfit.fit(rigfit.Campaign.from_json(bearing), seed=4, backend="auto")
+    py_json = json.loads(r.files["result.json"])
+    assert py_json["backend"] == cli_json["backend"]
+    assert py_json["params"] == cli_json["params"]
+    assert py_json.get("backend_trial", {}).get("chosen") == cli_json.get("backend_trial", {}).get("chosen")
