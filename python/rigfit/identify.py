@@ -1,5 +1,6 @@
 """Pre-calibration and identification on arrays: the numbers ``rigfit
-ringdown``, ``rigfit fit-specimen`` and ``rigfit identify frf`` print with
+ringdown``, ``rigfit fit-specimen``, ``rigfit identify frf`` and ``rigfit
+identify rfs`` print with
 ``--json``, as dicts, and the campaign fragment each suggests
 (``.fragment``)."""
 
@@ -67,3 +68,19 @@ def frf(t, u, y, *, response="displacement", segment=None, modes=1, f_min=None, 
     freqs, h1r, h1i, h2r, h2i, coh = (np.asarray(c) for c in cols)
     r.spectra = {"freqs": freqs, "h1": h1r + 1j * h1i, "h2": h2r + 1j * h2i, "coherence": coh}
     return r
+
+
+def rfs(t, x, accel, *, mass, terms=("linear", "viscous"), alpha=None, beta=None, cutoff=None,
+        filter_order=4, fixed=False):
+    """The restoring-force surface of a single-degree-of-freedom record
+    (displacement ``x`` in m, acceleration ``accel`` in m/s², times ``t`` in
+    s, the known ``mass`` in kg) and the direct parameter estimate of
+    ``terms`` on it (``"linear"``, ``"cubic"``, ``"power-stiffness"``,
+    ``"viscous"``, ``"cubic-damping"``, ``"power-damping"``, ``"coulomb"``),
+    as ``rigfit identify rfs`` computes them. Returns ``{"dpe": {...}}`` as
+    its ``--json`` prints it, with ``.fragment``."""
+    t, x = _arrays(t, x)
+    a = np.ascontiguousarray(np.asarray(accel, dtype=np.float64))
+    return _report(_rigfit.rfs_report(t, x, a, mass=mass, terms=list(terms), alpha=alpha,
+                                      beta=beta, cutoff=cutoff, filter_order=filter_order,
+                                      fixed=fixed))

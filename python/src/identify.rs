@@ -166,3 +166,82 @@ pub fn frf_report(
         })
     })
 }
+
+/// The restoring-force surface of a single-degree-of-freedom record
+/// (displacement `x`, acceleration `accel` at times `t`, the known `mass`)
+/// and the direct parameter estimate of `terms` on it, as `rigfit identify
+/// rfs` computes them. Terms by the CLI's names (`linear`, `cubic`,
+/// `power-stiffness`, `viscous`, `cubic-damping`, `power-damping`,
+/// `coulomb`).
+#[pyfunction]
+#[pyo3(signature = (t, x, accel, *, mass, terms = None, alpha = None, beta = None,
+    cutoff = None, filter_order = 4, fixed = false))]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the options of rigfit identify rfs"
+)]
+pub fn rfs_report(
+    py: Python<'_>,
+    t: PyReadonlyArray1<'_, f64>,
+    x: PyReadonlyArray1<'_, f64>,
+    accel: PyReadonlyArray1<'_, f64>,
+    mass: f64,
+    terms: Option<Vec<String>>,
+    alpha: Option<f64>,
+    beta: Option<f64>,
+    cutoff: Option<f64>,
+    filter_order: usize,
+    fixed: bool,
+) -> PyResult<(String, String)> {
+    use rigfit::identify::dpe::{self, DpeOptions, GridOptions, Term};
+    use rigfit::identify::rfs::{self, RfsOptions};
+    errors::guard(|| {
+        let (t, x) = slices(&t, &x)?;
+        let accel = accel
+            .as_slice()
+            .map_err(|e| errors::raise(Kind::Data, e.to_string()))?;
+        let names = terms.unwrap_or_else(|| vec!["linear".into(), "viscous".into()]);
+        let terms = names
+            .iter()
+            .map(|n| {
+                Ok(match n.as_str() {
+                    "linear" => Term::Linear,
+                    "cubic" => Term::Cubic,
+                    "power-stiffness" => Term::PowerStiffness,
+                    "viscous" => Term::Viscous,
+                    "cubic-damping" => Term::CubicDamping,
+                    "power-damping" => Term::PowerDamping,
+                    "coulomb" => Term::Coulomb,
+                    other => {
+                        return Err(errors::raise(
+                            Kind::Campaign,
+                            format!(
+                                "terms: {other:?} is not a term; expected linear, cubic, \
+                                 power-stiffness, viscous, cubic-damping, power-damping or coulomb"
+                            ),
+                        ));
+                    }
+                })
+            })
+            .collect::<PyResult<Vec<Term>>>()?;
+        let options = RfsOptions {
+            mass,
+            cutoff_hz: cutoff,
+            filter_order,
+        };
+        let opts = DpeOptions {
+            terms,
+            alpha,
+            beta,
+            grid: GridOptions::default(),
+        };
+        py.allow_threads(|| {
+            let surface = rfs::surface(t, x, accel, &options).map_err(|e| precal(&e))?;
+            let r = dpe::estimate(&surface, &opts).map_err(|e| precal(&e))?;
+            Ok((
+                serde_json::json!({ "dpe": r }).to_string(),
+                r.to_campaign_fragment(fixed, &opts.grid).to_string(),
+            ))
+        })
+    })
+}

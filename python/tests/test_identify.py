@@ -57,3 +57,28 @@ def test_frf_matches_the_cli(cli, tmp_path):
     mode = r["modal"]["modes"][0]
     assert abs(mode["natural_frequency_hz"] - np.sqrt(k / m) / (2 * np.pi)) < 0.05
     assert r.spectra["h1"].dtype == complex and len(r.spectra["freqs"]) == len(r.spectra["coherence"])
+
+
+def test_rfs_matches_the_cli(cli, tmp_path):
+    from scipy.integrate import solve_ivp
+    m, k, c, k3 = 2.0, 8000.0, 6.0, 4e8
+    fs = 2000.0
+    t = np.arange(8000) / fs
+
+    def rhs(_, s):
+        x, v = s
+        return [v, -(k * x + k3 * x**3 + c * v) / m]
+
+    sol = solve_ivp(rhs, (0, t[-1]), [0.01, 0.0], t_eval=t, rtol=1e-10, atol=1e-12)
+    x, v = sol.y
+    a = np.zeros_like(t)        # the base's acceleration: a free decay, the base still
+    path = tmp_path / "free.csv"
+    rows = zip(t.tolist(), x.tolist(), a.tolist())
+    path.write_text("t_s,x_m,a_m_s2\n" + "".join(f"{p!r},{q!r},{r!r}\n" for p, q, r in rows))
+    r = rigfit.rfs(t, x, a, mass=m, terms=("linear", "cubic", "viscous"))
+    want = json.loads(cli("--json", "identify", "rfs", path, "--mass", "2",
+                          "--terms", "linear,cubic,viscous").stdout)
+    assert r["dpe"] == want["dpe"]
+    assert r.fragment == want["fragment"]
+    fitted = {c["param"]: c["value"] for c in r["dpe"]["coefficients"]}
+    assert abs(fitted["kf1"] / k - 1) < 0.01 and abs(fitted["cf1"] / c - 1) < 0.01, fitted
