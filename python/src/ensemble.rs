@@ -108,14 +108,21 @@ fn simulate_lanes(c: &Campaign, sets: &[Vec<f64>], threads: usize, out: &mut Arr
     let problem = &c.problem;
     let batch = c.batch(sets);
     let share = sets.len().div_ceil(threads).max(1);
+    let (_, n_exp, n, n_out) = out.dim();
+    // Standard layout: a share of candidates is one contiguous block, and a
+    // value's place in it is computed, not looked up through a 4-D view.
+    let Some(flat) = out.as_slice_mut() else {
+        unreachable!("an array just allocated has the standard layout")
+    };
     std::thread::scope(|s| {
-        for (k, mut part) in out.axis_chunks_iter_mut(Axis(0), share).enumerate() {
+        for (k, part) in flat.chunks_mut(share * n_exp * n * n_out).enumerate() {
             let batch = &batch;
             s.spawn(move || {
                 let first = k * share;
+                let count = part.len() / (n_exp * n * n_out).max(1);
                 for (e, exp) in problem.experiments.iter().enumerate() {
                     let mut groups: Vec<(u64, Vec<usize>)> = Vec::new();
-                    for i in 0..part.shape()[0] {
+                    for i in 0..count {
                         let bits = batch.offsets[e][first + i].to_bits();
                         match groups.iter_mut().find(|g| g.0 == bits) {
                             Some(g) => g.1.push(i),
@@ -135,10 +142,8 @@ fn simulate_lanes(c: &Campaign, sets: &[Vec<f64>], threads: usize, out: &mut Arr
                             &grid,
                             report,
                             &mut |run, sample| {
-                                let i = members[run];
-                                for (o, v) in sample.outputs.iter().enumerate() {
-                                    part[[i, e, sample.index, o]] = *v;
-                                }
+                                let at = ((members[run] * n_exp + e) * n + sample.index) * n_out;
+                                part[at..at + n_out].copy_from_slice(sample.outputs);
                                 ControlFlow::Continue(())
                             },
                         );
