@@ -81,7 +81,11 @@ def _progress(progress, campaign, generations):
         return progress, lambda: None
     if not progress:
         return None, lambda: None
-    from tqdm.auto import tqdm
+    with warnings.catch_warnings():
+        # Jupyter without ipywidgets: tqdm.auto falls back to a text bar and
+        # says so once; the text bar is what the caller gets either way.
+        warnings.simplefilter("ignore")
+        from tqdm.auto import tqdm
     total = generations or campaign._info["generations"]
     bar = tqdm(total=total, desc=campaign.name, unit="gen")
 
