@@ -12,7 +12,7 @@ from . import identify
 from ._rigfit import __version__
 from .campaign import Campaign
 from .ensemble import Objective, simulate
-from .identify import fit_specimen, frf, rfs, ringdown
+from .identify import fit_specimen, frf, idim, rfs, ringdown
 from .errors import CampaignError, DataError, DeviceError, Error, GpuFallbackWarning, Interrupted
 from .fitting import fit
 from .params import Parameter, Parameters
@@ -21,5 +21,5 @@ from .result import ExperimentResult, FitResult, load_result
 __all__ = [
     "Campaign", "CampaignError", "DataError", "DeviceError", "Error", "ExperimentResult",
     "FitResult", "GpuFallbackWarning", "Interrupted", "Objective", "Parameter", "Parameters",
-    "__version__", "fit", "fit_specimen", "frf", "identify", "load_result", "rfs", "ringdown", "simulate",
+    "__version__", "fit", "fit_specimen", "frf", "idim", "identify", "load_result", "rfs", "ringdown", "simulate",
 ]

@@ -1,6 +1,6 @@
 """Pre-calibration and identification on arrays: the numbers ``rigfit
-ringdown``, ``rigfit fit-specimen``, ``rigfit identify frf`` and ``rigfit
-identify rfs`` print with
+ringdown``, ``rigfit fit-specimen``, ``rigfit identify frf``, ``rfs`` and
+``idim`` print with
 ``--json``, as dicts, and the campaign fragment each suggests
 (``.fragment``)."""
 
@@ -84,3 +84,19 @@ def rfs(t, x, accel, *, mass, terms=("linear", "viscous"), alpha=None, beta=None
     return _report(_rigfit.rfs_report(t, x, a, mass=mass, terms=list(terms), alpha=alpha,
                                       beta=beta, cutoff=cutoff, filter_order=filter_order,
                                       fixed=fixed))
+
+
+def idim(q, force, *, sample_rate=None, t=None, gain=1.0, cutoff=100.0, filter_order=4,
+         decimation=10, fixed=False):
+    """The inverse-model least squares of ``rigfit identify idim`` (the EMPS
+    benchmark's): mass, viscous and Coulomb friction and offset from a
+    position ``q`` (m) and a force ``force`` (N per ``gain``: a controller
+    voltage times the drive's gain) sampled at ``sample_rate`` (Hz) or at the
+    times ``t`` (s). Returns ``{"idim": {...}}`` as its ``--json`` prints it,
+    with ``.fragment``."""
+    q, force = _arrays(q, force)
+    if t is not None:
+        t = np.ascontiguousarray(np.asarray(t, dtype=np.float64))
+    return _report(_rigfit.idim_report(q, force, sample_rate=sample_rate, t=t, gain=gain,
+                                       cutoff=cutoff, filter_order=filter_order,
+                                       decimation=decimation, fixed=fixed))

@@ -245,3 +245,62 @@ pub fn rfs_report(
         })
     })
 }
+
+/// The inverse-model least squares of `rigfit identify idim`: mass, viscous
+/// and Coulomb friction and offset from a position `q` (m) and a force
+/// `force` (its unit times `gain` in N) sampled at `sample_rate` (Hz), or at
+/// the times `t` (s).
+#[pyfunction]
+#[pyo3(signature = (q, force, *, sample_rate = None, t = None, gain = 1.0, cutoff = 100.0,
+    filter_order = 4, decimation = 10, fixed = false))]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the options of rigfit identify idim"
+)]
+pub fn idim_report(
+    py: Python<'_>,
+    q: PyReadonlyArray1<'_, f64>,
+    force: PyReadonlyArray1<'_, f64>,
+    sample_rate: Option<f64>,
+    t: Option<PyReadonlyArray1<'_, f64>>,
+    gain: f64,
+    cutoff: f64,
+    filter_order: usize,
+    decimation: usize,
+    fixed: bool,
+) -> PyResult<(String, String)> {
+    use rigfit::identify::{columns, idim};
+    errors::guard(|| {
+        let (q, force) = slices(&q, &force)?;
+        let tau: Vec<f64> = force.iter().map(|v| gain * v).collect();
+        let fs = match (&t, sample_rate) {
+            (Some(t), None) => {
+                let t = t
+                    .as_slice()
+                    .map_err(|e| errors::raise(Kind::Data, e.to_string()))?;
+                1.0 / columns::sample_interval(t).map_err(|e| precal(&e))?
+            }
+            (None, Some(fs)) => fs,
+            _ => {
+                return Err(errors::raise(
+                    Kind::Campaign,
+                    "give the sample rate (sample_rate=) or the times (t=), one of them",
+                ));
+            }
+        };
+        let opts = idim::IdimOptions {
+            sample_rate_hz: fs,
+            cutoff_hz: cutoff,
+            filter_order,
+            decimation,
+            border: 49,
+        };
+        let r = py
+            .allow_threads(|| idim::estimate(q, &tau, &opts))
+            .map_err(|e| precal(&e))?;
+        Ok((
+            serde_json::json!({ "idim": r }).to_string(),
+            r.to_campaign_fragment(fixed).to_string(),
+        ))
+    })
+}

@@ -4,6 +4,7 @@ prints for the same record."""
 import json
 
 import numpy as np
+import pytest
 
 import rigfit
 from conftest import CAMPAIGNS
@@ -35,7 +36,7 @@ def test_fit_specimen_matches_the_cli(cli):
 
 
 def test_a_too_short_record_is_a_data_error():
-    import pytest
+
     with pytest.raises(rigfit.DataError):
         rigfit.ringdown([0.0, 1.0], [1.0, 0.0])
 
@@ -82,3 +83,17 @@ def test_rfs_matches_the_cli(cli, tmp_path):
     assert r.fragment == want["fragment"]
     fitted = {c["param"]: c["value"] for c in r["dpe"]["coefficients"]}
     assert abs(fitted["kf1"] / k - 1) < 0.01 and abs(fitted["cf1"] / c - 1) < 0.01, fitted
+
+
+def test_idim_on_the_emps_record_matches_the_cli(cli):
+    path = CAMPAIGNS.parent / "tests" / "data" / "emps" / "emps_position_voltage.csv"
+    q, v = _two_columns(path)
+    gain = 35.15065188248547
+    r = rigfit.idim(q, v, sample_rate=1000.0, gain=gain)
+    want = json.loads(cli("--json", "identify", "idim", path, "--position", "position_m",
+                          "--force", "controller_voltage_V", "--gain", repr(gain),
+                          "--sample-rate", "1000").stdout)
+    assert r["idim"] == want["idim"]
+    assert r.fragment == want["fragment"]
+    with pytest.raises(rigfit.CampaignError, match="sample_rate"):
+        rigfit.idim(q, v)
