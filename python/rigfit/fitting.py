@@ -87,15 +87,24 @@ def _progress(progress, campaign, generations):
         warnings.simplefilter("ignore")
         from tqdm.auto import tqdm
     total = generations or campaign._info["generations"]
-    bar = tqdm(total=total, desc=campaign.name, unit="gen")
+    bars = [tqdm(total=total, desc=campaign.name, unit="gen")]
 
     def update(p):
+        bar = bars[-1]
         if p["stage"] == "ga":
             bar.n = p["generation"] + 1
             bar.set_postfix(best_r2=f"{1 - p['best_cost']:.6f}", refresh=False)
-            bar.refresh()
         else:
-            bar.set_description(f"{campaign.name} (polish)", refresh=False)
-            bar.set_postfix(best_r2=f"{1 - p['best_cost']:.6f}", it=p["iteration"], refresh=False)
-            bar.refresh()
-    return update, bar.close
+            if len(bars) == 1:
+                # The polish: a second bar counting its iterations.
+                bar.close()
+                bar = tqdm(desc=f"{campaign.name} polish", unit="it")
+                bars.append(bar)
+            bar.n = p["iteration"]
+            bar.set_postfix(best_r2=f"{1 - p['best_cost']:.6f}", refresh=False)
+        bar.refresh()
+
+    def close():
+        for bar in bars:
+            bar.close()
+    return update, close
