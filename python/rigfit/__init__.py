@@ -10,7 +10,7 @@ identification in :mod:`rigfit.identify`.
 
 from . import identify
 from ._rigfit import __version__
-from .campaign import Campaign
+from .campaign import Campaign, shipped_rigs
 from .ensemble import Objective, simulate
 from .identify import fit_specimen, frf, idim, rfs, ringdown
 from .errors import CampaignError, DataError, DeviceError, Error, GpuFallbackWarning, Interrupted
@@ -21,5 +21,6 @@ from .result import ExperimentResult, FitResult, load_result
 __all__ = [
     "Campaign", "CampaignError", "DataError", "DeviceError", "Error", "ExperimentResult",
     "FitResult", "GpuFallbackWarning", "Interrupted", "Objective", "Parameter", "Parameters",
-    "__version__", "fit", "fit_specimen", "frf", "idim", "identify", "load_result", "rfs", "ringdown", "simulate",
+    "__version__", "fit", "fit_specimen", "frf", "idim", "identify", "load_result", "rfs",
+    "ringdown", "shipped_rigs", "simulate",
 ]

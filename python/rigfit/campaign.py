@@ -205,6 +205,12 @@ class Campaign:
                 f"experiment(s), {len(self.genes)} free parameter(s)>")
 
 
+def shipped_rigs():
+    """The shipped rigs, id → the rig description (a dict; ``"rig": id`` in a
+    campaign uses one, ``"rig": {...}`` takes one inline, edited or not)."""
+    return {rid: json.loads(text) for rid, text in _rigfit.shipped_rigs()}
+
+
 def _rebuild(raw_json, base_dir, origin, records):
     lent = list(records.values())
     inner = _rigfit.Campaign.from_text(raw_json, base_dir, origin, lent)

@@ -157,3 +157,10 @@ pub fn record_csv<'py>(
     }
     Ok(PyBytes::new(py, s.as_bytes()))
 }
+
+/// The shipped rigs: (id, the rig file's JSON text), as a campaign's `"rig"`
+/// names them.
+#[pyfunction]
+pub fn shipped_rigs() -> Vec<(&'static str, &'static str)> {
+    rigfit::rig::SHIPPED.to_vec()
+}

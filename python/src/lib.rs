@@ -18,6 +18,7 @@ fn _rigfit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<campaign::PyCampaign>()?;
     m.add_class::<ensemble::Objective>()?;
     m.add_function(wrap_pyfunction!(campaign::record_csv, m)?)?;
+    m.add_function(wrap_pyfunction!(campaign::shipped_rigs, m)?)?;
     m.add_function(wrap_pyfunction!(fit::run_job, m)?)?;
     m.add_function(wrap_pyfunction!(ensemble::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(identify::ringdown_report, m)?)?;

@@ -76,3 +76,13 @@ def test_campaign_pickles():
     c = rigfit.Campaign.from_json(CAMPAIGNS / "bearing_2dof_synthetic.json")
     d = pickle.loads(pickle.dumps(c))
     assert d.genes == c.genes and np.array_equal(d.bounds, c.bounds)
+
+
+def test_shipped_rigs_by_id_and_inline():
+    rigs = rigfit.shipped_rigs()
+    assert "tensile4" in rigs and rigs["tensile4"]["id"] == "tensile4"
+    raw = json.loads((CAMPAIGNS / "bearing_2dof_synthetic.json").read_text())
+    by_id = rigfit.Campaign.from_dict(raw, base_dir=CAMPAIGNS)
+    raw["rig"] = rigs["bearing_2dof"]
+    inline = rigfit.Campaign.from_dict(raw, base_dir=CAMPAIGNS)
+    assert inline.genes == by_id.genes and inline.outputs == by_id.outputs
