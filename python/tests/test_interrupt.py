@@ -49,6 +49,7 @@ def test_sigint_stops_the_fit_keeps_the_checkpoint_and_resumes_to_the_same_resul
     took = time.monotonic() - sent
     assert p.returncode == 130, (rest, err)
     assert rest.startswith("interrupted " + str(out)), rest
+    print(f"stopped {took:.2f} s after SIGINT")
     assert took < 2.0, f"took {took:.2f} s to stop"
     assert (out / "checkpoint.json").is_file()
 
