@@ -12,7 +12,7 @@ from . import identify
 from ._rigfit import __version__
 from .campaign import Campaign, shipped_rigs
 from .ensemble import Objective, simulate
-from .identify import fit_specimen, frf, idim, rfs, ringdown
+from .identify import fit_specimen, frf, idim, nimiso, rfs, ringdown
 from .errors import CampaignError, DataError, DeviceError, Error, GpuFallbackWarning, Interrupted
 from .fitting import fit
 from .params import Parameter, Parameters
@@ -21,6 +21,6 @@ from .result import ExperimentResult, FitResult, load_result
 __all__ = [
     "Campaign", "CampaignError", "DataError", "DeviceError", "Error", "ExperimentResult",
     "FitResult", "GpuFallbackWarning", "Interrupted", "Objective", "Parameter", "Parameters",
-    "__version__", "fit", "fit_specimen", "frf", "idim", "identify", "load_result", "rfs",
+    "__version__", "fit", "fit_specimen", "frf", "idim", "identify", "load_result", "nimiso", "rfs",
     "ringdown", "shipped_rigs", "simulate",
 ]

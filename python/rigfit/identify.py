@@ -1,6 +1,6 @@
 """Pre-calibration and identification on arrays: the numbers ``rigfit
-ringdown``, ``rigfit fit-specimen``, ``rigfit identify frf``, ``rfs`` and
-``idim`` print with
+ringdown``, ``rigfit fit-specimen``, ``rigfit identify frf``, ``rfs``,
+``idim`` and ``nimiso`` print with
 ``--json``, as dicts, and the campaign fragment each suggests
 (``.fragment``)."""
 
@@ -100,3 +100,16 @@ def idim(q, force, *, sample_rate=None, t=None, gain=1.0, cutoff=100.0, filter_o
     return _report(_rigfit.idim_report(q, force, sample_rate=sample_rate, t=t, gain=gain,
                                        cutoff=cutoff, filter_order=filter_order,
                                        decimation=decimation, fixed=fixed))
+
+
+def nimiso(t, x, f, *, f_min, f_max, nonlinear="cubic", segment=None, fixed=False):
+    """The reverse-path nonlinear MISO analysis of ``rigfit identify nimiso``
+    (``m·ẍ + c·ẋ + k·x + a·g = F`` read backwards): motion ``x`` (m) and
+    force ``f`` (N) at times ``t`` (s), ``nonlinear`` the g
+    (``"cubic"``: x³, ``"sign-velocity"``: sgn ẋ, ``"quadratic-damping"``:
+    |ẋ|·ẋ) and the band ``f_min``..``f_max`` (Hz) it fits. Returns
+    ``{"nimiso": {...}}`` as its ``--json`` prints it, with ``.fragment``."""
+    t, x = _arrays(t, x)
+    f = np.ascontiguousarray(np.asarray(f, dtype=np.float64))
+    return _report(_rigfit.nimiso_report(t, x, f, f_min=f_min, f_max=f_max, nonlinear=nonlinear,
+                                         segment=segment, fixed=fixed))

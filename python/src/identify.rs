@@ -304,3 +304,62 @@ pub fn idim_report(
         ))
     })
 }
+
+/// The reverse-path nonlinear MISO analysis of `rigfit identify nimiso`:
+/// motion `x` (m) and force `f` (N) at times `t` (s), the nonlinearity
+/// (`cubic`, `sign-velocity`, `quadratic-damping`) and the fitted band
+/// `f_min`..`f_max` (Hz).
+#[pyfunction]
+#[pyo3(signature = (t, x, f, *, f_min, f_max, nonlinear = "cubic", segment = None, fixed = false))]
+#[expect(
+    clippy::too_many_arguments,
+    reason = "the options of rigfit identify nimiso"
+)]
+pub fn nimiso_report(
+    py: Python<'_>,
+    t: PyReadonlyArray1<'_, f64>,
+    x: PyReadonlyArray1<'_, f64>,
+    f: PyReadonlyArray1<'_, f64>,
+    f_min: f64,
+    f_max: f64,
+    nonlinear: &str,
+    segment: Option<usize>,
+    fixed: bool,
+) -> PyResult<(String, String)> {
+    use rigfit::identify::{columns, nimiso};
+    errors::guard(|| {
+        let (t, x) = slices(&t, &x)?;
+        let f = f
+            .as_slice()
+            .map_err(|e| errors::raise(Kind::Data, e.to_string()))?;
+        let (nonlinearity, name) = match nonlinear {
+            "cubic" => (nimiso::Nonlinearity::Cubic, "k3"),
+            "sign-velocity" => (nimiso::Nonlinearity::SignVelocity, "f_c"),
+            "quadratic-damping" => (nimiso::Nonlinearity::QuadraticDamping, "c2"),
+            other => {
+                return Err(errors::raise(
+                    Kind::Campaign,
+                    format!(
+                        "nonlinear={other:?}: expected \"cubic\", \"sign-velocity\" or \
+                         \"quadratic-damping\""
+                    ),
+                ));
+            }
+        };
+        py.allow_threads(|| {
+            let fs = 1.0 / columns::sample_interval(t).map_err(|e| precal(&e))?;
+            let opts = nimiso::NimisoOptions {
+                sample_rate_hz: fs,
+                segment_len: segment,
+                nonlinearity,
+                f_min,
+                f_max,
+            };
+            let (_, r) = nimiso::analyse(x, f, &opts).map_err(|e| precal(&e))?;
+            Ok((
+                serde_json::json!({ "nimiso": r }).to_string(),
+                r.to_campaign_fragment(name, fixed).to_string(),
+            ))
+        })
+    })
+}

@@ -26,5 +26,6 @@ fn _rigfit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(identify::frf_report, m)?)?;
     m.add_function(wrap_pyfunction!(identify::rfs_report, m)?)?;
     m.add_function(wrap_pyfunction!(identify::idim_report, m)?)?;
+    m.add_function(wrap_pyfunction!(identify::nimiso_report, m)?)?;
     Ok(())
 }

@@ -97,3 +97,33 @@ def test_idim_on_the_emps_record_matches_the_cli(cli):
     assert r.fragment == want["fragment"]
     with pytest.raises(rigfit.CampaignError, match="sample_rate"):
         rigfit.idim(q, v)
+
+
+def test_nimiso_matches_the_cli(cli, tmp_path):
+    # A Duffing oscillator under a random force, integrated by RK4 with the
+    # force held over each sample interval.
+    m, c, k, k3, fs = 1.0, 4.0, 4.0e4, 2.0e9, 1000.0
+    n, sub = 16384, 4
+    force = np.random.default_rng(7).normal(0.0, 20.0, n)
+    h = 1.0 / fs / sub
+    x = np.zeros(n)
+    s = np.zeros(2)
+    for i in range(n - 1):
+        for _ in range(sub):
+            def d(y, F=force[i]):
+                return np.array([y[1], (F - c * y[1] - k * y[0] - k3 * y[0] ** 3) / m])
+            k1 = d(s)
+            k2 = d(s + h / 2 * k1)
+            k3_ = d(s + h / 2 * k2)
+            k4 = d(s + h * k3_)
+            s = s + h / 6 * (k1 + 2 * k2 + 2 * k3_ + k4)
+        x[i + 1] = s[0]
+    t = np.arange(n) / fs
+    path = tmp_path / "duffing.csv"
+    rows = zip(t.tolist(), x.tolist(), force.tolist())
+    path.write_text("t_s,x_m,f_N\n" + "".join(f"{p!r},{q!r},{r!r}\n" for p, q, r in rows))
+    r = rigfit.nimiso(t, x, force, f_min=5.0, f_max=100.0)
+    want = json.loads(cli("--json", "identify", "nimiso", path, "--f-min", "5",
+                          "--f-max", "100").stdout)
+    assert r["nimiso"] == want["nimiso"]
+    assert r.fragment == want["fragment"]
