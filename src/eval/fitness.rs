@@ -135,22 +135,13 @@ pub fn simulate_histories(
 ) -> Vec<History> {
     let exp = &problem.experiments[e];
     let grid = exp.grid(offset, problem.substeps);
+    let mut hs: Vec<History> = params
+        .iter()
+        .map(|_| History::for_grid(problem, &grid))
+        .collect();
     let model = &problem.model;
-    let empty = || History {
-        t: Vec::with_capacity(grid.samples),
-        outputs: vec![Vec::with_capacity(grid.samples); model.output_names().len()],
-        states: vec![Vec::with_capacity(grid.samples); model.state_names().len()],
-    };
-    let mut hs: Vec<History> = params.iter().map(|_| empty()).collect();
     model.simulate_many(params, &exp.drive, &grid, Report::Full, &mut |i, s| {
-        let h = &mut hs[i];
-        h.t.push(s.t);
-        for (o, v) in h.outputs.iter_mut().zip(s.outputs) {
-            o.push(*v);
-        }
-        for (o, v) in h.states.iter_mut().zip(s.state) {
-            o.push(*v);
-        }
+        hs[i].push(s);
         ControlFlow::Continue(())
     });
     hs
@@ -160,21 +151,33 @@ pub fn simulate_histories(
 pub fn simulate_history(problem: &Problem, e: usize, params: &[f64], offset: f64) -> History {
     let exp = &problem.experiments[e];
     let grid = exp.grid(offset, problem.substeps);
-    let model = &problem.model;
-    let mut h = History {
-        t: Vec::with_capacity(grid.samples),
-        outputs: vec![Vec::with_capacity(grid.samples); model.output_names().len()],
-        states: vec![Vec::with_capacity(grid.samples); model.state_names().len()],
-    };
-    model.simulate(params, &exp.drive, &grid, &mut |s| {
-        h.t.push(s.t);
-        for (o, v) in h.outputs.iter_mut().zip(s.outputs) {
-            o.push(*v);
-        }
-        for (o, v) in h.states.iter_mut().zip(s.state) {
-            o.push(*v);
-        }
+    let mut h = History::for_grid(problem, &grid);
+    problem.model.simulate(params, &exp.drive, &grid, &mut |s| {
+        h.push(s);
         ControlFlow::Continue(())
     });
     h
+}
+
+impl History {
+    /// An empty history with room for `grid`'s samples of `problem`'s rig.
+    fn for_grid(problem: &Problem, grid: &crate::base::SampleGrid) -> Self {
+        let model = &problem.model;
+        Self {
+            t: Vec::with_capacity(grid.samples),
+            outputs: vec![Vec::with_capacity(grid.samples); model.output_names().len()],
+            states: vec![Vec::with_capacity(grid.samples); model.state_names().len()],
+        }
+    }
+
+    /// Appends sample `s` (its time, every output, the full state).
+    fn push(&mut self, s: &crate::base::Sample<'_>) {
+        self.t.push(s.t);
+        for (o, v) in self.outputs.iter_mut().zip(s.outputs) {
+            o.push(*v);
+        }
+        for (o, v) in self.states.iter_mut().zip(s.state) {
+            o.push(*v);
+        }
+    }
 }
