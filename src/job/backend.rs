@@ -1,10 +1,11 @@
 //! `auto` chooses the faster path by measurement.
 //!
 //! Which path scores a rig fastest depends on the rig, its records and the
-//! machine: a 2-core machine's lavapipe runs the tensile rig at twice the CPU
-//! lanes' rate and a long measured-drive record at half of it. So `auto`
-//! scores one trial batch (the job's population, at most
-//! [`TRIAL_CANDIDATES`], spread over the search box by a fixed seed) on each
+//! machine: a 2-core machine's lavapipe runs the tensile rig's population
+//! faster than the CPU lanes and the EMPS drive's long record at half their
+//! rate. So `auto` scores one trial batch (the job's population, or fewer
+//! where that would take more than [`TRIAL_STEPS`] candidate-steps, spread
+//! over the search box by a fixed seed) on each
 //! path it can open, after one warm-up batch that builds the kernels the job
 //! would build anyway, and keeps the faster. The choice and the measured rates
 //! go into the job's first line and `result.json` (`backend_trial`), and into
@@ -24,8 +25,15 @@ use serde::{Deserialize, Serialize};
 use crate::campaign::Campaign;
 use crate::eval::{EvalError, Evaluator};
 
-/// Most candidates a trial batch scores on each path.
-pub const TRIAL_CANDIDATES: usize = 256;
+/// Most candidate-steps a trial batch takes on each path: below it the
+/// trial scores the job's whole population (a GPU's rate depends on the
+/// batch's size: lavapipe's two threads run the tensile rig's 2048
+/// candidates faster than the CPU lanes and 256 of them slower), above it
+/// fewer candidates, in whole workgroups of 64.
+pub const TRIAL_STEPS: f64 = 3e7;
+
+/// Fewest candidates a trial batch scores (the population, where smaller).
+pub const TRIAL_MIN_CANDIDATES: usize = 128;
 
 /// Candidates of the warm-up batch (enough for the GPU evaluator to build the
 /// specialised kernel the job's generations use).
@@ -117,7 +125,7 @@ pub fn race(
     mut cpu: Box<dyn Evaluator>,
 ) -> Result<(Box<dyn Evaluator>, BackendTrial), TrialError> {
     let start = Instant::now();
-    let n = population.clamp(1, TRIAL_CANDIDATES);
+    let n = trial_candidates(population, super::steps_per_candidate(campaign));
     let genomes = trial_genomes(campaign, n);
     let gpu_rate = rate(campaign, gpu.as_mut(), &genomes, "gpu")?;
     let cpu_rate = rate(campaign, cpu.as_mut(), &genomes, "cpu")?;
@@ -131,6 +139,14 @@ pub fn race(
         cached: false,
     };
     Ok((if gpu_wins { gpu } else { cpu }, trial))
+}
+
+/// Candidates in the timed trial batch: the population where it takes at
+/// most [`TRIAL_STEPS`], else as many whole workgroups as fit, at least
+/// [`TRIAL_MIN_CANDIDATES`].
+fn trial_candidates(population: usize, steps_per_candidate: f64) -> usize {
+    let fit = (TRIAL_STEPS / steps_per_candidate.max(1.0)) as usize / 64 * 64;
+    population.min(fit.max(TRIAL_MIN_CANDIDATES)).max(1)
 }
 
 /// Where the choices are kept: `RIGFIT_CACHE_DIR`, else
@@ -230,6 +246,15 @@ fn remember_in(file: &Path, key: &str, trial: &BackendTrial) -> std::io::Result<
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_trial_scores_the_population_unless_it_is_long() {
+        assert_eq!(trial_candidates(2048, 2500.0), 2048);
+        assert_eq!(trial_candidates(128, 49_680.0), 128);
+        assert_eq!(trial_candidates(4096, 49_680.0), 576);
+        assert_eq!(trial_candidates(4096, 1e9), TRIAL_MIN_CANDIDATES);
+        assert_eq!(trial_candidates(40, 1e9), 40);
+    }
 
     #[test]
     fn a_cached_choice_reads_back_marked_as_cached() {
