@@ -221,7 +221,9 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     // `auto`: a choice measured before for this job on this machine (a CPU
     // choice opens no GPU), else a race between the two paths once both are
     // open (src/job/backend.rs).
-    let trial_key = (backend == Backend::Auto)
+    // A named adapter (`--adapter`, RIGFIT_ADAPTER) asks for that GPU: no race.
+    let named_adapter = rigfit::gpu::requested_adapter(a.adapter.as_deref()).is_some();
+    let trial_key = (backend == Backend::Auto && !named_adapter)
         .then(|| job::backend::auto_key(&c, &format!("{precision:?}").to_lowercase()));
     let cached = trial_key.as_deref().and_then(job::backend::cached);
     let mut backend_trial = None;
