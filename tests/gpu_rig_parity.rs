@@ -240,6 +240,7 @@ fn params_of(case: &Case) -> Vec<Vec<f64>> {
 /// A problem whose record is the centre candidate's first output.
 fn problem(case: &Case) -> Problem {
     let mut exp = ExperimentData {
+        output: 0,
         name: case.name.into(),
         drive: case.drive.clone(),
         t_first: 0.0,

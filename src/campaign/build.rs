@@ -87,28 +87,37 @@ pub(crate) fn build(
     let mut inputs: Vec<PathBuf> = std::iter::once(file.to_path_buf())
         .chain(rig_file)
         .collect();
+    let mut owners = Vec::new();
     for (e, x) in raw.experiments.iter().enumerate() {
         let free = |i: usize| {
             genes
                 .iter()
-                .any(|g| acts_in(g, e, &r.sources) && g.target == GeneTarget::Param(i))
+                .any(|g| acts_in(g, e, &r.sources[e]) && g.target == GeneTarget::Param(i))
         };
-        let (lo, hi) = corners(&r.base[e], &genes, e, &r.sources);
+        let (lo, hi) = corners(&r.base[e], &genes, e, &r.sources[e]);
         check_physics(file, model, &r.base[e], &lo, &hi, &r.paths[e], &free)?;
-        let (exp, bytes_hash, read) =
-            experiment(file, dir, e, x, digest, reading, &mut r.warnings)?;
-        if !model.supports(&exp.drive) {
-            return Err(invalid(
-                file,
-                format!("experiments[{e}].drive"),
-                format!("a drive mode that rig '{}' declares", model.id()),
-                "a force table (the rig has no \"force\"-mode drive)",
-            ));
+        for (view, output, name) in super::channels::views(file, model, e, x)? {
+            let (mut exp, bytes_hash, read) =
+                experiment(file, dir, e, &view, digest, reading, &mut r.warnings)?;
+            if !model.supports(&exp.drive) {
+                return Err(invalid(
+                    file,
+                    format!("experiments[{e}].drive"),
+                    format!("a drive mode that rig '{}' declares", model.id()),
+                    "a force table (the rig has no \"force\"-mode drive)",
+                ));
+            }
+            if output != 0 {
+                rig.scoring(output).map_err(rig_error)?;
+            }
+            exp.output = output;
+            exp.name = name;
+            initial::check_prescribed(file, model, e, x, &exp.drive)?;
+            digest = bytes_hash;
+            experiments.push(exp);
+            owners.push(e);
+            inputs.extend(read.filter(|p| !inputs.contains(p)));
         }
-        initial::check_prescribed(file, model, e, x, &exp.drive)?;
-        digest = bytes_hash;
-        experiments.push(exp);
-        inputs.extend(read);
     }
 
     check_weights(file, &experiments)?;
@@ -117,9 +126,9 @@ pub(crate) fn build(
         model,
         &experiments,
         &genes,
-        |e| corners(&r.base[e], &genes, e, &r.sources),
-        |e| latest_offset(base_offsets[e], &genes, e),
-        |e| (r.base[e].clone(), base_offsets[e]),
+        |e| corners(&r.base[owners[e]], &genes, owners[e], &r.sources[owners[e]]),
+        |e| latest_offset(base_offsets[owners[e]], &genes, owners[e]),
+        |e| (r.base[owners[e]].clone(), base_offsets[owners[e]]),
         requested,
         raw.solver.tolerance,
     )
@@ -145,8 +154,8 @@ pub(crate) fn build(
             substeps,
         },
         genes,
-        base: r.base,
-        base_offsets,
+        base: owners.iter().map(|&o| r.base[o].clone()).collect(),
+        base_offsets: owners.iter().map(|&o| base_offsets[o]).collect(),
         solver: step.settings(raw.solver.backend, raw.solver.precision),
         search_given: raw.search.is_some(),
         search: raw.search.unwrap_or_else(GaSettings::unset),
@@ -155,7 +164,9 @@ pub(crate) fn build(
         raw_json: text.to_string(),
         digest,
         warnings: r.warnings,
-        sources: r.sources,
+        sources: owners.iter().map(|&o| r.sources[o].clone()).collect(),
+        owners,
+        experiment_names: raw.experiments.iter().map(|x| x.name.clone()).collect(),
     })
 }
 
@@ -201,11 +212,11 @@ pub(crate) fn latest_offset(base: f64, genes: &[Gene], e: usize) -> f64 {
 pub(crate) fn corners(
     base: &[f64],
     genes: &[Gene],
-    e: usize,
-    sources: &[Vec<Source>],
+    owner: usize,
+    sources: &[Source],
 ) -> (Vec<f64>, Vec<f64>) {
     let (mut lo, mut hi) = (base.to_vec(), base.to_vec());
-    for g in genes.iter().filter(|g| acts_in(g, e, sources)) {
+    for g in genes.iter().filter(|g| acts_in(g, owner, sources)) {
         if let GeneTarget::Param(i) = g.target {
             lo[i] = g.lower;
             hi[i] = g.upper;
@@ -449,6 +460,7 @@ fn experiment(
     let mut force = series.force;
     force.truncate(window.end);
     let mut exp = ExperimentData {
+        output: 0,
         name: x.name.clone(),
         drive,
         t_first: series.t[0],

@@ -74,8 +74,9 @@ impl Campaign {
     ) -> IntegrationError {
         let x = &self.problem.experiments[e];
         let n = self.problem.substeps;
+        let model = self.problem.scoring_model(e);
         let mut run = StepDoubling::new(
-            &self.model,
+            &model,
             params,
             &x.drive,
             x.grid(offset, n),

@@ -33,6 +33,7 @@
 //! parameters in model order followed by its free offset.
 
 mod build;
+mod channels;
 mod error;
 mod initial;
 mod integration_error;
@@ -95,12 +96,13 @@ pub struct Gene {
     pub unit: String,
 }
 
-/// Whether gene `g` acts in experiment `e`: its own genes, and shared genes of
+/// Whether gene `g` acts in a run of campaign experiment `owner` whose
+/// parameters come from `sources`: its own genes, and shared genes of
 /// parameters the experiment does not override.
-pub(crate) fn acts_in(g: &Gene, e: usize, sources: &[Vec<Source>]) -> bool {
+pub(crate) fn acts_in(g: &Gene, owner: usize, sources: &[Source]) -> bool {
     match (g.experiment, g.target) {
-        (Some(x), _) => x == e,
-        (None, GeneTarget::Param(i)) => sources[e][i] == Source::Shared,
+        (Some(x), _) => x == owner,
+        (None, GeneTarget::Param(i)) => sources[i] == Source::Shared,
         (None, GeneTarget::Offset) => true,
     }
 }
@@ -128,8 +130,17 @@ pub struct Campaign {
     /// The rig model.
     pub model: Arc<CompiledRig>,
     /// Model plus measured experiments; `problem.substeps` is `solver.substeps`.
+    /// An experiment with `channels` is one problem experiment per channel
+    /// (named `<experiment>.<output>`), each scoring its own output; they run
+    /// with the same parameters ([`Campaign::owners`]).
     pub problem: Problem,
-    /// The searched quantities, in genome order.
+    /// For each problem experiment, the index of the campaign experiment it
+    /// belongs to (itself, but for the channels of one experiment).
+    pub owners: Vec<usize>,
+    /// The campaign experiments' names, in the file's order.
+    pub experiment_names: Vec<String>,
+    /// The searched quantities, in genome order; a gene's `experiment` is a
+    /// campaign experiment ([`Campaign::owners`]).
     pub genes: Vec<Gene>,
     /// Per experiment, the full parameter vector: fixed values, free ones at
     /// their init or mid-range (geometric mid for log scale).
@@ -160,14 +171,28 @@ pub struct Campaign {
 }
 
 impl Campaign {
-    /// Index of the experiment called `name`; otherwise the list of the
-    /// campaign's experiment names, for the message.
+    /// Index of the problem experiment called `name`; otherwise the list of
+    /// the campaign's experiment names, for the message.
     pub fn experiment_index(&self, name: &str) -> Result<usize, String> {
         let exps = &self.problem.experiments;
         exps.iter().position(|x| x.name == name).ok_or_else(|| {
             let names: Vec<&str> = exps.iter().map(|x| x.name.as_str()).collect();
             names.join(", ")
         })
+    }
+
+    /// The problem experiments of the campaign experiment called `name` (one,
+    /// or one per channel); otherwise the list of the campaign's experiment
+    /// names, for the message.
+    pub fn runs_of(&self, name: &str) -> Result<Vec<usize>, String> {
+        let owner = self
+            .experiment_names
+            .iter()
+            .position(|x| x == name)
+            .ok_or_else(|| self.experiment_names.join(", "))?;
+        Ok((0..self.owners.len())
+            .filter(|&e| self.owners[e] == owner)
+            .collect())
     }
 
     /// Reads and validates a campaign file; data files are relative to its
@@ -240,7 +265,7 @@ impl Campaign {
                 let mut p = self.base[e].clone();
                 let mut offset = self.base_offsets[e];
                 for (g, &v) in self.genes.iter().zip(genome) {
-                    if acts_in(g, e, &self.sources) {
+                    if acts_in(g, self.owners[e], &self.sources[e]) {
                         match g.target {
                             GeneTarget::Param(i) => p[i] = v,
                             GeneTarget::Offset => offset = v,
@@ -307,13 +332,13 @@ impl Campaign {
     /// `e`: a shared gene does not act where the experiment sets the parameter
     /// itself.
     pub fn gene_acts_in(&self, g: usize, e: usize) -> bool {
-        acts_in(&self.genes[g], e, &self.sources)
+        acts_in(&self.genes[g], self.owners[e], &self.sources[e])
     }
 
     /// Bounds of experiment `e`'s parameter vector: fixed values, free ones at
     /// their bounds.
     pub fn bounds(&self, e: usize) -> (Vec<f64>, Vec<f64>) {
-        build::corners(&self.base[e], &self.genes, e, &self.sources)
+        build::corners(&self.base[e], &self.genes, self.owners[e], &self.sources[e])
     }
 }
 

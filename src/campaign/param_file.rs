@@ -81,10 +81,10 @@ fn read_values(
 enum Key {
     /// A model parameter in every experiment that takes the top-level value.
     Shared(usize),
-    /// A parameter of one experiment.
-    Own(usize, usize),
-    /// One experiment's offset.
-    Offset(usize),
+    /// A parameter of one experiment (its runs: one, or one per channel).
+    Own(Vec<usize>, usize),
+    /// One experiment's offset (its runs).
+    Offset(Vec<usize>),
 }
 
 /// Applies the file at `path` to `c` (see [`Campaign::apply_param_file`]).
@@ -116,7 +116,7 @@ pub(crate) fn apply(campaign: &mut Campaign, path: &Path) -> Result<(), Campaign
                 Key::Shared(i)
             }
             Some((exp, name)) => {
-                let e = c.experiment_index(exp).map_err(|names| {
+                let e = c.runs_of(exp).map_err(|names| {
                     let expected = format!("an experiment of the campaign ({names})");
                     invalid(path, &at, expected, format!("'{exp}'"))
                 })?;
@@ -144,8 +144,8 @@ pub(crate) fn apply(campaign: &mut Campaign, path: &Path) -> Result<(), Campaign
                     }
                 }
             }
-            Key::Own(e, i) => c.base[e][i] = value,
-            Key::Offset(e) => c.base_offsets[e] = value,
+            Key::Own(runs, i) => runs.iter().for_each(|&e| c.base[e][i] = value),
+            Key::Offset(runs) => runs.iter().for_each(|&e| c.base_offsets[e] = value),
         }
         c.genes.retain(|g| g.name != *key);
     }

@@ -77,6 +77,10 @@ pub struct RawExperiment {
     /// default 1).
     #[serde(default = "one")]
     pub weight: f64,
+    /// `"channels"`: the record's measured columns, each fitted against one
+    /// of the rig's outputs (instead of `data.column` against output 0).
+    #[serde(default)]
+    pub channels: Option<Vec<RawChannel>>,
     /// `"params"`: overrides of experiment-scope parameters for this experiment
     /// alone. A name given twice is refused.
     #[serde(default, deserialize_with = "unique_keys")]
@@ -199,6 +203,27 @@ pub struct RawData {
     /// output 0 (default 1; 1e3 for kN into N, 1e-3 for mm into m).
     #[serde(default = "one", alias = "scale")]
     pub force_scale: f64,
+}
+
+/// One measured channel of an experiment: a column of its record against
+/// one of the rig's outputs.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawChannel {
+    /// `"output"`: the rig output it measures, by name.
+    pub output: String,
+    /// `"column"`: its column in the data file (header name or 0-based index).
+    pub column: Column,
+    /// `"scale"`: multiplier to the output's unit (default 1).
+    #[serde(default = "one")]
+    pub scale: f64,
+    /// `"weight"`: its weight in the joint fitness, times the experiment's
+    /// (> 0, default 1).
+    #[serde(default = "one")]
+    pub weight: f64,
+    /// `"fit_window"`: its scored span (default: the experiment's).
+    #[serde(default)]
+    pub fit_window: Option<RawWindow>,
 }
 
 /// How the actuator is driven.

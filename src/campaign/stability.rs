@@ -321,16 +321,30 @@ fn accurate(
     stable: usize,
     tolerance: Option<f64>,
 ) -> Accurate {
-    let unit = model.output_names().first().map_or("", |o| o.1.as_str());
+    let names = model.output_names();
+    let unit = |x: &ExperimentData| names.get(x.output).map_or("", |o| o.1.as_str());
     let cap = stable
         .saturating_mul(ACCURACY_CAP_FACTOR)
         .min(MAX_AUTO_SUBSTEPS)
         .max(stable);
     let at: Vec<(Vec<f64>, f64)> = (0..exps.len()).map(initial).collect();
+    // A channel is judged on its own output: the rig compiled to score it.
+    let scoring: Vec<Option<std::sync::Arc<CompiledRig>>> = exps
+        .iter()
+        .map(|x| {
+            (x.output != 0).then(|| {
+                model
+                    .scoring(x.output)
+                    .expect("a scoring rig compiled when the channel was read")
+            })
+        })
+        .collect();
     let mut runs: Vec<StepDoubling<'_>> = exps
         .iter()
         .zip(&at)
-        .map(|(x, (p, off))| {
+        .zip(&scoring)
+        .map(|((x, (p, off)), s)| {
+            let model = s.as_deref().unwrap_or(model);
             StepDoubling::new(model, p, &x.drive, x.grid(*off, stable), x.window.clone())
         })
         .collect();
@@ -340,7 +354,7 @@ fn accurate(
     let mut unjudged = Vec::new();
     let mut capped = None;
     for (e, (x, run)) in exps.iter().zip(&mut runs).enumerate() {
-        let Some((t, words)) = target(x, tolerance, unit) else {
+        let Some((t, words)) = target(x, tolerance, unit(x)) else {
             unjudged.push(format!(
                 "'{}': no noise level in the record",
                 echo_bare(&x.name)
@@ -379,7 +393,7 @@ fn accurate(
         .iter()
         .zip(&mut runs)
         .map(|(x, run)| {
-            let judged = target(x, tolerance, unit).is_some();
+            let judged = target(x, tolerance, unit(x)).is_some();
             (judged && run.steps_of(4 * n) <= ESTIMATE_MAX_RUN_STEPS)
                 .then(|| run.error(n))
                 .flatten()
@@ -391,7 +405,8 @@ fn accurate(
              experiment '{}' (allowed {t:.2e} {unit}: {tw}; aimed at {:.0} % of it)",
             errors[*e].unwrap_or(f64::NAN),
             echo_bare(&exps[*e].name),
-            100.0 * ACCURACY_MARGIN
+            100.0 * ACCURACY_MARGIN,
+            unit = unit(&exps[*e]),
         ),
         None => "integration error not estimated".to_string(),
     };
@@ -402,6 +417,7 @@ fn accurate(
         );
     }
     let warning = capped.map(|(e, m, err, t, tw)| {
+        let unit = unit(&exps[e]);
         format!(
             "experiment '{}': the RK4 step is not as fine as accuracy asks: at {} the integration \
              error is still ≈ {err:.2e} {unit}, against {t:.2e} {unit} allowed ({tw}); \"auto\" takes at most \

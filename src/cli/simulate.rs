@@ -43,9 +43,10 @@ pub struct SimulateArgs {
     pub experiment: Option<String>,
     /// Write a synthetic record with Gaussian noise of this standard deviation,
     /// in the unit of the rig's measured output (output 0: N for a force, m for
-    /// a displacement, m/s² for an acceleration).
-    #[arg(long, allow_negative_numbers = true)]
-    pub noise: Option<f64>,
+    /// a displacement, m/s² for an acceleration); for an experiment with
+    /// several channels, one per channel, comma-separated, in channel order.
+    #[arg(long, allow_negative_numbers = true, value_delimiter = ',')]
+    pub noise: Option<Vec<f64>>,
     /// Seed of the noise.
     #[arg(long, default_value_t = 0)]
     pub seed: u64,
@@ -83,26 +84,57 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
         check_memory(args, n, 2)?;
     }
     let c = load(args, &grid)?;
+    let raw: RawCampaign = serde_json::from_str(&c.raw_json)?;
     let e = match &args.experiment {
         None => 0,
-        Some(name) => c.experiment_index(name).map_err(|names| {
-            BadInput(format!(
-                "--experiment `{name}`: the campaign has experiments {names}"
-            ))
-        })?,
+        // An experiment with channels by its own name: its first channel.
+        Some(name) => match raw.experiments.iter().position(|x| &x.name == name) {
+            Some(owner) => c.owners.iter().position(|&o| o == owner).unwrap_or(0),
+            None => c.experiment_index(name).map_err(|names| {
+                BadInput(format!(
+                    "--experiment `{name}`: the campaign has experiments {names}"
+                ))
+            })?,
+        },
     };
-    let (out_name, unit) = c.model.output_names()[0].clone();
-    if let Some(sigma) = args.noise {
-        if !(sigma >= 0.0 && sigma.is_finite()) {
+    let owner = c.owners[e];
+    // The channels the record holds: every one of the experiment's.
+    let channels: Vec<usize> = (0..c.owners.len())
+        .filter(|&i| c.owners[i] == owner)
+        .collect();
+    let outputs = c.model.output_names();
+    let measured: Vec<(String, String)> = channels
+        .iter()
+        .map(|&i| outputs[c.problem.experiments[i].output].clone())
+        .collect();
+    let (out_name, unit) = measured[0].clone();
+    let listed = || {
+        measured
+            .iter()
+            .map(|(n, u)| format!("'{n}' ({u})"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    if let Some(sigmas) = &args.noise {
+        if sigmas.len() != channels.len() {
+            return Err(BadInput(format!(
+                "--noise {}: expected {} standard deviation(s), one per measured channel: {}",
+                sigmas.iter().map(|s| number(*s)).collect::<Vec<_>>().join(","),
+                channels.len(),
+                listed()
+            ))
+            .into());
+        }
+        if let Some(sigma) = sigmas.iter().find(|s| !(**s >= 0.0 && s.is_finite())) {
             return Err(BadInput(format!(
                 "--noise {sigma}: expected a standard deviation ≥ 0 in the unit of the \
-                 measured output '{out_name}' ({unit})"
+                 measured output {}",
+                listed()
             ))
             .into());
         }
     }
-    let raw: RawCampaign = serde_json::from_str(&c.raw_json)?;
-    let x = &raw.experiments[e];
+    let x = &raw.experiments[owner];
     let drive_column = match &x.drive {
         RawDrive::Force(t) => t.column.clone(),
         RawDrive::Velocity => None,
@@ -152,27 +184,57 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
             .collect();
         (col, values)
     });
-    let text = match args.noise {
-        Some(sigma) => {
-            let layout = record_layout(&x.data, drive.as_ref().map(|d| d.0), (&out_name, &unit))?;
+    let text = match &args.noise {
+        Some(sigmas) => {
+            let columns: Vec<(Column, String)> = match &x.channels {
+                Some(chs) => chs
+                    .iter()
+                    .zip(&measured)
+                    .map(|(ch, (n, u))| (ch.column.clone(), format!("{n}_{u}")))
+                    .collect(),
+                None => vec![(
+                    x.data.force_column.clone().unwrap_or(Column::Index(1)),
+                    format!("{out_name}_{unit}"),
+                )],
+            };
+            let scales: Vec<f64> = match &x.channels {
+                Some(chs) => chs.iter().map(|ch| ch.scale).collect(),
+                None => vec![x.data.force_scale],
+            };
+            let layout = record_layout(&x.data, &columns, drive.as_ref().map(|d| d.0))?;
+            let noise = measured
+                .iter()
+                .zip(sigmas)
+                .map(|((n, u), s)| format!("sigma = {} {u} on output {n}", number(*s)))
+                .collect::<Vec<_>>()
+                .join(", ");
             let mut s = String::new();
             let _ = writeln!(
                 s,
                 "# SYNTHETIC measurement: made by `rigfit simulate` from campaign {} (experiment {}),\n\
-                 # rig {}, Gaussian noise sigma = {} {unit} on output {out_name}, seed {}. Not a measured record.",
+                 # rig {}, Gaussian noise {noise}, seed {}. Not a measured record.",
                 c.name,
-                exp.name,
+                x.name,
                 c.model.id(),
-                number(sigma),
                 args.seed
             );
+            let channels: Vec<Channel> = channels
+                .iter()
+                .zip(sigmas)
+                .zip(&scales)
+                .map(|((&i, &sigma), &scale)| Channel {
+                    output: c.problem.experiments[i].output,
+                    sigma,
+                    scale,
+                })
+                .collect();
             write_record(
                 &mut s,
                 &layout,
                 &h,
                 exp,
                 &x.data,
-                sigma,
+                &channels,
                 args.seed,
                 drive.as_ref(),
             );
@@ -181,22 +243,47 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
         None => history_csv(&c, &h, drive.as_ref()),
     };
     write_file(&args.out, text.as_bytes())?;
-    let peak = h.outputs[0].iter().fold(0.0_f64, |m, f| m.max(f.abs()));
+    let o = exp.output;
+    let peak = h.outputs[o].iter().fold(0.0_f64, |m, f| m.max(f.abs()));
+    let noise_json = args.noise.as_ref().map(|sigmas| {
+        let one = |s: f64, u: &str| serde_json::json!({"sigma": s, "unit": u, "seed": args.seed});
+        match sigmas.as_slice() {
+            [s] => one(*s, &unit),
+            many => serde_json::Value::Array(
+                many.iter()
+                    .zip(&measured)
+                    .map(|(s, (n, u))| {
+                        let mut v = one(*s, u);
+                        v["output"] = serde_json::json!(n);
+                        v
+                    })
+                    .collect(),
+            ),
+        }
+    });
     out.json(&serde_json::json!({
         "out": args.out, "experiment": exp.name, "samples": h.t.len(),
         "dt": exp.dt, "substeps": substeps, "record_read": grid.reads_records(),
-        "noise": args.noise.map(|s| serde_json::json!({"sigma": s, "unit": unit, "seed": args.seed})),
+        "noise": noise_json,
         "drive_column": drive.as_ref().map(|d| column_label(d.0)),
         "peak": {"output": out_name, "unit": unit, "abs_max": peak},
     }))?;
     out.say(|| {
         let noise = args
             .noise
-            .map(|s| format!(", noise σ = {} {unit} on {out_name}", number(s)))
+            .as_ref()
+            .map(|sigmas| {
+                let each: Vec<String> = sigmas
+                    .iter()
+                    .zip(&measured)
+                    .map(|(s, (n, u))| format!("{} {u} on {n}", number(*s)))
+                    .collect();
+                format!(", noise σ = {}", each.join(", "))
+            })
             .unwrap_or_default();
         format!(
             "simulated {} ({} samples at dt = {:e} s, {}{noise}): largest |{out_name}| {peak:.4e} {unit} → {}",
-            exp.name,
+            x.name,
             h.t.len(),
             exp.dt,
             rigfit::base::text::steps_per_sample(substeps),
@@ -352,25 +439,34 @@ fn load(args: &SimulateArgs, grid: &SimulationGrid) -> Result<Campaign> {
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Cell {
     Time,
-    Measured,
+    /// Measured channel `j` (in the order of [`Channel`]s).
+    Measured(usize),
     Drive,
     /// A column between two the campaign reads by position: zeros.
     Unused,
 }
 
+/// One measured column of a synthetic record: the output, its noise (the
+/// output's unit) and the campaign's multiplier to that unit.
+struct Channel {
+    output: usize,
+    sigma: f64,
+    scale: f64,
+}
+
 /// The record's columns in order, each with its header, placed where the
 /// campaign's `data` reads them: by name, or at a 0-based position.
+/// `measured`: each channel's column and default header.
 fn record_layout(
     data: &RawData,
+    measured: &[(Column, String)],
     drive: Option<&Column>,
-    (out_name, unit): (&str, &str),
 ) -> Result<Vec<(String, Cell)>, BadInput> {
     let time = data.time_column.clone().unwrap_or(Column::Index(0));
-    let measured = data.force_column.clone().unwrap_or(Column::Index(1));
-    let mut wanted = vec![
-        (time, "t_s".to_string(), Cell::Time),
-        (measured, format!("{out_name}_{unit}"), Cell::Measured),
-    ];
+    let mut wanted = vec![(time, "t_s".to_string(), Cell::Time)];
+    for (j, (column, header)) in measured.iter().enumerate() {
+        wanted.push((column.clone(), header.clone(), Cell::Measured(j)));
+    }
     if let Some(d) = drive {
         wanted.push((d.clone(), "drive".into(), Cell::Drive));
     }
@@ -435,8 +531,9 @@ fn digits(peak: f64, sigma: f64) -> usize {
     }
 }
 
-/// Writes the synthetic record's header and rows: the record's time, output 0
-/// with noise, the drive column, each in the unit the campaign reads it in.
+/// Writes the synthetic record's header and rows: the record's time, each
+/// measured channel with its noise, the drive column, each in the unit the
+/// campaign reads it in.
 #[expect(
     clippy::too_many_arguments,
     reason = "one row writer, every part named"
@@ -447,27 +544,41 @@ fn write_record(
     h: &History,
     exp: &rigfit::eval::ExperimentData,
     data: &RawData,
-    sigma: f64,
+    channels: &[Channel],
     seed: u64,
     drive: Option<&(&Column, Vec<f64>)>,
 ) {
     let names: Vec<&str> = layout.iter().map(|(n, _)| n.as_str()).collect();
     *s += &names.join(",");
     s.push('\n');
-    let peak = h.outputs[0].iter().fold(0.0_f64, |m, f| m.max(f.abs()));
-    let p = digits(peak, sigma) - 1;
+    let precision: Vec<usize> = channels
+        .iter()
+        .map(|ch| {
+            let peak = h.outputs[ch.output]
+                .iter()
+                .fold(0.0_f64, |m, f| m.max(f.abs()));
+            digits(peak, ch.sigma) - 1
+        })
+        .collect();
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    for (k, y) in h.outputs[0].iter().enumerate() {
+    let mut noisy = vec![0.0; channels.len()];
+    for k in 0..h.t.len() {
         let t = exp.t_first + k as f64 * exp.dt;
-        // One draw per sample whatever the layout, so a seed gives one noise.
-        let noisy = y + sigma * gaussian(&mut rng);
+        // One draw per sample and channel whatever the layout, so a seed
+        // gives one noise.
+        for (v, ch) in noisy.iter_mut().zip(channels) {
+            *v = h.outputs[ch.output][k] + ch.sigma * gaussian(&mut rng);
+        }
         for (i, (_, cell)) in layout.iter().enumerate() {
             if i > 0 {
                 s.push(',');
             }
-            let _ = match cell {
+            let _ = match *cell {
                 Cell::Time => write!(s, "{:.9e}", t / data.time_scale),
-                Cell::Measured => write!(s, "{:.p$e}", noisy / data.force_scale),
+                Cell::Measured(j) => {
+                    let p = precision[j];
+                    write!(s, "{:.p$e}", noisy[j] / channels[j].scale)
+                }
                 Cell::Drive => write!(s, "{:e}", drive.map_or(0.0, |d| d.1[k])),
                 Cell::Unused => write!(s, "0"),
             };

@@ -55,12 +55,15 @@ impl CpuEvaluator {
     /// [`EvalError::Unsupported`] saying why it cannot: a model without an
     /// f32 path (the hand-written ones), or no C compiler to build it.
     pub fn use_f32(&mut self) -> Result<(), EvalError> {
-        for exp in &self.problem.experiments {
+        for (e, exp) in self.problem.experiments.iter().enumerate() {
             let grid = exp.grid(0.0, self.problem.substeps);
-            let built =
-                self.problem
-                    .model
-                    .simulate_measured(&[], &exp.drive, &grid, true, &mut |_, _| {});
+            let built = self.problem.scoring_model(e).simulate_measured(
+                &[],
+                &exp.drive,
+                &grid,
+                true,
+                &mut |_, _| {},
+            );
             if !built {
                 return Err(EvalError::Unsupported(format!(
                     "f32 on the CPU needs the rig's lane code built by the C compiler (`cc`, or \
@@ -212,8 +215,8 @@ impl Evaluator for CpuEvaluator {
     }
 
     fn prepare(&mut self) {
-        for e in &self.problem.experiments {
-            self.problem.model.prepare_native(&e.drive);
+        for (e, exp) in self.problem.experiments.iter().enumerate() {
+            self.problem.scoring_model(e).prepare_native(&exp.drive);
         }
     }
 

@@ -73,7 +73,7 @@ pub fn score_one(problem: &Problem, e: usize, params: &[f64], offset: f64) -> (f
     let exp = &problem.experiments[e];
     let grid = exp.grid(offset, problem.substeps);
     let mut acc = FitnessAccumulator::new(exp);
-    problem.model.simulate(params, &exp.drive, &grid, &mut |s| {
+    problem.scoring_model(e).simulate(params, &exp.drive, &grid, &mut |s| {
         acc.add(exp, s.index, s.outputs[0])
     });
     let v = acc.value();
@@ -97,7 +97,7 @@ pub fn score_many(
         .iter()
         .map(|_| FitnessAccumulator::new(exp))
         .collect();
-    problem.model.simulate_measured(
+    problem.scoring_model(e).simulate_measured(
         params,
         &exp.drive,
         &grid,

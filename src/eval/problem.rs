@@ -19,8 +19,11 @@ pub struct ExperimentData {
     pub t_first: f64,
     /// Uniform sample interval (s).
     pub dt: f64,
-    /// The measured output (the rig's output 0: a force, a displacement or
-    /// an acceleration) at each sample, in that output's unit.
+    /// Which of the rig's outputs is measured (0 unless a campaign's
+    /// `channels` name another).
+    pub output: usize,
+    /// The measured output (a force, a displacement or an acceleration) at
+    /// each sample, in that output's unit.
     pub force: Vec<f64>,
     /// Samples scored by the fitness.
     pub window: Range<usize>,
@@ -72,6 +75,19 @@ pub struct Problem {
 }
 
 impl Problem {
+    /// The rig that scores experiment `e`: the model itself where it measures
+    /// output 0, else the model compiled with its output first
+    /// ([`CompiledRig::scoring`], compiled when the campaign was read).
+    pub fn scoring_model(&self, e: usize) -> Arc<CompiledRig> {
+        match self.experiments[e].output {
+            0 => self.model.clone(),
+            k => self
+                .model
+                .scoring(k)
+                .expect("a scoring rig compiled when the campaign was read"),
+        }
+    }
+
     /// Each experiment's weight divided by the largest: in (0, 1], so a joint
     /// fitness summed with them cannot overflow, whatever the weights' size.
     /// Equal weights give exactly 1.

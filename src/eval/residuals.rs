@@ -7,7 +7,7 @@
 
 use super::{ExperimentData, History};
 
-/// `model − measured` of output 0 at each sample of the experiment's fit
+/// `model − measured` of the measured output ([`ExperimentData::output`]) at each sample of the experiment's fit
 /// window, or `None` when the run blew up: a NaN output or one beyond
 /// [`ExperimentData::blowup_limit`] anywhere before the window's end (the guard
 /// of [`super::FitnessAccumulator`]), or a history too short to cover the window.
@@ -15,7 +15,7 @@ use super::{ExperimentData, History};
 /// The sum of squares divided by [`ExperimentData::ss_tot`] is the run's
 /// `1 − R²`.
 pub fn window_residuals(exp: &ExperimentData, history: &History) -> Option<Vec<f64>> {
-    let out = history.outputs.first()?;
+    let out = history.outputs.get(exp.output)?;
     if out.len() < exp.window.end {
         return None;
     }

@@ -35,8 +35,8 @@ pub struct KernelGroup {
 pub fn kernel_groups(problem: &Problem) -> Result<Vec<KernelGroup>, GpuError> {
     let id = problem.model.id().to_string();
     let mut groups: Vec<KernelGroup> = Vec::new();
-    for (e, exp) in problem.experiments.iter().enumerate() {
-        let g = super::kernels_for(problem, &exp.drive)?;
+    for e in 0..problem.experiments.len() {
+        let g = super::kernels_for(problem, e)?;
         match groups
             .iter_mut()
             .find(|k| std::sync::Arc::ptr_eq(&k.model, &g))

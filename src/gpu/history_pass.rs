@@ -3,6 +3,7 @@
 //! one submit, read back as [`History`]s.
 
 use crate::eval::{Batch, History};
+use crate::model::CompiledRig;
 
 use super::dispatch::encode_dispatches;
 use super::layout::Settings;
@@ -109,14 +110,18 @@ impl GpuEvaluator {
                 self.packed
                     .experiments
                     .iter()
-                    .map(|ex| {
+                    .zip(&self.problem.experiments)
+                    .map(|(ex, exp)| {
                         let base =
                             (j * self.packed.hist_stride as usize + ex.hist_offset as usize) * hv;
                         let rec = |k: usize, v: usize| raw[base + k * hv + v];
                         let n = ex.samples as usize;
                         History {
                             t: (0..n).map(|k| rec(k, 0)).collect(),
+                            // The kernels of a channel's rig list its
+                            // measured output first: back in the rig's order.
                             outputs: (0..n_out)
+                                .map(|o| CompiledRig::scoring_order(exp.output, o))
                                 .map(|o| (0..n).map(|k| rec(k, 1 + o)).collect())
                                 .collect(),
                             states: (0..n_state)

@@ -187,8 +187,8 @@ pub enum GpuError {
 pub fn gpu_model(problem: &Problem) -> Result<GpuModel, GpuError> {
     let id = problem.model.id().to_string();
     let mut found: Option<GpuModel> = None;
-    for exp in &problem.experiments {
-        let g = kernels_for(problem, &exp.drive)?;
+    for e in 0..problem.experiments.len() {
+        let g = kernels_for(problem, e)?;
         match &found {
             Some(f) if !std::sync::Arc::ptr_eq(f, &g) => return Err(GpuError::MixedDrives(id)),
             Some(_) => {}
@@ -198,11 +198,13 @@ pub fn gpu_model(problem: &Problem) -> Result<GpuModel, GpuError> {
     found.ok_or(GpuError::UnsupportedModel(id))
 }
 
-/// The kernels of `problem`'s rig for `drive`, or why it has none: more
-/// located switches than the kernels hold ([`GpuError::TooManySwitches`]),
-/// or no kernels at all.
-pub fn kernels_for(problem: &Problem, drive: &crate::base::Drive) -> Result<GpuModel, GpuError> {
-    let model = &problem.model;
+/// The kernels that score experiment `e` of `problem` (its rig for its drive,
+/// compiled for its measured output: [`Problem::scoring_model`]), or why it
+/// has none: more located switches than the kernels hold
+/// ([`GpuError::TooManySwitches`]), or no kernels at all.
+pub fn kernels_for(problem: &Problem, e: usize) -> Result<GpuModel, GpuError> {
+    let model = &problem.scoring_model(e);
+    let drive = &problem.experiments[e].drive;
     if let Some(g) = model.gpu(drive) {
         return Ok(g);
     }

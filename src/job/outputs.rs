@@ -21,18 +21,18 @@ use crate::search::{
 pub struct ExperimentFit {
     /// Experiment name.
     pub name: String,
-    /// R² of the model's output 0 over the fit window (the job's evaluator).
+    /// R² of the model's measured output over the fit window (the job's evaluator).
     pub r2: f64,
     /// `1 − R²` (the fitness).
     pub one_minus_r2: f64,
     /// R² of the same parameters with the f64 CPU reference.
     pub r2_cpu_reference: f64,
     /// Root mean square of the residual (model − measurement) over the fit
-    /// window, in output 0's unit; `None` for a run that blew up.
+    /// window, in the measured output's unit; `None` for a run that blew up.
     pub residual_rms: Option<f64>,
-    /// The unit of output 0 (and of `residual_rms`).
+    /// The unit of the measured output (and of `residual_rms`).
     pub unit: String,
-    /// The record's noise (standard deviation, output 0's unit) estimated
+    /// The record's noise (standard deviation, the measured output's unit) estimated
     /// from the record itself over the fit window ([`crate::base::noise::noise_sigma`]).
     pub noise_estimate: Option<f64>,
     /// `(residual_rms / noise_estimate)²`: the fit's mean square as a multiple
@@ -41,7 +41,7 @@ pub struct ExperimentFit {
     /// Lag-one autocorrelation of the residual over the fit window: about 0
     /// (within `2/√N`) for white noise, large where the misfit is systematic.
     pub residual_autocorrelation: Option<f64>,
-    /// The RK4 integration error of output 0 at the job's step, estimated at
+    /// The RK4 integration error of the measured output at the job's step, estimated at
     /// the fitted parameters, and its size against the residual.
     pub integration_error: crate::campaign::IntegrationError,
     /// Weight in the joint fitness.
@@ -236,7 +236,8 @@ pub fn write_outputs(
         let n = hist.t.len().min(exp.force.len());
         let t_rec: Vec<f64> = (0..n).map(|k| exp.t_first + k as f64 * exp.dt).collect();
         let title = format!("{}: {} — R² = {:.5}", campaign.name, exp.name, r2);
-        let series: Vec<plots::Series<'_>> = outputs
+        // The measured output first: the plot sets it against the record.
+        let mut series: Vec<plots::Series<'_>> = outputs
             .iter()
             .zip(&hist.outputs)
             .map(|((name, unit), h)| plots::Series {
@@ -245,6 +246,10 @@ pub fn write_outputs(
                 values: &h[..n.min(h.len())],
             })
             .collect();
+        if exp.output < series.len() {
+            let measured = series.remove(exp.output);
+            series.insert(0, measured);
+        }
         let svg = plots::fit_svg(&title, &t_rec, &exp.force[..n], &series)?;
         write(&plot, svg.as_bytes())?;
         let residuals = crate::eval::window_residuals(exp, hist).filter(|r| r.len() > 1);
@@ -263,7 +268,9 @@ pub fn write_outputs(
             one_minus_r2: 1.0 - r2,
             r2_cpu_reference: 1.0 - reference,
             residual_rms,
-            unit: outputs.first().map_or(String::new(), |o| o.1.clone()),
+            unit: outputs
+                .get(exp.output)
+                .map_or(String::new(), |o| o.1.clone()),
             noise_estimate,
             cost_over_noise_floor,
             residual_autocorrelation,
@@ -331,7 +338,7 @@ pub fn write_outputs(
     Ok(summary)
 }
 
-/// R² of output 0 against the measurement over the fit window.
+/// R² of the measured output against the measurement over the fit window.
 pub fn r_squared(exp: &crate::eval::ExperimentData, hist: &History) -> f64 {
     let w = exp.window.clone();
     let n = w.len() as f64;
@@ -339,7 +346,10 @@ pub fn r_squared(exp: &crate::eval::ExperimentData, hist: &History) -> f64 {
     let mut ss_res = 0.0;
     let mut ss_tot = 0.0;
     for k in w {
-        let m = hist.outputs[0].get(k).copied().unwrap_or(f64::NAN);
+        let m = hist.outputs[exp.output]
+            .get(k)
+            .copied()
+            .unwrap_or(f64::NAN);
         ss_res += (m - exp.force[k]).powi(2);
         ss_tot += (exp.force[k] - mean).powi(2);
     }
@@ -347,15 +357,15 @@ pub fn r_squared(exp: &crate::eval::ExperimentData, hist: &History) -> f64 {
 }
 
 /// The experiment's CSV: record and model time, the measurement, every model
-/// output (named `model_<name>_<unit>` from the rig), the residual of output 0
-/// and whether the sample is in the fit window.
+/// output (named `model_<name>_<unit>` from the rig), the residual of the
+/// measured output and whether the sample is in the fit window.
 fn experiment_csv(
     exp: &crate::eval::ExperimentData,
     hist: &History,
     offset: f64,
     outputs: &[(String, String)],
 ) -> String {
-    let (name0, unit0) = &outputs[0];
+    let (name0, unit0) = &outputs[exp.output];
     let mut s = format!("t_record_s,t_model_s,measured_{name0}_{unit0}");
     for (name, unit) in outputs {
         let _ = write!(s, ",model_{name}_{unit}");
@@ -378,7 +388,7 @@ fn experiment_csv(
         let _ = writeln!(
             s,
             ",{:.6e},{}",
-            value(0, k) - exp.force[k],
+            value(exp.output, k) - exp.force[k],
             u8::from(exp.window.contains(&k)),
         );
     }

@@ -40,6 +40,11 @@ pub struct CompiledRig {
     /// longer reach the measured output ([`crate::compile::analysis::liveness`]); `None`
     /// where it would skip none.
     fitness: Vec<Option<FitnessVariant>>,
+    /// The file it was compiled from, for messages.
+    file: String,
+    /// Per output `k > 0`, the rig compiled to score that output
+    /// ([`CompiledRig::scoring`]), once asked for.
+    scoring: Vec<std::sync::OnceLock<std::sync::Arc<CompiledRig>>>,
 }
 
 /// A program's fitness variant and its lane code and native builds (its
@@ -106,6 +111,7 @@ impl CompiledRig {
             .iter()
             .map(|o| (o.name.clone(), o.unit.clone()))
             .collect();
+        let desc_outputs = desc.outputs.len().saturating_sub(1);
         let tapes: Vec<Tape> = lowered.programs.iter().map(Tape::new).collect();
         let lane_code = lowered
             .programs
@@ -157,7 +163,39 @@ impl CompiledRig {
             lane_code,
             gpu,
             fitness,
+            file: file.to_string(),
+            scoring: std::iter::repeat_with(std::sync::OnceLock::new)
+                .take(desc_outputs)
+                .collect(),
         })
+    }
+
+    /// The rig compiled to score output `k` (`k > 0`): the same rig with that
+    /// output moved first, so that every path's fitness (the GPU kernels, the
+    /// lanes, the native code), which scores output 0, scores it. Its
+    /// histories list the outputs in that order ([`Self::scoring_order`]).
+    /// Compiled once, when first asked for; a channel of a campaign asks when
+    /// the campaign is read, so that any error shows there.
+    pub fn scoring(&self, k: usize) -> Result<std::sync::Arc<CompiledRig>, RigError> {
+        assert!(k > 0 && k < self.outputs.len(), "output {k} to score");
+        let slot = &self.scoring[k - 1];
+        if let Some(rig) = slot.get() {
+            return Ok(rig.clone());
+        }
+        let mut desc = self.desc.clone();
+        let out = desc.outputs.remove(k);
+        desc.outputs.insert(0, out);
+        let rig = std::sync::Arc::new(Self::new(desc, &self.file)?);
+        Ok(slot.get_or_init(|| rig).clone())
+    }
+
+    /// Where output `o` stands in the outputs of [`Self::scoring`]`(k)`.
+    pub fn scoring_order(k: usize, o: usize) -> usize {
+        match o {
+            _ if o == k => 0,
+            _ if o < k => o + 1,
+            _ => o,
+        }
     }
 
     /// Compiles `desc` to share between the campaign, its problem and its

@@ -427,6 +427,10 @@ pub struct OutputDesc {
     pub unit: String,
     /// Terms, added.
     pub sum: Vec<TermDesc>,
+    /// Added to the sum (the output's unit): a number or a parameter's name,
+    /// such as a sensor's zero offset fitted with the rest (default none).
+    #[serde(default)]
+    pub offset: Option<Coef>,
 }
 
 /// One term of an output: exactly one of the fields, times `gain`.
@@ -445,13 +449,14 @@ pub struct TermDesc {
     /// A node's acceleration (m/s²).
     #[serde(default)]
     pub acceleration: Option<String>,
-    /// Factor (default 1; −1 makes a difference).
-    #[serde(default = "one")]
-    pub gain: f64,
+    /// Factor (default 1; −1 makes a difference): a number, or a
+    /// parameter's name (a sensor's sensitivity, fitted or fixed).
+    #[serde(default = "unit_gain")]
+    pub gain: Coef,
 }
 
-fn one() -> f64 {
-    1.0
+fn unit_gain() -> Coef {
+    Coef::Number(1.0)
 }
 
 /// Largest elongation (m) and elongation rate (m/s) any element reaches, for the

@@ -123,6 +123,7 @@ pub fn self_measured(
     (samples, dt, t_first): (usize, f64, f64),
 ) -> ExperimentData {
     let mut exp = ExperimentData {
+        output: 0,
         name: name.into(),
         drive,
         t_first,

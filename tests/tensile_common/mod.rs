@@ -59,6 +59,7 @@ pub fn reference_like(
     seed: u64,
 ) -> ExperimentData {
     let mut exp = ExperimentData {
+        output: 0,
         name: "synthetic".into(),
         drive: Drive::Velocity,
         t_first: 0.0,

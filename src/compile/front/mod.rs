@@ -333,16 +333,13 @@ fn lower_mode(lay: &Layout, mode: &str) -> Result<Program, RigError> {
                     _ => accel[k],
                 }
             };
-            if !term.gain.is_finite() {
-                return Err(lay.err(
-                    format!("{path}.gain"),
-                    "a finite number",
-                    term.gain.to_string(),
-                ));
-            }
-            let gain = g.c(term.gain);
+            let gain = lay.coef(&mut g, &term.gain, &format!("{path}.gain"))?;
             let v = g.mul(gain, v);
             sum = g.add(sum, v);
+        }
+        if let Some(offset) = &out.offset {
+            let offset = lay.coef(&mut g, offset, &format!("outputs[{o}].offset"))?;
+            sum = g.add(sum, offset);
         }
         outputs.push(sum);
     }
