@@ -18,7 +18,9 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rigfit::campaign::Campaign;
 use rigfit::eval::{CpuEvaluator, DIVERGED, Evaluator, Precision, simulate_history};
-use rigfit::gpu::{F32_HISTORY_TOLERANCE, F64_HISTORY_TOLERANCE, GpuByDrive, GpuOptions, kernel_groups};
+use rigfit::gpu::{
+    F32_HISTORY_TOLERANCE, F64_HISTORY_TOLERANCE, GpuByDrive, GpuOptions, kernel_groups,
+};
 
 fn campaign(name: &str) -> Campaign {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -50,15 +52,21 @@ fn check(name: &str) {
     assert!(outputs.len() > 1, "{name}: channels on {outputs:?}");
     assert_eq!(kernel_groups(&problem).unwrap().len(), outputs.len());
     let batch = c.batch(&genomes(&c, 40));
-    let cpu = CpuEvaluator::new(problem.clone(), 0).fitness(&batch).unwrap();
+    let cpu = CpuEvaluator::new(problem.clone(), 0)
+        .fitness(&batch)
+        .unwrap();
     let mut precisions = vec![(Precision::F32, 1e-3, F32_HISTORY_TOLERANCE)];
     if ctx.has_f64() {
         precisions.push((Precision::F64, 1e-9, F64_HISTORY_TOLERANCE));
     }
     for (precision, fit_tol, hist_tol) in precisions {
-        let mut gpu =
-            GpuByDrive::new(ctx.clone(), problem.clone(), precision, GpuOptions::default())
-                .unwrap();
+        let mut gpu = GpuByDrive::new(
+            ctx.clone(),
+            problem.clone(),
+            precision,
+            GpuOptions::default(),
+        )
+        .unwrap();
         let g = gpu.fitness(&batch).unwrap();
         assert_eq!(g.diverged, cpu.diverged, "{name} {precision:?}");
         let mut worst = 0.0_f64;
@@ -69,7 +77,10 @@ fn check(name: &str) {
                     continue;
                 }
                 let err = (a - b).abs() / b.abs().max(1e-3);
-                assert!(err <= fit_tol, "{name} {precision:?} candidate {i} run {e}: {a} vs {b}");
+                assert!(
+                    err <= fit_tol,
+                    "{name} {precision:?} candidate {i} run {e}: {a} vs {b}"
+                );
                 worst = worst.max(err);
             }
         }
@@ -79,7 +90,8 @@ fn check(name: &str) {
         let mut worst_h = 0.0_f64;
         for (h, &i) in hist.iter().zip(&which) {
             for (e, he) in h.iter().enumerate() {
-                let want = simulate_history(&problem, e, batch.params_of(e, i), batch.offsets[e][i]);
+                let want =
+                    simulate_history(&problem, e, batch.params_of(e, i), batch.offsets[e][i]);
                 assert_eq!(he.outputs.len(), want.outputs.len());
                 for (o, (got, want)) in he.outputs.iter().zip(&want.outputs).enumerate() {
                     let scale = want.iter().fold(f64::MIN_POSITIVE, |m, f| m.max(f.abs()));

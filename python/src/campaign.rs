@@ -101,7 +101,7 @@ impl PyCampaign {
                     "name": g.name, "lower": g.lower, "upper": g.upper,
                     "scale": format!("{:?}", g.scale).to_lowercase(), "init": g.init,
                     "unit": g.unit,
-                    "experiment": g.experiment.map(|e| c.problem.experiments[e].name.clone()),
+                    "experiment": g.experiment.map(|e| c.experiment_names[e].clone()),
                 })
             })
             .collect();

@@ -10,9 +10,9 @@
 
 use std::path::Path;
 
+use super::CampaignError;
 use super::error::invalid;
 use super::raw::RawExperiment;
-use super::CampaignError;
 use crate::model::CompiledRig;
 
 /// Experiment `e` as one view per channel: the experiment with that channel's
@@ -53,7 +53,11 @@ pub(super) fn views(
             return Err(invalid(
                 file,
                 format!("{path}.output"),
-                format!("one of rig '{}''s outputs ({})", model.id(), outputs.join(", ")),
+                format!(
+                    "one of rig '{}''s outputs ({})",
+                    model.id(),
+                    outputs.join(", ")
+                ),
                 format!("{:?}", ch.output),
             ));
         };

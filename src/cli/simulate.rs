@@ -119,7 +119,11 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
         if sigmas.len() != channels.len() {
             return Err(BadInput(format!(
                 "--noise {}: expected {} standard deviation(s), one per measured channel: {}",
-                sigmas.iter().map(|s| number(*s)).collect::<Vec<_>>().join(","),
+                sigmas
+                    .iter()
+                    .map(|s| number(*s))
+                    .collect::<Vec<_>>()
+                    .join(","),
                 channels.len(),
                 listed()
             ))

@@ -73,9 +73,11 @@ pub fn score_one(problem: &Problem, e: usize, params: &[f64], offset: f64) -> (f
     let exp = &problem.experiments[e];
     let grid = exp.grid(offset, problem.substeps);
     let mut acc = FitnessAccumulator::new(exp);
-    problem.scoring_model(e).simulate(params, &exp.drive, &grid, &mut |s| {
-        acc.add(exp, s.index, s.outputs[0])
-    });
+    problem
+        .scoring_model(e)
+        .simulate(params, &exp.drive, &grid, &mut |s| {
+            acc.add(exp, s.index, s.outputs[0])
+        });
     let v = acc.value();
     (v, acc.diverged() || v >= DIVERGED)
 }

@@ -346,10 +346,7 @@ pub fn r_squared(exp: &crate::eval::ExperimentData, hist: &History) -> f64 {
     let mut ss_res = 0.0;
     let mut ss_tot = 0.0;
     for k in w {
-        let m = hist.outputs[exp.output]
-            .get(k)
-            .copied()
-            .unwrap_or(f64::NAN);
+        let m = hist.outputs[exp.output].get(k).copied().unwrap_or(f64::NAN);
         ss_res += (m - exp.force[k]).powi(2);
         ss_tot += (exp.force[k] - mean).powi(2);
     }
@@ -423,7 +420,17 @@ fn parameter_tables(
 ) -> (BTreeMap<String, f64>, Vec<ParamSummary>) {
     let full = campaign.full_params(best);
     let model = &campaign.model;
-    let exps = &campaign.problem.experiments;
+    // Each campaign experiment once, by its first run (its channels share
+    // its parameters).
+    let experiments: Vec<(usize, &str)> = campaign
+        .experiment_names
+        .iter()
+        .enumerate()
+        .filter_map(|(o, name)| {
+            let e = campaign.owners.iter().position(|&x| x == o)?;
+            Some((e, name.as_str()))
+        })
+        .collect();
     let mut params = BTreeMap::new();
     let mut rows = Vec::new();
     let gene_of = |name: &str| campaign.genes.iter().position(|g| g.name == name);
@@ -457,13 +464,13 @@ fn parameter_tables(
         if !per_experiment && full.iter().all(|(p, _)| p[i] == first) {
             row(info.name.to_string(), &info.unit, first);
         } else {
-            for (e, (p, _)) in full.iter().enumerate() {
-                row(format!("{}.{}", exps[e].name, info.name), &info.unit, p[i]);
+            for &(e, name) in &experiments {
+                row(format!("{name}.{}", info.name), &info.unit, full[e].0[i]);
             }
         }
     }
-    for (e, (_, offset)) in full.iter().enumerate() {
-        row(format!("{}.offset", exps[e].name), "s", *offset);
+    for &(e, name) in &experiments {
+        row(format!("{name}.offset"), "s", full[e].1);
     }
     (params, rows)
 }
