@@ -40,17 +40,7 @@ impl PiecewiseLinear {
     fn segment(&self, t: f64) -> usize {
         let (x, n) = (&self.t, self.t.len());
         let u = (t - x[0]) / (x[n - 1] - x[0]) * (n - 1) as f64;
-        let mut i = (u as usize).min(n - 2);
-        for _ in 0..2 {
-            if i > 0 && x[i] > t {
-                i -= 1;
-            }
-        }
-        for _ in 0..2 {
-            if i + 2 < n && x[i + 1] <= t {
-                i += 1;
-            }
-        }
+        let i = walk(x, t, (u as usize).min(n - 2));
         if x[i] <= t && t < x[i + 1] {
             i
         } else {
@@ -115,6 +105,24 @@ impl PiecewiseLinear {
     }
 }
 
+/// Walks a guessed segment `i` of the breakpoints `x` at most two down, then
+/// at most two up, towards the one holding `t` (as `table_at` does in the
+/// shaders); it stays inside `0..x.len() - 1`.
+fn walk(x: &[f64], t: f64, mut i: usize) -> usize {
+    let n = x.len();
+    for _ in 0..2 {
+        if i > 0 && x[i] > t {
+            i -= 1;
+        }
+    }
+    for _ in 0..2 {
+        if i + 2 < n && x[i + 1] <= t {
+            i += 1;
+        }
+    }
+    i
+}
+
 /// The actuator's drive mode for one experiment.
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -144,18 +152,8 @@ mod tests {
     /// the spacing, two corrections down, two up.
     fn guessed_segment(t: &[f64], inv: f64, x: f64) -> usize {
         let n = t.len();
-        let mut lo = (((x - t[0]) * inv).floor().max(0.0) as usize).min(n - 2);
-        for _ in 0..2 {
-            if lo > 0 && t[lo] > x {
-                lo -= 1;
-            }
-        }
-        for _ in 0..2 {
-            if lo + 2 < n && t[lo + 1] <= x {
-                lo += 1;
-            }
-        }
-        lo
+        let lo = (((x - t[0]) * inv).floor().max(0.0) as usize).min(n - 2);
+        walk(t, x, lo)
     }
 
     #[test]

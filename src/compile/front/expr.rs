@@ -184,20 +184,24 @@ impl Parser<'_> {
     }
 
     fn expr(&mut self) -> Result<Expr, ExprError> {
-        let mut a = self.term()?;
-        while let Some(op @ ('+' | '-')) = self.peek() {
-            self.pos += 1;
-            let b = self.term()?;
-            a = Expr::Bin(op, Box::new(a), Box::new(b));
-        }
-        Ok(a)
+        self.chain(['+', '-'], Self::term)
     }
 
     fn term(&mut self) -> Result<Expr, ExprError> {
-        let mut a = self.unary()?;
-        while let Some(op @ ('*' | '/')) = self.peek() {
+        self.chain(['*', '/'], Self::unary)
+    }
+
+    /// `operand (op operand)*` for the two operators `ops` of one precedence
+    /// level, grouped from the left.
+    fn chain(
+        &mut self,
+        ops: [char; 2],
+        operand: fn(&mut Self) -> Result<Expr, ExprError>,
+    ) -> Result<Expr, ExprError> {
+        let mut a = operand(self)?;
+        while let Some(op) = self.peek().filter(|c| ops.contains(c)) {
             self.pos += 1;
-            let b = self.unary()?;
+            let b = operand(self)?;
             a = Expr::Bin(op, Box::new(a), Box::new(b));
         }
         Ok(a)
