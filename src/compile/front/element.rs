@@ -4,7 +4,8 @@
 use super::MAX_DEGREE;
 use super::layout::Layout;
 use crate::compile::ir::{Graph, Id, Input};
-use crate::compile::program::{Direction, Transition};
+use crate::compile::program::Direction::{self, Down, Up};
+use crate::compile::program::Transition;
 use crate::rig::RigError;
 use crate::rig::desc::{Coef, DamperLaw, ElementDesc, FrictionLaw, GapKind, SpringLaw};
 
@@ -31,22 +32,43 @@ pub(super) fn element_force(
         let v = g.c(value);
         g.eq(m, v)
     };
-    let push = |trans: &mut Vec<Transition>,
-                name: String,
-                var: u32,
-                from: u32,
-                to: u32,
-                g: Id,
-                dir: Direction| {
-        trans.push(Transition {
-            name,
-            var,
-            from,
-            to,
-            g,
-            dir,
-            guard: Vec::new(),
-        });
+    // Registers switches of regime variable `var`: per switch the words after
+    // the element's name, the regime it leaves, the one it enters, the
+    // function it fires at the zero of and the direction it fires in.
+    let switches =
+        |trans: &mut Vec<Transition>, var: u32, list: &[(&str, u32, u32, Id, Direction)]| {
+            for &(what, from, to, g, dir) in list {
+                trans.push(Transition {
+                    name: format!("{} {what}", e.name),
+                    var,
+                    from,
+                    to,
+                    g,
+                    dir,
+                    guard: Vec::new(),
+                });
+            }
+        };
+    // The switches of a three-regime element (backlash, stick-slip): out of
+    // regime 0 into 1 as `x` rises through `w` or into 2 as it falls through
+    // `−w`, back into 0 as `back` falls (from 1) or rises (from 2) through
+    // zero; `names` in that order.
+    let three_regimes = |g: &mut Graph,
+                         trans: &mut Vec<Transition>,
+                         var,
+                         names: [&str; 4],
+                         (x, w): (Id, Id),
+                         back| {
+        let up = g.sub(x, w);
+        let down = g.add(x, w);
+        let [a, b, c, d] = names;
+        let list = [
+            (a, 0, 1, up, Up),
+            (b, 0, 2, down, Down),
+            (c, 1, 0, back, Down),
+            (d, 2, 0, back, Up),
+        ];
+        switches(trans, var, &list);
     };
 
     // Contact: the elongation(s) the laws see, and how the force is gated.
@@ -61,63 +83,17 @@ pub(super) fn element_force(
             let var = lay.contact_var[i].expect("allocated");
             let d_t = g.sub(el, size);
             let d_c = g.add(el, size);
-            let n = e.name.clone();
-            match gd.kind {
-                GapKind::Tension => {
-                    push(trans, format!("{n} closes"), var, 0, 1, d_t, Direction::Up);
-                    push(trans, format!("{n} opens"), var, 1, 0, d_t, Direction::Down);
-                }
-                GapKind::Compression => {
-                    push(
-                        trans,
-                        format!("{n} closes"),
-                        var,
-                        0,
-                        1,
-                        d_c,
-                        Direction::Down,
-                    );
-                    push(trans, format!("{n} opens"), var, 1, 0, d_c, Direction::Up);
-                }
-                GapKind::FreePlay => {
-                    push(
-                        trans,
-                        format!("{n} closes in tension"),
-                        var,
-                        0,
-                        1,
-                        d_t,
-                        Direction::Up,
-                    );
-                    push(
-                        trans,
-                        format!("{n} opens from tension"),
-                        var,
-                        1,
-                        0,
-                        d_t,
-                        Direction::Down,
-                    );
-                    push(
-                        trans,
-                        format!("{n} closes in compression"),
-                        var,
-                        0,
-                        2,
-                        d_c,
-                        Direction::Down,
-                    );
-                    push(
-                        trans,
-                        format!("{n} opens from compression"),
-                        var,
-                        2,
-                        0,
-                        d_c,
-                        Direction::Up,
-                    );
-                }
-            }
+            let list: &[_] = match gd.kind {
+                GapKind::Tension => &[("closes", 0, 1, d_t, Up), ("opens", 1, 0, d_t, Down)],
+                GapKind::Compression => &[("closes", 0, 1, d_c, Down), ("opens", 1, 0, d_c, Up)],
+                GapKind::FreePlay => &[
+                    ("closes in tension", 0, 1, d_t, Up),
+                    ("opens from tension", 1, 0, d_t, Down),
+                    ("closes in compression", 0, 2, d_c, Down),
+                    ("opens from compression", 2, 0, d_c, Up),
+                ],
+            };
+            switches(trans, var, list);
             Some((gd.kind, var, d_t, d_c))
         }
         None => None,
@@ -142,24 +118,14 @@ pub(super) fn element_force(
                     let gy = g.sub(d, lim);
                     // Registered once (the gap branches share one yield variable).
                     if !trans.iter().any(|t| t.var == var) {
-                        trans.push(Transition {
-                            name: format!("{} yields", e.name),
+                        switches(
+                            trans,
                             var,
-                            from: 0,
-                            to: 1,
-                            g: gy,
-                            dir: Direction::Up,
-                            guard: Vec::new(),
-                        });
-                        trans.push(Transition {
-                            name: format!("{} unloads below the limit", e.name),
-                            var,
-                            from: 1,
-                            to: 0,
-                            g: gy,
-                            dir: Direction::Down,
-                            guard: Vec::new(),
-                        });
+                            &[
+                                ("yields", 0, 1, gy, Up),
+                                ("unloads below the limit", 1, 0, gy, Down),
+                            ],
+                        );
                     }
                     let plastic = mode_is(g, var, 1.0);
                     g.select(plastic, pl, lin)
@@ -278,44 +244,18 @@ pub(super) fn element_force(
             let q = g.select(ten, b, stop);
             let d = g.sub(el, q);
             let lf = law_force(g, trans, d)?;
-            let n = &e.name;
-            let to_ten = g.sub(p, b);
-            let to_com = g.add(p, b);
-            push(
+            three_regimes(
+                g,
                 trans,
-                format!("{n} takes up its play in tension"),
                 var,
-                0,
-                1,
-                to_ten,
-                Direction::Up,
-            );
-            push(
-                trans,
-                format!("{n} takes up its play in compression"),
-                var,
-                0,
-                2,
-                to_com,
-                Direction::Down,
-            );
-            push(
-                trans,
-                format!("{n} leaves tension contact"),
-                var,
-                1,
-                0,
+                [
+                    "takes up its play in tension",
+                    "takes up its play in compression",
+                    "leaves tension contact",
+                    "leaves compression contact",
+                ],
+                (p, b),
                 lf,
-                Direction::Down,
-            );
-            push(
-                trans,
-                format!("{n} leaves compression contact"),
-                var,
-                2,
-                0,
-                lf,
-                Direction::Up,
             );
             let rate_p = g.div(lf, c);
             let dp = g.select(play, rate_p, zero);
@@ -354,44 +294,18 @@ pub(super) fn element_force(
         // position integrated beside the elongation drifts from it by rounding).
         let stretch = g.input(Input::State(slot));
         let ff = g.mul(kt, stretch);
-        let over = g.sub(ff, fc);
-        let under = g.add(ff, fc);
-        let n = &e.name;
-        push(
+        three_regimes(
+            g,
             trans,
-            format!("{n} slips forward"),
             var,
-            0,
-            1,
-            over,
-            Direction::Up,
-        );
-        push(
-            trans,
-            format!("{n} slips backward"),
-            var,
-            0,
-            2,
-            under,
-            Direction::Down,
-        );
-        push(
-            trans,
-            format!("{n} sticks after slipping forward"),
-            var,
-            1,
-            0,
+            [
+                "slips forward",
+                "slips backward",
+                "sticks after slipping forward",
+                "sticks after slipping backward",
+            ],
+            (ff, fc),
             rate,
-            Direction::Down,
-        );
-        push(
-            trans,
-            format!("{n} sticks after slipping backward"),
-            var,
-            2,
-            0,
-            rate,
-            Direction::Up,
         );
         // Stuck, the spring takes the whole elongation rate; slipping, the
         // slider follows the elongation and the stretch stands still.
@@ -405,15 +319,7 @@ pub(super) fn element_force(
         let lim = lay.coef(g, lim, &format!("{path}.breaks_at"))?;
         let var = lay.break_var[i].expect("allocated");
         let gb = g.sub(el, lim);
-        push(
-            trans,
-            format!("{} breaks", e.name),
-            var,
-            0,
-            1,
-            gb,
-            Direction::Up,
-        );
+        switches(trans, var, &[("breaks", 0, 1, gb, Up)]);
         let broken = mode_is(g, var, 1.0);
         f = g.select(broken, zero, f);
     }
