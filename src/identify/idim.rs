@@ -88,14 +88,19 @@ pub struct IdimReport {
     pub rms_residual: f64,
     /// The options used.
     pub options: IdimOptions,
-    /// Measured force at the rows (N), for the figure.
+    /// The rows over time, for the figure (not in the JSON).
     #[serde(skip)]
+    pub series: IdimSeries,
+}
+
+/// The inverse model's rows over time.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IdimSeries {
+    /// Measured force at the rows (N).
     pub force: Vec<f64>,
     /// Model force at the rows (N).
-    #[serde(skip)]
     pub model: Vec<f64>,
     /// Time of the rows (s).
-    #[serde(skip)]
     pub time: Vec<f64>,
 }
 
@@ -201,9 +206,11 @@ pub fn estimate(q: &[f64], tau: &[f64], opts: &IdimOptions) -> Result<IdimReport
         r2: fit.r2,
         rms_residual: fit.rms,
         options: opts.clone(),
-        force: y,
-        model,
-        time,
+        series: IdimSeries {
+            force: y,
+            model,
+            time,
+        },
     })
 }
 
@@ -214,6 +221,7 @@ pub fn figure(report: &IdimReport) -> Vec<super::plot::Panel> {
     let pair = |ys: &[f64]| -> Vec<(f64, f64)> {
         thin(
             report
+                .series
                 .time
                 .iter()
                 .copied()
@@ -229,13 +237,13 @@ pub fn figure(report: &IdimReport) -> Vec<super::plot::Panel> {
         series: vec![
             Series {
                 label: "measured τ".into(),
-                points: pair(&report.force),
+                points: pair(&report.series.force),
                 style: Style::Dots,
                 color: MEASURED,
             },
             Series {
                 label: "M·q̈ + Fv·q̇ + Fc·sgn q̇ + OFF".into(),
-                points: pair(&report.model),
+                points: pair(&report.series.model),
                 style: Style::Line,
                 color: FIT,
             },

@@ -20,7 +20,8 @@ pub use arx::{ArxForm, ArxLine, arx};
 pub use element::{ElementFit, element_fit};
 pub use ratio::figure;
 pub use sensitivity::{
-    StiffnessChange, StrutSensitivity, damping_sensitivity, mass_sensitivity, sensitivity_figure,
-    stiffness_change, stiffness_sensitivity, strut_sensitivity, tire_receptances,
+    StiffnessChange, StrutLines, StrutSensitivity, damping_sensitivity, mass_sensitivity,
+    sensitivity_figure, stiffness_change, stiffness_sensitivity, strut_sensitivity,
+    tire_receptances,
 };
 pub use spectra::{BlockSpectra, block_spectra, segment_for_averages};

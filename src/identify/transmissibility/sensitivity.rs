@@ -124,15 +124,20 @@ pub fn stiffness_change(
 pub struct StrutSensitivity {
     /// Eq. 8a over the band.
     pub change: StiffnessChange,
-    /// Line frequencies (Hz).
+    /// Per line, for the figure (not in the JSON).
     #[serde(skip)]
+    pub lines: StrutLines,
+}
+
+/// [`StrutSensitivity`]'s spectra, per line.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StrutLines {
+    /// Line frequencies (Hz).
     pub freqs: Vec<f64>,
     /// The baseline's `∂H11/∂K12 = −(H11 − H21)²` (Eq. 11 with the strut for the
     /// bolt), per line (m²/N²·N/m = m/N per N/m).
-    #[serde(skip)]
     pub sensitivity: Vec<Complex64>,
     /// `ΔH11` per line (m/N).
-    #[serde(skip)]
     pub delta_h: Vec<Complex64>,
 }
 
@@ -176,15 +181,18 @@ pub fn strut_sensitivity(
     let change = stiffness_change(&base.freqs, &delta_h, &sensitivity, band)?;
     Ok(StrutSensitivity {
         change,
-        freqs: base.freqs.clone(),
-        sensitivity,
-        delta_h,
+        lines: StrutLines {
+            freqs: base.freqs.clone(),
+            sensitivity,
+            delta_h,
+        },
     })
 }
 
 /// Panels of Fig. 11: the sensitivity and the finite difference `ΔH11`
 /// (magnitudes), and the stiffness change per line with its band mean.
-pub fn sensitivity_figure(s: &StrutSensitivity, band: (f64, f64)) -> Vec<Panel> {
+pub fn sensitivity_figure(r: &StrutSensitivity, band: (f64, f64)) -> Vec<Panel> {
+    let s = &r.lines;
     let ks = lines_in_band(&s.freqs, band);
     let line =
         |label: &str, f: &dyn Fn(usize) -> f64, color| line_over(label, &s.freqs, &ks, f, color);
@@ -209,11 +217,11 @@ pub fn sensitivity_figure(s: &StrutSensitivity, band: (f64, f64)) -> Vec<Panel> 
             series: vec![
                 Series {
                     label: "per line".into(),
-                    points: s.change.per_line.clone(),
+                    points: r.change.per_line.clone(),
                     style: Style::Dots,
                     color: MEASURED,
                 },
-                line("band mean", &|_| s.change.mean, FIT),
+                line("band mean", &|_| r.change.mean, FIT),
             ],
         },
     ]
