@@ -115,8 +115,9 @@ fn table_1_at_15_psi_round_trips_with_its_exponents() {
     };
     let r = dpe::estimate(&surface, &opts).unwrap();
     println!("{r:#?}");
-    assert!((r.alpha.unwrap() - alpha).abs() < 0.02, "α = {:?}", r.alpha);
-    assert!((r.beta.unwrap() - beta).abs() < 0.02, "β = {:?}", r.beta);
+    let e = r.exponents;
+    assert!((e.alpha.unwrap() - alpha).abs() < 0.02, "α = {:?}", e.alpha);
+    assert!((e.beta.unwrap() - beta).abs() < 0.02, "β = {:?}", e.beta);
     // The stiffness and damping laws (not the nearly collinear coefficients one
     // by one) are what the surface pins down: compare them over the data.
     let vmax = surface.v.iter().fold(0.0f64, |m, v| m.max(v.abs()));

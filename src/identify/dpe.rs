@@ -182,6 +182,15 @@ pub struct GridLevel {
     pub sse: f64,
 }
 
+/// The fitted power-law exponents.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Exponents {
+    /// Damping exponent α, when the power-law damping term is fitted.
+    pub alpha: Option<f64>,
+    /// Stiffness exponent β, when the power-law stiffness term is fitted.
+    pub beta: Option<f64>,
+}
+
 /// The result of direct parameter estimation.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct DpeReport {
@@ -191,10 +200,9 @@ pub struct DpeReport {
     pub mass: f64,
     /// The coefficients, in the order of [`Term::ALL`].
     pub coefficients: Vec<Coefficient>,
-    /// Damping exponent α, when the power-law damping term is fitted.
-    pub alpha: Option<f64>,
-    /// Stiffness exponent β, when the power-law stiffness term is fitted.
-    pub beta: Option<f64>,
+    /// The power-law exponents (`alpha` and `beta` in the JSON).
+    #[serde(flatten)]
+    pub exponents: Exponents,
     /// R² of the restoring force.
     pub r2: f64,
     /// RMS residual force (N).
@@ -231,7 +239,8 @@ impl DpeReport {
     }
 
     fn sum(&self, x: f64, v: f64, keep: impl Fn(Term) -> bool) -> f64 {
-        let (alpha, beta) = (self.alpha.unwrap_or(1.0), self.beta.unwrap_or(1.0));
+        let Exponents { alpha, beta } = self.exponents;
+        let (alpha, beta) = (alpha.unwrap_or(1.0), beta.unwrap_or(1.0));
         self.coefficients
             .iter()
             .filter(|c| keep(c.term))
@@ -269,8 +278,8 @@ impl DpeReport {
             params.insert(term.param().into(), entry);
         }
         for (name, value, range) in [
-            ("alpha", self.alpha, grid.alpha_range),
-            ("beta", self.beta, grid.beta_range),
+            ("alpha", self.exponents.alpha, grid.alpha_range),
+            ("beta", self.exponents.beta, grid.beta_range),
         ] {
             let entry = match value {
                 Some(v) if !fixed => json!({
@@ -424,8 +433,10 @@ pub fn estimate(surface: &Surface, opts: &DpeOptions) -> Result<DpeReport, Preca
         samples: surface.f.len(),
         mass: surface.mass,
         coefficients,
-        alpha: terms.contains(&Term::PowerDamping).then_some(alpha),
-        beta: terms.contains(&Term::PowerStiffness).then_some(beta),
+        exponents: Exponents {
+            alpha: terms.contains(&Term::PowerDamping).then_some(alpha),
+            beta: terms.contains(&Term::PowerStiffness).then_some(beta),
+        },
         r2: fit.r2,
         rms_residual: fit.rms,
         max_residual: 0.0,

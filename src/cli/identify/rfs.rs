@@ -129,10 +129,10 @@ fn report(a: &RfsArgs, r: &dpe::DpeReport, sample_rate_hz: f64) -> String {
             c.param, c.value, c.std_error, c.unit
         );
     }
-    if let Some(al) = r.alpha {
+    if let Some(al) = r.exponents.alpha {
         s += &format!("  alpha = {al:.4}\n");
     }
-    if let Some(b) = r.beta {
+    if let Some(b) = r.exponents.beta {
         s += &format!("  beta  = {b:.4}\n");
     }
     if let (Some(first), Some(last)) = (r.search.first(), r.search.last()) {
