@@ -8,7 +8,7 @@ use std::sync::atomic::AtomicBool;
 
 use rigfit::campaign::Campaign;
 use rigfit::eval::{
-    Batch, CpuEvaluator, EvalError, Evaluator, EvaluatorInfo, History, Precision, Scores,
+    Batch, CpuEvaluator, EvalError, Evaluator, EvaluatorInfo, History, Precision, Problem, Scores,
 };
 use rigfit::job::{self, JobError, JobOptions};
 
@@ -36,7 +36,11 @@ impl Evaluator for FlakyGpu {
         self.inner.fitness(batch)
     }
 
-    fn histories(
+    fn problem(&self) -> &Problem {
+        self.inner.problem()
+    }
+
+    fn checked_histories(
         &mut self,
         batch: &Batch,
         which: &[usize],

@@ -12,7 +12,9 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use rigfit::campaign::Campaign;
-use rigfit::eval::{Batch, CpuEvaluator, EvalError, Evaluator, EvaluatorInfo, History, Scores};
+use rigfit::eval::{
+    Batch, CpuEvaluator, EvalError, Evaluator, EvaluatorInfo, History, Problem, Scores,
+};
 use rigfit::job::{self, JobOptions, JobSummary};
 use tensile_common::reference_like;
 use tensile_common::{REFERENCE, ix};
@@ -112,7 +114,11 @@ impl Evaluator for InterruptOnHistories {
     fn fitness(&mut self, batch: &Batch) -> Result<Scores, EvalError> {
         self.inner.fitness(batch)
     }
-    fn histories(
+    fn problem(&self) -> &Problem {
+        self.inner.problem()
+    }
+
+    fn checked_histories(
         &mut self,
         batch: &Batch,
         which: &[usize],

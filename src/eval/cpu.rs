@@ -75,11 +75,6 @@ impl CpuEvaluator {
         self.precision = Precision::F32;
         Ok(())
     }
-
-    /// The problem being scored.
-    pub fn problem(&self) -> &Problem {
-        &self.problem
-    }
 }
 
 impl Evaluator for CpuEvaluator {
@@ -92,6 +87,10 @@ impl Evaluator for CpuEvaluator {
             },
             precision: self.precision,
         }
+    }
+
+    fn problem(&self) -> &Problem {
+        &self.problem
     }
 
     fn fitness(&mut self, batch: &Batch) -> Result<Scores, EvalError> {
@@ -166,13 +165,11 @@ impl Evaluator for CpuEvaluator {
         })
     }
 
-    fn histories(
+    fn checked_histories(
         &mut self,
         batch: &Batch,
         which: &[usize],
     ) -> Result<Vec<Vec<History>>, EvalError> {
-        self.problem.check_batch(batch)?;
-        batch.check_indices(which)?;
         let problem = &self.problem;
         // Groups of a lane block's worth of runs, each group advanced by the
         // lane ensemble where its runs share the clock offset (the same bits

@@ -160,13 +160,32 @@ pub trait Evaluator: Send {
     /// What runs the evaluation.
     fn info(&self) -> EvaluatorInfo;
 
+    /// The problem being scored.
+    fn problem(&self) -> &Problem;
+
     /// `1 − R²` per candidate and experiment.
     fn fitness(&mut self, batch: &Batch) -> Result<Scores, EvalError>;
 
     /// Full histories of the chosen candidates in every experiment,
-    /// `[candidate][experiment]`, over samples `0..window.end`.
-    fn histories(&mut self, batch: &Batch, which: &[usize])
-    -> Result<Vec<Vec<History>>, EvalError>;
+    /// `[candidate][experiment]`, over samples `0..window.end`: checks that
+    /// the batch fits the problem and that every index names a candidate, then
+    /// asks [`Evaluator::checked_histories`].
+    fn histories(
+        &mut self,
+        batch: &Batch,
+        which: &[usize],
+    ) -> Result<Vec<Vec<History>>, EvalError> {
+        self.problem().check_batch(batch)?;
+        batch.check_indices(which)?;
+        self.checked_histories(batch, which)
+    }
+
+    /// [`Evaluator::histories`] of a batch and indices already checked.
+    fn checked_histories(
+        &mut self,
+        batch: &Batch,
+        which: &[usize],
+    ) -> Result<Vec<Vec<History>>, EvalError>;
 
     /// A flag that, once raised (Ctrl-C, SIGTERM), makes a [`Evaluator::fitness`]
     /// in flight stop as soon as it can and return [`EvalError::Cancelled`].

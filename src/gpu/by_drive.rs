@@ -105,11 +105,6 @@ impl GpuByDrive {
         })
     }
 
-    /// The problem being scored.
-    pub fn problem(&self) -> &Problem {
-        &self.problem
-    }
-
     /// The experiments each evaluator scores, one list per kernel group.
     pub fn groups(&self) -> Vec<Vec<usize>> {
         self.parts.iter().map(|p| p.experiments.clone()).collect()
@@ -160,13 +155,11 @@ impl Evaluator for GpuByDrive {
         })
     }
 
-    fn histories(
+    fn checked_histories(
         &mut self,
         batch: &Batch,
         which: &[usize],
     ) -> Result<Vec<Vec<History>>, EvalError> {
-        self.problem.check_batch(batch)?;
-        batch.check_indices(which)?;
         let ne = self.problem.experiments.len();
         let mut out: Vec<Vec<Option<History>>> = vec![vec![None; ne]; which.len()];
         for part in &mut self.parts {
@@ -196,5 +189,9 @@ impl Evaluator for GpuByDrive {
         for part in &mut self.parts {
             part.evaluator.set_cancel(flag.clone());
         }
+    }
+
+    fn problem(&self) -> &Problem {
+        &self.problem
     }
 }

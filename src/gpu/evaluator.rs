@@ -205,11 +205,6 @@ impl GpuEvaluator {
         })
     }
 
-    /// The problem being scored.
-    pub fn problem(&self) -> &Problem {
-        &self.problem
-    }
-
     /// The device context.
     pub fn context(&self) -> &GpuContext {
         &self.ctx
@@ -291,13 +286,11 @@ impl Evaluator for GpuEvaluator {
         self.scores(raw)
     }
 
-    fn histories(
+    fn checked_histories(
         &mut self,
         batch: &Batch,
         which: &[usize],
     ) -> Result<Vec<Vec<History>>, EvalError> {
-        self.problem.check_batch(batch)?;
-        batch.check_indices(which)?;
         if which.is_empty() {
             return Ok(Vec::new());
         }
@@ -307,6 +300,10 @@ impl Evaluator for GpuEvaluator {
 
     fn set_cancel(&mut self, flag: Arc<AtomicBool>) {
         self.cancel = Some(flag);
+    }
+
+    fn problem(&self) -> &Problem {
+        &self.problem
     }
 }
 
