@@ -12,7 +12,7 @@ use std::ops::ControlFlow;
 use rigfit::base::SampleGrid;
 use rigfit::base::{Drive, Report};
 use rigfit::model::compiled::CompiledRig;
-use rigfit::rig::desc::DriveLaw;
+use rigfit::rig::desc::{DriveLaw, TableDesc};
 use rigfit::rig::{RigSource, parse};
 
 const FILE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/backlash_sdof.json");
@@ -33,11 +33,11 @@ fn rig() -> CompiledRig {
 /// The rig pushed by a constant force `f0` from `t = 0`.
 fn constant_force_rig(f0: f64) -> CompiledRig {
     let mut d = desc();
-    d.drives[0].law = DriveLaw::ForceTable {
+    d.drives[0].law = DriveLaw::ForceTable(TableDesc {
         t: Some(vec![0.0, 100.0]),
         value: Some(vec![f0, f0]),
         gain: None,
-    };
+    });
     CompiledRig::new(d, FILE).unwrap()
 }
 

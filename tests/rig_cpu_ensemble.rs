@@ -10,7 +10,7 @@ use rigfit::base::SampleGrid;
 use rigfit::base::{Drive, Report};
 use rigfit::compile::{Arith, Isa, LANES, LaneCode, LaneRunner, Native, Tape};
 use rigfit::model::compiled::CompiledRig;
-use rigfit::rig::desc::DriveLaw;
+use rigfit::rig::desc::{DriveLaw, TableDesc};
 use tensile_common::REFERENCE_DT;
 use tensile_common::{REFERENCE, ix};
 
@@ -87,11 +87,11 @@ fn stick_slip_under_a_sine() -> rigfit::rig::desc::RigDesc {
             (t, 20.0 * (2.0 * std::f64::consts::PI * t).sin())
         })
         .unzip();
-    desc.drives[0].law = DriveLaw::ForceTable {
+    desc.drives[0].law = DriveLaw::ForceTable(TableDesc {
         t: Some(t),
         value: Some(f),
         gain: None,
-    };
+    });
     desc
 }
 

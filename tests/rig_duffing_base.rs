@@ -6,16 +6,16 @@ use std::ops::ControlFlow;
 use rigfit::base::Drive;
 use rigfit::base::SampleGrid;
 use rigfit::model::compiled::CompiledRig;
-use rigfit::rig::desc::DriveLaw;
+use rigfit::rig::desc::{DriveLaw, TableDesc};
 
 fn rig(accel: Option<(Vec<f64>, Vec<f64>)>) -> CompiledRig {
     let mut desc = rigfit::rig::shipped("duffing_base").unwrap();
     if let Some((t, a)) = accel {
-        desc.drives[0].law = DriveLaw::BaseAccelerationTable {
+        desc.drives[0].law = DriveLaw::BaseAccelerationTable(TableDesc {
             t: Some(t),
             value: Some(a),
             gain: None,
-        };
+        });
     }
     CompiledRig::new(desc, "rigs/duffing_base.json").unwrap()
 }
@@ -107,11 +107,11 @@ fn base_acceleration_from_the_experiments_table_matches_the_inline_table() {
     let inline = rig(Some((t.clone(), accel)));
     let mut desc = rigfit::rig::shipped("duffing_base").unwrap();
     desc.drives[0].mode = "force".into();
-    desc.drives[0].law = DriveLaw::BaseAccelerationTable {
+    desc.drives[0].law = DriveLaw::BaseAccelerationTable(TableDesc {
         t: None,
         value: None,
         gain: Some(Coef::Number(gain)),
-    };
+    });
     let measured = CompiledRig::new(desc, "rigs/duffing_base.json").unwrap();
     let grid = SampleGrid {
         t0: 0.0,

@@ -4,7 +4,7 @@
 
 use rigfit::base::Drive;
 use rigfit::model::compiled::CompiledRig;
-use rigfit::rig::desc::DriveLaw;
+use rigfit::rig::desc::{DriveLaw, TableDesc};
 
 const M: f64 = 1.0;
 const FC: f64 = 10.0;
@@ -12,11 +12,11 @@ const KT: f64 = 1e4;
 
 fn rig(t: Vec<f64>, f: Vec<f64>) -> CompiledRig {
     let mut desc = rigfit::rig::shipped("stick_slip").unwrap();
-    desc.drives[0].law = DriveLaw::ForceTable {
+    desc.drives[0].law = DriveLaw::ForceTable(TableDesc {
         t: Some(t),
         value: Some(f),
         gain: None,
-    };
+    });
     CompiledRig::new(desc, "rigs/stick_slip.json").unwrap()
 }
 

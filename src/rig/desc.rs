@@ -333,36 +333,13 @@ pub enum DriveLaw {
     /// A force on the node from a table, `gain·table(t)` (N), 0 for `t < 0`;
     /// without `t`/`value` the experiment's table (campaign `"drive": {"force":
     /// …}`, inline or a column of the data file).
-    ForceTable {
-        /// Times (s).
-        #[serde(default)]
-        t: Option<Vec<f64>>,
-        /// Table values (N, or the table's unit where `gain` converts it).
-        #[serde(default)]
-        value: Option<Vec<f64>>,
-        /// Newtons per table unit (default 1): a motor constant (N/V) for a
-        /// table of voltages, a servo stiffness (N/m) for a table of
-        /// reference positions.
-        #[serde(default)]
-        gain: Option<Coef>,
-    },
+    ForceTable(TableDesc),
     /// Base acceleration `a(t) = gain·table(t)` (m/s²), 0 for `t < 0`: states
     /// are relative to the base and every node feels `−m·a(t)`. Without
     /// `t`/`value` (a `"force"`-mode drive) the experiment's table: a measured
     /// acceleration column of the data file (campaign `"drive": {"force":
     /// {"column": …}}`), used as it is, with no integration.
-    BaseAccelerationTable {
-        /// Times (s).
-        #[serde(default)]
-        t: Option<Vec<f64>>,
-        /// Accelerations (m/s², or the table's unit where `gain` converts it).
-        #[serde(default)]
-        value: Option<Vec<f64>>,
-        /// m/s² per table unit (default 1): an accelerometer's sensitivity for
-        /// a table of volts, 9.81 for a table in g.
-        #[serde(default)]
-        gain: Option<Coef>,
-    },
+    BaseAccelerationTable(TableDesc),
     /// `s(t) = amplitude·sin(2π·frequency·t + phase)` for `t ≥ 0`, 0 before.
     Sine {
         /// What `s` is (see [`Quantity`]).
@@ -401,6 +378,26 @@ pub enum DriveLaw {
         #[serde(default)]
         start: Option<Coef>,
     },
+}
+
+/// The table of a [`DriveLaw::ForceTable`] or a [`DriveLaw::BaseAccelerationTable`]:
+/// `t` and `value` both, or (a `"force"`-mode drive) neither.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TableDesc {
+    /// Times (s).
+    #[serde(default)]
+    pub t: Option<Vec<f64>>,
+    /// Table values (N for a force, m/s² for an acceleration, or the table's
+    /// unit where `gain` converts it).
+    #[serde(default)]
+    pub value: Option<Vec<f64>>,
+    /// Drive units per table unit (default 1): for a force, a motor constant
+    /// (N/V) for a table of voltages or a servo stiffness (N/m) for a table of
+    /// reference positions; for an acceleration, an accelerometer's
+    /// sensitivity for a table of volts or 9.81 for a table in g.
+    #[serde(default)]
+    pub gain: Option<Coef>,
 }
 
 /// What a sine, chirp or half-sine drive's signal `s(t)` is.

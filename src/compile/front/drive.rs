@@ -5,7 +5,7 @@ use crate::base::PiecewiseLinear;
 use crate::compile::ir::{Graph, Id, Input};
 use crate::compile::program::{Direction, Transition};
 use crate::rig::RigError;
-use crate::rig::desc::{Coef, DriveLaw, Quantity};
+use crate::rig::desc::{Coef, DriveLaw, Quantity, TableDesc};
 
 pub(super) fn table(
     lay: &Layout,
@@ -36,18 +36,15 @@ pub(super) fn table(
 /// A table drive's signal `gain·table(t)`: its own table (`t`, `value`), or
 /// in a `"force"`-mode program without them the experiment's table (pushed to
 /// `tables` as `None`).
-#[allow(clippy::too_many_arguments)]
 pub(super) fn table_drive(
     lay: &Layout,
     g: &mut Graph,
     tables: &mut Vec<Option<PiecewiseLinear>>,
     path: &str,
     mode: &str,
-    tt: &Option<Vec<f64>>,
-    value: &Option<Vec<f64>>,
-    gain: &Option<Coef>,
+    desc: &TableDesc,
 ) -> Result<Id, RigError> {
-    let tab = match (tt, value) {
+    let tab = match (&desc.t, &desc.value) {
         (Some(tt), Some(vv)) => Some(table(lay, &format!("{path}.law"), tt, vv)?),
         (None, None) if mode == "force" => None,
         (None, None) => {
@@ -67,7 +64,7 @@ pub(super) fn table_drive(
     };
     tables.push(tab);
     let mut f = g.input(Input::Table(tables.len() as u32 - 1));
-    if let Some(gain) = gain {
+    if let Some(gain) = &desc.gain {
         let gain = lay.coef(g, gain, &format!("{path}.law.gain"))?;
         f = g.mul(gain, f);
     }
@@ -77,7 +74,7 @@ pub(super) fn table_drive(
 /// Whether a drive law moves the base (and so names no node).
 pub(super) fn moves_the_base(law: &DriveLaw) -> bool {
     match law {
-        DriveLaw::BaseAccelerationTable { .. } => true,
+        DriveLaw::BaseAccelerationTable(_) => true,
         DriveLaw::Sine { quantity, .. }
         | DriveLaw::Chirp { quantity, .. }
         | DriveLaw::HalfSine { quantity, .. } => *quantity == Quantity::BaseAcceleration,

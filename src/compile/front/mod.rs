@@ -166,12 +166,12 @@ fn lower_mode(lay: &Layout, mode: &str) -> Result<Program, RigError> {
                     a: Some(g.select(rest, zero, acc)),
                 };
             }
-            DriveLaw::ForceTable { t: tt, value, gain } => {
+            DriveLaw::ForceTable(table) => {
                 let k = node.expect("checked");
-                let f = table_drive(lay, &mut g, &mut tables, &path, mode, tt, value, gain)?;
+                let f = table_drive(lay, &mut g, &mut tables, &path, mode, table)?;
                 external[k].push(f);
             }
-            DriveLaw::BaseAccelerationTable { t: tt, value, gain } => {
+            DriveLaw::BaseAccelerationTable(table) => {
                 if d.node.is_some() {
                     return Err(lay.err(
                         format!("{path}.node"),
@@ -179,7 +179,7 @@ fn lower_mode(lay: &Layout, mode: &str) -> Result<Program, RigError> {
                         "a node",
                     ));
                 }
-                let a = table_drive(lay, &mut g, &mut tables, &path, mode, tt, value, gain)?;
+                let a = table_drive(lay, &mut g, &mut tables, &path, mode, table)?;
                 base_accel.push(a);
             }
             DriveLaw::Sine { quantity, .. }
