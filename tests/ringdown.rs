@@ -90,15 +90,15 @@ fn reference_load_cell_is_recovered_with_m1_and_k1_given() {
         r.fit.zeta
     );
     assert!(
-        (r.c1_post.unwrap() / C1 - 1.0).abs() < 0.03,
+        (r.load_cell.c1_post.unwrap() / C1 - 1.0).abs() < 0.03,
         "c1 {:?}",
-        r.c1_post
+        r.load_cell.c1_post
     );
-    assert!((r.c1_post_decrement.unwrap() / C1 - 1.0).abs() < 0.03);
+    assert!((r.load_cell.c1_post_decrement.unwrap() / C1 - 1.0).abs() < 0.03);
     assert!(r.fit.r2 > 0.99 && r.fit.converged, "{:?}", r.fit);
-    assert!(!r.k1_from_frequency && r.model_frequency_hz.is_some());
+    assert!(!r.load_cell.k1_from_frequency && r.load_cell.model_frequency_hz.is_some());
     let fragment = r.to_campaign_fragment();
-    assert_eq!(fragment["params"]["c1_post"].as_f64(), r.c1_post);
+    assert_eq!(fragment["params"]["c1_post"].as_f64(), r.load_cell.c1_post);
     assert!(fragment["params"].get("k1").is_none());
 }
 
@@ -121,15 +121,19 @@ fn lightly_damped_load_cell_and_k1_from_frequency() {
         r.decrement
     );
     assert!((r.fit.zeta / zeta_true - 1.0).abs() < 0.02, "{:?}", r.fit);
-    assert!(r.k1_from_frequency);
-    assert!((r.k1.unwrap() / K1 - 1.0).abs() < 0.002, "k1 {:?}", r.k1);
+    assert!(r.load_cell.k1_from_frequency);
     assert!(
-        (r.c1_post.unwrap() / c1 - 1.0).abs() < 0.03,
+        (r.load_cell.k1.unwrap() / K1 - 1.0).abs() < 0.002,
+        "k1 {:?}",
+        r.load_cell.k1
+    );
+    assert!(
+        (r.load_cell.c1_post.unwrap() / c1 - 1.0).abs() < 0.03,
         "c1 {:?}",
-        r.c1_post
+        r.load_cell.c1_post
     );
     let fragment = r.to_campaign_fragment();
-    assert_eq!(fragment["params"]["k1"].as_f64(), r.k1);
+    assert_eq!(fragment["params"]["k1"].as_f64(), r.load_cell.k1);
 }
 
 #[test]
@@ -144,9 +148,9 @@ fn explicit_start_skips_detection() {
     assert!(r.start.drop.is_none());
     assert_eq!(r.start.index, 2000);
     assert!(
-        (r.c1_post.unwrap() / C1 - 1.0).abs() < 0.03,
+        (r.load_cell.c1_post.unwrap() / C1 - 1.0).abs() < 0.03,
         "{:?}",
-        r.c1_post
+        r.load_cell.c1_post
     );
 }
 
@@ -164,8 +168,11 @@ fn shipped_example_file_gives_the_reference_load_cell() {
         "{:?}",
         r.psd
     );
-    assert!((r.c1_post.unwrap() / C1 - 1.0).abs() < 0.03, "{r:?}");
-    assert!((r.k1.unwrap() / K1 - 1.0).abs() < 0.002, "{r:?}");
+    assert!(
+        (r.load_cell.c1_post.unwrap() / C1 - 1.0).abs() < 0.03,
+        "{r:?}"
+    );
+    assert!((r.load_cell.k1.unwrap() / K1 - 1.0).abs() < 0.002, "{r:?}");
 }
 
 #[test]

@@ -125,10 +125,11 @@ fn report(args: &RingdownArgs, r: &ringdown::RingdownReport) -> String {
     for w in &g.warnings {
         s += &format!("  warning: {w}\n");
     }
-    if let (true, Some(k1)) = (r.k1_from_frequency, r.k1) {
+    let cell = &r.load_cell;
+    if let (true, Some(k1)) = (cell.k1_from_frequency, cell.k1) {
         s += &format!("  k1 from frequency and m1 = {k1:.6e} N/m\n");
     }
-    if let Some(c) = r.c1_post {
+    if let Some(c) = cell.c1_post {
         s += &format!("  c1_post = {c:.6e} N·s/m\n");
     }
     s

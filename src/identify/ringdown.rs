@@ -149,6 +149,19 @@ pub struct RingdownReport {
     pub agreement: Agreement,
     /// Undamped natural frequency from the fit, `ω_n/2π` (Hz).
     pub natural_frequency_hz: f64,
+    /// What follows for the load cell (its fields in the JSON).
+    #[serde(flatten)]
+    pub load_cell: LoadCell,
+    /// The peaks the decrement used: (time from the start (s), height above
+    /// the mean of the free ringing).
+    #[serde(skip)]
+    pub peaks: Vec<(f64, f64)>,
+}
+
+/// The load cell's `k1` and `c1_post` from its mass, its stiffness or both
+/// (step 7 of the module docs).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LoadCell {
     /// Load-cell mass used (kg).
     pub m1: Option<f64>,
     /// Load-cell stiffness (N/m), given or derived.
@@ -161,10 +174,27 @@ pub struct RingdownReport {
     pub c1_post_decrement: Option<f64>,
     /// `c1_post` from the fitted ζ (N·s/m); this one goes into the fragment.
     pub c1_post: Option<f64>,
-    /// The peaks the decrement used: (time from the start (s), height above
-    /// the mean of the free ringing).
-    #[serde(skip)]
-    pub peaks: Vec<(f64, f64)>,
+}
+
+impl LoadCell {
+    /// From the given `m1` and `k1`, the fitted natural frequency `wn`
+    /// (rad/s) and the decrement's and the fit's ζ.
+    fn of(m1: Option<f64>, k1: Option<f64>, wn: f64, zeta_decrement: f64, zeta_fit: f64) -> Self {
+        let c1_of = |zeta: f64| match (m1, k1) {
+            (Some(m), Some(k)) => Some(2.0 * zeta * (k * m).sqrt()),
+            (Some(m), None) => Some(2.0 * zeta * m * wn),
+            (None, Some(k)) => Some(2.0 * zeta * k / wn),
+            (None, None) => None,
+        };
+        Self {
+            m1,
+            k1: k1.or(m1.map(|m| m * wn * wn)),
+            k1_from_frequency: k1.is_none() && m1.is_some(),
+            model_frequency_hz: m1.zip(k1).map(|(m, k)| (k / m).sqrt() / (2.0 * PI)),
+            c1_post_decrement: c1_of(zeta_decrement),
+            c1_post: c1_of(zeta_fit),
+        }
+    }
 }
 
 /// The three damping estimates side by side.
@@ -231,10 +261,11 @@ impl RingdownReport {
     /// replace them by bounds to let the search refine them.
     pub fn to_campaign_fragment(&self) -> Value {
         let mut params = serde_json::Map::new();
-        if let Some(c) = self.c1_post {
+        let cell = &self.load_cell;
+        if let Some(c) = cell.c1_post {
             params.insert("c1_post".into(), json!(c));
         }
-        if let (true, Some(k)) = (self.k1_from_frequency, self.k1) {
+        if let (true, Some(k)) = (cell.k1_from_frequency, cell.k1) {
             params.insert("k1".into(), json!(k));
         }
         json!({ "params": params })
@@ -327,13 +358,7 @@ pub fn analyse(
         envelope.as_ref().map(|e| e.zeta),
         fs / fn_hz,
     );
-    let c1_of = |zeta: f64| match (m1, k1_given) {
-        (Some(m), Some(k)) => Some(2.0 * zeta * (k * m).sqrt()),
-        (Some(m), None) => Some(2.0 * zeta * m * wn),
-        (None, Some(k)) => Some(2.0 * zeta * k / wn),
-        (None, None) => None,
-    };
-    let k1_from_frequency = k1_given.is_none() && m1.is_some();
+    let load_cell = LoadCell::of(m1, k1_given, wn, decrement.zeta_mean, fit.zeta);
     Ok(RingdownReport {
         sample_rate_hz: fs,
         n_samples: x.len(),
@@ -346,14 +371,9 @@ pub fn analyse(
             peak_bin_hz,
             peak_hz,
         },
-        c1_post_decrement: c1_of(decrement.zeta_mean),
-        c1_post: c1_of(fit.zeta),
         decrement,
         natural_frequency_hz: wn / (2.0 * PI),
-        m1,
-        k1: k1_given.or(m1.map(|m| m * wn * wn)),
-        k1_from_frequency,
-        model_frequency_hz: m1.zip(k1_given).map(|(m, k)| (k / m).sqrt() / (2.0 * PI)),
+        load_cell,
         peaks: peaks.iter().map(|&(i, a)| (i * dt, a)).collect(),
         start,
         fit,
