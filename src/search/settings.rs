@@ -30,7 +30,6 @@ pub struct CrossoverSettings {
 #[serde(deny_unknown_fields)]
 pub struct MutationSettings {
     /// Per-gene mutation probability; `null` means 1 / number of genes.
-    #[serde(default)]
     pub probability: Option<f64>,
     /// Polynomial-mutation distribution index η_m.
     #[serde(default = "default_mutation_eta")]
@@ -64,13 +63,10 @@ pub struct GaSettings {
     #[serde(default)]
     pub init: InitKind,
     /// Stop once the best joint fitness (weighted mean of 1 − R²) is at or below this.
-    #[serde(default)]
     pub target_fitness: Option<f64>,
     /// Stop after this many generations without improvement of the best.
-    #[serde(default)]
     pub stall_generations: Option<usize>,
     /// Stop after this much wall time (s).
-    #[serde(default)]
     pub max_time_s: Option<f64>,
     /// Write a checkpoint every this many generations (0: only on interrupt).
     #[serde(default = "default_checkpoint_every")]
