@@ -5,6 +5,8 @@
 use std::process::ExitCode;
 
 use super::output::print_stdout;
+use rigfit::job::JobError;
+use rigfit::search::SearchError;
 
 /// Exit code of a job that failed after its input was accepted.
 pub const EXIT_FAILED: u8 = 1;
@@ -25,25 +27,10 @@ pub fn exit_code(err: &anyhow::Error) -> u8 {
             || e.is::<rigfit::base::data::DataError>()
             || e.is::<rigfit::identify::PrecalError>()
             || e.is::<BadInput>()
-            || matches!(
-                e.downcast_ref::<rigfit::job::JobError>(),
-                Some(
-                    rigfit::job::JobError::OutputInUse { .. }
-                        | rigfit::job::JobError::NoCheckpoint { .. }
-                        | rigfit::job::JobError::OutputPath { .. }
-                        | rigfit::job::JobError::ForeignFile { .. }
-                        | rigfit::job::JobError::OutputLocked { .. }
-                )
-            )
-            || matches!(
-                e.downcast_ref::<rigfit::search::SearchError>(),
-                Some(
-                    rigfit::search::SearchError::FingerprintMismatch { .. }
-                        | rigfit::search::SearchError::CheckpointFormat { .. }
-                        | rigfit::search::SearchError::InvalidGene { .. }
-                        | rigfit::search::SearchError::InvalidSettings { .. }
-                )
-            )
+            || e.downcast_ref::<JobError>()
+                .is_some_and(JobError::blames_input)
+            || e.downcast_ref::<SearchError>()
+                .is_some_and(SearchError::blames_input)
     });
     if bad_input {
         EXIT_BAD_INPUT

@@ -138,6 +138,23 @@ pub enum JobError {
     Plot(#[from] crate::report::plots::PlotError),
 }
 
+impl JobError {
+    /// Whether the job's input is at fault rather than the job: an output
+    /// folder or checkpoint it was pointed at, or a search that refused its
+    /// settings or checkpoint ([`SearchError::blames_input`]).
+    pub fn blames_input(&self) -> bool {
+        match self {
+            Self::OutputInUse { .. }
+            | Self::NoCheckpoint { .. }
+            | Self::OutputPath { .. }
+            | Self::ForeignFile { .. }
+            | Self::OutputLocked { .. } => true,
+            Self::Search(e) => e.blames_input(),
+            _ => false,
+        }
+    }
+}
+
 /// What a campaign's checkpoint must agree on to be resumed.
 pub fn fingerprint(campaign: &Campaign, backend: &str, precision: &str) -> Fingerprint {
     let mut f = Fingerprint::new()

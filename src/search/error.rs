@@ -79,3 +79,18 @@ pub enum SearchError {
         reason: String,
     },
 }
+
+impl SearchError {
+    /// Whether the input is at fault rather than the search: a gene or
+    /// setting it cannot search with, or a checkpoint of another campaign
+    /// or format.
+    pub fn blames_input(&self) -> bool {
+        matches!(
+            self,
+            Self::FingerprintMismatch { .. }
+                | Self::CheckpointFormat { .. }
+                | Self::InvalidGene { .. }
+                | Self::InvalidSettings { .. }
+        )
+    }
+}
