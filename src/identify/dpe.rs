@@ -420,12 +420,12 @@ pub fn estimate(surface: &Surface, opts: &DpeOptions) -> Result<DpeReport, Preca
     let fit = fit_fixed(surface, &terms, alpha, beta)?;
     let coefficients = terms
         .iter()
-        .zip(fit.coefficients.iter().zip(&fit.std_errors))
-        .map(|(&term, (&value, &std_error))| Coefficient {
+        .zip(&fit.coefficients)
+        .map(|(&term, c)| Coefficient {
             term,
             param: term.param(),
-            value,
-            std_error,
+            value: c.value,
+            std_error: c.std_error,
             unit: term.unit(),
         })
         .collect();

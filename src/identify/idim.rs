@@ -188,7 +188,11 @@ pub fn estimate(q: &[f64], tau: &[f64], opts: &IdimOptions) -> Result<IdimReport
     );
     let fit: LinearFit = least_squares(&columns, &y)?;
     let model = (0..y.len())
-        .map(|i| (0..4).map(|j| fit.coefficients[j] * columns[j][i]).sum())
+        .map(|i| {
+            (0..4)
+                .map(|j| fit.coefficients[j].value * columns[j][i])
+                .sum()
+        })
         .collect();
     Ok(IdimReport {
         rows: fit.rows,
@@ -197,9 +201,9 @@ pub fn estimate(q: &[f64], tau: &[f64], opts: &IdimOptions) -> Result<IdimReport
             .enumerate()
             .map(|(j, &(param, unit))| Estimate {
                 param,
-                value: fit.coefficients[j],
-                std_error: fit.std_errors[j],
-                relative_error_percent: 100.0 * fit.relative_error(j),
+                value: fit.coefficients[j].value,
+                std_error: fit.coefficients[j].std_error,
+                relative_error_percent: 100.0 * fit.coefficients[j].relative_error(),
                 unit,
             })
             .collect(),

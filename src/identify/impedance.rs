@@ -240,8 +240,8 @@ pub fn fit(
     } else {
         least_squares(&[cx, cy, cm], &re_diag)?
     };
-    let (kxx, kyy) = (diag.coefficients[0], diag.coefficients[1]);
-    let mass_value = mass.unwrap_or(diag.coefficients.get(2).copied().unwrap_or(0.0));
+    let (kxx, kyy) = (diag.coefficients[0].value, diag.coefficients[1].value);
+    let mass_value = mass.unwrap_or(diag.coefficients.get(2).map_or(0.0, |c| c.value));
     let r2_of = |values: &[f64], model: &dyn Fn(usize) -> f64| {
         let sse: f64 = values
             .iter()

@@ -15,10 +15,9 @@ use super::{PrecalError, r_squared, require_points};
 /// A least-squares fit `y ≈ Σ θ_j·column_j`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct LinearFit {
-    /// The coefficients `θ_j`, in the order of the columns.
-    pub coefficients: Vec<f64>,
-    /// Their standard errors.
-    pub std_errors: Vec<f64>,
+    /// The coefficients `θ_j` with their standard errors, in the order of
+    /// the columns.
+    pub coefficients: Vec<Coefficient>,
     /// Sum of squared residuals.
     pub sse: f64,
     /// Root-mean-square residual.
@@ -31,10 +30,19 @@ pub struct LinearFit {
     pub condition: f64,
 }
 
-impl LinearFit {
+/// One coefficient `θ_j` of a [`LinearFit`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Coefficient {
+    /// The estimate.
+    pub value: f64,
+    /// Its standard error.
+    pub std_error: f64,
+}
+
+impl Coefficient {
     /// Standard error relative to the coefficient's magnitude.
-    pub fn relative_error(&self, j: usize) -> f64 {
-        self.std_errors[j] / self.coefficients[j].abs()
+    pub fn relative_error(&self) -> f64 {
+        self.std_error / self.value.abs()
     }
 }
 
@@ -96,18 +104,19 @@ pub fn least_squares(columns: &[Vec<f64>], y: &[f64]) -> Result<LinearFit, Preca
     let sse = resid.norm_squared();
     let sigma2 = sse / (n - p) as f64;
     let v_t = svd.v_t.as_ref().expect("SVD with V requested");
-    let coefficients: Vec<f64> = (0..p).map(|j| theta[j] / norms[j]).collect();
-    let std_errors = (0..p)
+    let coefficients = (0..p)
         .map(|j| {
             let var: f64 = (0..p)
                 .map(|k| (v_t[(k, j)] / svd.singular_values[k]).powi(2))
                 .sum();
-            (sigma2 * var).sqrt() / norms[j]
+            Coefficient {
+                value: theta[j] / norms[j],
+                std_error: (sigma2 * var).sqrt() / norms[j],
+            }
         })
         .collect();
     let fit = LinearFit {
         coefficients,
-        std_errors,
         sse,
         rms: (sse / n as f64).sqrt(),
         r2: r_squared(sse, y),
@@ -116,8 +125,9 @@ pub fn least_squares(columns: &[Vec<f64>], y: &[f64]) -> Result<LinearFit, Preca
     };
     // A result that is not a finite number is no result: refused, never
     // reported or written into a campaign fragment.
-    let numbers = fit.coefficients.iter().chain(&fit.std_errors);
-    if let Some(bad) = numbers.chain([&fit.sse, &fit.r2]).find(|v| !v.is_finite()) {
+    let values = fit.coefficients.iter().map(|c| c.value);
+    let numbers = values.chain(fit.coefficients.iter().map(|c| c.std_error));
+    if let Some(bad) = numbers.chain([fit.sse, fit.r2]).find(|v| !v.is_finite()) {
         return Err(PrecalError::Numerical {
             stage: "least squares",
             reason: format!("the fit is not finite ({bad} among its results)"),
@@ -140,12 +150,12 @@ mod tests {
             .map(|(x, e)| 1e6 * (2.0 + 3.0 * x) + e)
             .collect();
         let fit = least_squares(&[vec![1e6; 10], x.iter().map(|x| 1e6 * x).collect()], &y).unwrap();
-        assert!((fit.coefficients[0] - 2.0).abs() < 1e-6);
-        assert!((fit.coefficients[1] - 3.0).abs() < 1e-7);
+        assert!((fit.coefficients[0].value - 2.0).abs() < 1e-6);
+        assert!((fit.coefficients[1].value - 3.0).abs() < 1e-7);
         // Closed form for a straight line: se(slope) = σ̂ / sqrt(Σ(x − x̄)²) / 1e6.
         let sxx: f64 = x.iter().map(|x| (x - 4.5f64).powi(2)).sum();
         let se = (fit.sse / 8.0).sqrt() / sxx.sqrt() / 1e6;
-        assert!((fit.std_errors[1] - se).abs() < 1e-6 * se);
+        assert!((fit.coefficients[1].std_error - se).abs() < 1e-6 * se);
         assert!(least_squares(&[x.clone(), x.iter().map(|v| 2.0 * v).collect()], &y).is_err());
     }
 }

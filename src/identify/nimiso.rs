@@ -207,9 +207,9 @@ pub fn analyse(
     let a_spread = (a_re.iter().map(|a| (a - a_mean).powi(2)).sum::<f64>() / n).sqrt();
     let mean = |v: &[f64]| band.iter().map(|&k| v[k]).sum::<f64>() / n;
     let report = NimisoReport {
-        mass: re.coefficients[1],
-        stiffness: re.coefficients[0],
-        damping: im.coefficients[0],
+        mass: re.coefficients[1].value,
+        stiffness: re.coefficients[0].value,
+        damping: im.coefficients[0].value,
         nonlinear_coefficient: a_mean,
         nonlinear_spread: a_spread,
         mean_coherence_linear: mean(&path.coherence_linear),

@@ -133,10 +133,10 @@ pub fn element_fit(
     }
     let lin = least_squares(&[ck, cc], &rhs)?;
     let mut out = ElementFit {
-        stiffness: lin.coefficients[0],
-        stiffness_std_error: lin.std_errors[0],
-        damping: lin.coefficients[1],
-        damping_std_error: lin.std_errors[1],
+        stiffness: lin.coefficients[0].value,
+        stiffness_std_error: lin.coefficients[0].std_error,
+        damping: lin.coefficients[1].value,
+        damping_std_error: lin.coefficients[1].std_error,
         masses: masses.to_vec(),
         lines: lines.len(),
         relative_error: 0.0,
