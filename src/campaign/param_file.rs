@@ -26,7 +26,6 @@ struct ParamFile {
 /// parameter `params`, but its value is then a number, not an object.
 #[derive(Debug, Deserialize)]
 struct Shape {
-    #[serde(default)]
     params: Option<serde_json::Value>,
 }
 

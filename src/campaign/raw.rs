@@ -22,15 +22,12 @@ pub struct RawCampaign {
     /// output folder.
     pub name: String,
     /// `"description"`: optional free text.
-    #[serde(default)]
     pub description: Option<String>,
     /// `"model"`: the key of the retired hand-written tensile model, kept only
     /// to refuse it with the replacement (`"rig": "tensile4"`) named.
-    #[serde(default)]
     pub model: Option<serde_json::Value>,
     /// `"rig"`: a rig description (see `rigs/`): a shipped rig's id, a rig file
     /// (relative to the campaign's folder) or the rig itself, inline.
-    #[serde(default)]
     pub rig: Option<serde_json::Value>,
     /// `"params"`: parameters shared by every experiment, by model parameter
     /// name (value in the parameter's SI unit). Parameters with a model default
@@ -44,11 +41,9 @@ pub struct RawCampaign {
     pub solver: RawSolver,
     /// `"search"`: genetic-algorithm settings ([`GaSettings`]); needed by
     /// `rigfit run` only.
-    #[serde(default)]
     pub search: Option<GaSettings>,
     /// `"output"`: results folder, relative to the campaign file's folder
     /// (default `results/<name>`).
-    #[serde(default)]
     pub output: Option<PathBuf>,
 }
 
@@ -67,11 +62,9 @@ pub struct RawExperiment {
     pub drive: RawDrive,
     /// `"fit_window"`: record-time span scored by the fitness (default: the
     /// whole record).
-    #[serde(default)]
     pub fit_window: Option<RawWindow>,
     /// `"offset"` (s): `t_model = t_record + offset`; a number (fixed) or
     /// `{"min", "max", "init"?}` (free, linear). Default 0.
-    #[serde(default)]
     pub offset: Option<RawParam>,
     /// `"weight"`: weight of this experiment in the joint fitness (> 0,
     /// default 1).
@@ -118,11 +111,9 @@ pub struct RawInitialData {
     /// `"samples"`: how many of the first samples the fit takes (default 1
     /// for a value: the first sample itself; 3 for a slope: the one-sided
     /// second-order difference `(−3x₀ + 4x₁ − x₂)/(2·dt)`).
-    #[serde(default)]
     pub samples: Option<usize>,
     /// `"slope"`: take the fit's slope (a velocity from a displacement
     /// column) rather than its value. Default: true for a `v_` state.
-    #[serde(default)]
     pub slope: Option<bool>,
 }
 
@@ -189,7 +180,6 @@ pub struct RawData {
     /// `"file"`: CSV path, relative to the campaign file's folder.
     pub file: PathBuf,
     /// `"time_column"`: header name or 0-based index (default: 0, the first).
-    #[serde(default)]
     pub time_column: Option<Column>,
     /// `"column"` (or `"force_column"`): the measured output's column (the
     /// rig's output 0, a force, a displacement or an acceleration), header
@@ -243,16 +233,13 @@ pub enum RawDrive {
 #[serde(deny_unknown_fields)]
 pub struct RawTable {
     /// `"t"`: breakpoint times (s), strictly increasing, at least 2.
-    #[serde(default)]
     pub t: Option<Vec<f64>>,
     /// `"value"`: force at each breakpoint (N, or the unit the rig's drive
     /// `gain` converts).
-    #[serde(default)]
     pub value: Option<Vec<f64>>,
     /// `"column"`: instead of `t` and `value`, this column of the
     /// experiment's data file (header name or 0-based index), one breakpoint
     /// per sample at the record's times (resampled with the record).
-    #[serde(default)]
     pub column: Option<Column>,
 }
 
@@ -261,10 +248,8 @@ pub struct RawTable {
 #[serde(deny_unknown_fields)]
 pub struct RawWindow {
     /// `"start"` (s): default the first sample.
-    #[serde(default)]
     pub start: Option<f64>,
     /// `"end"` (s): default the last sample.
-    #[serde(default)]
     pub end: Option<f64>,
 }
 
@@ -332,10 +317,8 @@ pub struct RawRange {
     pub max: f64,
     /// `"scale"`: `"linear"` or `"log"` (default: the model's choice for the
     /// parameter; offsets are always linear).
-    #[serde(default)]
     pub scale: Option<Scale>,
     /// `"init"`: a value seeded into the initial population, inside the range.
-    #[serde(default)]
     pub init: Option<f64>,
 }
 
