@@ -218,3 +218,57 @@ fn one_channel_named_in_channels_gives_the_same_bits_as_a_column() {
     assert_eq!(a["parameters"], b["parameters"]);
     assert_eq!(a["experiments"][0]["r2"], b["experiments"][0]["r2"]);
 }
+
+/// An output term with no quantity is its constant `gain`: here a parameter,
+/// a sensor's zero offset added to the strut force.
+#[test]
+fn a_term_without_a_quantity_is_a_constant_offset() {
+    use rigfit::base::{Drive, SampleGrid};
+    use rigfit::model::compiled::CompiledRig;
+    let mut desc = rig();
+    desc["params"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"name": "zero", "unit": "N", "doc": "load cell zero"}));
+    let plain =
+        CompiledRig::shared(serde_json::from_value(desc.clone()).unwrap(), "plain").unwrap();
+    let strut = 3;
+    assert_eq!(desc["outputs"][strut]["name"], "strut_force");
+    desc["outputs"][strut]["sum"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"gain": "zero"}));
+    let shifted = CompiledRig::shared(serde_json::from_value(desc).unwrap(), "shifted").unwrap();
+    let names: Vec<String> = shifted.params().iter().map(|p| p.name.clone()).collect();
+    let mut p: Vec<f64> = names
+        .iter()
+        .map(|n| match n.as_str() {
+            "amplitude" => 5e-4,
+            "f_start" => 1.0,
+            "rate" => 2.8,
+            "zero" => 12.5,
+            other => TRUTH.iter().find(|(t, _)| *t == other).unwrap().1,
+        })
+        .collect();
+    let grid = SampleGrid {
+        t0: 0.0,
+        dt: 1e-3,
+        samples: 400,
+        substeps: 1,
+    };
+    let run = |rig: &CompiledRig, p: &[f64]| {
+        let mut out = Vec::new();
+        rig.simulate(p, &Drive::Velocity, &grid, &mut |s| {
+            out.push(s.outputs[strut]);
+            std::ops::ControlFlow::Continue(())
+        });
+        out
+    };
+    let with = run(&shifted, &p);
+    p.pop();
+    let without = run(&plain, &p);
+    assert!(without.iter().any(|f| f.abs() > 1.0));
+    for (a, b) in with.iter().zip(&without) {
+        assert_eq!(*a, b + 12.5);
+    }
+}

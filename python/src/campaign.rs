@@ -101,7 +101,7 @@ impl PyCampaign {
                     "name": g.name, "lower": g.lower, "upper": g.upper,
                     "scale": format!("{:?}", g.scale).to_lowercase(), "init": g.init,
                     "unit": g.unit,
-                    "experiment": g.experiment.map(|e| c.experiment_names[e].clone()),
+                    "experiment": g.experiment.map(|e| c.experiment_names()[e].to_string()),
                 })
             })
             .collect();

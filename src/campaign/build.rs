@@ -166,7 +166,6 @@ pub(crate) fn build(
         warnings: r.warnings,
         sources: owners.iter().map(|&o| r.sources[o].clone()).collect(),
         owners,
-        experiment_names: raw.experiments.iter().map(|x| x.name.clone()).collect(),
     })
 }
 

@@ -137,8 +137,6 @@ pub struct Campaign {
     /// For each problem experiment, the index of the campaign experiment it
     /// belongs to (itself, but for the channels of one experiment).
     pub owners: Vec<usize>,
-    /// The campaign experiments' names, in the file's order.
-    pub experiment_names: Vec<String>,
     /// The searched quantities, in genome order; a gene's `experiment` is a
     /// campaign experiment ([`Campaign::owners`]).
     pub genes: Vec<Gene>,
@@ -181,15 +179,26 @@ impl Campaign {
         })
     }
 
+    /// The campaign experiments' names, in the file's order: each one's first
+    /// run's name up to its `.` (a channel's run is `<experiment>.<output>`,
+    /// and an experiment's own name has none).
+    pub fn experiment_names(&self) -> Vec<&str> {
+        let exps = &self.problem.experiments;
+        (0..self.owners.len())
+            .filter(|&e| e == 0 || self.owners[e] != self.owners[e - 1])
+            .map(|e| exps[e].name.split('.').next().unwrap_or_default())
+            .collect()
+    }
+
     /// The problem experiments of the campaign experiment called `name` (one,
     /// or one per channel); otherwise the list of the campaign's experiment
     /// names, for the message.
     pub fn runs_of(&self, name: &str) -> Result<Vec<usize>, String> {
-        let owner = self
-            .experiment_names
+        let names = self.experiment_names();
+        let owner = names
             .iter()
-            .position(|x| x == name)
-            .ok_or_else(|| self.experiment_names.join(", "))?;
+            .position(|&x| x == name)
+            .ok_or_else(|| names.join(", "))?;
         Ok((0..self.owners.len())
             .filter(|&e| self.owners[e] == owner)
             .collect())

@@ -423,13 +423,10 @@ fn parameter_tables(
     // Each campaign experiment once, by its first run (its channels share
     // its parameters).
     let experiments: Vec<(usize, &str)> = campaign
-        .experiment_names
-        .iter()
+        .experiment_names()
+        .into_iter()
         .enumerate()
-        .filter_map(|(o, name)| {
-            let e = campaign.owners.iter().position(|&x| x == o)?;
-            Some((e, name.as_str()))
-        })
+        .filter_map(|(o, name)| Some((campaign.owners.iter().position(|&x| x == o)?, name)))
         .collect();
     let mut params = BTreeMap::new();
     let mut rows = Vec::new();

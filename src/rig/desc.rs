@@ -424,13 +424,10 @@ pub struct OutputDesc {
     pub unit: String,
     /// Terms, added.
     pub sum: Vec<TermDesc>,
-    /// Added to the sum (the output's unit): a number or a parameter's name,
-    /// such as a sensor's zero offset fitted with the rest (default none).
-    #[serde(default)]
-    pub offset: Option<Coef>,
 }
 
-/// One term of an output: exactly one of the fields, times `gain`.
+/// One term of an output: at most one of the fields, times `gain`; a term
+/// with none is the constant `gain` (a sensor's zero offset).
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TermDesc {

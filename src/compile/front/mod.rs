@@ -300,14 +300,22 @@ fn lower_mode(lay: &Layout, mode: &str) -> Result<Program, RigError> {
                 term.acceleration.as_ref().map(|s| ("acceleration", s)),
             ];
             let picked: Vec<_> = picks.iter().flatten().collect();
-            if picked.len() != 1 {
-                return Err(lay.err(
-                    path,
-                    "exactly one of force, displacement, velocity, acceleration",
-                    format!("{}", picked.len()),
-                ));
-            }
-            let (what, name) = *picked[0];
+            let gain = lay.coef(&mut g, &term.gain, &format!("{path}.gain"))?;
+            let (what, name) = match picked.as_slice() {
+                // No quantity: the constant `gain` (a sensor's zero offset).
+                [] => {
+                    sum = g.add(sum, gain);
+                    continue;
+                }
+                [one] => **one,
+                many => {
+                    return Err(lay.err(
+                        path,
+                        "at most one of force, displacement, velocity, acceleration",
+                        format!("{}", many.len()),
+                    ));
+                }
+            };
             let v = if what == "force" {
                 match lay.elements.get(name.as_str()) {
                     Some(&i) => forces[i],
@@ -333,13 +341,8 @@ fn lower_mode(lay: &Layout, mode: &str) -> Result<Program, RigError> {
                     _ => accel[k],
                 }
             };
-            let gain = lay.coef(&mut g, &term.gain, &format!("{path}.gain"))?;
             let v = g.mul(gain, v);
             sum = g.add(sum, v);
-        }
-        if let Some(offset) = &out.offset {
-            let offset = lay.coef(&mut g, offset, &format!("outputs[{o}].offset"))?;
-            sum = g.add(sum, offset);
         }
         outputs.push(sum);
     }
