@@ -13,6 +13,10 @@
 //! campaign's digest (its file and records), the precision and the
 //! population, so the next run of the same job on the same machine skips the
 //! trial and repeats the choice (and a resumed job keeps its path).
+//!
+//! [`open_job_evaluator`] is that flow whole (the refusals before any work,
+//! the cached choice, the race, the cache), as the CLI's `rigfit run` and the
+//! Python package's `rigfit.fit` both open their evaluator.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -23,7 +27,8 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 use crate::campaign::Campaign;
-use crate::eval::{EvalError, Evaluator};
+use crate::eval::{Backend, CpuEvaluator, EvalError, Evaluator, PrecisionChoice};
+use crate::gpu::GpuError;
 
 /// Most candidate-steps a trial batch takes on each path: below it the
 /// trial scores the job's whole population (a GPU's rate depends on the
@@ -85,6 +90,189 @@ pub enum TrialError {
         /// What failed.
         source: EvalError,
     },
+}
+
+/// How `auto` picks between the two paths when both are there.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AutoPick {
+    /// A job's choice: the one cached for this job on this machine, else a
+    /// race of the two paths ([`race`]), cached for the next run.
+    Measure,
+    /// The GPU when there is one, unmeasured (one ensemble, with no
+    /// generations to repay a race).
+    Gpu,
+}
+
+/// Why a job's evaluator is refused before any work.
+#[derive(Debug, thiserror::Error)]
+pub enum OpenError {
+    /// The CPU evaluator's threads would not start.
+    #[error("{threads} threads: {source}")]
+    Threads {
+        /// Threads asked for (0: all cores).
+        threads: usize,
+        /// What refused them.
+        source: EvalError,
+    },
+    /// The adapter selector (`--adapter`, `RIGFIT_ADAPTER`) names no adapter.
+    #[error("{selected_by}: {why}; the adapters are: {adapters}")]
+    Adapter {
+        /// Where the selector came from (`--adapter X`, `RIGFIT_ADAPTER=X`).
+        selected_by: String,
+        /// Why it names none.
+        why: String,
+        /// The adapters there are, as `rigfit devices` lists them.
+        adapters: String,
+    },
+    /// The GPU was asked for and its kernels cannot hold the rig.
+    #[error(transparent)]
+    KernelLimits(GpuError),
+    /// Opening the GPU evaluator failed.
+    #[error("opening the GPU evaluator")]
+    Gpu(#[source] GpuError),
+    /// `auto`'s race failed.
+    #[error(transparent)]
+    Trial(#[from] TrialError),
+}
+
+/// What opening a job's evaluator has to tell the user, in the order it
+/// happened.
+#[derive(Debug, Clone, PartialEq)]
+pub enum OpenNote {
+    /// `f32` was asked for on the CPU and the rig has no native f32 lanes:
+    /// it is scored in f64.
+    CpuF32 {
+        /// Why the lanes are missing.
+        reason: String,
+    },
+    /// `auto` found no GPU to run on and runs on the CPU.
+    Fallback {
+        /// Why.
+        note: String,
+        /// Whether the rig has GPU kernels, so that a driver would help.
+        driver_helps: bool,
+    },
+    /// The measured choice could not be cached: the next run measures again.
+    NotCached {
+        /// Why.
+        error: String,
+    },
+}
+
+impl std::fmt::Display for OpenNote {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::CpuF32 { reason } => {
+                write!(f, "precision f32 on the CPU: {reason}; scoring in f64")
+            }
+            Self::Fallback { note, .. } => write!(f, "{note}"),
+            Self::NotCached { error } => write!(
+                f,
+                "the backend choice could not be cached ({error}); the next run measures again"
+            ),
+        }
+    }
+}
+
+/// The evaluator a job runs on, with what opening it said and, where `auto`
+/// chose by measurement, what was measured (`backend_trial` in `result.json`).
+pub struct JobEvaluator {
+    /// The evaluator.
+    pub evaluator: Box<dyn Evaluator>,
+    /// What to tell the user.
+    pub notes: Vec<OpenNote>,
+    /// What `auto` measured and chose (from the cache or a race).
+    pub trial: Option<BackendTrial>,
+}
+
+/// Opens the evaluator a job on `campaign` runs on, refusing before any work
+/// what cannot run: CPU `threads` the system will not start, an adapter
+/// selector (`adapter`, else `RIGFIT_ADAPTER`) that names no adapter, a rig
+/// the GPU kernels cannot hold when the GPU was asked for. `auto` with a
+/// named adapter means that GPU, unmeasured; otherwise it picks as `pick`
+/// says. A CPU choice from the cache opens no GPU.
+pub fn open_job_evaluator(
+    campaign: &Campaign,
+    backend: Backend,
+    precision: PrecisionChoice,
+    adapter: Option<&str>,
+    threads: usize,
+    pick: AutoPick,
+) -> Result<JobEvaluator, OpenError> {
+    let mut notes = Vec::new();
+    let mut cpu = CpuEvaluator::try_new(campaign.problem.clone(), threads)
+        .map_err(|source| OpenError::Threads { threads, source })?;
+    // `auto` races the CPU against the GPU in the precision asked for.
+    if backend != Backend::Gpu
+        && precision == PrecisionChoice::F32
+        && let Err(e) = cpu.use_f32()
+        && backend == Backend::Cpu
+    {
+        notes.push(OpenNote::CpuF32 {
+            reason: e.to_string(),
+        });
+    }
+    let on_cpu = |cpu: CpuEvaluator, notes, trial| JobEvaluator {
+        evaluator: Box::new(cpu),
+        notes,
+        trial,
+    };
+    if backend == Backend::Cpu {
+        return Ok(on_cpu(cpu, notes, None));
+    }
+    let requested = crate::gpu::requested_adapter(adapter);
+    if let Some((selector, selected_by)) = &requested {
+        let adapters = crate::gpu::list_adapters();
+        if let Err(why) = crate::gpu::choose_adapter(selector, &adapters) {
+            return Err(OpenError::Adapter {
+                selected_by: selected_by.clone(),
+                why,
+                adapters: crate::gpu::adapter_list(&adapters),
+            });
+        }
+    }
+    let kernels = crate::gpu::kernel_groups(&campaign.problem);
+    let driver_helps = kernels.is_ok();
+    if backend == Backend::Gpu
+        && let Err(e) = kernels
+    {
+        return Err(OpenError::KernelLimits(e));
+    }
+    // A named adapter asks for that GPU: no race.
+    let trial_key = (backend == Backend::Auto && pick == AutoPick::Measure && requested.is_none())
+        .then(|| auto_key(campaign, &format!("{precision:?}").to_lowercase()));
+    let cached = trial_key.as_deref().and_then(cached);
+    if let Some(t) = cached.clone().filter(|t| t.chosen == "cpu") {
+        return Ok(on_cpu(cpu, notes, Some(t)));
+    }
+    let opened =
+        crate::gpu::open_evaluator_on(campaign.problem.clone(), backend, precision, adapter)
+            .map_err(OpenError::Gpu)?;
+    let fell_back = opened.note.is_some();
+    notes.extend(
+        opened
+            .note
+            .map(|note| OpenNote::Fallback { note, driver_helps }),
+    );
+    let (evaluator, trial) = match (trial_key, fell_back, cached) {
+        (Some(_), false, Some(t)) => (opened.evaluator, Some(t)),
+        (Some(key), false, None) => {
+            let population = campaign.search.population;
+            let (chosen, t) = race(campaign, population, opened.evaluator, Box::new(cpu))?;
+            if let Err(e) = remember(&key, &t) {
+                notes.push(OpenNote::NotCached {
+                    error: e.to_string(),
+                });
+            }
+            (chosen, Some(t))
+        }
+        _ => (opened.evaluator, None),
+    };
+    Ok(JobEvaluator {
+        evaluator,
+        notes,
+        trial,
+    })
 }
 
 /// The trial batch: `n` genomes spread over the search box by a fixed seed.

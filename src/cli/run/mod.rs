@@ -9,14 +9,15 @@ use std::process::ExitCode;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::{Args, ValueEnum};
 
 use super::exit::{BadInput, EXIT_INTERRUPTED};
 use super::options::{RunLengthArgs, memory_size};
 use super::output::Output;
 use rigfit::campaign::Campaign;
-use rigfit::eval::{Backend, CpuEvaluator, EvalError, PrecisionChoice};
+use rigfit::eval::{Backend, EvalError, PrecisionChoice};
+use rigfit::job::backend::{OpenError, OpenNote};
 use rigfit::job::memory::human_bytes;
 use rigfit::job::{self, FolderMode, JobError, JobOptions, OutputFolder};
 use rigfit::search::SearchError;
@@ -168,112 +169,39 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
             a.threads
         ));
     }
-    // Start the threads now, so a system that refuses them is told before any work
-    // (a GPU job needs them if it falls back to the CPU).
-    let cpu = CpuEvaluator::try_new(c.problem.clone(), a.threads)
-        .map_err(|e| BadInput(format!("--threads {}: {e}", a.threads)))?;
-    // f32 on the CPU is a compiled rig's native f32 lanes, built now, before
-    // any work; a model without them is scored in f64 (as before they
-    // existed), with a warning.
-    let mut cpu = cpu;
-    // `auto` races the CPU against the GPU in the precision asked for.
-    if backend != Backend::Gpu
-        && precision == PrecisionChoice::F32
-        && let Err(e) = cpu.use_f32()
-        && backend == Backend::Cpu
-    {
-        let asked = match a.precision {
-            Some(_) => "--precision f32".to_string(),
-            None => format!("{}: solver.precision \"f32\"", a.campaign.display()),
-        };
-        out.note(&format!("warning: {asked} on the CPU: {e}; scoring in f64"));
-    }
-    if backend != Backend::Cpu
-        && let Some((selector, selected_by)) = rigfit::gpu::requested_adapter(a.adapter.as_deref())
-    {
-        // Before any work: a selector that names no adapter is bad input.
-        let adapters = rigfit::gpu::list_adapters();
-        if let Err(why) = rigfit::gpu::choose_adapter(&selector, &adapters) {
-            return Err(BadInput(format!(
-                "{selected_by}: {why}; the adapters are: {}",
-                rigfit::gpu::adapter_list(&adapters)
-            ))
-            .into());
-        }
-    }
-    // A rig the GPU kernels cannot hold is bad input when the GPU was asked
-    // for: said before any work, with its count and the limit.
-    if backend == Backend::Gpu
-        && let Err(e) = rigfit::gpu::kernel_groups(&c.problem)
-    {
-        let asked = match a.backend {
-            Some(_) => "--backend gpu".to_string(),
-            None => format!("{}: solver.backend \"gpu\"", a.campaign.display()),
-        };
-        let cpu = match e {
-            rigfit::gpu::GpuError::TooManySwitches { .. } => "; run it on the CPU (--backend cpu)",
-            _ => "",
-        };
-        return Err(BadInput(format!("{asked}: {e}{cpu}")).into());
-    }
-    // The evaluator before the output folder: a GPU that is required and
-    // missing leaves no folder behind.
-    // `auto`: a choice measured before for this job on this machine (a CPU
-    // choice opens no GPU), else a race between the two paths once both are
-    // open (src/job/backend.rs).
-    // A named adapter (`--adapter`, RIGFIT_ADAPTER) asks for that GPU: no race.
-    let named_adapter = rigfit::gpu::requested_adapter(a.adapter.as_deref()).is_some();
-    let trial_key = (backend == Backend::Auto && !named_adapter)
-        .then(|| job::backend::auto_key(&c, &format!("{precision:?}").to_lowercase()));
-    let cached = trial_key.as_deref().and_then(job::backend::cached);
-    let mut backend_trial = None;
-    let mut evaluator: Box<dyn rigfit::eval::Evaluator> = if backend == Backend::Cpu {
-        Box::new(cpu)
-    } else if let Some(t) = cached.clone().filter(|t| t.chosen == "cpu") {
-        backend_trial = Some(t);
-        Box::new(cpu)
-    } else {
-        let opened = rigfit::gpu::open_evaluator_on(
-            c.problem.clone(),
-            backend,
-            precision,
-            a.adapter.as_deref(),
-        )
-        .context("opening the GPU evaluator")?;
-        if let Some(note) = &opened.note {
-            // A driver helps only where the model has kernels to run.
-            if rigfit::gpu::kernel_groups(&c.problem).is_ok() {
-                out.note(&format!("note: {note}; {GPU_HINT}"));
-            } else {
-                out.note(&format!("note: {note}"));
+    // The evaluator before the output folder, refusing before any work what
+    // cannot run (threads the system will not start, an adapter selector that
+    // names none, a rig the GPU kernels cannot hold when the GPU was asked
+    // for); a GPU that is required and missing leaves no folder behind.
+    // `auto` chooses as src/job/backend.rs says: a named adapter is that GPU,
+    // else the choice cached for this job on this machine, else a race.
+    let opened = job::backend::open_job_evaluator(
+        &c,
+        backend,
+        precision,
+        a.adapter.as_deref(),
+        a.threads,
+        job::backend::AutoPick::Measure,
+    )
+    .map_err(|e| open_error(e, a))?;
+    for note in &opened.notes {
+        out.note(&match note {
+            OpenNote::CpuF32 { reason } => {
+                let asked = match a.precision {
+                    Some(_) => "--precision f32".to_string(),
+                    None => format!("{}: solver.precision \"f32\"", a.campaign.display()),
+                };
+                format!("warning: {asked} on the CPU: {reason}; scoring in f64")
             }
-        }
-        match (&trial_key, opened.note.is_none()) {
-            (Some(key), true) => match cached {
-                Some(t) => {
-                    backend_trial = Some(t);
-                    opened.evaluator
-                }
-                None => {
-                    let (chosen, t) = job::backend::race(
-                        &c,
-                        c.search.population,
-                        opened.evaluator,
-                        Box::new(cpu),
-                    )?;
-                    if let Err(e) = job::backend::remember(key, &t) {
-                        out.note(&format!(
-                            "warning: the backend choice could not be cached ({e}); the next \
-                             run measures again"
-                        ));
-                    }
-                    backend_trial = Some(t);
-                    chosen
-                }
-            },
-            _ => opened.evaluator,
-        }
-    };
+            // A driver helps only where the model has kernels to run.
+            OpenNote::Fallback { note, driver_helps } if *driver_helps => {
+                format!("note: {note}; {GPU_HINT}")
+            }
+            OpenNote::Fallback { note, .. } => format!("note: {note}"),
+            OpenNote::NotCached { .. } => format!("warning: {note}"),
+        });
+    }
+    let (mut evaluator, backend_trial) = (opened.evaluator, opened.trial);
     if let Some(t) = &backend_trial {
         out.note(&format!("note: {}", t.line()));
     }
@@ -358,6 +286,32 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         return Ok(ExitCode::from(EXIT_INTERRUPTED));
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// A refusal of the job's evaluator as the CLI words it: the flag (or the
+/// campaign's setting) to blame first.
+fn open_error(e: OpenError, a: &RunArgs) -> anyhow::Error {
+    match e {
+        OpenError::Threads { threads, source } => {
+            BadInput(format!("--threads {threads}: {source}")).into()
+        }
+        e @ OpenError::Adapter { .. } => BadInput(e.to_string()).into(),
+        OpenError::KernelLimits(e) => {
+            let asked = match a.backend {
+                Some(_) => "--backend gpu".to_string(),
+                None => format!("{}: solver.backend \"gpu\"", a.campaign.display()),
+            };
+            let cpu = match e {
+                rigfit::gpu::GpuError::TooManySwitches { .. } => {
+                    "; run it on the CPU (--backend cpu)"
+                }
+                _ => "",
+            };
+            BadInput(format!("{asked}: {e}{cpu}")).into()
+        }
+        OpenError::Gpu(e) => anyhow::Error::new(e).context("opening the GPU evaluator"),
+        OpenError::Trial(e) => e.into(),
+    }
 }
 
 /// The command line this job was started with, quoted for a POSIX shell, so
