@@ -28,3 +28,18 @@ def test_an_adapter_that_is_not_there_is_a_device_error():
     with pytest.raises(rigfit.DeviceError, match='adapter="no such adapter"'):
         rigfit.simulate(c, c.bounds.mean(axis=1)[None, :], backend="gpu", adapter="no such adapter")
     assert issubclass(rigfit.DeviceError, RuntimeError)
+
+
+def test_auto_with_a_named_adapter_runs_on_it_without_a_race(bearing, cli, tmp_path, monkeypatch):
+    # As `rigfit run --backend auto --adapter 0`: asking for a device is
+    # asking for the GPU, so nothing is measured or cached.
+    monkeypatch.setenv("RIGFIT_CACHE_DIR", str(tmp_path / "cache"))
+    cli("run", bearing, "--backend", "auto", "--adapter", "0", "--seed", "4",
+        "--out", tmp_path / "cli")
+    import json
+    cli_json = json.loads((tmp_path / "cli" / "result.json").read_text())
+    r = rigfit.fit(rigfit.Campaign.from_json(bearing), seed=4, backend="auto", adapter="0")
+    assert r.backend == cli_json["backend"] == "gpu"
+    assert "backend_trial" not in r.summary and "backend_trial" not in cli_json
+    assert r.summary["params"] == cli_json["params"]
+    assert not (tmp_path / "cache").exists()
