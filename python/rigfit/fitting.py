@@ -12,7 +12,7 @@ from .result import FitResult, read_result_files
 
 def fit(campaign, *, seed=None, backend=None, precision=None, adapter=None, out=None,
         resume=False, overwrite=False, population=None, generations=None,
-        target_fitness=None, threads=0, progress=False):
+        target_fitness=None, threads=0, max_memory=None, progress=False):
     """Calibrates ``campaign``'s free parameters: the genetic algorithm, the
     Levenberg–Marquardt polish and the 95 % intervals, the same job (and for
     the same seed and backend, the same numbers, bit for bit) as ``rigfit
@@ -25,6 +25,11 @@ def fit(campaign, *, seed=None, backend=None, precision=None, adapter=None, out=
     temporary one, removed once the result is read into memory);
     ``resume=True`` continues the checkpoint in ``out``; ``overwrite=True``
     replaces an earlier job's files there.
+
+    ``max_memory``: as ``rigfit run --max-memory``, bytes or a size with K,
+    M, G or T (``"512M"``, ``"2G"``); default: the memory available now. A
+    job whose estimated memory exceeds it is refused before any work with
+    :class:`rigfit.CampaignError` and the CLI's message.
 
     ``progress``: ``True`` for a ``tqdm.auto`` bar (live in Jupyter), or a
     callable given a dict per generation (``stage="ga"``, ``generation``,
@@ -46,7 +51,7 @@ def fit(campaign, *, seed=None, backend=None, precision=None, adapter=None, out=
             campaign._inner, out, resume=resume, overwrite=overwrite, backend=backend,
             precision=precision, adapter=adapter, threads=threads, population=population,
             generations=generations, seed=seed, target_fitness=target_fitness,
-            progress=callback)
+            max_memory=max_memory, progress=callback)
     except BaseException:
         if temporary and not os.path.exists(os.path.join(out, "checkpoint.json")):
             shutil.rmtree(out, ignore_errors=True)

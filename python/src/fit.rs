@@ -94,7 +94,7 @@ fn search_error(e: &JobError) -> PyErr {
 #[pyfunction]
 #[pyo3(signature = (campaign, out, *, resume = false, overwrite = false, backend = None,
     precision = None, adapter = None, threads = 0, population = None, generations = None,
-    seed = None, target_fitness = None, progress = None))]
+    seed = None, target_fitness = None, max_memory = None, progress = None))]
 #[expect(
     clippy::too_many_arguments,
     reason = "the keyword arguments of rigfit.fit"
@@ -113,6 +113,7 @@ pub fn run_job<'py>(
     generations: Option<usize>,
     seed: Option<u64>,
     target_fitness: Option<f64>,
+    max_memory: Option<crate::memory::MaxMemory>,
     progress: Option<PyObject>,
 ) -> PyResult<Bound<'py, PyDict>> {
     errors::guard(|| {
@@ -138,6 +139,13 @@ pub fn run_job<'py>(
             .map_err(|e| errors::campaign(&e))?;
         let backend_choice = crate::evaluator::backend(&c, backend)?;
         let precision_choice = crate::evaluator::precision(&c, precision)?;
+        crate::memory::check(
+            &c,
+            max_memory.as_ref(),
+            population,
+            backend_choice,
+            precision_choice,
+        )?;
         let opened = py.allow_threads(|| {
             crate::evaluator::open(
                 &c,

@@ -9,6 +9,7 @@ mod errors;
 mod evaluator;
 mod fit;
 mod identify;
+mod memory;
 
 use pyo3::prelude::*;
 
