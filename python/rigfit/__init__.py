@@ -12,7 +12,7 @@ from . import identify
 from ._rigfit import __version__
 from .campaign import Campaign, shipped_rigs
 from .ensemble import Objective, simulate
-from .identify import fit_specimen, frf, idim, nimiso, rfs, ringdown
+from .identify import arx, fit_specimen, frf, idim, impedance, nimiso, rfs, ringdown, sensitivity
 from .errors import CampaignError, DataError, DeviceError, Error, GpuFallbackWarning, Interrupted
 from .fitting import fit
 from .params import Parameter, Parameters
@@ -21,6 +21,6 @@ from .result import ExperimentResult, FitResult, load_result
 __all__ = [
     "Campaign", "CampaignError", "DataError", "DeviceError", "Error", "ExperimentResult",
     "FitResult", "GpuFallbackWarning", "Interrupted", "Objective", "Parameter", "Parameters",
-    "__version__", "fit", "fit_specimen", "frf", "idim", "identify", "load_result", "nimiso", "rfs",
-    "ringdown", "shipped_rigs", "simulate",
+    "__version__", "arx", "fit", "fit_specimen", "frf", "idim", "identify", "impedance",
+    "load_result", "nimiso", "rfs", "ringdown", "sensitivity", "shipped_rigs", "simulate",
 ]

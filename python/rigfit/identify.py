@@ -1,7 +1,7 @@
 """Pre-calibration and identification on arrays: the numbers ``rigfit
-ringdown``, ``rigfit fit-specimen``, ``rigfit identify frf``, ``rfs``,
-``idim`` and ``nimiso`` print with
-``--json``, as dicts, and the campaign fragment each suggests
+ringdown``, ``rigfit fit-specimen`` and ``rigfit identify`` (``frf``,
+``rfs``, ``idim``, ``nimiso``, ``arx``, ``impedance``, ``sensitivity``)
+print with ``--json``, as dicts, and the campaign fragment each suggests
 (``.fragment``)."""
 
 import json
@@ -113,3 +113,75 @@ def nimiso(t, x, f, *, f_min, f_max, nonlinear="cubic", segment=None, fixed=Fals
     f = np.ascontiguousarray(np.asarray(f, dtype=np.float64))
     return _report(_rigfit.nimiso_report(t, x, f, f_min=f_min, f_max=f_max, nonlinear=nonlinear,
                                          segment=segment, fixed=fixed))
+
+
+def _channels(record, name, parts):
+    """A record's three channels as contiguous f64 arrays."""
+    cols = [np.ascontiguousarray(np.asarray(c, dtype=np.float64)) for c in record]
+    if len(cols) != 3:
+        from .errors import CampaignError
+        raise CampaignError(f"{name}: expected three arrays ({parts}), found {len(cols)}")
+    return cols
+
+
+def arx(t, u, ys, *, mass, f_min, f_max, names=("k2", "c2"), form="linear", segment=None,
+        min_coherence=0.9, fixed=False):
+    """The transmissibility between two measured points and the element
+    between them, as ``rigfit identify arx`` computes them: ``u`` the
+    reference channel (the node on the driven side of the element), ``ys``
+    the response channels (one array, or a sequence of them: the node across
+    the element first, then every node it carries) with their ``mass`` (kg,
+    one per response channel), sampled at times ``t`` (s, uniform). Fits the
+    element's stiffness and damping (campaign names ``names``) over the lines
+    of ``f_min``..``f_max`` (Hz) with a coherence of at least
+    ``min_coherence``, and the frequency-domain ARX coefficients of ``form``
+    (``"linear"``: Eq. 5, ``"cubic"``: Eq. 6). Returns ``{"welch",
+    "element", "arx"}`` as its ``--json`` prints them, with ``.fragment`` and
+    ``.spectra``: ``freqs`` (Hz), ``t`` (complex, channels × lines) and
+    ``coherence`` (channels × lines)."""
+    t, u = _arrays(t, u)
+    ys = np.asarray(ys, dtype=np.float64)
+    ys = [np.ascontiguousarray(y) for y in (ys[None, :] if ys.ndim == 1 else ys)]
+    mass = [float(m) for m in np.atleast_1d(mass)]
+    report, fragment, spectra = _rigfit.arx_report(
+        t, u, ys, mass=mass, f_min=f_min, f_max=f_max, names=list(names), form=form,
+        segment=segment, min_coherence=min_coherence, fixed=fixed)
+    r = _report((report, fragment))
+    r.spectra = {"freqs": np.asarray(spectra["freqs"]),
+                 "t": np.asarray(spectra["re"]) + 1j * np.asarray(spectra["im"]),
+                 "coherence": np.asarray(spectra["coherence"])}
+    return r
+
+
+def impedance(t, x_impact, y_impact, *, f_min, f_max, mass=None, fixed=False):
+    """The 2 × 2 impedance and receptance matrices of a point mass from an
+    impact in x (``x_impact``) and one in y (``y_impact``), each a triple of
+    arrays (hammer force in N, x and y displacement in m) sampled at times
+    ``t`` (s, uniform), and K, C and M (unless ``mass``, kg, is given)
+    fitted over ``f_min``..``f_max`` (Hz), as ``rigfit identify impedance``
+    computes them. Returns ``{"impedance": {...}}`` as its ``--json`` prints
+    it, with ``.fragment`` (the ``bearing_2dof`` rig's parameters)."""
+    t = np.ascontiguousarray(np.asarray(t, dtype=np.float64))
+    return _report(_rigfit.impedance_report(
+        t, _channels(x_impact, "x_impact", "force, x, y"),
+        _channels(y_impact, "y_impact", "force, x, y"), f_min=f_min, f_max=f_max, mass=mass,
+        fixed=fixed))
+
+
+def sensitivity(t, base, changed, *, k1, f_min, f_max, c1=0.0, segment=None, name="k2",
+                base_value=None, fixed=False):
+    """The change of a quarter car's strut stiffness between two records by
+    the experimental sensitivity functions, as ``rigfit identify
+    sensitivity`` computes it: ``base`` and ``changed`` each a triple of
+    arrays (wheel pan, unsprung mass, sprung mass) sampled at times ``t``
+    (s, uniform), the tire's stiffness ``k1`` (N/m) and damping ``c1``
+    (N·s/m), the change averaged over ``f_min``..``f_max`` (Hz). Returns
+    ``{"welch", "sensitivity"}`` as its ``--json`` prints them, with
+    ``.fragment``: ``name`` after the change when ``base_value`` (N/m) gives
+    it before."""
+    t = np.ascontiguousarray(np.asarray(t, dtype=np.float64))
+    parts = "wheel pan, unsprung, sprung"
+    return _report(_rigfit.sensitivity_report(
+        t, _channels(base, "base", parts), _channels(changed, "changed", parts), k1=k1,
+        f_min=f_min, f_max=f_max, c1=c1, segment=segment, name=name, base_value=base_value,
+        fixed=fixed))

@@ -1,6 +1,8 @@
-//! Pre-calibration on arrays: `ringdown` and `fit_specimen`, the functions
-//! `rigfit ringdown` and `rigfit fit-specimen` call, returning the report
-//! their `--json` prints (as JSON text the Python layer parses).
+//! Pre-calibration and identification on arrays: `ringdown`,
+//! `fit_specimen`, `frf`, `rfs`, `idim` and `nimiso`, the functions `rigfit
+//! ringdown`, `fit-specimen` and `identify ...` call, returning the report
+//! their `--json` prints (as JSON text the Python layer parses). The
+//! transmissibility methods and the impedance method are in their own files.
 
 use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
@@ -8,7 +10,17 @@ use pyo3::prelude::*;
 use crate::errors::{self, Kind};
 use rigfit::identify::{PrecalError, ringdown, specimen};
 
-fn slices<'a>(
+pub fn slice<'a>(x: &'a PyReadonlyArray1<'_, f64>) -> PyResult<&'a [f64]> {
+    x.as_slice()
+        .map_err(|e| errors::raise(Kind::Data, e.to_string()))
+}
+
+/// Three channels of one record.
+pub fn three<'a>(r: &'a [PyReadonlyArray1<'_, f64>; 3]) -> PyResult<[&'a [f64]; 3]> {
+    Ok([slice(&r[0])?, slice(&r[1])?, slice(&r[2])?])
+}
+
+pub fn slices<'a>(
     x: &'a PyReadonlyArray1<'_, f64>,
     y: &'a PyReadonlyArray1<'_, f64>,
 ) -> PyResult<(&'a [f64], &'a [f64])> {
@@ -16,7 +28,7 @@ fn slices<'a>(
     Ok((x.as_slice().map_err(bad)?, y.as_slice().map_err(bad)?))
 }
 
-fn precal(e: &PrecalError) -> PyErr {
+pub fn precal(e: &PrecalError) -> PyErr {
     match e {
         PrecalError::InvalidOption { .. } => errors::raise(Kind::Campaign, errors::chain(e)),
         _ => errors::raise(Kind::Data, errors::chain(e)),

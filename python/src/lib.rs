@@ -9,7 +9,9 @@ mod errors;
 mod evaluator;
 mod fit;
 mod identify;
+mod impedance;
 mod memory;
+mod transmissibility;
 
 use pyo3::prelude::*;
 
@@ -28,5 +30,8 @@ fn _rigfit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(identify::rfs_report, m)?)?;
     m.add_function(wrap_pyfunction!(identify::idim_report, m)?)?;
     m.add_function(wrap_pyfunction!(identify::nimiso_report, m)?)?;
+    m.add_function(wrap_pyfunction!(transmissibility::arx_report, m)?)?;
+    m.add_function(wrap_pyfunction!(transmissibility::sensitivity_report, m)?)?;
+    m.add_function(wrap_pyfunction!(impedance::impedance_report, m)?)?;
     Ok(())
 }

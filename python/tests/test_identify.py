@@ -1,5 +1,5 @@
-"""ringdown and fit_specimen on arrays give the numbers the CLI's --json
-prints for the same record."""
+"""The pre-calibration and identification methods on arrays give the numbers
+the CLI's --json prints for the same record."""
 
 import json
 
@@ -127,3 +127,91 @@ def test_nimiso_matches_the_cli(cli, tmp_path):
                           "--f-max", "100").stdout)
     assert r["nimiso"] == want["nimiso"]
     assert r.fragment == want["fragment"]
+
+
+def _write(path, header, columns):
+    rows = zip(*(np.asarray(c).tolist() for c in columns))
+    path.write_text(header + "\n" + "".join(",".join(repr(v) for v in r) + "\n" for r in rows))
+
+
+def test_arx_matches_the_cli(cli, tmp_path):
+    # A mass on a spring and a damper from a randomly moving base: the
+    # transmissibility of the accelerations is (c s + k) / (m s² + c s + k).
+    from scipy import signal
+    m, k, c, fs = 2.0, 8000.0, 20.0, 200.0
+    t = np.arange(16384) / fs
+    u = np.random.default_rng(5).normal(0.0, 1.0, t.size)
+    _, y, _ = signal.lsim(signal.lti([c, k], [m, c, k]), u, t)
+    path = tmp_path / "arx.csv"
+    _write(path, "t_s,base_m_s2,mass_m_s2", (t, u, y))
+    r = rigfit.arx(t, u, y, mass=m, f_min=1.0, f_max=40.0)
+    want = json.loads(cli("--json", "identify", "arx", path, "--mass", "2", "--f-min", "1",
+                          "--f-max", "40").stdout)
+    assert r["element"] == want["element"] and r["arx"] == want["arx"]
+    assert r["welch"] == want["welch"]
+    assert r.fragment == want["fragment"]
+    assert abs(r["element"]["stiffness"] / k - 1) < 0.05, r["element"]
+    assert r.spectra["t"].shape == r.spectra["coherence"].shape == (1, len(r.spectra["freqs"]))
+    with pytest.raises(rigfit.CampaignError, match="one positive mass"):
+        rigfit.arx(t, u, y, mass=[m, m], f_min=1.0, f_max=40.0)
+
+
+def test_impedance_matches_the_cli(cli, tmp_path):
+    # A point mass on a 2 × 2 spring and damper, struck in x and then in y.
+    from scipy import signal
+    mass, fs, n = 10.0, 4096.0, 1024
+    K = np.array([[4e6, 1e6], [1e6, 5e6]])
+    C = np.array([[400.0, 0.0], [0.0, 500.0]])
+    a = np.block([[np.zeros((2, 2)), np.eye(2)], [-K / mass, -C / mass]])
+    b = np.vstack([np.zeros((2, 2)), np.eye(2) / mass])
+    sys = signal.StateSpace(a, b, np.hstack([np.eye(2), np.zeros((2, 2))]), np.zeros((2, 2)))
+    t = np.arange(n) / fs
+    pulse = np.where((t >= 0.01) & (t <= 0.014), 500.0 * np.sin(np.pi * (t - 0.01) / 0.004), 0.0)
+    impacts = []
+    for axis in (0, 1):
+        force = np.zeros((n, 2))
+        force[:, axis] = pulse
+        _, d, _ = signal.lsim(sys, force, t)
+        impacts.append((pulse, d[:, 0], d[:, 1]))
+    paths = [tmp_path / "hx.csv", tmp_path / "hy.csv"]
+    for p, (f, x, y) in zip(paths, impacts):
+        _write(p, "t_s,force_N,x_m,y_m", (t, f, x, y))
+    r = rigfit.impedance(t, impacts[0], impacts[1], f_min=20.0, f_max=300.0)
+    want = json.loads(cli("--json", "identify", "impedance", *paths, "--f-min", "20",
+                          "--f-max", "300").stdout)
+    assert r["impedance"] == want["impedance"]
+    assert r.fragment == want["fragment"]
+    fitted = r["impedance"]["stiffness"]
+    assert abs(fitted[0][0] / K[0, 0] - 1) < 0.1, fitted
+    with pytest.raises(rigfit.CampaignError, match="x_impact"):
+        rigfit.impedance(t, impacts[0][:2], impacts[1], f_min=20.0, f_max=300.0)
+
+
+def test_sensitivity_matches_the_cli(cli, tmp_path):
+    # A quarter car on a randomly moving wheel pan (displacements), its strut
+    # softened by 3 %.
+    from scipy import signal
+    m1, m2, k1, k2, c2, fs = 40.0, 350.0, 2e5, 3e4, 1500.0, 200.0
+    t = np.arange(2 ** 15) / fs
+    xb = np.random.default_rng(11).normal(0.0, 1e-3, t.size)
+    records = []
+    for k in (k2, 0.97 * k2):
+        a = np.array([[0, 0, 1, 0], [0, 0, 0, 1],
+                      [-(k1 + k) / m1, k / m1, -c2 / m1, c2 / m1],
+                      [k / m2, -k / m2, c2 / m2, -c2 / m2]])
+        b = np.array([[0.0], [0.0], [k1 / m1], [0.0]])
+        sys = signal.StateSpace(a, b, np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0]]), np.zeros((2, 1)))
+        _, d, _ = signal.lsim(sys, xb, t)
+        records.append((xb, d[:, 0], d[:, 1]))
+    paths = [tmp_path / "base.csv", tmp_path / "changed.csv"]
+    for p, (w, u, s) in zip(paths, records):
+        _write(p, "t_s,wheel_pan_m,unsprung_m,sprung_m", (t, w, u, s))
+    r = rigfit.sensitivity(t, records[0], records[1], k1=k1, f_min=5.0, f_max=15.0,
+                           segment=4096, base_value=k2)
+    want = json.loads(cli("--json", "identify", "sensitivity", *paths, "--k1", "200000",
+                          "--f-min", "5", "--f-max", "15", "--segment", "4096",
+                          "--base-value", "30000").stdout)
+    assert r["sensitivity"] == want["sensitivity"] and r["welch"] == want["welch"]
+    assert r.fragment == want["fragment"]
+    assert abs(r["sensitivity"]["change"]["mean"] / (-0.03 * k2) - 1) < 0.1, r["sensitivity"]
+    assert abs(r.fragment["params"]["k2"]["init"] / (0.97 * k2) - 1) < 0.01

@@ -72,19 +72,6 @@ pub fn sensitivity(a: &SensitivityArgs, out: &Output) -> Result<()> {
     let band = (a.f_min, a.f_max);
     let r = tr::strut_sensitivity(&base, &changed, a.k1, a.c1, band)
         .map_err(|e| in_file(&a.changed, e))?;
-    let mut params = serde_json::Map::new();
-    if let Some(k) = a.base_value {
-        let v = k + r.change.mean;
-        params.insert(
-            a.name.clone(),
-            if a.common.fixed {
-                serde_json::json!(v)
-            } else {
-                let w = (0.5 * v.abs()).max(10.0 * r.change.spread);
-                serde_json::json!({"min": (v - w).max(0.0), "max": v + w, "init": v})
-            },
-        );
-    }
     let figure = Figure {
         title: format!(
             "sensitivity: {} against {}",
@@ -96,7 +83,7 @@ pub fn sensitivity(a: &SensitivityArgs, out: &Output) -> Result<()> {
     };
     Findings {
         report: serde_json::json!({"welch": base.settings, "sensitivity": r}),
-        fragment: serde_json::json!({ "params": params }),
+        fragment: r.to_campaign_fragment(&a.name, a.base_value, a.common.fixed),
         text: || report(a, &r),
     }
     .deliver_with(out, a.common.files(), figure)

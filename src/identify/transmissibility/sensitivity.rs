@@ -141,6 +141,34 @@ pub struct StrutLines {
     pub delta_h: Vec<Complex64>,
 }
 
+impl StrutSensitivity {
+    /// The campaign keys it suggests: with the strut stiffness before the
+    /// change (`base_value`, N/m), `name` after it, a fixed value or a free
+    /// parameter around it (half its value, or ten times the spread over the
+    /// band where wider); without, none.
+    pub fn to_campaign_fragment(
+        &self,
+        name: &str,
+        base_value: Option<f64>,
+        fixed: bool,
+    ) -> serde_json::Value {
+        let mut params = serde_json::Map::new();
+        if let Some(k) = base_value {
+            let v = k + self.change.mean;
+            params.insert(
+                name.to_string(),
+                if fixed {
+                    serde_json::json!(v)
+                } else {
+                    let w = (0.5 * v.abs()).max(10.0 * self.change.spread);
+                    serde_json::json!({"min": (v - w).max(0.0), "max": v + w, "init": v})
+                },
+            );
+        }
+        serde_json::json!({ "params": params })
+    }
+}
+
 /// [`StrutSensitivity`] from block spectra whose reference is the wheel pan
 /// and whose responses are the unsprung and the sprung mass, with the tire's
 /// `k1` (N/m) and `c1` (N·s/m), over `band` (Hz).
