@@ -68,7 +68,8 @@ def fit(campaign, *, seed=None, backend=None, precision=None, adapter=None, out=
             shutil.rmtree(out, ignore_errors=True)
         raise Interrupted("fit interrupted before the first generation was complete: "
                           "nothing to keep")
-    result = FitResult(read_result_files(out))
+    # The arrays in full precision from the job itself; the files as written.
+    result = FitResult(read_result_files(out), arrays=status.get("arrays"))
     if temporary:
         shutil.rmtree(out, ignore_errors=True)
     return result

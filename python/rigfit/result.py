@@ -17,12 +17,15 @@ _FIXED_FILES = ("result.json", "history.csv", "fitness.svg", "rigfit-files.json"
 
 class ExperimentResult:
     """One experiment's fit: R² and the record's columns as numpy arrays
-    (``t`` record time in s, ``measured``, ``model`` (samples, outputs),
-    ``residual`` = model output 0 − measurement, ``in_fit_window``), as
-    ``rigfit run`` writes them in ``<experiment>.csv`` (7 significant
-    digits)."""
+    (``t`` record time in s, ``t_model``, ``measured``, ``model`` (samples,
+    outputs), ``residual`` = model output 0 − measurement,
+    ``in_fit_window``), the rows and columns of the ``<experiment>.csv``
+    ``rigfit run`` writes. From :func:`rigfit.fit` they are the job's own
+    numbers in full precision (f64); read back by :func:`rigfit.load_result`
+    they are the CSV's, to 7 significant digits (``full_precision`` says
+    which)."""
 
-    def __init__(self, summary, csv_bytes):
+    def __init__(self, summary, csv_bytes, arrays=None):
         self.summary = summary
         self.name = summary["name"]
         self.r2 = summary["r2"]
@@ -31,14 +34,30 @@ class ExperimentResult:
         self.unit = summary.get("unit", "")
         header, table = _read_csv(csv_bytes)
         self.columns = header
+        model_cols = [i for i, h in enumerate(header) if h.startswith("model_")]
+        self.output_columns = [header[i] for i in model_cols]
+        #: Whether the arrays are the job's f64 numbers (a fit in this
+        #: process, or its pickle) rather than the CSV's 7 digits.
+        self.full_precision = arrays is not None
+        if arrays is not None:
+            self.t = np.asarray(arrays["t"], dtype=float)
+            self.t_model = np.asarray(arrays["t_model"], dtype=float)
+            self.measured = np.asarray(arrays["measured"], dtype=float)
+            self.model = np.asarray(arrays["model"], dtype=float).reshape(len(self.t), -1)
+            self.residual = np.asarray(arrays["residual"], dtype=float)
+            self.in_fit_window = np.asarray(arrays["in_fit_window"], dtype=bool)
+            return
         self.t = table[:, 0]
         self.t_model = table[:, 1]
         self.measured = table[:, 2]
-        model_cols = [i for i, h in enumerate(header) if h.startswith("model_")]
-        self.output_columns = [header[i] for i in model_cols]
         self.model = table[:, model_cols]
         self.residual = table[:, header.index(next(h for h in header if h.startswith("residual_")))]
         self.in_fit_window = table[:, -1].astype(bool)
+
+    def _arrays(self):
+        return {"t": self.t, "t_model": self.t_model, "measured": self.measured,
+                "model": self.model, "residual": self.residual,
+                "in_fit_window": self.in_fit_window}
 
     @property
     def cleaned_force(self):
@@ -50,7 +69,8 @@ class ExperimentResult:
         return None
 
     def to_dataframe(self):
-        """The experiment's CSV as a pandas DataFrame."""
+        """The experiment's CSV as a pandas DataFrame (its columns, with the
+        arrays' precision)."""
         import pandas as pd
         header, table = self.columns, np.column_stack(
             [self.t, self.t_model, self.measured, self.model, self.residual, self.in_fit_window])
@@ -69,14 +89,16 @@ class FitResult:
     ``min``, ``max``, ``unit``, ``determined``, ``at_bound``), ``correlation``
     (the free parameters' correlation matrix, ``var_names`` its order),
     ``experiments`` (name → :class:`ExperimentResult` with R², residuals and
-    model outputs as arrays), ``r2``, ``fitness`` (the weighted 1 − R²),
+    model outputs as arrays: in full precision from a fit, to the CSV's 7
+    digits from :func:`load_result`), ``r2``, ``fitness`` (the weighted 1 − R²),
     ``summary`` (result.json as a dict), ``fit_report()``,
     ``to_dataframe()``, ``save(folder)``. Picklable.
     """
 
-    def __init__(self, files):
+    def __init__(self, files, arrays=None):
         #: file name -> bytes, exactly as ``rigfit run`` wrote them.
         self.files = dict(files)
+        arrays = arrays or {}
         self.summary = json.loads(self.files["result.json"])
         s = self.summary
         self.params = Parameters()
@@ -95,7 +117,8 @@ class FitResult:
         self.correlation = (np.array([[np.nan if v is None else v for v in row] for row in corr], dtype=float)
                             if corr else None)
         self.experiments = {
-            x["name"]: ExperimentResult(x, self.files[x["csv"]]) for x in s["experiments"]
+            x["name"]: ExperimentResult(x, self.files[x["csv"]], arrays.get(x["name"]))
+            for x in s["experiments"]
         }
         self.fitness = s["fitness"]
         self.r2 = {k: x.r2 for k, x in self.experiments.items()}
@@ -235,7 +258,8 @@ class FitResult:
     def save(self, folder, overwrite=False):
         """Writes exactly the files ``rigfit run`` wrote (result.json, the
         experiment CSVs, history.csv, the figures, rigfit-files.json) into
-        ``folder`` (created if missing). Like the CLI, it replaces files
+        ``folder`` (created if missing); the arrays read back from them by
+        :func:`load_result` carry the CSVs' 7 significant digits. Like the CLI, it replaces files
         there only with ``overwrite=True``."""
         folder = os.fspath(folder)
         os.makedirs(folder, exist_ok=True)
@@ -250,19 +274,26 @@ class FitResult:
                 f.write(data)
         return folder
 
+    def _arrays(self):
+        return {k: x._arrays() for k, x in self.experiments.items() if x.full_precision}
+
     def __getstate__(self):
-        return {"files": self.files}
+        return {"files": self.files, "arrays": self._arrays()}
 
     def __setstate__(self, state):
-        self.__init__(state["files"])
+        self.__init__(state["files"], state.get("arrays"))
 
     def __eq__(self, other):
+        # The same result: the same files (a fit equals what load_result
+        # reads back from its saved folder, whose arrays are rounded).
         return isinstance(other, FitResult) and self.files == other.files
 
 
 def load_result(path):
     """Reads the result ``rigfit run`` (or :meth:`FitResult.save`) left in a
-    folder (or its ``result.json``)."""
+    folder (or its ``result.json``). Its experiments' arrays are read from
+    the CSVs, so they carry the CSVs' 7 significant digits (a fit held in
+    memory, or pickled, keeps its full-precision arrays)."""
     path = os.fspath(path)
     folder = os.path.dirname(path) if os.path.isfile(path) else path
     return FitResult(read_result_files(folder))

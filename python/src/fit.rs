@@ -234,6 +234,7 @@ pub fn run_job<'py>(
                 let stopped = interrupt.load(Ordering::SeqCst);
                 d.set_item("interrupted", stopped || interrupted_by_python)?;
                 d.set_item("checkpoint", out.join(job::CHECKPOINT_FILE).exists())?;
+                d.set_item("arrays", crate::fitted::arrays(py, c, &summary)?)?;
                 d.set_item("stop_reason", summary.stop_reason)?;
             }
         }

@@ -8,6 +8,7 @@ mod ensemble;
 mod errors;
 mod evaluator;
 mod fit;
+mod fitted;
 mod identify;
 mod impedance;
 mod memory;

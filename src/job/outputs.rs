@@ -50,6 +50,11 @@ pub struct ExperimentFit {
     pub csv: String,
     /// SVG plot of the fit.
     pub plot: String,
+    /// The model's outputs at the fitted parameters, every sample, in full
+    /// precision (the CSV holds them to 7 significant digits); not in
+    /// `result.json`.
+    #[serde(skip)]
+    pub history: History,
 }
 
 /// One model parameter (or clock offset) in the result.
@@ -278,6 +283,7 @@ pub fn write_outputs(
             weight: exp.weight,
             csv,
             plot,
+            history: hist.clone(),
         });
     }
 
