@@ -44,6 +44,15 @@ fn auto_runs_on_the_path_it_measured_faster_and_remembers_it() {
         t["cpu_rate"].as_f64().unwrap(),
     );
     assert!(gpu > 0.0 && cpu > 0.0, "{t}");
+    // Each GPU kernel variant timed; the GPU's rate is the fastest one's.
+    let kernels = t["gpu_kernel_rates"].as_object().unwrap();
+    assert_eq!(kernels.len(), 2, "{t}");
+    let (fastest, best) = kernels
+        .iter()
+        .map(|(k, r)| (k.as_str(), r.as_f64().unwrap()))
+        .fold(("", 0.0), |m, x| if x.1 > m.1 { x } else { m });
+    assert_eq!(t["gpu_kernel"], fastest, "{t}");
+    assert_eq!(gpu, best, "{t}");
     let faster = if gpu >= cpu { "gpu" } else { "cpu" };
     assert_eq!(t["chosen"], faster, "{t}");
     assert_eq!(first["backend"], faster, "the job ran where the trial said");
@@ -56,6 +65,7 @@ fn auto_runs_on_the_path_it_measured_faster_and_remembers_it() {
     assert_eq!(t2["cached"], true, "{t2}");
     assert_eq!(t2["chosen"], faster);
     assert_eq!(t2["gpu_rate"], t["gpu_rate"]);
+    assert_eq!(t2["gpu_kernel"], t["gpu_kernel"]);
     assert_eq!(second["backend"], faster);
 
     let forced = run(&campaign, &dir.path().join("c"), &cache, "cpu");

@@ -196,7 +196,23 @@ pub trait Evaluator: Send {
     /// CPU lanes' native build), so that a timed trial measures the path
     /// the job runs. Nothing by default.
     fn prepare(&mut self) {}
+
+    /// The kernel variants it can score with, the one it starts with first
+    /// (the GPU's [`KERNEL_VARIANTS`]); none by default. Which is fastest
+    /// depends on the adapter and its driver, so `auto` times each.
+    fn kernel_variants(&self) -> &'static [&'static str] {
+        &[]
+    }
+
+    /// Scores with `variant`, one of [`Evaluator::kernel_variants`], from now
+    /// on (the same values to rounding); any other name changes nothing.
+    fn use_kernel_variant(&mut self, _variant: &str) {}
 }
+
+/// The GPU evaluators' kernel variants: `"specialised"` (the values every
+/// run of a batch shares baked into the kernel as constants) and
+/// `"generic"` (every value read from the run's buffer).
+pub const KERNEL_VARIANTS: &[&str] = &["specialised", "generic"];
 
 /// Samples an experiment's run must reach: `0..window.end`.
 pub fn run_length(window: &Range<usize>) -> usize {

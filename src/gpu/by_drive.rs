@@ -194,4 +194,14 @@ impl Evaluator for GpuByDrive {
     fn problem(&self) -> &Problem {
         &self.problem
     }
+
+    fn kernel_variants(&self) -> &'static [&'static str] {
+        crate::eval::KERNEL_VARIANTS
+    }
+
+    fn use_kernel_variant(&mut self, variant: &str) {
+        for part in &mut self.parts {
+            part.evaluator.use_kernel_variant(variant);
+        }
+    }
 }

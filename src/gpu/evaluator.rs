@@ -305,6 +305,18 @@ impl Evaluator for GpuEvaluator {
     fn problem(&self) -> &Problem {
         &self.problem
     }
+
+    fn kernel_variants(&self) -> &'static [&'static str] {
+        crate::eval::KERNEL_VARIANTS
+    }
+
+    fn use_kernel_variant(&mut self, variant: &str) {
+        match variant {
+            "specialised" => self.options.specialise = true,
+            "generic" => self.options.specialise = false,
+            _ => {}
+        }
+    }
 }
 
 /// Whether every table the kernels read lies on an exactly uniform grid: the

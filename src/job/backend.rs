@@ -49,8 +49,16 @@ const WARM_UP_CANDIDATES: usize = 64;
 pub struct BackendTrial {
     /// `"gpu"` or `"cpu"`: the path chosen.
     pub chosen: String,
-    /// The GPU path's rate (candidate-steps per second).
+    /// The GPU path's rate (candidate-steps per second), with its fastest
+    /// kernel variant.
     pub gpu_rate: f64,
+    /// The GPU kernel variant chosen ([`crate::eval::KERNEL_VARIANTS`]), the
+    /// fastest on this adapter; `None` where the GPU has no variants.
+    #[serde(default)]
+    pub gpu_kernel: Option<String>,
+    /// Each GPU kernel variant's rate (candidate-steps per second).
+    #[serde(default)]
+    pub gpu_kernel_rates: BTreeMap<String, f64>,
     /// The CPU path's rate (candidate-steps per second).
     pub cpu_rate: f64,
     /// Candidates in the timed batch.
@@ -70,8 +78,20 @@ impl BackendTrial {
         } else {
             format!("measured in {:.2} s", self.trial_s)
         };
+        let kernels = match &self.gpu_kernel {
+            Some(k) if self.gpu_kernel_rates.len() > 1 => {
+                let others: Vec<String> = self
+                    .gpu_kernel_rates
+                    .iter()
+                    .filter(|(v, _)| *v != k)
+                    .map(|(v, r)| format!("{v} {r:.2e}"))
+                    .collect();
+                format!(" with {k} kernels ({})", others.join(", "))
+            }
+            _ => String::new(),
+        };
         format!(
-            "backend auto chose the {}: GPU {:.2e}, CPU {:.2e} candidate-steps/s ({how})",
+            "backend auto chose the {}: GPU {:.2e}{kernels}, CPU {:.2e} candidate-steps/s ({how})",
             self.chosen.to_uppercase(),
             self.gpu_rate,
             self.cpu_rate
@@ -255,7 +275,13 @@ pub fn open_job_evaluator(
             .map(|note| OpenNote::Fallback { note, driver_helps }),
     );
     let (evaluator, trial) = match (trial_key, fell_back, cached) {
-        (Some(_), false, Some(t)) => (opened.evaluator, Some(t)),
+        (Some(_), false, Some(t)) => {
+            let mut evaluator = opened.evaluator;
+            if let Some(k) = &t.gpu_kernel {
+                evaluator.use_kernel_variant(k);
+            }
+            (evaluator, Some(t))
+        }
         (Some(key), false, None) => {
             let population = campaign.search.population;
             let (chosen, t) = race(campaign, population, opened.evaluator, Box::new(cpu))?;
@@ -315,12 +341,31 @@ pub fn race(
     let start = Instant::now();
     let n = trial_candidates(population, super::steps_per_candidate(campaign));
     let genomes = trial_genomes(campaign, n);
-    let gpu_rate = rate(campaign, gpu.as_mut(), &genomes, "gpu")?;
+    // Each kernel variant of the GPU, the fastest kept.
+    let mut gpu_kernel_rates = BTreeMap::new();
+    let mut best: Option<(&str, f64)> = None;
+    for &variant in gpu.kernel_variants() {
+        gpu.use_kernel_variant(variant);
+        let r = rate(campaign, gpu.as_mut(), &genomes, "gpu")?;
+        gpu_kernel_rates.insert(variant.to_string(), r);
+        if best.is_none_or(|(_, b)| r > b) {
+            best = Some((variant, r));
+        }
+    }
+    let gpu_rate = match best {
+        Some((variant, r)) => {
+            gpu.use_kernel_variant(variant);
+            r
+        }
+        None => rate(campaign, gpu.as_mut(), &genomes, "gpu")?,
+    };
     let cpu_rate = rate(campaign, cpu.as_mut(), &genomes, "cpu")?;
     let gpu_wins = gpu_rate >= cpu_rate;
     let trial = BackendTrial {
         chosen: if gpu_wins { "gpu" } else { "cpu" }.into(),
         gpu_rate,
+        gpu_kernel: best.map(|(v, _)| v.to_string()),
+        gpu_kernel_rates,
         cpu_rate,
         candidates: n,
         trial_s: start.elapsed().as_secs_f64(),
@@ -451,6 +496,8 @@ mod tests {
         let t = BackendTrial {
             chosen: "cpu".into(),
             gpu_rate: 1e7,
+            gpu_kernel: Some("generic".into()),
+            gpu_kernel_rates: [("generic".into(), 1e7), ("specialised".into(), 5e6)].into(),
             cpu_rate: 1e8,
             candidates: 128,
             trial_s: 0.25,
@@ -462,6 +509,8 @@ mod tests {
         assert!(back.cached);
         assert_eq!(back.trial_s, 0.0);
         assert_eq!((back.chosen.as_str(), back.cpu_rate), ("cpu", 1e8));
+        assert_eq!(back.gpu_kernel.as_deref(), Some("generic"));
+        assert_eq!(back.gpu_kernel_rates, t.gpu_kernel_rates);
         assert_eq!(cached_in(&file, "other"), None);
         assert!(
             back.line().contains("as measured before"),
