@@ -42,8 +42,8 @@ fn generated() -> Vec<(String, String)> {
             }
             let tape = Tape::new(prog);
             let code = LaneCode::new(prog, &tape);
-            out.push((format!("{stem}.f64.c"), c::source(&code, Arith::F64)));
-            out.push((format!("{stem}.f32.c"), c::source(&code, Arith::F32)));
+            out.push((format!("{stem}.f64.c"), c::source(&code, Arith::F64, 64)));
+            out.push((format!("{stem}.f32.c"), c::source(&code, Arith::F32, 64)));
         }
     }
     out

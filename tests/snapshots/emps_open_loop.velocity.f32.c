@@ -1,10 +1,15 @@
 #define BLOCKS 8
+#define VBYTES 64
 #include <math.h>
 #define F static inline __attribute__((always_inline))
-typedef double d __attribute__((vector_size(64)));
-typedef long long dm __attribute__((vector_size(64)));
-typedef unsigned long long du __attribute__((vector_size(64)));
-F d dsplat(double x) { d r; for (int l = 0; l < 8; l++) r[l] = x; return r; }
+/* A block of the register file: eight f64 lanes. */
+typedef double blk __attribute__((vector_size(64)));
+/* The f64 vector: DW lanes in VBYTES bytes. */
+typedef double d __attribute__((vector_size(VBYTES)));
+typedef long long dm __attribute__((vector_size(VBYTES)));
+typedef unsigned long long du __attribute__((vector_size(VBYTES)));
+#define DW (VBYTES / 8)
+F d dsplat(double x) { d r; for (int l = 0; l < DW; l++) r[l] = x; return r; }
 F d dpick(dm k, d a, d b) { return (d)((k & (dm)a) | (~k & (dm)b)); }
 F d dclamp(d x, double lo, double hi) { x = dpick(x < dsplat(lo), dsplat(lo), x); return dpick(x > dsplat(hi), dsplat(hi), x); }
 #define SHIFT 6755399441055744.0
@@ -42,24 +47,26 @@ F d dexpm1(d x) {
   d e = t * p + (t - 1.0);
   return dpick(x < dsplat(-40.0), dsplat(-1.0), dpick(x > dsplat(EXP_MAX), dsplat(__builtin_inf()), e));
 }
-typedef float v __attribute__((vector_size(64)));
-typedef int m __attribute__((vector_size(64)));
-typedef unsigned int u __attribute__((vector_size(64)));
-typedef float h __attribute__((vector_size(32)));
-#define WV 16
-#define STEP 2
+#define JOIN 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15
+#define LO 0, 1, 2, 3, 4, 5, 6, 7
+#define HI 8, 9, 10, 11, 12, 13, 14, 15
+typedef float v __attribute__((vector_size(VBYTES)));
+typedef int m __attribute__((vector_size(VBYTES)));
+typedef unsigned int u __attribute__((vector_size(VBYTES)));
+typedef float h __attribute__((vector_size(VBYTES / 2)));
+#define WV (2 * DW)
 F v join(d lo, d hi) {
-  return __builtin_shufflevector(__builtin_convertvector(lo, h), __builtin_convertvector(hi, h), 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  return __builtin_shufflevector(__builtin_convertvector(lo, h), __builtin_convertvector(hi, h), JOIN);
 }
 F void split(v x, d *lo, d *hi) {
-  *lo = __builtin_convertvector(__builtin_shufflevector(x, x, 0, 1, 2, 3, 4, 5, 6, 7), d);
-  *hi = __builtin_convertvector(__builtin_shufflevector(x, x, 8, 9, 10, 11, 12, 13, 14, 15), d);
+  *lo = __builtin_convertvector(__builtin_shufflevector(x, x, LO), d);
+  *hi = __builtin_convertvector(__builtin_shufflevector(x, x, HI), d);
 }
-#define LD(A, i) join((A)[(i) * BLOCKS + b], (A)[(i) * BLOCKS + b + 1])
-#define ST(A, i, x) split((x), &(A)[(i) * BLOCKS + b], &(A)[(i) * BLOCKS + b + 1])
+#define LD(A, i) join(((d *)&(A)[(i) * BLOCKS])[2 * q], ((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
+#define ST(A, i, x) split((x), &((d *)&(A)[(i) * BLOCKS])[2 * q], &((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 /* A per-run constant's row holds its lanes as f32, packed at its start. */
-#define LDC(A, i) (((v *)&(A)[(i) * BLOCKS])[b / 2])
-F v fsplat(float x) { v r; for (int l = 0; l < 16; l++) r[l] = x; return r; }
+#define LDC(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
+F v fsplat(float x) { v r; for (int l = 0; l < WV; l++) r[l] = x; return r; }
 F v fpick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
 F v vabs(v a) { return (v)((u)a & 0x7fffffffu); }
 /* e^x and e^x - 1 in f32: the f64 forms' reduction with f32 constants
@@ -90,6 +97,7 @@ F v vexpm1(v x) {
   v p = fpoly(r), t = fpow2(k);
   return fpick(x < fsplat(-17.0f), fsplat(-1.0f), fpick(x > fsplat(88.72f), fsplat(__builtin_inff()), t * p + (t - 1.0f)));
 }
+#define NQ(nb) (((nb) * 8 + WV - 1) / WV)
 F v splat(double x) { v r; for (int l = 0; l < WV; l++) r[l] = x; return r; }
 F v pick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
 F v vsel(v c, v a, v b) { return pick(c != splat(0.0), a, b); }
@@ -101,9 +109,17 @@ F v vmax(v a, v b) { v r = pick(a > b, a, b); r = pick(a != a, b, r); return pic
 F v vlog(v a) { v r; for (int l = 0; l < WV; l++) r[l] = log(a[l]); return r; }
 F v vsin(v a) { v r; for (int l = 0; l < WV; l++) r[l] = sin(a[l]); return r; }
 F v vcos(v a) { v r; for (int l = 0; l < WV; l++) r[l] = cos(a[l]); return r; }
-void rig_rk4(d *restrict R, d *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist) {
+F unsigned long long lanebits(m k) {
+  k &= (m){1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096, 8192, 16384, 32768};
+  k |= __builtin_shufflevector(k, k, 8, 9, 10, 11, 12, 13, 14, 15, 0, 1, 2, 3, 4, 5, 6, 7);
+  k |= __builtin_shufflevector(k, k, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 0, 1, 2, 3);
+  k |= __builtin_shufflevector(k, k, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 0, 1);
+  k |= __builtin_shufflevector(k, k, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 0);
+  return (unsigned long long)(unsigned)k[0];
+}
+void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist) {
   const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);
-  for (long b = 0; b < nb; b += STEP) {
+  for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17;
     (void)r0;
     v y0, a0, y1, a1, y2, a2, y3, a3;
@@ -206,7 +222,7 @@ void rig_rk4(d *restrict R, d *restrict Y, long nb, const double *tt, const doub
     ST(R, 3, r3);
   }
 }
-/* e^x and e^x - 1 of one value: lane 0 of the eight-lane forms (as cheap as
+/* e^x and e^x - 1 of one value: lane 0 of the vector forms (as cheap as
    a scalar copy of them on a vector unit, and the same arithmetic). */
 F double sexp(double x) { return dexp(dsplat(x))[0]; }
 F double sexpm1(double x) { return dexpm1(dsplat(x))[0]; }
@@ -253,19 +269,19 @@ void rig_deriv1(const double *restrict R, double t, const double *tab, double *r
     out[2] = r15;
     out[3] = r17;
 }
-void rig_events(d *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
-  for (long b = 0; b < nb; b += STEP) {
+void rig_events(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+  unsigned long long hits = 0;
+  for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17;
     (void)r0;
     m k = (m){0};
-    unsigned long long bits = 0;
-    for (int l = 0; l < WV; l++) bits |= (unsigned long long)(k[l] & 1) << l;
-    hit[b] = bits & 0xff;
-    if (STEP == 2) hit[b + 1] = bits >> 8;
+    hits |= lanebits(k) << (q * WV);
   }
+  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
+  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
 }
-void rig_report(d *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
-  for (long b = 0; b < nb; b += STEP) {
+void rig_report(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+  for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17;
     (void)r0;
     r2 = LD(R, 2);
@@ -300,8 +316,8 @@ void rig_report(d *restrict R, long nb, double t, const double *tab, unsigned ch
     ST(R, 3, r3);
   }
 }
-void rig_measured(d *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
-  for (long b = 0; b < nb; b += STEP) {
+void rig_measured(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+  for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17;
     (void)r0;
     r14 = LDC(R, 14);

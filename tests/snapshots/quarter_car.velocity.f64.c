@@ -1,10 +1,15 @@
 #define BLOCKS 8
+#define VBYTES 64
 #include <math.h>
 #define F static inline __attribute__((always_inline))
-typedef double d __attribute__((vector_size(64)));
-typedef long long dm __attribute__((vector_size(64)));
-typedef unsigned long long du __attribute__((vector_size(64)));
-F d dsplat(double x) { d r; for (int l = 0; l < 8; l++) r[l] = x; return r; }
+/* A block of the register file: eight f64 lanes. */
+typedef double blk __attribute__((vector_size(64)));
+/* The f64 vector: DW lanes in VBYTES bytes. */
+typedef double d __attribute__((vector_size(VBYTES)));
+typedef long long dm __attribute__((vector_size(VBYTES)));
+typedef unsigned long long du __attribute__((vector_size(VBYTES)));
+#define DW (VBYTES / 8)
+F d dsplat(double x) { d r; for (int l = 0; l < DW; l++) r[l] = x; return r; }
 F d dpick(dm k, d a, d b) { return (d)((k & (dm)a) | (~k & (dm)b)); }
 F d dclamp(d x, double lo, double hi) { x = dpick(x < dsplat(lo), dsplat(lo), x); return dpick(x > dsplat(hi), dsplat(hi), x); }
 #define SHIFT 6755399441055744.0
@@ -43,14 +48,14 @@ F d dexpm1(d x) {
   return dpick(x < dsplat(-40.0), dsplat(-1.0), dpick(x > dsplat(EXP_MAX), dsplat(__builtin_inf()), e));
 }
 typedef d v; typedef dm m; typedef du u;
-#define WV 8
-#define STEP 1
-#define LD(A, i) (A)[(i) * BLOCKS + b]
-#define ST(A, i, x) ((A)[(i) * BLOCKS + b] = (x))
+#define WV DW
+#define LD(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
+#define ST(A, i, x) (((v *)&(A)[(i) * BLOCKS])[q] = (x))
 #define LDC LD
 F v vabs(v a) { return (v)((u)a & 0x7fffffffffffffffULL); }
 F v vexp(v x) { return dexp(x); }
 F v vexpm1(v x) { return dexpm1(x); }
+#define NQ(nb) (((nb) * 8 + WV - 1) / WV)
 F v splat(double x) { v r; for (int l = 0; l < WV; l++) r[l] = x; return r; }
 F v pick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
 F v vsel(v c, v a, v b) { return pick(c != splat(0.0), a, b); }
@@ -62,10 +67,17 @@ F v vmax(v a, v b) { v r = pick(a > b, a, b); r = pick(a != a, b, r); return pic
 F v vlog(v a) { v r; for (int l = 0; l < WV; l++) r[l] = log(a[l]); return r; }
 F v vsin(v a) { v r; for (int l = 0; l < WV; l++) r[l] = sin(a[l]); return r; }
 F v vcos(v a) { v r; for (int l = 0; l < WV; l++) r[l] = cos(a[l]); return r; }
-void rig_rk4(d *restrict R, d *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist) {
+F unsigned long long lanebits(m k) {
+  k &= (m){1, 2, 4, 8, 16, 32, 64, 128};
+  k |= __builtin_shufflevector(k, k, 4, 5, 6, 7, 0, 1, 2, 3);
+  k |= __builtin_shufflevector(k, k, 2, 3, 4, 5, 6, 7, 0, 1);
+  k |= __builtin_shufflevector(k, k, 1, 2, 3, 4, 5, 6, 7, 0);
+  return (unsigned long long)(unsigned)k[0];
+}
+void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist) {
   const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);
   if (hoist) {
-  const long b = 0;
+  const long q = 0;
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39;
     (void)r0;
     r8 = LDC(R, 8);
@@ -198,7 +210,7 @@ void rig_rk4(d *restrict R, d *restrict Y, long nb, const double *tt, const doub
     v u3_13 = r32;
     r30 = vsel(r31, r30, r12);
     v u3_14 = r30;
-  for (long b = 0; b < nb; b += STEP) {
+  for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39;
     (void)r0;
     v y0, a0, y1, a1, y2, a2, y3, a3, y4, a4, y5, a5;
@@ -457,7 +469,7 @@ void rig_rk4(d *restrict R, d *restrict Y, long nb, const double *tt, const doub
   }
   return;
   }
-  for (long b = 0; b < nb; b += STEP) {
+  for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39;
     (void)r0;
     v y0, a0, y1, a1, y2, a2, y3, a3, y4, a4, y5, a5;
@@ -715,7 +727,7 @@ void rig_rk4(d *restrict R, d *restrict Y, long nb, const double *tt, const doub
     ST(R, 5, r5);
   }
 }
-/* e^x and e^x - 1 of one value: lane 0 of the eight-lane forms (as cheap as
+/* e^x and e^x - 1 of one value: lane 0 of the vector forms (as cheap as
    a scalar copy of them on a vector unit, and the same arithmetic). */
 F double sexp(double x) { return dexp(dsplat(x))[0]; }
 F double sexpm1(double x) { return dexpm1(dsplat(x))[0]; }
@@ -810,8 +822,9 @@ void rig_deriv1(const double *restrict R, double t, const double *tab, double *r
     out[4] = r30;
     out[5] = r36;
 }
-void rig_events(d *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
-  for (long b = 0; b < nb; b += STEP) {
+void rig_events(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+  unsigned long long hits = 0;
+  for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39;
     (void)r0;
     r2 = LD(R, 2);
@@ -830,14 +843,13 @@ void rig_events(d *restrict R, long nb, double t, const double *tab, unsigned ch
     k |= (r7 == splat(1.0)) & (r30 <= splat(0.0));
     k |= (r7 == splat(0.0)) & (r29 <= splat(0.0));
     k |= (r7 == splat(2.0)) & (r29 >= splat(0.0));
-    unsigned long long bits = 0;
-    for (int l = 0; l < WV; l++) bits |= (unsigned long long)(k[l] & 1) << l;
-    hit[b] = bits & 0xff;
-    if (STEP == 2) hit[b + 1] = bits >> 8;
+    hits |= lanebits(k) << (q * WV);
   }
+  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
+  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
 }
-void rig_report(d *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
-  for (long b = 0; b < nb; b += STEP) {
+void rig_report(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+  for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39;
     (void)r0;
     r8 = LDC(R, 8);
@@ -940,8 +952,8 @@ void rig_report(d *restrict R, long nb, double t, const double *tab, unsigned ch
     ST(R, 5, r5);
   }
 }
-void rig_measured(d *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
-  for (long b = 0; b < nb; b += STEP) {
+void rig_measured(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+  for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39;
     (void)r0;
     r2 = LD(R, 2);

@@ -1,10 +1,15 @@
 //! A program's lane code ([`crate::compile::exec::lane_code`]) written as C for the native
 //! lane ensemble ([`crate::compile::back::native`]): the same instructions on the same
 //! registers, but each register a local vector variable (GCC's vector
-//! extension: one block of eight f64 lanes, or two blocks as sixteen f32
-//! lanes, [`Arith`]) instead of a row of the register file, so the C
+//! extension, as wide as the processor's vector registers: 64 bytes on
+//! AVX-512, 32 on AVX2, 16 otherwise, each holding as many f64 or f32 lanes
+//! as fit, [`Arith`]) instead of a row of the register file, so the C
 //! compiler keeps the temporaries in vector registers and the lanes' loads
-//! and stores are left to the states, regimes and per-run constants.
+//! and stores are left to the states, regimes and per-run constants. A
+//! vector wider than the registers is split by the compiler into two or
+//! four, whose temporaries no longer fit the register file and spill: built
+//! for AVX2 alone, the tensile rig's step took 2–3× as long per lane in
+//! 64-byte vectors as in 32-byte ones.
 //!
 //! In f64 the C evaluates every operation as the interpreter does: no
 //! contraction of a multiply and an add (`-ffp-contract=off`), `eˣ` and
@@ -41,10 +46,14 @@ pub enum Arith {
 /// [`crate::compile::exec::math`]'s `eˣ` and `eˣ − 1` step for step.
 const PRELUDE: &str = r#"#include <math.h>
 #define F static inline __attribute__((always_inline))
-typedef double d __attribute__((vector_size(64)));
-typedef long long dm __attribute__((vector_size(64)));
-typedef unsigned long long du __attribute__((vector_size(64)));
-F d dsplat(double x) { d r; for (int l = 0; l < 8; l++) r[l] = x; return r; }
+/* A block of the register file: eight f64 lanes. */
+typedef double blk __attribute__((vector_size(64)));
+/* The f64 vector: DW lanes in VBYTES bytes. */
+typedef double d __attribute__((vector_size(VBYTES)));
+typedef long long dm __attribute__((vector_size(VBYTES)));
+typedef unsigned long long du __attribute__((vector_size(VBYTES)));
+#define DW (VBYTES / 8)
+F d dsplat(double x) { d r; for (int l = 0; l < DW; l++) r[l] = x; return r; }
 F d dpick(dm k, d a, d b) { return (d)((k & (dm)a) | (~k & (dm)b)); }
 F d dclamp(d x, double lo, double hi) { x = dpick(x < dsplat(lo), dsplat(lo), x); return dpick(x > dsplat(hi), dsplat(hi), x); }
 #define SHIFT 6755399441055744.0
@@ -87,7 +96,7 @@ F d dexpm1(d x) {
 /// One run's f64 arithmetic, for the derivative a redone step takes
 /// (`rig_deriv1`): the f64 `eˣ` and `eˣ − 1` above, and Rust's `min`, `max`,
 /// comparisons and select, on scalars.
-const SCALAR: &str = r#"/* e^x and e^x - 1 of one value: lane 0 of the eight-lane forms (as cheap as
+const SCALAR: &str = r#"/* e^x and e^x - 1 of one value: lane 0 of the vector forms (as cheap as
    a scalar copy of them on a vector unit, and the same arithmetic). */
 F double sexp(double x) { return dexp(dsplat(x))[0]; }
 F double sexpm1(double x) { return dexpm1(dsplat(x))[0]; }
@@ -102,38 +111,38 @@ F double ssin(double a) { return sin(a); }
 F double scos(double a) { return cos(a); }
 "#;
 
-/// The lane type `v` of [`Arith::F64`]: a block of the register file.
+/// The lane type `v` of [`Arith::F64`]: the f64 vector, `DW` lanes of a
+/// register-file row (`q` counts vectors along the row).
 const F64_LANES: &str = r#"typedef d v; typedef dm m; typedef du u;
-#define WV 8
-#define STEP 1
-#define LD(A, i) (A)[(i) * BLOCKS + b]
-#define ST(A, i, x) ((A)[(i) * BLOCKS + b] = (x))
+#define WV DW
+#define LD(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
+#define ST(A, i, x) (((v *)&(A)[(i) * BLOCKS])[q] = (x))
 #define LDC LD
 F v vabs(v a) { return (v)((u)a & 0x7fffffffffffffffULL); }
 F v vexp(v x) { return dexp(x); }
 F v vexpm1(v x) { return dexpm1(x); }
 "#;
 
-/// The lane type `v` of [`Arith::F32`]: two blocks of the register file,
-/// rounded to f32.
-const F32_LANES: &str = r#"typedef float v __attribute__((vector_size(64)));
-typedef int m __attribute__((vector_size(64)));
-typedef unsigned int u __attribute__((vector_size(64)));
-typedef float h __attribute__((vector_size(32)));
-#define WV 16
-#define STEP 2
+/// The lane type `v` of [`Arith::F32`]: twice the f64 vector's lanes, read
+/// from two f64 vectors of a register-file row and rounded to f32 (the
+/// shuffles that join and split them are [`f32_lanes`]'s).
+const F32_LANES: &str = r#"typedef float v __attribute__((vector_size(VBYTES)));
+typedef int m __attribute__((vector_size(VBYTES)));
+typedef unsigned int u __attribute__((vector_size(VBYTES)));
+typedef float h __attribute__((vector_size(VBYTES / 2)));
+#define WV (2 * DW)
 F v join(d lo, d hi) {
-  return __builtin_shufflevector(__builtin_convertvector(lo, h), __builtin_convertvector(hi, h), 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  return __builtin_shufflevector(__builtin_convertvector(lo, h), __builtin_convertvector(hi, h), JOIN);
 }
 F void split(v x, d *lo, d *hi) {
-  *lo = __builtin_convertvector(__builtin_shufflevector(x, x, 0, 1, 2, 3, 4, 5, 6, 7), d);
-  *hi = __builtin_convertvector(__builtin_shufflevector(x, x, 8, 9, 10, 11, 12, 13, 14, 15), d);
+  *lo = __builtin_convertvector(__builtin_shufflevector(x, x, LO), d);
+  *hi = __builtin_convertvector(__builtin_shufflevector(x, x, HI), d);
 }
-#define LD(A, i) join((A)[(i) * BLOCKS + b], (A)[(i) * BLOCKS + b + 1])
-#define ST(A, i, x) split((x), &(A)[(i) * BLOCKS + b], &(A)[(i) * BLOCKS + b + 1])
+#define LD(A, i) join(((d *)&(A)[(i) * BLOCKS])[2 * q], ((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
+#define ST(A, i, x) split((x), &((d *)&(A)[(i) * BLOCKS])[2 * q], &((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 /* A per-run constant's row holds its lanes as f32, packed at its start. */
-#define LDC(A, i) (((v *)&(A)[(i) * BLOCKS])[b / 2])
-F v fsplat(float x) { v r; for (int l = 0; l < 16; l++) r[l] = x; return r; }
+#define LDC(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
+F v fsplat(float x) { v r; for (int l = 0; l < WV; l++) r[l] = x; return r; }
 F v fpick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
 F v vabs(v a) { return (v)((u)a & 0x7fffffffu); }
 /* e^x and e^x - 1 in f32: the f64 forms' reduction with f32 constants
@@ -166,8 +175,11 @@ F v vexpm1(v x) {
 }
 "#;
 
-/// What both lane types share, written on `v`.
-const LANE_OPS: &str = r#"F v splat(double x) { v r; for (int l = 0; l < WV; l++) r[l] = x; return r; }
+/// What both lane types share, written on `v`: `NQ(nb)` vectors cover
+/// blocks `0..nb` (the f32 vector of 64 bytes also the block after an odd
+/// last one, still below `BLOCKS`).
+const LANE_OPS: &str = r#"#define NQ(nb) (((nb) * 8 + WV - 1) / WV)
+F v splat(double x) { v r; for (int l = 0; l < WV; l++) r[l] = x; return r; }
 F v pick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
 F v vsel(v c, v a, v b) { return pick(c != splat(0.0), a, b); }
 F v vle(v a, v b) { return (v)((a <= b) & (m)splat(1.0)); }
@@ -329,7 +341,7 @@ fn stage_inputs(s: &mut String, code: &LaneCode, stage: usize) {
 /// computed before the loop, into `u{stage}_{index}`) or not.
 fn rk4_loop(s: &mut String, code: &LaneCode, hoisted: Option<&[bool]>) {
     let n = code.slopes.len();
-    s.push_str("  for (long b = 0; b < nb; b += STEP) {\n");
+    s.push_str("  for (long q = 0; q < NQ(nb); q++) {\n");
     declare(s, code);
     let _ = writeln!(
         s,
@@ -378,15 +390,66 @@ fn rk4_loop(s: &mut String, code: &LaneCode, hoisted: Option<&[bool]>) {
     s.push_str("  }\n");
 }
 
-/// The C source of `code`'s four functions.
-pub fn source(code: &LaneCode, arith: Arith) -> String {
-    let mut s = format!("#define BLOCKS {BLOCKS}\n");
+/// `a, a + 1, …, b − 1`, as a shuffle's indices.
+fn indices(a: usize, b: usize) -> String {
+    (a..b).map(|i| i.to_string()).collect::<Vec<_>>().join(", ")
+}
+
+/// `lanebits`: a bit per lane of mask `k` (lanes of `lanes`), with the lanes
+/// OR-ed together by rotations instead of read one by one through memory
+/// (which stalls on the store of the whole vector before it).
+fn lane_bits(lanes: usize) -> String {
+    let powers = (0..lanes)
+        .map(|l| (1u64 << l).to_string())
+        .collect::<Vec<_>>()
+        .join(", ");
+    let mut s = format!("F unsigned long long lanebits(m k) {{\n  k &= (m){{{powers}}};\n");
+    let mut half = lanes / 2;
+    while half > 0 {
+        let rotated: Vec<String> = (0..lanes)
+            .map(|l| ((l + half) % lanes).to_string())
+            .collect();
+        let _ = writeln!(
+            s,
+            "  k |= __builtin_shufflevector(k, k, {});",
+            rotated.join(", ")
+        );
+        half /= 2;
+    }
+    s.push_str("  return (unsigned long long)(unsigned)k[0];\n}\n");
+    s
+}
+
+/// The C source of `code`'s four functions on vectors of `vector_bytes`
+/// (16, 32 or 64: the processor's vector registers, [`crate::compile::exec::lanes::Isa::vector_bytes`]).
+pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
+    assert!(
+        matches!(vector_bytes, 16 | 32 | 64),
+        "{vector_bytes}-byte vectors"
+    );
+    let mut s = format!("#define BLOCKS {BLOCKS}\n#define VBYTES {vector_bytes}\n");
+    let f64_lanes = vector_bytes / 8;
     s.push_str(PRELUDE);
-    s.push_str(match arith {
-        Arith::F64 => F64_LANES,
-        Arith::F32 => F32_LANES,
-    });
+    let lanes = match arith {
+        Arith::F64 => {
+            s.push_str(F64_LANES);
+            f64_lanes
+        }
+        Arith::F32 => {
+            let w = 2 * f64_lanes;
+            let _ = writeln!(
+                s,
+                "#define JOIN {}\n#define LO {}\n#define HI {}",
+                indices(0, w),
+                indices(0, f64_lanes),
+                indices(f64_lanes, w)
+            );
+            s.push_str(F32_LANES);
+            w
+        }
+    };
     s.push_str(LANE_OPS);
+    s.push_str(&lane_bits(lanes));
     let table_regs: Vec<(u32, Reg)> = [&code.deriv, &code.events, &code.report, &code.measured]
         .iter()
         .flat_map(|l| l.tables.iter().copied())
@@ -399,10 +462,10 @@ pub fn source(code: &LaneCode, arith: Arith) -> String {
     // same in every lane.
     let (flags, reads) = hoistable(code);
     s.push_str(
-        "void rig_rk4(d *restrict R, d *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist) {\n  const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);\n",
+        "void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist) {\n  const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);\n",
     );
     if flags.contains(&true) {
-        s.push_str("  if (hoist) {\n  const long b = 0;\n");
+        s.push_str("  if (hoist) {\n  const long q = 0;\n");
         declare(&mut s, code);
         for &reg in &reads {
             load(&mut s, reg, "", code, &|_| None);
@@ -466,7 +529,12 @@ pub fn source(code: &LaneCode, arith: Arith) -> String {
     ] {
         let _ = writeln!(
             s,
-            "void {name}(d *restrict R, long nb, double t, const double *tab, unsigned char *hit) {{\n  for (long b = 0; b < nb; b += STEP) {{"
+            "void {name}(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {{{}\n  for (long q = 0; q < NQ(nb); q++) {{",
+            if name == "rig_events" {
+                "\n  unsigned long long hits = 0;"
+            } else {
+                ""
+            }
         );
         declare(&mut s, code);
         let tabs = |reg: Reg| table_of(reg).map(|k| format!("tab[{k}]"));
@@ -508,11 +576,16 @@ pub fn source(code: &LaneCode, arith: Arith) -> String {
                     "    k |= (r{mode} == splat({from:?})) & (r{g} {past} splat(0.0)){guard};"
                 );
             }
+            s.push_str("    hits |= lanebits(k) << (q * WV);\n");
+        }
+        s.push_str("  }\n");
+        if name == "rig_events" {
+            // A byte per block, a bit per lane; none past block `nb`.
             s.push_str(
-                "    unsigned long long bits = 0;\n    for (int l = 0; l < WV; l++) bits |= (unsigned long long)(k[l] & 1) << l;\n    hit[b] = bits & 0xff;\n    if (STEP == 2) hit[b + 1] = bits >> 8;\n",
+                "  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;\n  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);\n",
             );
         }
-        s.push_str("  }\n}\n");
+        s.push_str("}\n");
     }
     s
 }

@@ -8,9 +8,13 @@
 //! them; every lane stays bit-identical to the scalar reference
 //! (`tests/rig_cpu_ensemble.rs`).
 //!
-//! The compiler is `RIGFIT_CC` or `cc`, run with `-O2 -march=native
+//! The compiler is `RIGFIT_CC` or `cc`, run with `-O3 -march=native
 //! -ffp-contract=off` (the code is built for the processor that runs it, and
-//! no multiply and add is fused), for at most `RIGFIT_CC_TIMEOUT` seconds
+//! no multiply and add is fused; `-O3` reorders no floating-point operation,
+//! and it halved the event list's time against `-O2`), its vectors as wide as
+//! [`Isa::detect`]'s (with `-mno-avx512f` or `-mno-avx` where
+//! `RIGFIT_LANES_ISA` asks for a narrower one than the processor has), for at
+//! most `RIGFIT_CC_TIMEOUT` seconds
 //! ([`CC_TIMEOUT_S`] by default). One library per distinct source is built per
 //! process. Where no compiler works, or it takes too long, the ensemble
 //! interprets, and says why once.
@@ -23,6 +27,7 @@ use std::sync::{Arc, Mutex};
 
 use crate::compile::back::c::{self, Arith};
 use crate::compile::exec::lane_code::LaneCode;
+use crate::compile::exec::lanes::Isa;
 use crate::compile::exec::lanes::{BLOCKS, Reg};
 
 /// Why no native code could be had.
@@ -103,7 +108,8 @@ impl Native {
     /// process.
     pub fn build(code: &LaneCode, arith: Arith) -> Result<Arc<Self>, NativeError> {
         static BUILT: Mutex<Option<HashMap<String, Arc<Native>>>> = Mutex::new(None);
-        let src = c::source(code, arith);
+        let isa = Isa::detect();
+        let src = c::source(code, arith, isa.vector_bytes());
         let mut built = BUILT.lock().unwrap_or_else(|e| e.into_inner());
         let built = built.get_or_insert_with(HashMap::new);
         if let Some(n) = built.get(&src) {
@@ -111,13 +117,14 @@ impl Native {
         }
         let started = std::time::Instant::now();
         let scratch = scratch_dir()?;
-        let result = compile_and_load(&scratch, &src, code, arith);
+        let result = compile_and_load(&scratch, &src, code, arith, isa);
         // Only the files written above are in it; the library stays mapped.
         let _ = std::fs::remove_dir_all(&scratch.path);
         let n = Arc::new(result?);
         log::info!(
-            "native lane code built ({arith:?}, {} registers) in {:.2} s",
+            "native lane code built ({arith:?}, {} registers, {}-byte vectors) in {:.2} s",
             code.registers,
+            isa.vector_bytes(),
             started.elapsed().as_secs_f64()
         );
         built.insert(src, n.clone());
@@ -405,6 +412,7 @@ fn compile_and_load(
     src: &str,
     code: &LaneCode,
     arith: Arith,
+    isa: Isa,
 ) -> Result<Native, NativeError> {
     let dir = &scratch.path;
     let c = dir.join("lanes.c");
@@ -421,18 +429,12 @@ fn compile_and_load(
         .map_err(io("writing", &c))?;
     let cc = compiler();
     let mut cmd = Command::new(&cc);
-    cmd.args([
-        "-O2",
-        "-march=native",
-        "-ffp-contract=off",
-        "-fPIC",
-        "-shared",
-        "-w",
-        "-o",
-    ])
-    .arg(&lib)
-    .arg(&c)
-    .arg("-lm");
+    cmd.args(["-O3", "-march=native"])
+        .args(isa.narrowing_flags())
+        .args(["-ffp-contract=off", "-fPIC", "-shared", "-w", "-o"])
+        .arg(&lib)
+        .arg(&c)
+        .arg("-lm");
     let log = dir.join("cc.log");
     let status =
         run_limited(cmd, &log, compiler_timeout()).map_err(|why| NativeError::Compiler {

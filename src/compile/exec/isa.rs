@@ -78,6 +78,32 @@ impl Isa {
             .collect()
     }
 
+    /// The bytes of one vector register: the width the native lanes' C
+    /// declares its vectors ([`crate::compile::back::c::source`]), so that
+    /// each is one register and not two or four the compiler must split
+    /// and spill.
+    pub const fn vector_bytes(self) -> usize {
+        match self {
+            Self::Base => 16,
+            Self::Avx2 => 32,
+            Self::Avx512 => 64,
+        }
+    }
+
+    /// What the C compiler is told beyond `-march=native` so that it uses
+    /// no wider vectors than this (where [`Self::detect`] picked a narrower
+    /// one than the processor's widest).
+    pub fn narrowing_flags(self) -> &'static [&'static str] {
+        if !cfg!(target_arch = "x86_64") {
+            return &[];
+        }
+        match self {
+            Self::Base => &["-mno-avx"],
+            Self::Avx2 => &["-mno-avx512f"],
+            Self::Avx512 => &[],
+        }
+    }
+
     fn widest() -> Self {
         #[cfg(target_arch = "x86_64")]
         {
