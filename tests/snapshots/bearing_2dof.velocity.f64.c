@@ -1,5 +1,6 @@
 #define BLOCKS 8
 #define VBYTES 64
+#define DALL(x) x, x, x, x, x, x, x, x
 #include <math.h>
 #define F static inline __attribute__((always_inline))
 /* A block of the register file: eight f64 lanes. */
@@ -9,7 +10,7 @@ typedef double d __attribute__((vector_size(VBYTES)));
 typedef long long dm __attribute__((vector_size(VBYTES)));
 typedef unsigned long long du __attribute__((vector_size(VBYTES)));
 #define DW (VBYTES / 8)
-F d dsplat(double x) { d r; for (int l = 0; l < DW; l++) r[l] = x; return r; }
+F d dsplat(double x) { return (d){DALL(x)}; }
 F d dpick(dm k, d a, d b) { return (d)((k & (dm)a) | (~k & (dm)b)); }
 F d dclamp(d x, double lo, double hi) { x = dpick(x < dsplat(lo), dsplat(lo), x); return dpick(x > dsplat(hi), dsplat(hi), x); }
 #define SHIFT 6755399441055744.0
@@ -47,6 +48,7 @@ F d dexpm1(d x) {
   d e = t * p + (t - 1.0);
   return dpick(x < dsplat(-40.0), dsplat(-1.0), dpick(x > dsplat(EXP_MAX), dsplat(__builtin_inf()), e));
 }
+#define VALL(x) x, x, x, x, x, x, x, x
 typedef d v; typedef dm m; typedef du u;
 #define WV DW
 #define LD(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
@@ -56,7 +58,7 @@ F v vabs(v a) { return (v)((u)a & 0x7fffffffffffffffULL); }
 F v vexp(v x) { return dexp(x); }
 F v vexpm1(v x) { return dexpm1(x); }
 #define NQ(nb) (((nb) * 8 + WV - 1) / WV)
-F v splat(double x) { v r; for (int l = 0; l < WV; l++) r[l] = x; return r; }
+F v splat(double x) { return (v){VALL(x)}; }
 F v pick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
 F v vsel(v c, v a, v b) { return pick(c != splat(0.0), a, b); }
 F v vle(v a, v b) { return (v)((a <= b) & (m)splat(1.0)); }

@@ -1,5 +1,6 @@
 #define BLOCKS 8
 #define VBYTES 64
+#define DALL(x) x, x, x, x, x, x, x, x
 #include <math.h>
 #define F static inline __attribute__((always_inline))
 /* A block of the register file: eight f64 lanes. */
@@ -9,7 +10,7 @@ typedef double d __attribute__((vector_size(VBYTES)));
 typedef long long dm __attribute__((vector_size(VBYTES)));
 typedef unsigned long long du __attribute__((vector_size(VBYTES)));
 #define DW (VBYTES / 8)
-F d dsplat(double x) { d r; for (int l = 0; l < DW; l++) r[l] = x; return r; }
+F d dsplat(double x) { return (d){DALL(x)}; }
 F d dpick(dm k, d a, d b) { return (d)((k & (dm)a) | (~k & (dm)b)); }
 F d dclamp(d x, double lo, double hi) { x = dpick(x < dsplat(lo), dsplat(lo), x); return dpick(x > dsplat(hi), dsplat(hi), x); }
 #define SHIFT 6755399441055744.0
@@ -47,6 +48,7 @@ F d dexpm1(d x) {
   d e = t * p + (t - 1.0);
   return dpick(x < dsplat(-40.0), dsplat(-1.0), dpick(x > dsplat(EXP_MAX), dsplat(__builtin_inf()), e));
 }
+#define VALL(x) x, x, x, x, x, x, x, x, x, x, x, x, x, x, x, x
 #define JOIN 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15
 #define LO 0, 1, 2, 3, 4, 5, 6, 7
 #define HI 8, 9, 10, 11, 12, 13, 14, 15
@@ -66,7 +68,7 @@ F void split(v x, d *lo, d *hi) {
 #define ST(A, i, x) split((x), &((d *)&(A)[(i) * BLOCKS])[2 * q], &((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 /* A per-run constant's row holds its lanes as f32, packed at its start. */
 #define LDC(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
-F v fsplat(float x) { v r; for (int l = 0; l < WV; l++) r[l] = x; return r; }
+F v fsplat(float x) { return (v){VALL(x)}; }
 F v fpick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
 F v vabs(v a) { return (v)((u)a & 0x7fffffffu); }
 /* e^x and e^x - 1 in f32: the f64 forms' reduction with f32 constants
@@ -98,7 +100,7 @@ F v vexpm1(v x) {
   return fpick(x < fsplat(-17.0f), fsplat(-1.0f), fpick(x > fsplat(88.72f), fsplat(__builtin_inff()), t * p + (t - 1.0f)));
 }
 #define NQ(nb) (((nb) * 8 + WV - 1) / WV)
-F v splat(double x) { v r; for (int l = 0; l < WV; l++) r[l] = x; return r; }
+F v splat(double x) { return (v){VALL(x)}; }
 F v pick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
 F v vsel(v c, v a, v b) { return pick(c != splat(0.0), a, b); }
 F v vle(v a, v b) { return (v)((a <= b) & (m)splat(1.0)); }

@@ -16,7 +16,8 @@
 //! `eˣ − 1` as [`crate::compile::exec::math`]'s branch-free forms step for step, `ln`, `sin`
 //! and `cos` from the C library lane by lane (where Rust's `f64::ln`, `sin`,
 //! `cos` go), so each lane's bits are the scalar reference's. In f32 the
-//! same operations round to f32 (the register file still holds f64, so the
+//! same operations round to f32, a multiply and an add fused where the
+//! processor can (`-ffp-contract=fast`: 14 % off the tensile step) (the register file still holds f64, so the
 //! runner around them is the same).
 //!
 //! Four functions, each over blocks `0..nb` of the register file (`R`, rows
@@ -53,7 +54,7 @@ typedef double d __attribute__((vector_size(VBYTES)));
 typedef long long dm __attribute__((vector_size(VBYTES)));
 typedef unsigned long long du __attribute__((vector_size(VBYTES)));
 #define DW (VBYTES / 8)
-F d dsplat(double x) { d r; for (int l = 0; l < DW; l++) r[l] = x; return r; }
+F d dsplat(double x) { return (d){DALL(x)}; }
 F d dpick(dm k, d a, d b) { return (d)((k & (dm)a) | (~k & (dm)b)); }
 F d dclamp(d x, double lo, double hi) { x = dpick(x < dsplat(lo), dsplat(lo), x); return dpick(x > dsplat(hi), dsplat(hi), x); }
 #define SHIFT 6755399441055744.0
@@ -142,7 +143,7 @@ F void split(v x, d *lo, d *hi) {
 #define ST(A, i, x) split((x), &((d *)&(A)[(i) * BLOCKS])[2 * q], &((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 /* A per-run constant's row holds its lanes as f32, packed at its start. */
 #define LDC(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
-F v fsplat(float x) { v r; for (int l = 0; l < WV; l++) r[l] = x; return r; }
+F v fsplat(float x) { return (v){VALL(x)}; }
 F v fpick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
 F v vabs(v a) { return (v)((u)a & 0x7fffffffu); }
 /* e^x and e^x - 1 in f32: the f64 forms' reduction with f32 constants
@@ -179,7 +180,7 @@ F v vexpm1(v x) {
 /// blocks `0..nb` (the f32 vector of 64 bytes also the block after an odd
 /// last one, still below `BLOCKS`).
 const LANE_OPS: &str = r#"#define NQ(nb) (((nb) * 8 + WV - 1) / WV)
-F v splat(double x) { v r; for (int l = 0; l < WV; l++) r[l] = x; return r; }
+F v splat(double x) { return (v){VALL(x)}; }
 F v pick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
 F v vsel(v c, v a, v b) { return pick(c != splat(0.0), a, b); }
 F v vle(v a, v b) { return (v)((a <= b) & (m)splat(1.0)); }
@@ -429,25 +430,31 @@ pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
     );
     let mut s = format!("#define BLOCKS {BLOCKS}\n#define VBYTES {vector_bytes}\n");
     let f64_lanes = vector_bytes / 8;
+    // A splat as an initialiser, not a loop over the lanes: at -O2 GCC
+    // builds the loop's vector in memory and reloads it (a stalled
+    // store-to-load forward on every splat of a loop-varying value), which
+    // took the tensile event list 350 ns per 64 lanes instead of 133.
+    let all = |n: usize| vec!["x"; n].join(", ");
+    let _ = writeln!(s, "#define DALL(x) {}", all(f64_lanes));
     s.push_str(PRELUDE);
     let lanes = match arith {
-        Arith::F64 => {
-            s.push_str(F64_LANES);
-            f64_lanes
-        }
+        Arith::F64 => f64_lanes,
+        Arith::F32 => 2 * f64_lanes,
+    };
+    let _ = writeln!(s, "#define VALL(x) {}", all(lanes));
+    match arith {
+        Arith::F64 => s.push_str(F64_LANES),
         Arith::F32 => {
-            let w = 2 * f64_lanes;
             let _ = writeln!(
                 s,
                 "#define JOIN {}\n#define LO {}\n#define HI {}",
-                indices(0, w),
+                indices(0, lanes),
                 indices(0, f64_lanes),
-                indices(f64_lanes, w)
+                indices(f64_lanes, lanes)
             );
             s.push_str(F32_LANES);
-            w
         }
-    };
+    }
     s.push_str(LANE_OPS);
     s.push_str(&lane_bits(lanes));
     let table_regs: Vec<(u32, Reg)> = [&code.deriv, &code.events, &code.report, &code.measured]
