@@ -119,8 +119,9 @@ F unsigned long long lanebits(m k) {
   k |= __builtin_shufflevector(k, k, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 0);
   return (unsigned long long)(unsigned)k[0];
 }
-void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist) {
+void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist, unsigned char *hit) {
   const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);
+  unsigned long long hits = 0;
   if (hoist) {
   const long q = 0;
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26;
@@ -129,6 +130,7 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r8 = LDC(R, 8);
     r10 = LDC(R, 10);
     r12 = LDC(R, 12);
+    r20 = LDC(R, 20);
     r4 = splat(tt[0]);
     r21 = r4 - r7;
     v u0_0 = r21;
@@ -173,6 +175,11 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v u3_4 = r23;
     r21 = r12 * r21;
     v u3_7 = r21;
+    r4 = splat(tt[3]);
+    r21 = r4 - r7;
+    v e_0 = r21;
+    r22 = r21 - r20;
+    v e_1 = r22;
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26;
     (void)r0;
@@ -328,7 +335,27 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 1, r1);
     ST(R, 2, r2);
     ST(R, 3, r3);
+    /* the event functions at the step's end */
+    r4 = splat(tt[3]);
+    r7 = LDC(R, 7);
+    r20 = LDC(R, 20);
+    r5 = LD(R, 5);
+    r6 = LD(R, 6);
+    r21 = e_0;
+    r22 = e_1;
+    ST(R, 21, r21);
+    ST(R, 22, r22);
+    ST(R, 21, r21);
+    ST(R, 22, r22);
+    m k = (m){0};
+    k |= (r5 == splat(0.0)) & (r21 >= splat(0.0));
+    k |= (r5 == splat(1.0)) & (r22 >= splat(0.0));
+    k |= (r6 == splat(0.0)) & (r21 >= splat(0.0));
+    k |= (r6 == splat(1.0)) & (r22 >= splat(0.0));
+    hits |= lanebits(k) << (q * WV);
   }
+  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
+  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
   return;
   }
   for (long q = 0; q < NQ(nb); q++) {
@@ -486,7 +513,27 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 1, r1);
     ST(R, 2, r2);
     ST(R, 3, r3);
+    /* the event functions at the step's end */
+    r4 = splat(tt[3]);
+    r7 = LDC(R, 7);
+    r20 = LDC(R, 20);
+    r5 = LD(R, 5);
+    r6 = LD(R, 6);
+    r21 = r4 - r7;
+    r22 = r21 - r20;
+    ST(R, 21, r21);
+    ST(R, 22, r22);
+    ST(R, 21, r21);
+    ST(R, 22, r22);
+    m k = (m){0};
+    k |= (r5 == splat(0.0)) & (r21 >= splat(0.0));
+    k |= (r5 == splat(1.0)) & (r22 >= splat(0.0));
+    k |= (r6 == splat(0.0)) & (r21 >= splat(0.0));
+    k |= (r6 == splat(1.0)) & (r22 >= splat(0.0));
+    hits |= lanebits(k) << (q * WV);
   }
+  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
+  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
 }
 /* e^x and e^x - 1 of one value: lane 0 of the vector forms (as cheap as
    a scalar copy of them on a vector unit, and the same arithmetic). */
@@ -555,33 +602,7 @@ void rig_deriv1(const double *restrict R, double t, const double *tab, double *r
     out[2] = r24;
     out[3] = r25;
 }
-void rig_events(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
-  unsigned long long hits = 0;
-  for (long q = 0; q < NQ(nb); q++) {
-    v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26;
-    (void)r0;
-    r4 = splat(t);
-    r7 = LDC(R, 7);
-    r20 = LDC(R, 20);
-    r5 = LD(R, 5);
-    r6 = LD(R, 6);
-    r21 = r4 - r7;
-    r22 = r21 - r20;
-    ST(R, 21, r21);
-    ST(R, 22, r22);
-    ST(R, 21, r21);
-    ST(R, 22, r22);
-    m k = (m){0};
-    k |= (r5 == splat(0.0)) & (r21 >= splat(0.0));
-    k |= (r5 == splat(1.0)) & (r22 >= splat(0.0));
-    k |= (r6 == splat(0.0)) & (r21 >= splat(0.0));
-    k |= (r6 == splat(1.0)) & (r22 >= splat(0.0));
-    hits |= lanebits(k) << (q * WV);
-  }
-  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
-  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
-}
-void rig_report(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26;
     (void)r0;
@@ -597,7 +618,7 @@ void rig_report(blk *restrict R, long nb, double t, const double *tab, unsigned 
     ST(R, 3, r3);
   }
 }
-void rig_measured(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+void rig_measured(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26;
     (void)r0;

@@ -119,8 +119,9 @@ F unsigned long long lanebits(m k) {
   k |= __builtin_shufflevector(k, k, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 0);
   return (unsigned long long)(unsigned)k[0];
 }
-void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist) {
+void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist, unsigned char *hit) {
   const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);
+  unsigned long long hits = 0;
   if (hoist) {
   const long q = 0;
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18;
@@ -228,7 +229,26 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 0, r0);
     ST(R, 1, r1);
     ST(R, 2, r2);
+    /* the event functions at the step's end */
+    r9 = LDC(R, 9);
+    r13 = LDC(R, 13);
+    r4 = LD(R, 4);
+    r14 = r9 * r2;
+    r15 = r14 - r13;
+    r14 = r14 + r13;
+    ST(R, 15, r15);
+    ST(R, 14, r14);
+    ST(R, 1, r1);
+    ST(R, 1, r1);
+    m k = (m){0};
+    k |= (r4 == splat(0.0)) & (r15 >= splat(0.0));
+    k |= (r4 == splat(0.0)) & (r14 <= splat(0.0));
+    k |= (r4 == splat(1.0)) & (r1 <= splat(0.0));
+    k |= (r4 == splat(2.0)) & (r1 >= splat(0.0));
+    hits |= lanebits(k) << (q * WV);
   }
+  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
+  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
   return;
   }
   for (long q = 0; q < NQ(nb); q++) {
@@ -321,7 +341,26 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 0, r0);
     ST(R, 1, r1);
     ST(R, 2, r2);
+    /* the event functions at the step's end */
+    r9 = LDC(R, 9);
+    r13 = LDC(R, 13);
+    r4 = LD(R, 4);
+    r14 = r9 * r2;
+    r15 = r14 - r13;
+    r14 = r14 + r13;
+    ST(R, 15, r15);
+    ST(R, 14, r14);
+    ST(R, 1, r1);
+    ST(R, 1, r1);
+    m k = (m){0};
+    k |= (r4 == splat(0.0)) & (r15 >= splat(0.0));
+    k |= (r4 == splat(0.0)) & (r14 <= splat(0.0));
+    k |= (r4 == splat(1.0)) & (r1 <= splat(0.0));
+    k |= (r4 == splat(2.0)) & (r1 >= splat(0.0));
+    hits |= lanebits(k) << (q * WV);
   }
+  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
+  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
 }
 /* e^x and e^x - 1 of one value: lane 0 of the vector forms (as cheap as
    a scalar copy of them on a vector unit, and the same arithmetic). */
@@ -368,34 +407,7 @@ void rig_deriv1(const double *restrict R, double t, const double *tab, double *r
     out[1] = r16;
     out[2] = r18;
 }
-void rig_events(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
-  unsigned long long hits = 0;
-  for (long q = 0; q < NQ(nb); q++) {
-    v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18;
-    (void)r0;
-    r9 = LDC(R, 9);
-    r2 = LD(R, 2);
-    r13 = LDC(R, 13);
-    r1 = LD(R, 1);
-    r4 = LD(R, 4);
-    r14 = r9 * r2;
-    r15 = r14 - r13;
-    r14 = r14 + r13;
-    ST(R, 15, r15);
-    ST(R, 14, r14);
-    ST(R, 1, r1);
-    ST(R, 1, r1);
-    m k = (m){0};
-    k |= (r4 == splat(0.0)) & (r15 >= splat(0.0));
-    k |= (r4 == splat(0.0)) & (r14 <= splat(0.0));
-    k |= (r4 == splat(1.0)) & (r1 <= splat(0.0));
-    k |= (r4 == splat(2.0)) & (r1 >= splat(0.0));
-    hits |= lanebits(k) << (q * WV);
-  }
-  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
-  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
-}
-void rig_report(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18;
     (void)r0;
@@ -412,7 +424,7 @@ void rig_report(blk *restrict R, long nb, double t, const double *tab, unsigned 
     ST(R, 2, r2);
   }
 }
-void rig_measured(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+void rig_measured(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18;
     (void)r0;

@@ -76,8 +76,9 @@ F unsigned long long lanebits(m k) {
   k |= __builtin_shufflevector(k, k, 1, 2, 3, 4, 5, 6, 7, 0);
   return (unsigned long long)(unsigned)k[0];
 }
-void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist) {
+void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist, unsigned char *hit) {
   const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);
+  unsigned long long hits = 0;
   if (hoist) {
   const long q = 0;
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39;
@@ -468,7 +469,25 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 3, r3);
     ST(R, 4, r4);
     ST(R, 5, r5);
+    /* the event functions at the step's end */
+    r21 = LDC(R, 21);
+    r7 = LD(R, 7);
+    r29 = r2 - r1;
+    r30 = r29 - r21;
+    r29 = r29 + r21;
+    ST(R, 30, r30);
+    ST(R, 30, r30);
+    ST(R, 29, r29);
+    ST(R, 29, r29);
+    m k = (m){0};
+    k |= (r7 == splat(0.0)) & (r30 >= splat(0.0));
+    k |= (r7 == splat(1.0)) & (r30 <= splat(0.0));
+    k |= (r7 == splat(0.0)) & (r29 <= splat(0.0));
+    k |= (r7 == splat(2.0)) & (r29 >= splat(0.0));
+    hits |= lanebits(k) << (q * WV);
   }
+  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
+  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
   return;
   }
   for (long q = 0; q < NQ(nb); q++) {
@@ -727,7 +746,25 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 3, r3);
     ST(R, 4, r4);
     ST(R, 5, r5);
+    /* the event functions at the step's end */
+    r21 = LDC(R, 21);
+    r7 = LD(R, 7);
+    r29 = r2 - r1;
+    r30 = r29 - r21;
+    r29 = r29 + r21;
+    ST(R, 30, r30);
+    ST(R, 30, r30);
+    ST(R, 29, r29);
+    ST(R, 29, r29);
+    m k = (m){0};
+    k |= (r7 == splat(0.0)) & (r30 >= splat(0.0));
+    k |= (r7 == splat(1.0)) & (r30 <= splat(0.0));
+    k |= (r7 == splat(0.0)) & (r29 <= splat(0.0));
+    k |= (r7 == splat(2.0)) & (r29 >= splat(0.0));
+    hits |= lanebits(k) << (q * WV);
   }
+  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
+  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
 }
 /* e^x and e^x - 1 of one value: lane 0 of the vector forms (as cheap as
    a scalar copy of them on a vector unit, and the same arithmetic). */
@@ -824,33 +861,7 @@ void rig_deriv1(const double *restrict R, double t, const double *tab, double *r
     out[4] = r30;
     out[5] = r36;
 }
-void rig_events(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
-  unsigned long long hits = 0;
-  for (long q = 0; q < NQ(nb); q++) {
-    v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39;
-    (void)r0;
-    r2 = LD(R, 2);
-    r1 = LD(R, 1);
-    r21 = LDC(R, 21);
-    r7 = LD(R, 7);
-    r29 = r2 - r1;
-    r30 = r29 - r21;
-    r29 = r29 + r21;
-    ST(R, 30, r30);
-    ST(R, 30, r30);
-    ST(R, 29, r29);
-    ST(R, 29, r29);
-    m k = (m){0};
-    k |= (r7 == splat(0.0)) & (r30 >= splat(0.0));
-    k |= (r7 == splat(1.0)) & (r30 <= splat(0.0));
-    k |= (r7 == splat(0.0)) & (r29 <= splat(0.0));
-    k |= (r7 == splat(2.0)) & (r29 >= splat(0.0));
-    hits |= lanebits(k) << (q * WV);
-  }
-  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
-  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
-}
-void rig_report(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39;
     (void)r0;
@@ -954,7 +965,7 @@ void rig_report(blk *restrict R, long nb, double t, const double *tab, unsigned 
     ST(R, 5, r5);
   }
 }
-void rig_measured(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+void rig_measured(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39;
     (void)r0;

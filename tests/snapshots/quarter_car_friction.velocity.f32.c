@@ -119,8 +119,9 @@ F unsigned long long lanebits(m k) {
   k |= __builtin_shufflevector(k, k, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 0);
   return (unsigned long long)(unsigned)k[0];
 }
-void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist) {
+void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist, unsigned char *hit) {
   const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);
+  unsigned long long hits = 0;
   if (hoist) {
   const long q = 0;
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43;
@@ -539,7 +540,40 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 4, r4);
     ST(R, 5, r5);
     ST(R, 6, r6);
+    /* the event functions at the step's end */
+    r23 = LDC(R, 23);
+    r27 = LDC(R, 27);
+    r30 = LDC(R, 30);
+    r8 = LD(R, 8);
+    r9 = LD(R, 9);
+    r33 = r2 - r1;
+    r34 = r5 - r4;
+    r35 = r33 - r23;
+    r33 = r33 + r23;
+    r36 = r27 * r6;
+    r37 = r36 - r30;
+    r36 = r36 + r30;
+    ST(R, 35, r35);
+    ST(R, 35, r35);
+    ST(R, 33, r33);
+    ST(R, 33, r33);
+    ST(R, 37, r37);
+    ST(R, 36, r36);
+    ST(R, 34, r34);
+    ST(R, 34, r34);
+    m k = (m){0};
+    k |= (r8 == splat(0.0)) & (r35 >= splat(0.0));
+    k |= (r8 == splat(1.0)) & (r35 <= splat(0.0));
+    k |= (r8 == splat(0.0)) & (r33 <= splat(0.0));
+    k |= (r8 == splat(2.0)) & (r33 >= splat(0.0));
+    k |= (r9 == splat(0.0)) & (r37 >= splat(0.0));
+    k |= (r9 == splat(0.0)) & (r36 <= splat(0.0));
+    k |= (r9 == splat(1.0)) & (r34 <= splat(0.0));
+    k |= (r9 == splat(2.0)) & (r34 >= splat(0.0));
+    hits |= lanebits(k) << (q * WV);
   }
+  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
+  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
   return;
   }
   for (long q = 0; q < NQ(nb); q++) {
@@ -826,7 +860,40 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 4, r4);
     ST(R, 5, r5);
     ST(R, 6, r6);
+    /* the event functions at the step's end */
+    r23 = LDC(R, 23);
+    r27 = LDC(R, 27);
+    r30 = LDC(R, 30);
+    r8 = LD(R, 8);
+    r9 = LD(R, 9);
+    r33 = r2 - r1;
+    r34 = r5 - r4;
+    r35 = r33 - r23;
+    r33 = r33 + r23;
+    r36 = r27 * r6;
+    r37 = r36 - r30;
+    r36 = r36 + r30;
+    ST(R, 35, r35);
+    ST(R, 35, r35);
+    ST(R, 33, r33);
+    ST(R, 33, r33);
+    ST(R, 37, r37);
+    ST(R, 36, r36);
+    ST(R, 34, r34);
+    ST(R, 34, r34);
+    m k = (m){0};
+    k |= (r8 == splat(0.0)) & (r35 >= splat(0.0));
+    k |= (r8 == splat(1.0)) & (r35 <= splat(0.0));
+    k |= (r8 == splat(0.0)) & (r33 <= splat(0.0));
+    k |= (r8 == splat(2.0)) & (r33 >= splat(0.0));
+    k |= (r9 == splat(0.0)) & (r37 >= splat(0.0));
+    k |= (r9 == splat(0.0)) & (r36 <= splat(0.0));
+    k |= (r9 == splat(1.0)) & (r34 <= splat(0.0));
+    k |= (r9 == splat(2.0)) & (r34 >= splat(0.0));
+    hits |= lanebits(k) << (q * WV);
   }
+  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
+  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
 }
 /* e^x and e^x - 1 of one value: lane 0 of the vector forms (as cheap as
    a scalar copy of them on a vector unit, and the same arithmetic). */
@@ -932,51 +999,7 @@ void rig_deriv1(const double *restrict R, double t, const double *tab, double *r
     out[5] = r41;
     out[6] = r39;
 }
-void rig_events(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
-  unsigned long long hits = 0;
-  for (long q = 0; q < NQ(nb); q++) {
-    v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43;
-    (void)r0;
-    r2 = LD(R, 2);
-    r1 = LD(R, 1);
-    r5 = LD(R, 5);
-    r4 = LD(R, 4);
-    r23 = LDC(R, 23);
-    r27 = LDC(R, 27);
-    r6 = LD(R, 6);
-    r30 = LDC(R, 30);
-    r8 = LD(R, 8);
-    r9 = LD(R, 9);
-    r33 = r2 - r1;
-    r34 = r5 - r4;
-    r35 = r33 - r23;
-    r33 = r33 + r23;
-    r36 = r27 * r6;
-    r37 = r36 - r30;
-    r36 = r36 + r30;
-    ST(R, 35, r35);
-    ST(R, 35, r35);
-    ST(R, 33, r33);
-    ST(R, 33, r33);
-    ST(R, 37, r37);
-    ST(R, 36, r36);
-    ST(R, 34, r34);
-    ST(R, 34, r34);
-    m k = (m){0};
-    k |= (r8 == splat(0.0)) & (r35 >= splat(0.0));
-    k |= (r8 == splat(1.0)) & (r35 <= splat(0.0));
-    k |= (r8 == splat(0.0)) & (r33 <= splat(0.0));
-    k |= (r8 == splat(2.0)) & (r33 >= splat(0.0));
-    k |= (r9 == splat(0.0)) & (r37 >= splat(0.0));
-    k |= (r9 == splat(0.0)) & (r36 <= splat(0.0));
-    k |= (r9 == splat(1.0)) & (r34 <= splat(0.0));
-    k |= (r9 == splat(2.0)) & (r34 >= splat(0.0));
-    hits |= lanebits(k) << (q * WV);
-  }
-  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
-  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
-}
-void rig_report(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43;
     (void)r0;
@@ -1088,7 +1111,7 @@ void rig_report(blk *restrict R, long nb, double t, const double *tab, unsigned 
     ST(R, 6, r6);
   }
 }
-void rig_measured(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+void rig_measured(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43;
     (void)r0;

@@ -76,8 +76,9 @@ F unsigned long long lanebits(m k) {
   k |= __builtin_shufflevector(k, k, 1, 2, 3, 4, 5, 6, 7, 0);
   return (unsigned long long)(unsigned)k[0];
 }
-void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist) {
+void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist, unsigned char *hit) {
   const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);
+  unsigned long long hits = 0;
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13;
     (void)r0;
@@ -141,7 +142,28 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 0, r0);
     ST(R, 1, r1);
     ST(R, 2, r2);
+    /* the event functions at the step's end */
+    r6 = LDC(R, 6);
+    r7 = LDC(R, 7);
+    r10 = LDC(R, 10);
+    r4 = LD(R, 4);
+    r11 = r6 - r1;
+    r12 = r7 * r2;
+    r13 = r12 - r10;
+    r12 = r12 + r10;
+    ST(R, 13, r13);
+    ST(R, 12, r12);
+    ST(R, 11, r11);
+    ST(R, 11, r11);
+    m k = (m){0};
+    k |= (r4 == splat(0.0)) & (r13 >= splat(0.0));
+    k |= (r4 == splat(0.0)) & (r12 <= splat(0.0));
+    k |= (r4 == splat(1.0)) & (r11 <= splat(0.0));
+    k |= (r4 == splat(2.0)) & (r11 >= splat(0.0));
+    hits |= lanebits(k) << (q * WV);
   }
+  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
+  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
 }
 /* e^x and e^x - 1 of one value: lane 0 of the vector forms (as cheap as
    a scalar copy of them on a vector unit, and the same arithmetic). */
@@ -178,36 +200,7 @@ void rig_deriv1(const double *restrict R, double t, const double *tab, double *r
     out[1] = r11;
     out[2] = r13;
 }
-void rig_events(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
-  unsigned long long hits = 0;
-  for (long q = 0; q < NQ(nb); q++) {
-    v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13;
-    (void)r0;
-    r6 = LDC(R, 6);
-    r1 = LD(R, 1);
-    r7 = LDC(R, 7);
-    r2 = LD(R, 2);
-    r10 = LDC(R, 10);
-    r4 = LD(R, 4);
-    r11 = r6 - r1;
-    r12 = r7 * r2;
-    r13 = r12 - r10;
-    r12 = r12 + r10;
-    ST(R, 13, r13);
-    ST(R, 12, r12);
-    ST(R, 11, r11);
-    ST(R, 11, r11);
-    m k = (m){0};
-    k |= (r4 == splat(0.0)) & (r13 >= splat(0.0));
-    k |= (r4 == splat(0.0)) & (r12 <= splat(0.0));
-    k |= (r4 == splat(1.0)) & (r11 <= splat(0.0));
-    k |= (r4 == splat(2.0)) & (r11 >= splat(0.0));
-    hits |= lanebits(k) << (q * WV);
-  }
-  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
-  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
-}
-void rig_report(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13;
     (void)r0;
@@ -223,7 +216,7 @@ void rig_report(blk *restrict R, long nb, double t, const double *tab, unsigned 
     ST(R, 2, r2);
   }
 }
-void rig_measured(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+void rig_measured(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13;
     (void)r0;

@@ -76,8 +76,9 @@ F unsigned long long lanebits(m k) {
   k |= __builtin_shufflevector(k, k, 1, 2, 3, 4, 5, 6, 7, 0);
   return (unsigned long long)(unsigned)k[0];
 }
-void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist) {
+void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist, unsigned char *hit) {
   const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);
+  unsigned long long hits = 0;
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49;
     (void)r0;
@@ -376,7 +377,33 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 5, r5);
     ST(R, 6, r6);
     ST(R, 7, r7);
+    /* the event functions at the step's end */
+    r40 = LDC(R, 40);
+    r41 = LDC(R, 41);
+    r28 = LDC(R, 28);
+    r10 = LD(R, 10);
+    r9 = LD(R, 9);
+    r11 = LD(R, 11);
+    r42 = r1 - r0;
+    r43 = r42 - r40;
+    r42 = r42 - r41;
+    r44 = r3 - r2;
+    r44 = r44 - r28;
+    ST(R, 43, r43);
+    ST(R, 43, r43);
+    ST(R, 42, r42);
+    ST(R, 44, r44);
+    ST(R, 44, r44);
+    m k = (m){0};
+    k |= (r10 == splat(0.0)) & (r43 >= splat(0.0));
+    k |= (r10 == splat(1.0)) & (r43 <= splat(0.0));
+    k |= (r9 == splat(0.0)) & (r42 >= splat(0.0));
+    k |= (r11 == splat(0.0)) & (r44 >= splat(0.0));
+    k |= (r11 == splat(1.0)) & (r44 <= splat(0.0));
+    hits |= lanebits(k) << (q * WV);
   }
+  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
+  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
 }
 /* e^x and e^x - 1 of one value: lane 0 of the vector forms (as cheap as
    a scalar copy of them on a vector unit, and the same arithmetic). */
@@ -494,43 +521,7 @@ void rig_deriv1(const double *restrict R, double t, const double *tab, double *r
     out[6] = r47;
     out[7] = r42;
 }
-void rig_events(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
-  unsigned long long hits = 0;
-  for (long q = 0; q < NQ(nb); q++) {
-    v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49;
-    (void)r0;
-    r1 = LD(R, 1);
-    r0 = LD(R, 0);
-    r40 = LDC(R, 40);
-    r41 = LDC(R, 41);
-    r3 = LD(R, 3);
-    r2 = LD(R, 2);
-    r28 = LDC(R, 28);
-    r10 = LD(R, 10);
-    r9 = LD(R, 9);
-    r11 = LD(R, 11);
-    r42 = r1 - r0;
-    r43 = r42 - r40;
-    r42 = r42 - r41;
-    r44 = r3 - r2;
-    r44 = r44 - r28;
-    ST(R, 43, r43);
-    ST(R, 43, r43);
-    ST(R, 42, r42);
-    ST(R, 44, r44);
-    ST(R, 44, r44);
-    m k = (m){0};
-    k |= (r10 == splat(0.0)) & (r43 >= splat(0.0));
-    k |= (r10 == splat(1.0)) & (r43 <= splat(0.0));
-    k |= (r9 == splat(0.0)) & (r42 >= splat(0.0));
-    k |= (r11 == splat(0.0)) & (r44 >= splat(0.0));
-    k |= (r11 == splat(1.0)) & (r44 <= splat(0.0));
-    hits |= lanebits(k) << (q * WV);
-  }
-  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
-  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
-}
-void rig_report(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49;
     (void)r0;
@@ -592,7 +583,7 @@ void rig_report(blk *restrict R, long nb, double t, const double *tab, unsigned 
     ST(R, 7, r7);
   }
 }
-void rig_measured(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+void rig_measured(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49;
     (void)r0;

@@ -119,8 +119,9 @@ F unsigned long long lanebits(m k) {
   k |= __builtin_shufflevector(k, k, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 0);
   return (unsigned long long)(unsigned)k[0];
 }
-void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist) {
+void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist, unsigned char *hit) {
   const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);
+  unsigned long long hits = 0;
   if (hoist) {
   const long q = 0;
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49, r50, r51;
@@ -238,6 +239,25 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v u3_11 = r47;
     r45 = vsel(r44, r12, r45);
     v u3_12 = r45;
+    r8 = splat(tt[3]);
+    r44 = vle(r8, r12);
+    v e_0 = r44;
+    r45 = r13 * r8;
+    v e_1 = r45;
+    r45 = -r45;
+    v e_2 = r45;
+    r45 = vexpm1(r45);
+    v e_3 = r45;
+    r46 = r14 * r8;
+    v e_4 = r46;
+    r45 = r15 * r45;
+    v e_5 = r45;
+    r45 = r46 + r45;
+    v e_6 = r45;
+    r45 = vsel(r16, r46, r45);
+    v e_7 = r45;
+    r45 = vsel(r44, r12, r45);
+    v e_8 = r45;
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49, r50, r51;
     (void)r0;
@@ -583,7 +603,48 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 5, r5);
     ST(R, 6, r6);
     ST(R, 7, r7);
+    /* the event functions at the step's end */
+    r8 = splat(tt[3]);
+    r12 = LDC(R, 12);
+    r13 = LDC(R, 13);
+    r14 = LDC(R, 14);
+    r15 = LDC(R, 15);
+    r16 = LDC(R, 16);
+    r42 = LDC(R, 42);
+    r43 = LDC(R, 43);
+    r31 = LDC(R, 31);
+    r10 = LD(R, 10);
+    r9 = LD(R, 9);
+    r11 = LD(R, 11);
+    r44 = e_0;
+    r45 = e_1;
+    r45 = e_2;
+    r45 = e_3;
+    r46 = e_4;
+    r45 = e_5;
+    r45 = e_6;
+    r45 = e_7;
+    r45 = e_8;
+    r44 = r1 - r0;
+    r46 = r44 - r42;
+    r44 = r44 - r43;
+    r45 = r45 - r2;
+    r45 = r45 - r31;
+    ST(R, 46, r46);
+    ST(R, 46, r46);
+    ST(R, 44, r44);
+    ST(R, 45, r45);
+    ST(R, 45, r45);
+    m k = (m){0};
+    k |= (r10 == splat(0.0)) & (r46 >= splat(0.0));
+    k |= (r10 == splat(1.0)) & (r46 <= splat(0.0));
+    k |= (r9 == splat(0.0)) & (r44 >= splat(0.0));
+    k |= (r11 == splat(0.0)) & (r45 >= splat(0.0));
+    k |= (r11 == splat(1.0)) & (r45 <= splat(0.0));
+    hits |= lanebits(k) << (q * WV);
   }
+  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
+  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
   return;
   }
   for (long q = 0; q < NQ(nb); q++) {
@@ -931,7 +992,48 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 5, r5);
     ST(R, 6, r6);
     ST(R, 7, r7);
+    /* the event functions at the step's end */
+    r8 = splat(tt[3]);
+    r12 = LDC(R, 12);
+    r13 = LDC(R, 13);
+    r14 = LDC(R, 14);
+    r15 = LDC(R, 15);
+    r16 = LDC(R, 16);
+    r42 = LDC(R, 42);
+    r43 = LDC(R, 43);
+    r31 = LDC(R, 31);
+    r10 = LD(R, 10);
+    r9 = LD(R, 9);
+    r11 = LD(R, 11);
+    r44 = vle(r8, r12);
+    r45 = r13 * r8;
+    r45 = -r45;
+    r45 = vexpm1(r45);
+    r46 = r14 * r8;
+    r45 = r15 * r45;
+    r45 = r46 + r45;
+    r45 = vsel(r16, r46, r45);
+    r45 = vsel(r44, r12, r45);
+    r44 = r1 - r0;
+    r46 = r44 - r42;
+    r44 = r44 - r43;
+    r45 = r45 - r2;
+    r45 = r45 - r31;
+    ST(R, 46, r46);
+    ST(R, 46, r46);
+    ST(R, 44, r44);
+    ST(R, 45, r45);
+    ST(R, 45, r45);
+    m k = (m){0};
+    k |= (r10 == splat(0.0)) & (r46 >= splat(0.0));
+    k |= (r10 == splat(1.0)) & (r46 <= splat(0.0));
+    k |= (r9 == splat(0.0)) & (r44 >= splat(0.0));
+    k |= (r11 == splat(0.0)) & (r45 >= splat(0.0));
+    k |= (r11 == splat(1.0)) & (r45 <= splat(0.0));
+    hits |= lanebits(k) << (q * WV);
   }
+  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
+  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
 }
 /* e^x and e^x - 1 of one value: lane 0 of the vector forms (as cheap as
    a scalar copy of them on a vector unit, and the same arithmetic). */
@@ -1061,57 +1163,7 @@ void rig_deriv1(const double *restrict R, double t, const double *tab, double *r
     out[6] = r45;
     out[7] = r12;
 }
-void rig_events(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
-  unsigned long long hits = 0;
-  for (long q = 0; q < NQ(nb); q++) {
-    v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49, r50, r51;
-    (void)r0;
-    r8 = splat(t);
-    r12 = LDC(R, 12);
-    r13 = LDC(R, 13);
-    r14 = LDC(R, 14);
-    r15 = LDC(R, 15);
-    r16 = LDC(R, 16);
-    r1 = LD(R, 1);
-    r0 = LD(R, 0);
-    r42 = LDC(R, 42);
-    r43 = LDC(R, 43);
-    r2 = LD(R, 2);
-    r31 = LDC(R, 31);
-    r10 = LD(R, 10);
-    r9 = LD(R, 9);
-    r11 = LD(R, 11);
-    r44 = vle(r8, r12);
-    r45 = r13 * r8;
-    r45 = -r45;
-    r45 = vexpm1(r45);
-    r46 = r14 * r8;
-    r45 = r15 * r45;
-    r45 = r46 + r45;
-    r45 = vsel(r16, r46, r45);
-    r45 = vsel(r44, r12, r45);
-    r44 = r1 - r0;
-    r46 = r44 - r42;
-    r44 = r44 - r43;
-    r45 = r45 - r2;
-    r45 = r45 - r31;
-    ST(R, 46, r46);
-    ST(R, 46, r46);
-    ST(R, 44, r44);
-    ST(R, 45, r45);
-    ST(R, 45, r45);
-    m k = (m){0};
-    k |= (r10 == splat(0.0)) & (r46 >= splat(0.0));
-    k |= (r10 == splat(1.0)) & (r46 <= splat(0.0));
-    k |= (r9 == splat(0.0)) & (r44 >= splat(0.0));
-    k |= (r11 == splat(0.0)) & (r45 >= splat(0.0));
-    k |= (r11 == splat(1.0)) & (r45 <= splat(0.0));
-    hits |= lanebits(k) << (q * WV);
-  }
-  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
-  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
-}
-void rig_report(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49, r50, r51;
     (void)r0;
@@ -1189,7 +1241,7 @@ void rig_report(blk *restrict R, long nb, double t, const double *tab, unsigned 
     ST(R, 45, r45);
   }
 }
-void rig_measured(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {
+void rig_measured(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49, r50, r51;
     (void)r0;

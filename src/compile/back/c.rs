@@ -17,13 +17,15 @@
 //! and `cos` from the C library lane by lane (where Rust's `f64::ln`, `sin`,
 //! `cos` go), so each lane's bits are the scalar reference's. In f32 the
 //! same operations round to f32, a multiply and an add fused where the
-//! processor can (`-ffp-contract=fast`: 14 % off the tensile step) (the register file still holds f64, so the
-//! runner around them is the same).
+//! processor can (`-ffp-contract=fast`: 14 % off the tensile step); the
+//! register file still holds f64, so the runner around them is the same.
 //!
-//! Four functions, each over blocks `0..nb` of the register file (`R`, rows
-//! of [`BLOCKS`] blocks): `rig_rk4` (one RK4 step, the start kept in `Y`),
-//! and `rig_events`, `rig_report`, `rig_measured` (one list, roots stored back
-//! where the interpreter leaves them).
+//! Functions over blocks `0..nb` of the register file (`R`, rows of
+//! [`BLOCKS`] blocks): `rig_rk4` (one RK4 step, the start kept in `Y`, then
+//! the event list on the new state while it is still in registers, and a bit
+//! per lane past an armed switch), `rig_report` and `rig_measured` (one list,
+//! roots stored back where the interpreter leaves them); and `rig_deriv1`,
+//! one run's derivative in f64.
 
 use std::fmt::Write;
 
@@ -285,24 +287,21 @@ pub fn table_stride(code: &LaneCode) -> usize {
         .unwrap_or(0)
 }
 
-/// Which of the derivative's instructions depend on time, tables and per-run
+/// Which instructions of `list` depend on time, tables and per-run
 /// constants alone (not on a state or a mode), and the constant registers
-/// those read. Where every lane holds the same value in each of those
-/// constants (as when the drive's parameters are fixed), `rig_rk4` computes
-/// these instructions once per call instead of once per block.
-pub fn hoistable(code: &LaneCode) -> (Vec<bool>, Vec<Reg>) {
+/// those read.
+fn time_only(code: &LaneCode, list: &List) -> (Vec<bool>, Vec<Reg>) {
     let constant: std::collections::HashSet<Reg> = code.constants.iter().map(|&(_, r)| r).collect();
     let mut tc = vec![false; code.registers];
     tc[code.time as usize] = true;
-    for &(_, reg) in &code.deriv.tables {
+    for &(_, reg) in &list.tables {
         tc[reg as usize] = true;
     }
     for &reg in &constant {
         tc[reg as usize] = true;
     }
     let mut reads = vec![];
-    let flags = code
-        .deriv
+    let flags = list
         .code
         .iter()
         .map(|ins| {
@@ -323,6 +322,38 @@ pub fn hoistable(code: &LaneCode) -> (Vec<bool>, Vec<Reg>) {
     (flags, reads)
 }
 
+/// The instructions of the derivative and of the event list that depend on
+/// time, tables and per-run constants alone, and the constant registers
+/// those read. Where every lane holds the same value in each of those
+/// constants (as when the drive's parameters are fixed), `rig_rk4` computes
+/// these instructions once per call instead of once per block.
+#[derive(Debug, Clone)]
+pub struct Hoistable {
+    /// Per derivative instruction.
+    pub deriv: Vec<bool>,
+    /// Per event-list instruction (the list `rig_rk4` runs at the step's
+    /// end).
+    pub events: Vec<bool>,
+    /// The constant registers either reads.
+    pub reads: Vec<Reg>,
+}
+
+/// [`Hoistable`] of `code`.
+pub fn hoistable(code: &LaneCode) -> Hoistable {
+    let (deriv, mut reads) = time_only(code, &code.deriv);
+    let (events, more) = time_only(code, &code.events);
+    for r in more {
+        if !reads.contains(&r) {
+            reads.push(r);
+        }
+    }
+    Hoistable {
+        deriv,
+        events,
+        reads,
+    }
+}
+
 /// The time and table registers for `rig_rk4`'s derivative `stage` (0–3):
 /// `tt[stage]` and that stage's row of `tab`.
 fn stage_inputs(s: &mut String, code: &LaneCode, stage: usize) {
@@ -339,8 +370,9 @@ fn stage_inputs(s: &mut String, code: &LaneCode, stage: usize) {
 }
 
 /// `rig_rk4`'s loop over blocks: hoisted (`Some`: which instructions were
-/// computed before the loop, into `u{stage}_{index}`) or not.
-fn rk4_loop(s: &mut String, code: &LaneCode, hoisted: Option<&[bool]>) {
+/// computed before the loop, into `u{stage}_{index}` and `e_{index}`) or
+/// not.
+fn rk4_loop(s: &mut String, code: &LaneCode, hoisted: Option<&Hoistable>) {
     let n = code.slopes.len();
     s.push_str("  for (long q = 0; q < NQ(nb); q++) {\n");
     declare(s, code);
@@ -367,7 +399,7 @@ fn rk4_loop(s: &mut String, code: &LaneCode, hoisted: Option<&[bool]>) {
     for stage in 0..4 {
         stage_inputs(s, code, stage);
         for (j, ins) in code.deriv.code.iter().enumerate() {
-            if hoisted.is_some_and(|h| h[j]) {
+            if hoisted.is_some_and(|h| h.deriv[j]) {
                 let _ = writeln!(s, "    r{} = u{stage}_{j};", ins.dest);
             } else {
                 s.push_str(&statement(ins.dest, &ins.op, 'v'));
@@ -388,8 +420,95 @@ fn rk4_loop(s: &mut String, code: &LaneCode, hoisted: Option<&[bool]>) {
     for i in 0..n {
         let _ = writeln!(s, "    ST(R, {i}, r{i});");
     }
+    step_end_events(s, code, hoisted.map(|h| &h.events[..]));
     s.push_str("  }\n");
 }
+
+/// The event list at the step's end (`tt[3]`, table row 3), run in
+/// `rig_rk4`'s loop on the new state while it is still in registers: its
+/// roots stored where the interpreter leaves them, and the lanes past an
+/// armed switch added to `hits`. `hoisted`: which instructions were computed
+/// before the loop, into `e_{index}`.
+fn step_end_events(s: &mut String, code: &LaneCode, hoisted: Option<&[bool]>) {
+    let n = code.slopes.len();
+    let list = &code.events;
+    if list.code.is_empty() && code.armed.is_empty() {
+        return;
+    }
+    s.push_str("    /* the event functions at the step's end */\n");
+    event_inputs(s, code, 3);
+    for reg in event_loads(code) {
+        if (reg as usize) >= n && reg != code.time && !list.tables.iter().any(|&(_, r)| r == reg) {
+            load(s, reg, "", code, &|_| None);
+        }
+    }
+    for (j, ins) in list.code.iter().enumerate() {
+        if hoisted.is_some_and(|h| h[j]) {
+            let _ = writeln!(s, "    r{} = e_{j};", ins.dest);
+        } else {
+            s.push_str(&statement(ins.dest, &ins.op, 'v'));
+        }
+    }
+    for &root in &list.roots {
+        let _ = writeln!(s, "    ST(R, {root}, r{root});");
+    }
+    hit_test(s, code);
+}
+
+/// The time and table registers of the event list at `tt[stage]` and that
+/// stage's row of `tab`.
+fn event_inputs(s: &mut String, code: &LaneCode, stage: usize) {
+    if code.events.uses_time {
+        let _ = writeln!(s, "    r{} = splat(tt[{stage}]);", code.time);
+    }
+    for &(k, reg) in &code.events.tables {
+        let _ = writeln!(
+            s,
+            "    r{reg} = splat(tab[{} + {k}]);",
+            stage * table_stride(code)
+        );
+    }
+}
+
+/// The registers the event list and its hit test read: its inputs, the
+/// armed switches' modes and their guards' modes.
+fn event_loads(code: &LaneCode) -> Vec<Reg> {
+    let mut loads = inputs(&code.events);
+    let guarded = code.guards.iter().flatten().map(|&(m, _)| m);
+    for mode in code.armed.iter().map(|a| a.0).chain(guarded) {
+        if !loads.contains(&mode) {
+            loads.push(mode);
+        }
+    }
+    loads
+}
+
+/// `LaneRunner`'s hit test on the event functions in their registers: a bit
+/// per lane armed and past its switch (`Direction::past`), added to `hits`.
+fn hit_test(s: &mut String, code: &LaneCode) {
+    s.push_str("    m k = (m){0};\n");
+    for ((&(mode, from, dir), &g), guard) in
+        code.armed.iter().zip(&code.events.roots).zip(&code.guards)
+    {
+        let past = match dir {
+            Direction::Up => ">=",
+            Direction::Down => "<=",
+        };
+        let guard: String = guard
+            .iter()
+            .map(|&(m, v)| format!(" & (r{m} == splat({v:?}))"))
+            .collect();
+        let _ = writeln!(
+            s,
+            "    k |= (r{mode} == splat({from:?})) & (r{g} {past} splat(0.0)){guard};"
+        );
+    }
+    s.push_str("    hits |= lanebits(k) << (q * WV);\n");
+}
+
+/// Stores `hits` in `hit`: a byte per block, a bit per lane, none past block
+/// `nb`.
+const STORE_HITS: &str = "  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;\n  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);\n";
 
 /// `a, a + 1, …, b − 1`, as a shuffle's indices.
 fn indices(a: usize, b: usize) -> String {
@@ -466,15 +585,16 @@ pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
     // rig_rk4: tt[4] the derivative's times, tab[4 * table_stride] the
     // tables at them, ch = 0.5·h, h, h6 = h/6 (computed by the caller as the
     // interpreter does); `hoist`: every constant `hoistable` lists is the
-    // same in every lane.
-    let (flags, reads) = hoistable(code);
+    // same in every lane; `hit`: a bit per lane past an armed switch at the
+    // step's end.
+    let hoisted = hoistable(code);
     s.push_str(
-        "void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist) {\n  const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);\n",
+        "void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist, unsigned char *hit) {\n  const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);\n  unsigned long long hits = 0;\n",
     );
-    if flags.contains(&true) {
+    if hoisted.deriv.contains(&true) || hoisted.events.contains(&true) {
         s.push_str("  if (hoist) {\n  const long q = 0;\n");
         declare(&mut s, code);
-        for &reg in &reads {
+        for &reg in &hoisted.reads {
             load(&mut s, reg, "", code, &|_| None);
         }
         for stage in 0..4 {
@@ -484,16 +604,29 @@ pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
                 .code
                 .iter()
                 .enumerate()
-                .filter(|&(j, _)| flags[j])
+                .filter(|&(j, _)| hoisted.deriv[j])
             {
                 s.push_str(&statement(ins.dest, &ins.op, 'v'));
                 let _ = writeln!(s, "    v u{stage}_{j} = r{};", ins.dest);
             }
         }
-        rk4_loop(&mut s, code, Some(&flags));
+        event_inputs(&mut s, code, 3);
+        for (j, ins) in code
+            .events
+            .code
+            .iter()
+            .enumerate()
+            .filter(|&(j, _)| hoisted.events[j])
+        {
+            s.push_str(&statement(ins.dest, &ins.op, 'v'));
+            let _ = writeln!(s, "    v e_{j} = r{};", ins.dest);
+        }
+        rk4_loop(&mut s, code, Some(&hoisted));
+        s.push_str(STORE_HITS);
         s.push_str("  return;\n  }\n");
     }
     rk4_loop(&mut s, code, None);
+    s.push_str(STORE_HITS);
     s.push_str("}\n");
 
     // rig_deriv1: one run's derivative for its redone steps; `R` its scalar
@@ -530,31 +663,16 @@ pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
     s.push_str("}\n");
 
     for (name, list) in [
-        ("rig_events", &code.events),
         ("rig_report", &code.report),
         ("rig_measured", &code.measured),
     ] {
         let _ = writeln!(
             s,
-            "void {name}(blk *restrict R, long nb, double t, const double *tab, unsigned char *hit) {{{}\n  for (long q = 0; q < NQ(nb); q++) {{",
-            if name == "rig_events" {
-                "\n  unsigned long long hits = 0;"
-            } else {
-                ""
-            }
+            "void {name}(blk *restrict R, long nb, double t, const double *tab) {{\n  for (long q = 0; q < NQ(nb); q++) {{"
         );
         declare(&mut s, code);
         let tabs = |reg: Reg| table_of(reg).map(|k| format!("tab[{k}]"));
-        let mut loads = inputs(list);
-        if name == "rig_events" {
-            let guarded = code.guards.iter().flatten().map(|&(m, _)| m);
-            for mode in code.armed.iter().map(|a| a.0).chain(guarded) {
-                if !loads.contains(&mode) {
-                    loads.push(mode);
-                }
-            }
-        }
-        for &reg in &loads {
+        for &reg in &inputs(list) {
             load(&mut s, reg, "t", code, &tabs);
         }
         for ins in &list.code {
@@ -563,36 +681,7 @@ pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
         for &root in &list.roots {
             let _ = writeln!(s, "    ST(R, {root}, r{root});");
         }
-        if name == "rig_events" {
-            // `LaneRunner`'s hit test: a bit per lane armed and past its
-            // switch (`Direction::past`).
-            s.push_str("    m k = (m){0};\n");
-            for ((&(mode, from, dir), &g), guard) in
-                code.armed.iter().zip(&list.roots).zip(&code.guards)
-            {
-                let past = match dir {
-                    Direction::Up => ">=",
-                    Direction::Down => "<=",
-                };
-                let guard: String = guard
-                    .iter()
-                    .map(|&(m, v)| format!(" & (r{m} == splat({v:?}))"))
-                    .collect();
-                let _ = writeln!(
-                    s,
-                    "    k |= (r{mode} == splat({from:?})) & (r{g} {past} splat(0.0)){guard};"
-                );
-            }
-            s.push_str("    hits |= lanebits(k) << (q * WV);\n");
-        }
-        s.push_str("  }\n");
-        if name == "rig_events" {
-            // A byte per block, a bit per lane; none past block `nb`.
-            s.push_str(
-                "  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;\n  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);\n",
-            );
-        }
-        s.push_str("}\n");
+        s.push_str("  }\n}\n");
     }
     s
 }

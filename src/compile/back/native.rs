@@ -62,15 +62,25 @@ pub enum NativeError {
     },
 }
 
-type Rk4Fn =
-    unsafe extern "C" fn(*mut Reg, *mut Reg, c_long, *const f64, *const f64, f64, f64, f64, c_long);
-type ListFn = unsafe extern "C" fn(*mut Reg, c_long, f64, *const f64, *mut u8);
+type Rk4Fn = unsafe extern "C" fn(
+    *mut Reg,
+    *mut Reg,
+    c_long,
+    *const f64,
+    *const f64,
+    f64,
+    f64,
+    f64,
+    c_long,
+    *mut u8,
+);
+type ListFn = unsafe extern "C" fn(*mut Reg, c_long, f64, *const f64);
 type Deriv1Fn = unsafe extern "C" fn(*const f64, f64, *const f64, *mut f64);
 
 /// A loaded build of one program's lane code.
 pub struct Native {
     rk4: Rk4Fn,
-    lists: [ListFn; 3],
+    lists: [ListFn; 2],
     deriv1: Deriv1Fn,
     /// The lane code's register count and state count, which
     /// [`Self::deriv1`]'s slices hold.
@@ -99,9 +109,8 @@ impl std::fmt::Debug for Native {
 /// Which list [`Native::list`] runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub(crate) enum NativeList {
-    Events = 0,
-    Report = 1,
-    Measured = 2,
+    Report = 0,
+    Measured = 1,
 }
 
 impl Native {
@@ -136,7 +145,9 @@ impl Native {
     /// start stored in `y`: derivatives at times `tt`, with table values `tab`
     /// (`table_stride` per derivative), stage factors `ch = 0.5·h`, `h`, `h/6`;
     /// `hoist` where every lane holds the same value in each of
-    /// `hoist_reads`.
+    /// `hoist_reads`. Then the event list at `tt[3]` (the step's end), which
+    /// sets, per block, the bit of each lane past an armed switch in `hit`
+    /// (as `LaneRunner`'s test does).
     #[expect(clippy::too_many_arguments, reason = "the C function's operands")]
     #[expect(unsafe_code, reason = "calls the compiled C")]
     pub(crate) fn rk4(
@@ -150,13 +161,15 @@ impl Native {
         h: f64,
         h6: f64,
         hoist: bool,
+        hit: &mut [u8; BLOCKS],
     ) {
         assert!(r.len() == self.registers && y.len() == self.states && nb <= BLOCKS);
         assert!(tab.len() >= 4 * self.table_stride);
         // SAFETY: the C reads and writes rows below the lane code's register
         // count (`r`'s length) and `y`'s state rows, blocks below `nb` ≤
-        // BLOCKS (the f32 code also the block after each even one, still
-        // below BLOCKS); `tab` holds what it reads.
+        // BLOCKS (the f32 code of 64-byte vectors also the block after an
+        // odd last one, still below BLOCKS); `tab` holds what it reads;
+        // `hit` has a byte for every block.
         unsafe {
             (self.rk4)(
                 r.as_mut_ptr(),
@@ -168,34 +181,19 @@ impl Native {
                 h,
                 h6,
                 c_long::from(hoist),
+                hit.as_mut_ptr(),
             );
         }
     }
 
-    /// Runs `which` list at time `t` (table values `tab`) over blocks `0..nb`;
-    /// the event list also sets, per block, the bit of each lane whose step
-    /// ended past an armed switch in `hit` (as `LaneRunner`'s test does).
+    /// Runs `which` list at time `t` (table values `tab`) over blocks `0..nb`.
     #[expect(unsafe_code, reason = "calls the compiled C")]
-    pub(crate) fn list(
-        &self,
-        which: NativeList,
-        r: &mut [Reg],
-        nb: usize,
-        t: f64,
-        tab: &[f64],
-        hit: &mut [u8; BLOCKS],
-    ) {
+    pub(crate) fn list(&self, which: NativeList, r: &mut [Reg], nb: usize, t: f64, tab: &[f64]) {
         assert!(r.len() == self.registers && nb <= BLOCKS);
         assert!(tab.len() >= self.table_stride);
-        // SAFETY: as in `rk4`; `hit` has a byte for every block.
+        // SAFETY: as in `rk4`.
         unsafe {
-            (self.lists[which as usize])(
-                r.as_mut_ptr(),
-                nb as c_long,
-                t,
-                tab.as_ptr(),
-                hit.as_mut_ptr(),
-            );
+            (self.lists[which as usize])(r.as_mut_ptr(), nb as c_long, t, tab.as_ptr());
         }
     }
 
@@ -465,11 +463,7 @@ fn compile_and_load(
         let l = libloading::Library::new(&lib).map_err(load_err)?;
         let rk4: Rk4Fn = *l.get::<Rk4Fn>(b"rig_rk4\0").map_err(load_err)?;
         let list = |name: &[u8]| l.get::<ListFn>(name).map(|f| *f).map_err(load_err);
-        let lists = [
-            list(b"rig_events\0")?,
-            list(b"rig_report\0")?,
-            list(b"rig_measured\0")?,
-        ];
+        let lists = [list(b"rig_report\0")?, list(b"rig_measured\0")?];
         let deriv1: Deriv1Fn = *l.get::<Deriv1Fn>(b"rig_deriv1\0").map_err(load_err)?;
         Ok(Native {
             rk4,
@@ -478,7 +472,7 @@ fn compile_and_load(
             registers: code.registers,
             states: code.slopes.len(),
             table_stride: c::table_stride(code),
-            hoist_reads: c::hoistable(code).1,
+            hoist_reads: c::hoistable(code).reads,
             arith,
             _lib: l,
         })

@@ -252,12 +252,12 @@ impl<'p> LaneRunner<'p> {
         let nb = self.nb;
         if let Some(native) = self.native {
             let which = match which {
-                1 => NativeList::Events,
                 2 => NativeList::Report,
-                _ => NativeList::Measured,
+                3 => NativeList::Measured,
+                _ => unreachable!("native code runs the derivative and the events in rig_rk4"),
             };
             self.fill_tables(&[t]);
-            native.list(which, &mut self.regs, nb, t, &self.tab, &mut self.hit);
+            native.list(which, &mut self.regs, nb, t, &self.tab);
             return;
         }
         if list.uses_time {
@@ -299,6 +299,7 @@ impl<'p> LaneRunner<'p> {
                 h,
                 h6,
                 self.hoist,
+                &mut self.hit,
             );
             return;
         }
@@ -349,10 +350,11 @@ impl<'p> LaneRunner<'p> {
         let nb = self.nb;
         self.rk4(t, h);
         let code = self.code;
-        self.hit = [0; BLOCKS];
-        // Native code sets the hit bits as it computes the event functions.
-        self.eval(&code.events, 1, t + h);
+        // Native code ran the event list at the step's end and set the hit
+        // bits within its step.
         if self.native.is_none() {
+            self.hit = [0; BLOCKS];
+            self.eval(&code.events, 1, t + h);
             self.mark_hits();
         }
         if self.hit[..nb].iter().all(|&h| h == 0) {
