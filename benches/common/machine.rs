@@ -1,7 +1,8 @@
 //! The machine a bench table was measured on, printed above every table: the
 //! processor, its cores and the vector extensions the CPU lanes can use.
 
-/// One line: processor, cores, AVX2 / AVX-512, and the lanes' ISA override.
+/// One line: processor, cores, AVX2 / AVX-512, the instruction set the lanes
+/// run (and its override), and how the native lanes are built.
 pub fn machine_line() -> String {
     let flags = std::fs::read_to_string("/proc/cpuinfo")
         .ok()
@@ -19,9 +20,16 @@ pub fn machine_line() -> String {
     };
     let cores = std::thread::available_parallelism().map_or(1, usize::from);
     let lanes = std::env::var("RIGFIT_LANES_ISA").unwrap_or_else(|_| "widest".into());
+    let picked = rigfit::compile::exec::lanes::Isa::detect();
     format!(
-        "Machine: {}, {cores} cores, {isa}; interpreted lanes: {lanes} (RIGFIT_LANES_ISA), \
-         native lanes: -march=native",
-        rigfit::job::backend::processor()
+        "Machine: {}, {cores} cores, {isa}; lanes: {picked:?} (RIGFIT_LANES_ISA={lanes}), \
+         native lanes: -march=native {}in {}-byte vectors",
+        rigfit::job::backend::processor(),
+        picked
+            .narrowing_flags()
+            .iter()
+            .map(|f| format!("{f} "))
+            .collect::<String>(),
+        picked.vector_bytes()
     )
 }

@@ -407,19 +407,26 @@ impl<'p> LaneRunner<'p> {
             |me, t, h| me.step(t, h),
             |me, k, t| {
                 me.eval(&code.measured, 3, t);
-                let row = &me.regs[out];
-                for (l, v) in values.iter_mut().enumerate() {
-                    *v = if me.chattered >> l & 1 == 1 {
-                        f64::NAN
-                    } else {
-                        row[l / W][l % W]
-                    };
-                }
+                // The lanes in order are the register's row as it lies; a
+                // copy only where a chattering lane must read NaN.
+                let row = &me.regs[out].0.as_flattened()[..lanes];
+                let values: &[f64] = if me.chattered == 0 {
+                    row
+                } else {
+                    for (l, (v, &x)) in values.iter_mut().zip(row).enumerate() {
+                        *v = if me.chattered >> l & 1 == 1 {
+                            f64::NAN
+                        } else {
+                            x
+                        };
+                    }
+                    &values
+                };
                 let s = MeasuredSample {
                     first: me.first,
                     index: k,
                     t,
-                    values: &values,
+                    values,
                 };
                 observe(&s, &mut live);
                 if live != 0 {
