@@ -51,19 +51,19 @@ fn check_estimates_the_search_on_cpu_and_gpu_with_its_assumptions() {
         assert_eq!(e["candidates"].as_f64(), Some(50_000.0), "{e}");
         let steps = e["steps"].as_f64().unwrap();
         assert_eq!(steps, 50_000.0 * per_candidate, "{e}");
-        // The GA's steps at each path's rate, then the polish's.
-        let polish = e["polish_seconds"].as_f64().unwrap();
-        let gpu = e["gpu_seconds"].as_f64().unwrap();
+        // Start-up, the GA's steps at each path's rate, then the polish's.
+        let f = |k: &str| e[k].as_f64().unwrap_or_else(|| panic!("{k} in {e}"));
+        let gpu = f("gpu_seconds");
         assert_eq!(
             gpu,
-            steps / e["gpu_steps_per_s_assumed"].as_f64().unwrap() + polish
+            f("startup_seconds") + steps / f("gpu_steps_per_s_assumed") + f("gpu_polish_seconds")
         );
-        let cpu = e["cpu_seconds"].as_f64().unwrap();
+        let cpu = f("cpu_seconds");
         assert_eq!(
             cpu,
-            steps / e["cpu_steps_per_s_assumed"].as_f64().unwrap() + polish
+            f("startup_seconds") + steps / f("cpu_steps_per_s_assumed") + f("cpu_polish_seconds")
         );
-        gpu_seconds.push(gpu);
+        gpu_seconds.push(gpu - f("startup_seconds"));
         let text = check(&c, false);
         assert!(
             text.contains("on the GPU (at an assumed 1e8 candidate-steps/s"),
@@ -74,13 +74,15 @@ fn check_estimates_the_search_on_cpu_and_gpu_with_its_assumptions() {
             "{text}"
         );
     }
-    // 10 ms at 1 µs steps before the record: 10 000 more steps per candidate.
+    // 10 ms at 1 µs steps before the record: 10 000 more steps per candidate
+    // (the start-up the same).
     assert!(gpu_seconds[1] > 4.0 * gpu_seconds[0], "{gpu_seconds:?}");
 }
 
-/// The estimate counts the polish after the GA: its candidates bound the
-/// evaluations a run's polish takes, its time is in both totals, and a
-/// campaign without the polish estimates none.
+/// The estimate counts the polish after the GA: its candidates at the
+/// iteration limit bound the evaluations a run's polish takes, its expected
+/// candidates (fewer rounds) at a share of each path's rate are in both
+/// totals, and a campaign without the polish estimates none.
 #[test]
 fn check_estimates_the_polish_after_the_search() {
     let dir = tempfile::tempdir().unwrap();
@@ -97,18 +99,28 @@ fn check_estimates_the_polish_after_the_search() {
     );
     let per_candidate = v["run_length"]["steps_per_candidate"].as_f64().unwrap();
     assert_eq!(f("polish_steps"), f("polish_candidates") * per_candidate);
-    let polish = f("polish_steps") / f("polish_steps_per_s_assumed");
-    assert!(polish > 0.0 && f("polish_seconds") == polish, "{e}");
+    // Expected: the first linearisation and six iterations.
     assert_eq!(
-        f("cpu_seconds"),
-        f("steps") / f("cpu_steps_per_s_assumed") + polish
+        f("polish_candidates_expected"),
+        8.0 * (2.0 * genes + 1.0) * 7.0,
+        "{e}"
     );
-    assert_eq!(
-        f("gpu_seconds"),
-        f("steps") / f("gpu_steps_per_s_assumed") + polish
-    );
+    let steps = f("polish_steps_expected");
+    assert_eq!(steps, f("polish_candidates_expected") * per_candidate);
+    for path in ["cpu", "gpu"] {
+        let g = |k: &str| f(&format!("{path}_{k}"));
+        // The polish at a share of the path's GA rate.
+        let rate = g("polish_steps_per_s");
+        assert!(rate > 0.0 && rate < g("steps_per_s_assumed"), "{e}");
+        let polish = steps / rate;
+        assert_eq!(g("polish_seconds"), polish, "{e}");
+        assert_eq!(
+            g("seconds"),
+            f("startup_seconds") + f("steps") / g("steps_per_s_assumed") + polish
+        );
+    }
     let text = check(&c, false);
-    assert!(text.contains("the polish after it: at most"), "{text}");
+    assert!(text.contains("the polish after it: about"), "{text}");
 
     // A run's polish takes no more evaluations than the estimate counts.
     let mut small: Value = serde_json::from_str(&std::fs::read_to_string(&c).unwrap()).unwrap();
@@ -145,7 +157,8 @@ fn check_estimates_the_polish_after_the_search() {
     assert_eq!(e["polish_candidates"].as_f64(), Some(0.0), "{e}");
     assert_eq!(
         e["cpu_seconds"].as_f64().unwrap(),
-        e["steps"].as_f64().unwrap() / e["cpu_steps_per_s_assumed"].as_f64().unwrap()
+        e["startup_seconds"].as_f64().unwrap()
+            + e["steps"].as_f64().unwrap() / e["cpu_steps_per_s_assumed"].as_f64().unwrap()
     );
     assert!(!check(&small_path, false).contains("the polish after it"));
 }

@@ -37,10 +37,10 @@ fn search_estimate(c: &Campaign, steps_per_candidate: f64) -> serde_json::Value 
     let cores = std::thread::available_parallelism().map_or(1, usize::from);
     let precision = format!("{:?}", c.solver.precision).to_lowercase();
     let measured = rigfit::job::backend::cached(&rigfit::job::backend::auto_key(c, &precision));
+    let e = memory::TimeEstimate::of(c, steps_per_candidate, cores, GPU_STEPS_PER_S_ASSUMED);
     let e = match &measured {
-        Some(t) => memory::TimeEstimate::of(c, steps_per_candidate, cores, t.gpu_rate)
-            .with_cpu_rate(t.cpu_rate),
-        None => memory::TimeEstimate::of(c, steps_per_candidate, cores, GPU_STEPS_PER_S_ASSUMED),
+        Some(t) => e.with_cpu_rate(t.cpu_rate).with_gpu_rate(t.gpu_rate),
+        None => e,
     };
     let mut v = serde_json::to_value(e).unwrap_or_default();
     v["measured"] = serde_json::Value::Bool(measured.is_some());

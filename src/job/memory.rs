@@ -250,18 +250,32 @@ fn meminfo_field(text: &str, name: &str) -> Option<f64> {
     }
 }
 
-/// Candidate-steps per second and CPU core the polish runs at: a tenth of
-/// the fitness path's [`crate::campaign::CPU_STEPS_PER_S_PER_CORE`]. Its
-/// candidates are full histories (every output and state of every sample,
-/// turned into residuals) in batches of `starts × (2 × genes + 1)`, too
-/// small to fill a GPU, so the same rate is assumed on both paths (measured
-/// on the shipped example: 2.7e6 steps/s on lavapipe and 4.1e5 on two
-/// loaded CPU cores, against 3.8e6 for the GA's fitness on the same cores).
-pub const POLISH_STEPS_PER_S_PER_CORE: f64 = 1e6;
+/// The polish's candidate-steps per second as a share of the GA's fitness
+/// rate on the same path (the CPU lanes' or the GPU's, measured by `run
+/// --backend auto` where `check` has its figures). Its candidates are full
+/// histories (every output and state of every sample) turned into
+/// residuals and a linear solve per iteration, in batches of `starts × (2 ×
+/// genes + 1)`: measured on the nine shipped campaigns (2026-11-26, 2-core
+/// Xeon under load), 0.06 to 0.68 of the path's fitness rate, median 0.13.
+pub const POLISH_SHARE_OF_FITNESS_RATE: f64 = 0.13;
 
-/// A job's wall time, estimated before any work from its steps: the GA's
-/// candidates at the fitness path's rate, then the polish's at
-/// [`POLISH_STEPS_PER_S_PER_CORE`].
+/// The polish's rounds of `starts × (2 × genes + 1)` candidates a job is
+/// expected to take (the first linearisation and six iterations), at most
+/// its `max_iterations + 1`: the shipped campaigns' polishes stopped
+/// converged after 3 to 16 iterations, their evaluations worth 4.0 to 14.4
+/// full rounds (median 6.6; starts retired early take fewer).
+pub const POLISH_ROUNDS_EXPECTED: usize = 7;
+
+/// What a job costs besides the GA and the polish: the process, the
+/// campaign, opening the path (lavapipe's pipelines, the native lane
+/// build), `auto`'s trial where nothing is cached. Measured on the nine
+/// shipped campaigns (2026-11-26): a run's wall time less its GA and polish
+/// took 0.6 to 2.7 s.
+pub const STARTUP_SECONDS: f64 = 1.0;
+
+/// A job's wall time, estimated before any work from its steps: start-up,
+/// the GA's candidates at the fitness path's rate, then the polish's
+/// expected candidates at [`POLISH_SHARE_OF_FITNESS_RATE`] of it.
 #[derive(Debug, Clone, Serialize)]
 pub struct TimeEstimate {
     /// The GA's candidates at most: population × generations (an upper
@@ -273,27 +287,40 @@ pub struct TimeEstimate {
     pub cpu_cores: usize,
     /// The GA's candidate-steps per second on the CPU (every core).
     pub cpu_steps_per_s_assumed: f64,
-    /// The job on the CPU: the GA, then the polish (s).
+    /// The job on the CPU: start-up, the GA, then the polish (s).
     pub cpu_seconds: f64,
     /// The GA's candidate-steps per second on the GPU.
     pub gpu_steps_per_s_assumed: f64,
-    /// The job on the GPU: the GA, then the polish (s).
+    /// The job on the GPU: start-up, the GA, then the polish (s).
     pub gpu_seconds: f64,
+    /// [`STARTUP_SECONDS`], in both totals.
+    pub startup_seconds: f64,
     /// The polish's candidates at most: `starts × (2 × genes + 1)` per
     /// iteration and once more for the first linearisation (0 without the
     /// polish).
     pub polish_candidates: f64,
-    /// The polish's RK4 steps.
+    /// Its RK4 steps at most.
     pub polish_steps: f64,
-    /// The polish's candidate-steps per second (every core).
-    pub polish_steps_per_s_assumed: f64,
-    /// The polish's share of `cpu_seconds` and of `gpu_seconds` (s).
-    pub polish_seconds: f64,
+    /// The polish's candidates expected: [`POLISH_ROUNDS_EXPECTED`] rounds
+    /// (or fewer where its iteration limit is lower).
+    pub polish_candidates_expected: f64,
+    /// Their RK4 steps.
+    pub polish_steps_expected: f64,
+    /// The polish's candidate-steps per second on the CPU and on the GPU
+    /// ([`POLISH_SHARE_OF_FITNESS_RATE`] of each path's GA rate).
+    pub cpu_polish_steps_per_s: f64,
+    /// See `cpu_polish_steps_per_s`.
+    pub gpu_polish_steps_per_s: f64,
+    /// The polish's share of `cpu_seconds` (s).
+    pub cpu_polish_seconds: f64,
+    /// The polish's share of `gpu_seconds` (s).
+    pub gpu_polish_seconds: f64,
 }
 
 impl TimeEstimate {
     /// For `campaign` at `steps_per_candidate` RK4 steps per candidate, on
-    /// `cores` CPU cores and a GPU assumed to run `gpu_steps_per_s`.
+    /// `cores` CPU cores at the assumed per-core rate and a GPU assumed to
+    /// run `gpu_steps_per_s`.
     pub fn of(
         campaign: &Campaign,
         steps_per_candidate: f64,
@@ -302,40 +329,62 @@ impl TimeEstimate {
     ) -> Self {
         let s = &campaign.search;
         let candidates = (s.population * s.generations) as f64;
-        let steps = candidates * steps_per_candidate;
-        let cpu_rate = crate::campaign::CPU_STEPS_PER_S_PER_CORE * cores as f64;
-        let polish_candidates = if s.polish.enabled {
-            let per_iteration = s.polish.starts * (2 * campaign.genes.len() + 1);
-            (per_iteration * (s.polish.max_iterations + 1)) as f64
+        let (rounds, expected) = if s.polish.enabled {
+            let per_round = s.polish.starts * (2 * campaign.genes.len() + 1);
+            let rounds = s.polish.max_iterations + 1;
+            (
+                (per_round * rounds) as f64,
+                (per_round * rounds.min(POLISH_ROUNDS_EXPECTED)) as f64,
+            )
         } else {
-            0.0
+            (0.0, 0.0)
         };
-        let polish_steps = polish_candidates * steps_per_candidate;
-        let polish_rate = POLISH_STEPS_PER_S_PER_CORE * cores as f64;
-        let polish_seconds = polish_steps / polish_rate;
         Self {
             candidates,
-            steps,
+            steps: candidates * steps_per_candidate,
             cpu_cores: cores,
-            cpu_steps_per_s_assumed: cpu_rate,
-            cpu_seconds: steps / cpu_rate + polish_seconds,
-            gpu_steps_per_s_assumed: gpu_steps_per_s,
-            gpu_seconds: steps / gpu_steps_per_s + polish_seconds,
-            polish_candidates,
-            polish_steps,
-            polish_steps_per_s_assumed: polish_rate,
-            polish_seconds,
+            cpu_steps_per_s_assumed: 0.0,
+            cpu_seconds: 0.0,
+            gpu_steps_per_s_assumed: 0.0,
+            gpu_seconds: 0.0,
+            startup_seconds: STARTUP_SECONDS,
+            polish_candidates: rounds,
+            polish_steps: rounds * steps_per_candidate,
+            polish_candidates_expected: expected,
+            polish_steps_expected: expected * steps_per_candidate,
+            cpu_polish_steps_per_s: 0.0,
+            gpu_polish_steps_per_s: 0.0,
+            cpu_polish_seconds: 0.0,
+            gpu_polish_seconds: 0.0,
         }
+        .with_cpu_rate(crate::campaign::CPU_STEPS_PER_S_PER_CORE * cores as f64)
+        .with_gpu_rate(gpu_steps_per_s)
     }
-}
 
-impl TimeEstimate {
     /// The same with the GA's CPU rate `rate` (candidate-steps per second,
     /// every core), as measured.
     pub fn with_cpu_rate(self, rate: f64) -> Self {
+        let polish_rate = POLISH_SHARE_OF_FITNESS_RATE * rate;
+        let polish = self.polish_steps_expected / polish_rate;
         Self {
             cpu_steps_per_s_assumed: rate,
-            cpu_seconds: self.steps / rate + self.polish_seconds,
+            cpu_polish_steps_per_s: polish_rate,
+            cpu_polish_seconds: polish,
+            cpu_seconds: self.startup_seconds + self.steps / rate + polish,
+            ..self
+        }
+    }
+
+    /// The same with the GA's GPU rate `rate` (candidate-steps per second),
+    /// as measured.
+    pub fn with_gpu_rate(self, rate: f64) -> Self {
+        let polish_rate = POLISH_SHARE_OF_FITNESS_RATE * rate;
+        let polish = self.polish_steps_expected / polish_rate;
+        Self {
+            gpu_steps_per_s_assumed: rate,
+            gpu_polish_steps_per_s: polish_rate,
+            gpu_polish_seconds: polish,
+            gpu_seconds: self.startup_seconds + self.steps / rate + polish,
             ..self
         }
     }
@@ -349,12 +398,17 @@ pub fn polish_estimate_text(e: &serde_json::Value) -> String {
         return String::new();
     }
     format!(
-        "\n  the polish after it: at most {:.3e} candidates, {:.3e} RK4 steps as full \
-         histories: about {} at an assumed {:.0e} steps/s, included in both times above",
+        "\n  the polish after it: about {:.3e} candidates expected, at most {:.3e} (its \
+         iteration limit), {:.3e} RK4 steps as full histories: about {} on the CPU and {} \
+         on the GPU, at {:.0} % of each path's rate; and about {} of start-up; both \
+         included in the times above",
+        f("polish_candidates_expected"),
         f("polish_candidates"),
-        f("polish_steps"),
-        crate::campaign::human_duration(f("polish_seconds")),
-        f("polish_steps_per_s_assumed"),
+        f("polish_steps_expected"),
+        crate::campaign::human_duration(f("cpu_polish_seconds")),
+        crate::campaign::human_duration(f("gpu_polish_seconds")),
+        100.0 * POLISH_SHARE_OF_FITNESS_RATE,
+        crate::campaign::human_duration(f("startup_seconds")),
     )
 }
 
