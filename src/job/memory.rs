@@ -269,8 +269,9 @@ pub const POLISH_ROUNDS_EXPECTED: usize = 7;
 /// What a job costs besides the GA and the polish: the process, the
 /// campaign, opening the path (lavapipe's pipelines, the native lane
 /// build), `auto`'s trial where nothing is cached. Measured on the nine
-/// shipped campaigns (2026-11-26): a run's wall time less its GA and polish
-/// took 0.6 to 2.7 s.
+/// shipped campaigns (2026-11-26, under load): a run's wall time outside its
+/// job plus the trial, 0.65 to 2.6 s (of which the trial 0.2 to 1.0 s, none
+/// once `auto`'s choice is cached).
 pub const STARTUP_SECONDS: f64 = 1.0;
 
 /// A job's wall time, estimated before any work from its steps: start-up,
