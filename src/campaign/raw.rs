@@ -354,45 +354,55 @@ impl<'de> Deserialize<'de> for RawParam {
 
 impl<'de> Deserialize<'de> for RawSubsteps {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct V;
-        impl Visitor<'_> for V {
-            type Value = RawSubsteps;
-            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                f.write_str("an integer ≥ 1 or \"auto\"")
-            }
-            fn visit_u64<E: de::Error>(self, v: u64) -> Result<RawSubsteps, E> {
-                if v == 0 {
-                    return Err(E::invalid_value(de::Unexpected::Unsigned(0), &self));
-                }
-                Ok(RawSubsteps::Count(v))
-            }
-            fn visit_str<E: de::Error>(self, v: &str) -> Result<RawSubsteps, E> {
-                if v == "auto" {
-                    Ok(RawSubsteps::Auto)
-                } else {
-                    Err(E::invalid_value(de::Unexpected::Str(v), &self))
-                }
-            }
-        }
-        d.deserialize_any(V)
+        int_or_str(
+            d,
+            "an integer ≥ 1 or \"auto\"",
+            |v| (v > 0).then_some(RawSubsteps::Count(v)),
+            |v| (v == "auto").then_some(RawSubsteps::Auto),
+        )
     }
 }
 
 impl<'de> Deserialize<'de> for Column {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct V;
-        impl Visitor<'_> for V {
-            type Value = Column;
-            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                f.write_str("a column name or a 0-based column index")
-            }
-            fn visit_u64<E: de::Error>(self, v: u64) -> Result<Column, E> {
-                Ok(Column::Index(v as usize))
-            }
-            fn visit_str<E: de::Error>(self, v: &str) -> Result<Column, E> {
-                Ok(Column::Name(v.to_string()))
-            }
-        }
-        d.deserialize_any(V)
+        int_or_str(
+            d,
+            "a column name or a 0-based column index",
+            |v| Some(Column::Index(v as usize)),
+            |v| Some(Column::Name(v.to_string())),
+        )
     }
+}
+
+/// A value written as a non-negative integer or as a string, each read by
+/// its own function; `None` refuses the value as unexpected, saying what was
+/// `expected`.
+fn int_or_str<'de, D: Deserializer<'de>, T>(
+    d: D,
+    expected: &'static str,
+    int: fn(u64) -> Option<T>,
+    text: fn(&str) -> Option<T>,
+) -> Result<T, D::Error> {
+    struct V<T> {
+        expected: &'static str,
+        int: fn(u64) -> Option<T>,
+        text: fn(&str) -> Option<T>,
+    }
+    impl<T> Visitor<'_> for V<T> {
+        type Value = T;
+        fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            f.write_str(self.expected)
+        }
+        fn visit_u64<E: de::Error>(self, v: u64) -> Result<T, E> {
+            (self.int)(v).ok_or_else(|| E::invalid_value(de::Unexpected::Unsigned(v), &self))
+        }
+        fn visit_str<E: de::Error>(self, v: &str) -> Result<T, E> {
+            (self.text)(v).ok_or_else(|| E::invalid_value(de::Unexpected::Str(v), &self))
+        }
+    }
+    d.deserialize_any(V {
+        expected,
+        int,
+        text,
+    })
 }

@@ -362,16 +362,27 @@ impl TimeEstimate {
         .with_gpu_rate(gpu_steps_per_s)
     }
 
+    /// At a path's GA rate `rate` (candidate-steps per second): the polish's
+    /// rate, the polish's seconds and the job's.
+    fn at_rate(&self, rate: f64) -> (f64, f64, f64) {
+        let polish_rate = POLISH_SHARE_OF_FITNESS_RATE * rate;
+        let polish = self.polish_steps_expected / polish_rate;
+        (
+            polish_rate,
+            polish,
+            self.startup_seconds + self.steps / rate + polish,
+        )
+    }
+
     /// The same with the GA's CPU rate `rate` (candidate-steps per second,
     /// every core), as measured.
     pub fn with_cpu_rate(self, rate: f64) -> Self {
-        let polish_rate = POLISH_SHARE_OF_FITNESS_RATE * rate;
-        let polish = self.polish_steps_expected / polish_rate;
+        let (polish_rate, polish, seconds) = self.at_rate(rate);
         Self {
             cpu_steps_per_s_assumed: rate,
             cpu_polish_steps_per_s: polish_rate,
             cpu_polish_seconds: polish,
-            cpu_seconds: self.startup_seconds + self.steps / rate + polish,
+            cpu_seconds: seconds,
             ..self
         }
     }
@@ -379,13 +390,12 @@ impl TimeEstimate {
     /// The same with the GA's GPU rate `rate` (candidate-steps per second),
     /// as measured.
     pub fn with_gpu_rate(self, rate: f64) -> Self {
-        let polish_rate = POLISH_SHARE_OF_FITNESS_RATE * rate;
-        let polish = self.polish_steps_expected / polish_rate;
+        let (polish_rate, polish, seconds) = self.at_rate(rate);
         Self {
             gpu_steps_per_s_assumed: rate,
             gpu_polish_steps_per_s: polish_rate,
             gpu_polish_seconds: polish,
-            gpu_seconds: self.startup_seconds + self.steps / rate + polish,
+            gpu_seconds: seconds,
             ..self
         }
     }

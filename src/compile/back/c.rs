@@ -354,18 +354,29 @@ pub fn hoistable(code: &LaneCode) -> Hoistable {
     }
 }
 
-/// The time and table registers for `rig_rk4`'s derivative `stage` (0–3):
-/// `tt[stage]` and that stage's row of `tab`.
-fn stage_inputs(s: &mut String, code: &LaneCode, stage: usize) {
-    if code.deriv.uses_time {
+/// The time and table registers `list` reads (the derivative's at its
+/// `stage`, 0–3; the event list's at the step's end, stage 3): `tt[stage]`
+/// and that stage's row of `tab`.
+fn stage_inputs(s: &mut String, code: &LaneCode, list: &List, stage: usize) {
+    if list.uses_time {
         let _ = writeln!(s, "    r{} = splat(tt[{stage}]);", code.time);
     }
-    for &(k, reg) in &code.deriv.tables {
+    for &(k, reg) in &list.tables {
         let _ = writeln!(
             s,
             "    r{reg} = splat(tab[{} + {k}]);",
             stage * table_stride(code)
         );
+    }
+}
+
+/// `list`'s hoisted instructions (`hoisted[j]`) at `stage`, each result kept
+/// in the vector `<keep><j>`.
+fn hoist(s: &mut String, code: &LaneCode, list: &List, hoisted: &[bool], stage: usize, keep: &str) {
+    stage_inputs(s, code, list, stage);
+    for (j, ins) in list.code.iter().enumerate().filter(|&(j, _)| hoisted[j]) {
+        s.push_str(&statement(ins.dest, &ins.op, 'v'));
+        let _ = writeln!(s, "    v {keep}{j} = r{};", ins.dest);
     }
 }
 
@@ -397,7 +408,7 @@ fn rk4_loop(s: &mut String, code: &LaneCode, hoisted: Option<&Hoistable>) {
         let _ = writeln!(s, "    y{i} = LD(R, {i}); ST(Y, {i}, y{i}); r{i} = y{i};");
     }
     for stage in 0..4 {
-        stage_inputs(s, code, stage);
+        stage_inputs(s, code, &code.deriv, stage);
         for (j, ins) in code.deriv.code.iter().enumerate() {
             if hoisted.is_some_and(|h| h.deriv[j]) {
                 let _ = writeln!(s, "    r{} = u{stage}_{j};", ins.dest);
@@ -436,7 +447,7 @@ fn step_end_events(s: &mut String, code: &LaneCode, hoisted: Option<&[bool]>) {
         return;
     }
     s.push_str("    /* the event functions at the step's end */\n");
-    event_inputs(s, code, 3);
+    stage_inputs(s, code, &code.events, 3);
     for reg in event_loads(code) {
         if (reg as usize) >= n && reg != code.time && !list.tables.iter().any(|&(_, r)| r == reg) {
             load(s, reg, "", code, &|_| None);
@@ -453,21 +464,6 @@ fn step_end_events(s: &mut String, code: &LaneCode, hoisted: Option<&[bool]>) {
         let _ = writeln!(s, "    ST(R, {root}, r{root});");
     }
     hit_test(s, code);
-}
-
-/// The time and table registers of the event list at `tt[stage]` and that
-/// stage's row of `tab`.
-fn event_inputs(s: &mut String, code: &LaneCode, stage: usize) {
-    if code.events.uses_time {
-        let _ = writeln!(s, "    r{} = splat(tt[{stage}]);", code.time);
-    }
-    for &(k, reg) in &code.events.tables {
-        let _ = writeln!(
-            s,
-            "    r{reg} = splat(tab[{} + {k}]);",
-            stage * table_stride(code)
-        );
-    }
 }
 
 /// The registers the event list and its hit test read: its inputs, the
@@ -598,29 +594,10 @@ pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
             load(&mut s, reg, "", code, &|_| None);
         }
         for stage in 0..4 {
-            stage_inputs(&mut s, code, stage);
-            for (j, ins) in code
-                .deriv
-                .code
-                .iter()
-                .enumerate()
-                .filter(|&(j, _)| hoisted.deriv[j])
-            {
-                s.push_str(&statement(ins.dest, &ins.op, 'v'));
-                let _ = writeln!(s, "    v u{stage}_{j} = r{};", ins.dest);
-            }
+            let keep = format!("u{stage}_");
+            hoist(&mut s, code, &code.deriv, &hoisted.deriv, stage, &keep);
         }
-        event_inputs(&mut s, code, 3);
-        for (j, ins) in code
-            .events
-            .code
-            .iter()
-            .enumerate()
-            .filter(|&(j, _)| hoisted.events[j])
-        {
-            s.push_str(&statement(ins.dest, &ins.op, 'v'));
-            let _ = writeln!(s, "    v e_{j} = r{};", ins.dest);
-        }
+        hoist(&mut s, code, &code.events, &hoisted.events, 3, "e_");
         rk4_loop(&mut s, code, Some(&hoisted));
         s.push_str(STORE_HITS);
         s.push_str("  return;\n  }\n");
