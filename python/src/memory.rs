@@ -8,7 +8,7 @@ use pyo3::prelude::*;
 use crate::errors::{self, Kind};
 use rigfit::campaign::Campaign;
 use rigfit::eval::{Backend, PrecisionChoice};
-use rigfit::job::memory::{self, MemoryEstimate, human_bytes};
+use rigfit::job::memory::{self, MemoryEstimate};
 
 /// `max_memory=`: bytes, or a size with K, M, G or T as `--max-memory`
 /// takes it (`"512M"`, `"2G"`).
@@ -50,13 +50,7 @@ pub fn check(
     backend: Backend,
     precision: PrecisionChoice,
 ) -> PyResult<()> {
-    let gpu_real = match (backend, precision) {
-        (Backend::Cpu, _) => None,
-        _ if rigfit::gpu::kernel_groups(&c.problem).is_err() => None,
-        (_, PrecisionChoice::F32) => Some(4),
-        _ => Some(8),
-    };
-    let estimate = MemoryEstimate::of(c, gpu_real);
+    let estimate = MemoryEstimate::of_job(c, backend, precision);
     let (limit, source) = match max_memory {
         Some(m) => (m.bytes()?, "max_memory"),
         None => match memory::available_memory() {
@@ -71,16 +65,8 @@ pub fn check(
         Some(n) => format!("population={n}"),
         None => format!("{}: search.population", c.path.display()),
     };
-    let hint = if max_memory.is_some() {
-        "lower the population or raise max_memory"
-    } else {
-        "lower the population, free memory, or set max_memory to the memory the job may use"
-    };
     Err(errors::raise(
         Kind::Campaign,
-        format!(
-            "{whom}: expected a job that fits in {} ({source}), found {estimate}; {hint}",
-            human_bytes(limit)
-        ),
+        estimate.refusal(&whom, limit, source, "max_memory", max_memory.is_some()),
     ))
 }

@@ -76,12 +76,18 @@ pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
         "memory": {"cpu": cpu_memory, "gpu": gpu_memory, "available_bytes": available},
         "search_estimate": search,
     }))?;
+    let experiments = c.experiment_names().len();
+    let runs = c.problem.experiments.len();
+    let channels = if runs > experiments {
+        format!(" ({runs} measured channels)")
+    } else {
+        String::new()
+    };
     out.say(|| {
         let mut s = format!(
-            "{}: valid — rig {}, {} experiment(s), {} free parameter(s), {} ({})",
+            "{}: valid — rig {}, {experiments} experiment(s){channels}, {} free parameter(s), {} ({})",
             args.campaign.display(),
             c.model.id(),
-            c.problem.experiments.len(),
             c.genes.len(),
             rigfit::base::text::steps_per_sample(c.solver.substeps),
             c.solver.note

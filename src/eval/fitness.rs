@@ -95,10 +95,8 @@ pub fn score_many(
 ) -> Vec<(f64, bool)> {
     let exp = &problem.experiments[e];
     let grid = exp.grid(offset, problem.substeps);
-    let mut accs: Vec<FitnessAccumulator> = params
-        .iter()
-        .map(|_| FitnessAccumulator::new(exp))
-        .collect();
+    // The record's spread and blow-up limit, once for every run.
+    let mut accs = vec![FitnessAccumulator::new(exp); params.len()];
     problem.scoring_model(e).simulate_measured(
         params,
         &exp.drive,

@@ -14,7 +14,7 @@ use std::fmt;
 use serde::Serialize;
 
 use crate::campaign::Campaign;
-use crate::eval::ExperimentData;
+use crate::eval::{Backend, ExperimentData, PrecisionChoice};
 
 /// Memory one evaluation chunk may take (bytes). A constant, not a share of
 /// the memory available, so that the chunks (and with them the GPU kernels'
@@ -64,6 +64,45 @@ pub struct MemoryEstimate {
 }
 
 impl MemoryEstimate {
+    /// A job's estimate as `rigfit run` and `rigfit.fit` check it before any
+    /// work: with the GPU's buffers in `precision` where `backend` may run
+    /// the rig there (not on the CPU, nor where the kernels cannot hold it).
+    pub fn of_job(campaign: &Campaign, backend: Backend, precision: PrecisionChoice) -> Self {
+        let gpu_real = match (backend, precision) {
+            (Backend::Cpu, _) => None,
+            _ if crate::gpu::kernel_groups(&campaign.problem).is_err() => None,
+            (_, PrecisionChoice::F32) => Some(4),
+            _ => Some(8),
+        };
+        Self::of(campaign, gpu_real)
+    }
+
+    /// Why a job this size is refused under `limit` bytes (`source` says
+    /// whence the limit): `whom` is what to change (the population, as the
+    /// caller spells it), `limit_flag` how the caller spells the limit
+    /// (`--max-memory`, `max_memory`), `given` whether the user gave it.
+    pub fn refusal(
+        &self,
+        whom: &str,
+        limit: f64,
+        source: &str,
+        limit_flag: &str,
+        given: bool,
+    ) -> String {
+        let hint = if given {
+            format!("lower the population or raise {limit_flag}")
+        } else {
+            format!(
+                "lower the population, free memory, or set {limit_flag} to the memory the job \
+                 may use"
+            )
+        };
+        format!(
+            "{whom}: expected a job that fits in {} ({source}), found {self}; {hint}",
+            human_bytes(limit)
+        )
+    }
+
     /// The estimate of `campaign` on the GPU path (`gpu_real`: 4 or 8 bytes per
     /// real) or, with `None`, on the CPU path.
     pub fn of(campaign: &Campaign, gpu_real: Option<usize>) -> Self {

@@ -50,11 +50,10 @@ pub struct ExperimentFit {
     pub csv: String,
     /// SVG plot of the fit.
     pub plot: String,
-    /// The model's outputs at the fitted parameters, every sample, in full
-    /// precision (the CSV holds them to 7 significant digits); not in
-    /// `result.json`.
+    /// The CSV's rows in full precision (the CSV holds them to 7
+    /// significant digits); not in `result.json`.
     #[serde(skip)]
-    pub history: History,
+    pub rows: ExperimentRows,
 }
 
 /// One model parameter (or clock offset) in the result.
@@ -283,7 +282,7 @@ pub fn write_outputs(
             weight: exp.weight,
             csv,
             plot,
-            history: hist.clone(),
+            rows: ExperimentRows::of(exp, hist, *offset),
         });
     }
 
@@ -359,9 +358,55 @@ pub fn r_squared(exp: &crate::eval::ExperimentData, hist: &History) -> f64 {
     1.0 - ss_res / ss_tot
 }
 
-/// The experiment's CSV: record and model time, the measurement, every model
-/// output (named `model_<name>_<unit>` from the rig), the residual of the
+/// An experiment's rows as its CSV holds them, in full precision: record
+/// and model time, the measurement, every model output, the residual of the
 /// measured output and whether the sample is in the fit window.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ExperimentRows {
+    /// Record time of each sample (s).
+    pub t_record: Vec<f64>,
+    /// Model time of each sample (s): record time + the clock offset.
+    pub t_model: Vec<f64>,
+    /// The measurement, in the measured output's unit.
+    pub measured: Vec<f64>,
+    /// Every model output at each sample, `[sample][output]` (NaN past a
+    /// run that stopped short).
+    pub model: Vec<Vec<f64>>,
+    /// Measured output − measurement.
+    pub residual: Vec<f64>,
+    /// Whether each sample is scored.
+    pub in_fit_window: Vec<bool>,
+}
+
+impl ExperimentRows {
+    /// The rows of `exp` against the run `hist` at clock offset `offset`.
+    pub fn of(exp: &crate::eval::ExperimentData, hist: &History, offset: f64) -> Self {
+        let n = hist.t.len().min(exp.force.len());
+        let value = |o: usize, k: usize| {
+            hist.outputs
+                .get(o)
+                .and_then(|h| h.get(k))
+                .copied()
+                .unwrap_or(f64::NAN)
+        };
+        let t_record: Vec<f64> = (0..n).map(|k| exp.t_first + k as f64 * exp.dt).collect();
+        Self {
+            t_model: t_record.iter().map(|t| t + offset).collect(),
+            t_record,
+            measured: exp.force[..n].to_vec(),
+            model: (0..n)
+                .map(|k| (0..hist.outputs.len()).map(|o| value(o, k)).collect())
+                .collect(),
+            residual: (0..n)
+                .map(|k| value(exp.output, k) - exp.force[k])
+                .collect(),
+            in_fit_window: (0..n).map(|k| exp.window.contains(&k)).collect(),
+        }
+    }
+}
+
+/// The experiment's CSV ([`ExperimentRows`]), the model outputs named
+/// `model_<name>_<unit>` from the rig.
 fn experiment_csv(
     exp: &crate::eval::ExperimentData,
     hist: &History,
@@ -374,25 +419,22 @@ fn experiment_csv(
         let _ = write!(s, ",model_{name}_{unit}");
     }
     let _ = writeln!(s, ",residual_{unit0},in_fit_window");
-    let n = hist.t.len().min(exp.force.len());
-    let value = |o: usize, k: usize| {
-        hist.outputs
-            .get(o)
-            .and_then(|h| h.get(k))
-            .copied()
-            .unwrap_or(f64::NAN)
-    };
-    for k in 0..n {
-        let t_rec = exp.t_first + k as f64 * exp.dt;
-        let _ = write!(s, "{t_rec:.9e},{:.9e},{:.6e}", t_rec + offset, exp.force[k]);
+    let rows = ExperimentRows::of(exp, hist, offset);
+    for k in 0..rows.t_record.len() {
+        let _ = write!(
+            s,
+            "{:.9e},{:.9e},{:.6e}",
+            rows.t_record[k], rows.t_model[k], rows.measured[k]
+        );
         for o in 0..outputs.len() {
-            let _ = write!(s, ",{:.6e}", value(o, k));
+            let v = rows.model[k].get(o).copied().unwrap_or(f64::NAN);
+            let _ = write!(s, ",{v:.6e}");
         }
         let _ = writeln!(
             s,
             ",{:.6e},{}",
-            value(exp.output, k) - exp.force[k],
-            u8::from(exp.window.contains(&k)),
+            rows.residual[k],
+            u8::from(rows.in_fit_window[k]),
         );
     }
     s

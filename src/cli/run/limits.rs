@@ -22,13 +22,7 @@ pub(super) fn check_memory(
     backend: Backend,
     precision: PrecisionChoice,
 ) -> Result<(MemoryEstimate, String), BadInput> {
-    let gpu_real = match (backend, precision) {
-        (Backend::Cpu, _) => None,
-        _ if rigfit::gpu::kernel_groups(&c.problem).is_err() => None,
-        (_, PrecisionChoice::F32) => Some(4),
-        _ => Some(8),
-    };
-    let estimate = MemoryEstimate::of(c, gpu_real);
+    let estimate = MemoryEstimate::of_job(c, backend, precision);
     let Some((limit, source)) = memory_limit(max_memory) else {
         return Ok((estimate, "an unknown amount available".into()));
     };
@@ -43,14 +37,12 @@ pub(super) fn check_memory(
         Some(n) => format!("--population {n}"),
         None => format!("{}: search.population", file.display()),
     };
-    let hint = if max_memory.is_some() {
-        "lower the population or raise --max-memory"
-    } else {
-        "lower the population, free memory, or set --max-memory to the memory the job may use"
-    };
-    Err(BadInput(format!(
-        "{whom}: expected a job that fits in {limit_text} ({source}), found {estimate}; {hint}",
-        limit_text = human_bytes(limit),
+    Err(BadInput(estimate.refusal(
+        &whom,
+        limit,
+        source,
+        "--max-memory",
+        max_memory.is_some(),
     )))
 }
 
