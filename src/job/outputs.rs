@@ -236,7 +236,8 @@ pub fn write_outputs(
         let stem = file_stem(&exp.name);
         let csv = format!("{stem}.csv");
         let plot = format!("fit_{stem}.svg");
-        write(&csv, experiment_csv(exp, hist, *offset, outputs).as_bytes())?;
+        let rows = ExperimentRows::of(exp, hist, *offset);
+        write(&csv, experiment_csv(exp, &rows, outputs).as_bytes())?;
         let n = hist.t.len().min(exp.force.len());
         let t_rec: Vec<f64> = (0..n).map(|k| exp.t_first + k as f64 * exp.dt).collect();
         let title = format!("{}: {} — R² = {:.5}", campaign.name, exp.name, r2);
@@ -282,7 +283,7 @@ pub fn write_outputs(
             weight: exp.weight,
             csv,
             plot,
-            rows: ExperimentRows::of(exp, hist, *offset),
+            rows,
         });
     }
 
@@ -409,8 +410,7 @@ impl ExperimentRows {
 /// `model_<name>_<unit>` from the rig.
 fn experiment_csv(
     exp: &crate::eval::ExperimentData,
-    hist: &History,
-    offset: f64,
+    rows: &ExperimentRows,
     outputs: &[(String, String)],
 ) -> String {
     let (name0, unit0) = &outputs[exp.output];
@@ -419,7 +419,6 @@ fn experiment_csv(
         let _ = write!(s, ",model_{name}_{unit}");
     }
     let _ = writeln!(s, ",residual_{unit0},in_fit_window");
-    let rows = ExperimentRows::of(exp, hist, offset);
     for k in 0..rows.t_record.len() {
         let _ = write!(
             s,
