@@ -23,6 +23,9 @@ pub enum Input {
     Regime(u32),
     /// Piecewise-linear table `i` at model time (0 for `t < 0` where the table says so).
     Table(u32),
+    /// Discrete (controller) state `i`: the value set at its last sample
+    /// instant, held until the next.
+    Held(u32),
 }
 
 /// One operation. Operands are earlier ids.

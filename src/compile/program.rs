@@ -96,6 +96,32 @@ pub struct RegimeVar {
     pub values: Vec<&'static str>,
 }
 
+/// A rig's digital controllers in one drive mode: their sample instants
+/// `t_k = phase + k·period` (k = 0, 1, …) and the discrete (held) states they
+/// set there. At an instant every held state takes its update's value, all
+/// at once: the updates read the held states as they were before it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sampling {
+    /// Sample period (s, > 0).
+    pub period: f64,
+    /// First instant (s, ≥ 0).
+    pub phase: f64,
+    /// Each held state's name (`"servo.u"`).
+    pub names: Vec<String>,
+    /// Each held state's new value at an instant (roots of the graph).
+    pub update: Vec<Id>,
+    /// Each held state's value before the first instant (run constants).
+    pub initial: Vec<Id>,
+}
+
+impl Sampling {
+    /// Time of instant `k` (s), from its index (never a running sum).
+    #[inline(always)]
+    pub fn instant(&self, k: u64) -> f64 {
+        self.phase + k as f64 * self.period
+    }
+}
+
 /// One drive mode's compiled rig.
 #[derive(Debug, Clone)]
 pub struct Program {
@@ -119,6 +145,9 @@ pub struct Program {
     /// or the slot of the rig's `initial_<state>` parameter). See
     /// [`super::initial`] for the regimes it starts in.
     pub initial: Vec<Id>,
+    /// The controllers' sample instants and held states, if the rig has
+    /// controllers in this mode.
+    pub sampling: Option<Sampling>,
 }
 
 impl Program {
@@ -151,6 +180,18 @@ impl Program {
         self.initial
             .iter()
             .any(|&i| !matches!(self.graph.ops[i as usize], Op::Const(_)))
+    }
+
+    /// Number of held (controller) states.
+    pub fn held_count(&self) -> usize {
+        self.sampling.as_ref().map_or(0, |s| s.update.len())
+    }
+
+    /// Update roots, one per held state (none without controllers).
+    pub fn update_roots(&self) -> Vec<Id> {
+        self.sampling
+            .as_ref()
+            .map_or_else(Vec::new, |s| s.update.clone())
     }
 
     /// Event-function roots, one per transition.

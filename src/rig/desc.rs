@@ -29,6 +29,10 @@ pub struct RigDesc {
     /// an experiment, or `"force"`, an experiment driven by a force table).
     #[serde(default)]
     pub drives: Vec<DriveDesc>,
+    /// Digital controllers: sampled at fixed instants, their command held
+    /// between them and applied to a node as a force.
+    #[serde(default)]
+    pub controllers: Vec<ControllerDesc>,
     /// Outputs; output 0 is fitted to the measured record.
     pub outputs: Vec<OutputDesc>,
     /// How far the run can reach, for the RK4 stability bound of nonlinear laws.
@@ -400,6 +404,62 @@ pub struct TableDesc {
     pub gain: Option<Coef>,
 }
 
+/// A digital controller: at every sample instant `t_k = phase + k·period`
+/// (k = 0, 1, …) each discrete state is set, all at once, from its update
+/// law, which reads the rig at that instant and the states' values before
+/// it; the command state is then held until the next instant and pushes
+/// `node` with `gain·command` (N).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ControllerDesc {
+    /// Name, for messages and outputs (`{"controller": name}`).
+    pub name: String,
+    /// `"velocity"` (default) or `"force"`: which experiments it runs in, as
+    /// for a drive.
+    #[serde(default = "velocity_mode")]
+    pub mode: String,
+    /// Sample period (s, > 0).
+    pub period: f64,
+    /// Time of the first sample instant (s, ≥ 0; default 0).
+    #[serde(default)]
+    pub phase: f64,
+    /// The discrete states, in the order they are listed in messages.
+    pub states: Vec<DiscreteStateDesc>,
+    /// The state that is the held command.
+    pub command: String,
+    /// Where the command acts.
+    pub acts_on: ControllerForce,
+}
+
+/// One discrete state of a [`ControllerDesc`].
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DiscreteStateDesc {
+    /// Name, as update laws read it.
+    pub name: String,
+    /// Its new value at a sample instant: a formula (the expression
+    /// language of the laws) of the rig's parameters, its outputs by name,
+    /// the controller's states (their values before the instant), `t` (s),
+    /// `period` (s) and, in `"force"` mode, `reference` (the experiment's
+    /// table).
+    pub update: String,
+    /// Value before the first instant (default 0): a number or a parameter.
+    #[serde(default)]
+    pub initial: Option<Coef>,
+}
+
+/// The force a controller's command applies: `gain·command` on `node`
+/// (N; `+` pushes the node in its positive direction).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ControllerForce {
+    /// The node pushed.
+    pub node: String,
+    /// N per command unit (a motor constant in N/V; default 1).
+    #[serde(default = "unit_gain")]
+    pub gain: Coef,
+}
+
 /// What a sine, chirp or half-sine drive's signal `s(t)` is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -443,6 +503,9 @@ pub struct TermDesc {
     /// A node's acceleration (m/s²).
     #[serde(default)]
     pub acceleration: Option<String>,
+    /// A controller's held command (in its own unit, V for a voltage).
+    #[serde(default)]
+    pub controller: Option<String>,
     /// Factor (default 1; −1 makes a difference): a number, or a
     /// parameter's name (a sensor's sensitivity, fitted or fixed).
     #[serde(default = "unit_gain")]

@@ -288,3 +288,9 @@ void rig_measured(blk *restrict R, long nb, double t, const double *tab) {
     ST(R, 0, r0);
   }
 }
+void rig_update(blk *restrict R, long nb, double t, const double *tab) {
+  for (long q = 0; q < NQ(nb); q++) {
+    v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16;
+    (void)r0;
+  }
+}

@@ -1217,3 +1217,9 @@ void rig_measured(blk *restrict R, long nb, double t, const double *tab) {
     ST(R, 45, r45);
   }
 }
+void rig_update(blk *restrict R, long nb, double t, const double *tab) {
+  for (long q = 0; q < NQ(nb); q++) {
+    v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49, r50, r51;
+    (void)r0;
+  }
+}

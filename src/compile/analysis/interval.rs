@@ -318,6 +318,9 @@ impl InputBox {
                 Some(tab) => table_hull(tab),
                 None => self.force.unwrap_or(Interval::ENTIRE),
             },
+            // A controller's held value: whatever its law gives (constant
+            // over a step, so it adds nothing to the Jacobian).
+            Input::Held(_) => Interval::ENTIRE,
         }
     }
 }

@@ -192,6 +192,13 @@ fn relevant_regimes(prog: &Program, root: Id, c: &[u32]) -> Vec<bool> {
                     }
                 }
                 Op::In(Input::Regime(j)) => regimes[j as usize] = true,
+                // A held state is what its update made it at the last
+                // sample instant.
+                Op::In(Input::Held(h)) => {
+                    if let Some(s) = &prog.sampling {
+                        stack.push(s.update[h as usize]);
+                    }
+                }
                 Op::Select(k, a, b) => match known[k as usize] {
                     Some(kv) => stack.extend([k, if kv != 0.0 { a } else { b }]),
                     None => stack.extend([k, a, b]),

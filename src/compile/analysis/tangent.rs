@@ -70,7 +70,18 @@ pub fn deriv_jacobian(
     regimes: &[u32],
 ) -> Vec<f64> {
     let n = prog.deriv.len();
-    frame.eval(&tape.deriv_ops, crate::compile::Point { t, y, regimes });
+    // Held states at their values before the first instant: constant over a
+    // step, they add nothing to the Jacobian.
+    let held = crate::compile::exec::initial::initial_held(prog, frame);
+    frame.eval(
+        &tape.deriv_ops,
+        crate::compile::Point {
+            t,
+            y,
+            regimes,
+            held: &held,
+        },
+    );
     let mut dot = vec![0.0; prog.graph.ops.len()];
     let mut jac = vec![0.0; n * n];
     for j in 0..n {
@@ -119,6 +130,7 @@ mod tests {
             run_constant: vec![],
             tables: vec![],
             initial: vec![],
+            sampling: None,
         };
         prog.mark_run_constants();
         let tape = Tape::new(&prog);
@@ -132,6 +144,7 @@ mod tests {
                         t: 0.0,
                         y: &[x],
                         regimes: &[],
+                        held: &[],
                     },
                 );
                 frame.get(root)
@@ -190,6 +203,7 @@ mod tests {
                                 t,
                                 y,
                                 regimes: &regimes,
+                                held: &[],
                             },
                         );
                         prog.deriv.iter().map(|&d| frame.get(d)).collect()

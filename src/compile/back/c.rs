@@ -280,11 +280,17 @@ fn load(
 /// Table values per derivative in `rig_rk4`'s `tab` (one past the highest
 /// table any list reads).
 pub fn table_stride(code: &LaneCode) -> usize {
-    [&code.deriv, &code.events, &code.report, &code.measured]
-        .iter()
-        .flat_map(|l| l.tables.iter().map(|&(k, _)| k as usize + 1))
-        .max()
-        .unwrap_or(0)
+    [
+        &code.deriv,
+        &code.events,
+        &code.report,
+        &code.measured,
+        &code.update,
+    ]
+    .iter()
+    .flat_map(|l| l.tables.iter().map(|&(k, _)| k as usize + 1))
+    .max()
+    .unwrap_or(0)
 }
 
 /// Which instructions of `list` depend on time, tables and per-run
@@ -572,10 +578,16 @@ pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
     }
     s.push_str(LANE_OPS);
     s.push_str(&lane_bits(lanes));
-    let table_regs: Vec<(u32, Reg)> = [&code.deriv, &code.events, &code.report, &code.measured]
-        .iter()
-        .flat_map(|l| l.tables.iter().copied())
-        .collect();
+    let table_regs: Vec<(u32, Reg)> = [
+        &code.deriv,
+        &code.events,
+        &code.report,
+        &code.measured,
+        &code.update,
+    ]
+    .iter()
+    .flat_map(|l| l.tables.iter().copied())
+    .collect();
     let table_of = |reg: Reg| table_regs.iter().find(|&&(_, r)| r == reg).map(|&(k, _)| k);
 
     // rig_rk4: tt[4] the derivative's times, tab[4 * table_stride] the
@@ -642,6 +654,7 @@ pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
     for (name, list) in [
         ("rig_report", &code.report),
         ("rig_measured", &code.measured),
+        ("rig_update", &code.update),
     ] {
         let _ = writeln!(
             s,

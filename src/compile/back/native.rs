@@ -80,7 +80,7 @@ type Deriv1Fn = unsafe extern "C" fn(*const f64, f64, *const f64, *mut f64);
 /// A loaded build of one program's lane code.
 pub struct Native {
     rk4: Rk4Fn,
-    lists: [ListFn; 2],
+    lists: [ListFn; 3],
     deriv1: Deriv1Fn,
     /// The lane code's register count and state count, which
     /// [`Self::deriv1`]'s slices hold.
@@ -111,6 +111,7 @@ impl std::fmt::Debug for Native {
 pub(crate) enum NativeList {
     Report = 0,
     Measured = 1,
+    Update = 2,
 }
 
 impl Native {
@@ -463,7 +464,11 @@ fn compile_and_load(
         let l = libloading::Library::new(&lib).map_err(load_err)?;
         let rk4: Rk4Fn = *l.get::<Rk4Fn>(b"rig_rk4\0").map_err(load_err)?;
         let list = |name: &[u8]| l.get::<ListFn>(name).map(|f| *f).map_err(load_err);
-        let lists = [list(b"rig_report\0")?, list(b"rig_measured\0")?];
+        let lists = [
+            list(b"rig_report\0")?,
+            list(b"rig_measured\0")?,
+            list(b"rig_update\0")?,
+        ];
         let deriv1: Deriv1Fn = *l.get::<Deriv1Fn>(b"rig_deriv1\0").map_err(load_err)?;
         Ok(Native {
             rk4,

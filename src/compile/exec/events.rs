@@ -9,9 +9,15 @@
 //! redone from its start to the crossing, the mode changes, and the rest of the
 //! step is taken the same way. More than [`MAX_EVENTS_PER_STEP`] events in one
 //! step flag the run as chattering and stop it (it is never hung).
+//!
+//! A rig with controllers takes each step in pieces between its sample
+//! instants ([`SampleClock::step`]), the held states updated at each
+//! ([`EventStepper::sample`]); switches are located inside each piece, so a
+//! switch and an instant in the same step are taken in time order.
 
 use crate::compile::back::native::Native;
 use crate::compile::exec::lane_code::LaneCode;
+use crate::compile::exec::sampling::SampleClock;
 use crate::compile::exec::tape::{Frame, Point, Tape, table_value};
 use crate::compile::program::Program;
 
@@ -47,6 +53,10 @@ pub struct EventStepper<'p> {
     pub frame: Frame<'p>,
     /// Regime variables.
     pub regimes: Vec<u32>,
+    /// Held (controller) states.
+    pub held: Vec<f64>,
+    /// The next sample instant.
+    pub clock: SampleClock,
     /// The state the run starts from ([`crate::compile::exec::initial`]).
     pub y0: Vec<f64>,
     /// Switches fired so far, in time order.
@@ -80,11 +90,14 @@ impl<'p> EventStepper<'p> {
         let z = vec![0.0; n];
         let mut frame = Frame::new(prog, tape, params, force);
         let (y0, regimes) = crate::compile::exec::initial::initial_state(prog, tape, &mut frame);
+        let held = crate::compile::exec::initial::initial_held(prog, &frame);
         Self {
             prog,
             tape,
             frame,
             regimes,
+            held,
+            clock: SampleClock::default(),
             y0,
             fired: vec![],
             chattered: false,
@@ -122,6 +135,9 @@ impl<'p> EventStepper<'p> {
             for (&m, &v) in nd.code.regimes.iter().zip(&self.regimes) {
                 nd.r[m as usize] = f64::from(v);
             }
+            for (&m, &v) in nd.code.held.iter().zip(&self.held) {
+                nd.r[m as usize] = v;
+            }
             for (k, v) in nd.tab.iter_mut().enumerate() {
                 *v = table_value(self.prog, self.frame.force(), k as u32, t);
             }
@@ -132,6 +148,7 @@ impl<'p> EventStepper<'p> {
             t,
             y,
             regimes: &self.regimes,
+            held: &self.held,
         };
         self.frame.eval(&self.tape.deriv_ops, pt);
         for (o, &id) in out.iter_mut().zip(&self.prog.deriv) {
@@ -169,6 +186,7 @@ impl<'p> EventStepper<'p> {
             t,
             y,
             regimes: &self.regimes,
+            held: &self.held,
         };
         self.frame.eval(&self.tape.event_ops, pt);
     }
@@ -183,14 +201,56 @@ impl<'p> EventStepper<'p> {
             .map(|(i, _)| i)
     }
 
-    /// One step of length `h` from `(t, y)`, switches located inside it.
+    /// One step of length `h` from `(t, y)`, switches located inside it and,
+    /// with controllers, split at their sample instants.
     pub fn step(&mut self, t: f64, h: f64, y: &mut [f64]) {
-        self.step_known(t, h, y, None);
+        let mut clock = self.clock;
+        clock.step(
+            self.prog.sampling.as_ref(),
+            &mut (&mut *self, &mut *y),
+            t,
+            h,
+            &mut |(me, y), ta, len| me.step_known(ta, len, y, None),
+            &mut |(me, y), tn| me.sample(tn, y),
+        );
+        self.clock = clock;
     }
 
-    /// [`Self::step`] where the plain RK4 step from `(t, y)` over `h` is
-    /// known to end at `y_end` (the lane ensemble took it): of that step only
-    /// the first slope (which locating a switch needs) is computed again.
+    /// Every held state set from its update at `(t, y)`, all from the values
+    /// before (a sample instant).
+    pub fn sample(&mut self, t: f64, y: &[f64]) {
+        let Some(s) = &self.prog.sampling else {
+            return;
+        };
+        let pt = Point {
+            t,
+            y,
+            regimes: &self.regimes,
+            held: &self.held,
+        };
+        self.frame.eval(&self.tape.update_ops, pt);
+        for (h, &id) in self.held.iter_mut().zip(&s.update) {
+            // Every update is evaluated above, before any held state changes.
+            *h = self.frame.get(id);
+        }
+    }
+
+    /// Takes the sample instants not yet taken at or before `t` (the first,
+    /// at `t = 0`, before the first step or report).
+    pub fn catch_up(&mut self, t: f64, y: &[f64]) {
+        if let Some(s) = self.prog.sampling.as_ref() {
+            let mut clock = self.clock;
+            clock.catch_up(s, &mut (&mut *self, y), t, &mut |(me, y), t| {
+                me.sample(t, y)
+            });
+            self.clock = clock;
+        }
+    }
+
+    /// One piece of a step ([`Self::step`] between sample instants) where
+    /// the plain RK4 step from `(t, y)` over `h` is known to end at `y_end`
+    /// (the lane ensemble took it): of that step only the first slope (which
+    /// locating a switch needs) is computed again.
     pub fn step_ending_at(&mut self, t: f64, h: f64, y: &mut [f64], y_end: &[f64]) {
         self.step_known(t, h, y, Some(y_end));
     }
@@ -282,12 +342,15 @@ impl<'p> EventStepper<'p> {
         })
     }
 
-    /// Outputs and full state at `(t, y)`, into `outputs` and `state`.
+    /// Outputs and full state at `(t, y)`, into `outputs` and `state`
+    /// (sample instants up to `t` taken first).
     pub fn report(&mut self, t: f64, y: &[f64], outputs: &mut [f64], state: &mut [f64]) {
+        self.catch_up(t, y);
         let pt = Point {
             t,
             y,
             regimes: &self.regimes,
+            held: &self.held,
         };
         self.frame.eval(&self.tape.report_ops, pt);
         for (o, &id) in outputs.iter_mut().zip(&self.prog.outputs) {

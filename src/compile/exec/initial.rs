@@ -22,6 +22,14 @@
 use crate::compile::exec::tape::{Frame, Point, Tape};
 use crate::compile::program::{Direction, Program};
 
+/// The held states' values before the first sample instant (the values of
+/// [`crate::compile::program::Sampling::initial`], run constants of `frame`).
+pub fn initial_held(prog: &Program, frame: &Frame<'_>) -> Vec<f64> {
+    prog.sampling.as_ref().map_or_else(Vec::new, |s| {
+        s.initial.iter().map(|&id| frame.get(id)).collect()
+    })
+}
+
 /// The run's initial state (the values of [`Program::initial`], evaluated in
 /// `frame`, whose run constants are filled) and initial regimes.
 pub fn initial_state(prog: &Program, tape: &Tape, frame: &mut Frame<'_>) -> (Vec<f64>, Vec<u32>) {
@@ -34,11 +42,13 @@ pub fn initial_state(prog: &Program, tape: &Tape, frame: &mut Frame<'_>) -> (Vec
         return (y, regimes);
     }
     let mut switched = vec![false; regimes.len()];
+    let held = initial_held(prog, frame);
     loop {
         let pt = Point {
             t: 0.0,
             y: &y,
             regimes: &regimes,
+            held: &held,
         };
         frame.eval(&tape.event_ops, pt);
         let fire = prog.transitions.iter().find(|tr| {

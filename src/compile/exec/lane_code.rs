@@ -5,7 +5,7 @@
 //! so a batch's working set stays in the first-level cache.
 //!
 //! Register file: the states first (`0..n`, where RK4 writes each stage's
-//! input), then time, the regime variables, the tables, the per-run constants the
+//! input), then time, the regime variables, the held states, the tables, the per-run constants the
 //! lists read (filled once per batch), then temporaries, reused once their last
 //! reader has run, then the copies of the derivative's roots that are states
 //! (see [`LaneCode::slopes`]).
@@ -53,6 +53,10 @@ pub struct LaneCode {
     /// Output 0 alone (the quantity fitted to the measurement): the report's
     /// operations it needs, in the same order, so its value is the report's.
     pub measured: List,
+    /// The held states' updates at a sample instant (empty without
+    /// controllers); the runner copies each root to its held register once
+    /// all have run.
+    pub update: List,
     /// Where RK4 reads each state's slope once the derivative has run: its
     /// root's register, or, for a root that is the register of an earlier
     /// state (which the next stage's input, written state by state in order,
@@ -74,6 +78,8 @@ pub struct LaneCode {
     pub time: Reg,
     /// Each regime variable's register.
     pub regimes: Vec<Reg>,
+    /// Each held state's register.
+    pub held: Vec<Reg>,
     /// Per-run constants the lists read: (operation, register).
     pub constants: Vec<(Id, Reg)>,
     /// Registers in all.
@@ -104,12 +110,15 @@ impl LaneCode {
         let mut fixed: Vec<Option<Reg>> = vec![None; ops.len()];
         let time = n as Reg;
         let regimes: Vec<Reg> = (0..prog.mode_count()).map(|m| (n + 1 + m) as Reg).collect();
-        let tables0 = n + 1 + regimes.len();
+        let held0 = n + 1 + regimes.len();
+        let held: Vec<Reg> = (0..prog.held_count()).map(|k| (held0 + k) as Reg).collect();
+        let tables0 = held0 + held.len();
         for (i, op) in ops.iter().enumerate() {
             fixed[i] = match *op {
                 Op::In(Input::State(s)) => Some(s as Reg),
                 Op::In(Input::Time) => Some(time),
                 Op::In(Input::Regime(m)) => Some(regimes[m as usize]),
+                Op::In(Input::Held(k)) => Some(held[k as usize]),
                 Op::In(Input::Table(k)) => Some((tables0 + k as usize) as Reg),
                 _ => None,
             };
@@ -124,7 +133,7 @@ impl LaneCode {
             .copied()
             .filter(|&i| live0[i as usize])
             .collect();
-        let lists: [(&[Id], Vec<Id>); 4] = [
+        let lists: [(&[Id], Vec<Id>); 5] = [
             (&tape.deriv_ops, prog.deriv.clone()),
             (
                 &tape.event_ops,
@@ -142,6 +151,7 @@ impl LaneCode {
                 &measured_ops,
                 prog.outputs.iter().take(1).copied().collect(),
             ),
+            (&tape.update_ops, prog.update_roots()),
         ];
         for (list, roots) in &lists {
             let read = list.iter().flat_map(|&i| operands(&ops[i as usize]));
@@ -155,7 +165,7 @@ impl LaneCode {
             }
         }
         let mut registers = next;
-        let [deriv, events, report, measured] = lists.map(|(list, roots)| {
+        let [deriv, events, report, measured, update] = lists.map(|(list, roots)| {
             let (l, top) = translate(prog, list, &roots, &fixed, next);
             registers = registers.max(top);
             l
@@ -181,6 +191,7 @@ impl LaneCode {
             events,
             report,
             measured,
+            update,
             slopes,
             slope_copies,
             armed: prog
@@ -200,6 +211,7 @@ impl LaneCode {
                 .collect(),
             time,
             regimes,
+            held,
             constants,
             registers,
         }

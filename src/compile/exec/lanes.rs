@@ -31,6 +31,7 @@ use crate::compile::back::native::{Native, NativeList};
 use crate::compile::exec::events::EventStepper;
 use crate::compile::exec::interp::{Span, mark};
 use crate::compile::exec::lane_code::{LaneCode, List};
+use crate::compile::exec::sampling::SampleClock;
 use crate::compile::exec::tape::{Tape, table_value};
 use crate::compile::program::{Direction, Program};
 
@@ -91,9 +92,9 @@ pub struct LaneRunner<'p> {
     /// Active blocks.
     nb: usize,
     isa: Isa,
-    /// Per list (derivative, events, report, measured output): each
-    /// instruction's span (every lane, or one value all share).
-    spans: [Vec<Span>; 4],
+    /// Per list (derivative, events, report, measured output, update):
+    /// each instruction's span (every lane, or one value all share).
+    spans: [Vec<Span>; 5],
     /// The register file; between steps its state registers hold every
     /// lane's state, which the event and report lists read where it is.
     regs: Vec<Reg>,
@@ -120,6 +121,10 @@ pub struct LaneRunner<'p> {
     chattered: u64,
     /// The number the observer is given for lane 0.
     first: usize,
+    /// The next sample instant (every lane shares the schedule).
+    clock: SampleClock,
+    /// The update list's roots, gathered before any held register changes.
+    updated: Vec<Reg>,
 }
 
 impl<'p> LaneRunner<'p> {
@@ -154,10 +159,19 @@ impl<'p> LaneRunner<'p> {
             for (m, &v) in s.regimes.iter().enumerate() {
                 regs[code.regimes[m] as usize][b][j] = f64::from(v);
             }
+            for (k, &v) in s.held.iter().enumerate() {
+                regs[code.held[k] as usize][b][j] = v;
+            }
         }
         // Registers every active lane shares: time, tables and the per-run
         // constants whose values agree (fixed parameters, literals).
-        let lists = [&code.deriv, &code.events, &code.report, &code.measured];
+        let lists = [
+            &code.deriv,
+            &code.events,
+            &code.report,
+            &code.measured,
+            &code.update,
+        ];
         let mut shared = vec![false; code.registers];
         shared[code.time as usize] = true;
         for l in lists {
@@ -188,6 +202,8 @@ impl<'p> LaneRunner<'p> {
             hoist: false,
             chattered: 0,
             first: 0,
+            clock: SampleClock::default(),
+            updated: vec![ZERO; code.held.len()],
         }
     }
 
@@ -254,6 +270,7 @@ impl<'p> LaneRunner<'p> {
             let which = match which {
                 2 => NativeList::Report,
                 3 => NativeList::Measured,
+                4 => NativeList::Update,
                 _ => unreachable!("native code runs the derivative and the events in rig_rk4"),
             };
             self.fill_tables(&[t]);
@@ -344,9 +361,46 @@ impl<'p> LaneRunner<'p> {
         }
     }
 
-    /// One step of every lane from `t`; lanes past a switch are redone by
-    /// their own stepper with the switch located.
+    /// One step of every lane from `t`, split at the controllers' sample
+    /// instants inside it as [`EventStepper::step`] splits it.
     fn step(&mut self, t: f64, h: f64) {
+        let mut clock = self.clock;
+        clock.step(
+            self.prog.sampling.as_ref(),
+            self,
+            t,
+            h,
+            &mut |me, ta, len| me.piece(ta, len),
+            &mut |me, tn| me.sample(tn),
+        );
+        self.clock = clock;
+    }
+
+    /// Every lane's held states set from their updates at `t` (a sample
+    /// instant), all from the values before.
+    fn sample(&mut self, t: f64) {
+        let code = self.code;
+        self.eval(&code.update, 4, t);
+        for (u, &root) in self.updated.iter_mut().zip(&code.update.roots) {
+            *u = self.regs[root as usize];
+        }
+        for (u, &reg) in self.updated.iter().zip(&code.held) {
+            self.regs[reg as usize] = *u;
+        }
+    }
+
+    /// Takes the sample instants not yet taken at or before `t`.
+    fn catch_up(&mut self, t: f64) {
+        if let Some(s) = self.prog.sampling.as_ref() {
+            let mut clock = self.clock;
+            clock.catch_up(s, self, t, &mut |me, t| me.sample(t));
+            self.clock = clock;
+        }
+    }
+
+    /// One piece of a step (between sample instants) for every lane; lanes
+    /// past a switch are redone by their own stepper with the switch located.
+    fn piece(&mut self, t: f64, h: f64) {
         let nb = self.nb;
         self.rk4(t, h);
         let code = self.code;
@@ -374,6 +428,9 @@ impl<'p> LaneRunner<'p> {
                 *v = self.regs[s][b][j];
             }
             let st = &mut self.steppers[l];
+            for (k, v) in st.held.iter_mut().enumerate() {
+                *v = self.regs[self.code.held[k] as usize][b][j];
+            }
             st.step_ending_at(t, h, &mut lane_y, &lane_end);
             for (s, v) in lane_y.iter().enumerate() {
                 self.regs[s][b][j] = *v;
@@ -406,6 +463,7 @@ impl<'p> LaneRunner<'p> {
             self,
             |me, t, h| me.step(t, h),
             |me, k, t| {
+                me.catch_up(t);
                 me.eval(&code.measured, 3, t);
                 // The lanes in order are the register's row as it lies; a
                 // copy only where a chattering lane must read NaN.
@@ -467,6 +525,7 @@ impl<'p> LaneRunner<'p> {
             self,
             |me, t, h| me.step(t, h),
             |me, k, t| {
+                me.catch_up(t);
                 me.eval(list, which, t);
                 let mut left = live;
                 while left != 0 {

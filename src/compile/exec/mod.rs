@@ -9,4 +9,5 @@ mod isa;
 pub mod lane_code;
 pub mod lanes;
 pub mod math;
+pub mod sampling;
 pub mod tape;

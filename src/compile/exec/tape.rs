@@ -16,6 +16,9 @@ pub struct Tape {
     pub event_ops: Vec<Id>,
     /// Outputs' and full state's other operations.
     pub report_ops: Vec<Id>,
+    /// The held states' updates' other operations (empty without
+    /// controllers).
+    pub update_ops: Vec<Id>,
 }
 
 fn needed(p: &Program, roots: &[Id], run: bool) -> Vec<Id> {
@@ -33,6 +36,10 @@ impl Tape {
         all.extend(&p.outputs);
         all.extend(&p.full_state);
         all.extend(&p.initial);
+        if let Some(s) = &p.sampling {
+            all.extend(&s.update);
+            all.extend(&s.initial);
+        }
         let mut report = p.outputs.clone();
         report.extend(&p.full_state);
         Self {
@@ -40,6 +47,7 @@ impl Tape {
             deriv_ops: needed(p, &p.deriv, false),
             event_ops: needed(p, &p.event_roots(), false),
             report_ops: needed(p, &report, false),
+            update_ops: needed(p, &p.update_roots(), false),
         }
     }
 }
@@ -53,6 +61,8 @@ pub struct Point<'a> {
     pub y: &'a [f64],
     /// Regime variables.
     pub regimes: &'a [u32],
+    /// Held (controller) states.
+    pub held: &'a [f64],
 }
 
 /// One run's values: the per-run constants filled once, the rest per call.
@@ -88,6 +98,7 @@ impl<'p> Frame<'p> {
             t: 0.0,
             y: &[],
             regimes: &[],
+            held: &[],
         };
         f.eval_with(&tape.run_ops, none, slots);
         f
@@ -111,6 +122,7 @@ impl<'p> Frame<'p> {
                     Input::State(s) => pt.y[s as usize],
                     Input::Regime(m) => f64::from(pt.regimes[m as usize]),
                     Input::Table(k) => table_value(self.prog, self.force, k, pt.t),
+                    Input::Held(k) => pt.held[k as usize],
                 },
             );
             self.vals[i as usize] = x;

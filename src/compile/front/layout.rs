@@ -531,7 +531,7 @@ pub fn not_finite_found(
 }
 
 /// A name the generated code and every output file can carry as it is.
-fn ident(s: &str) -> bool {
+pub(super) fn ident(s: &str) -> bool {
     !s.is_empty()
         && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
         && !s.starts_with(|c: char| c.is_ascii_digit())

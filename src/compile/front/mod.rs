@@ -7,6 +7,7 @@
 //! tangential spring, the play position of each backlash element) in element
 //! order.
 
+mod controller;
 mod drive;
 mod element;
 pub mod expr;
@@ -70,6 +71,11 @@ pub fn lower(desc: &RigDesc, file: &str) -> Result<Lowered, RigError> {
         }
         if !drive_modes.contains(&d.mode) {
             drive_modes.push(d.mode.clone());
+        }
+    }
+    for c in &desc.controllers {
+        if c.mode == "force" && !drive_modes.contains(&c.mode) {
+            drive_modes.push(c.mode.clone());
         }
     }
     if desc.outputs.is_empty() {
@@ -215,6 +221,11 @@ fn lower_mode(lay: &Layout, mode: &str) -> Result<Program, RigError> {
         }
     }
 
+    let controllers = controller::Controllers::of_mode(lay, mode)?;
+    for (k, f) in controllers.forces(lay, &mut g)? {
+        external[k].push(f);
+    }
+
     // Element forces.
     let mut forces: Vec<Id> = vec![];
     let mut internal: Vec<(u32, Id)> = vec![];
@@ -294,6 +305,7 @@ fn lower_mode(lay: &Layout, mode: &str) -> Result<Program, RigError> {
         for (j, term) in out.sum.iter().enumerate() {
             let path = format!("outputs[{o}].sum[{j}]");
             let picks = [
+                term.controller.as_ref().map(|s| ("controller", s)),
                 term.force.as_ref().map(|s| ("force", s)),
                 term.displacement.as_ref().map(|s| ("displacement", s)),
                 term.velocity.as_ref().map(|s| ("velocity", s)),
@@ -311,12 +323,25 @@ fn lower_mode(lay: &Layout, mode: &str) -> Result<Program, RigError> {
                 many => {
                     return Err(lay.err(
                         path,
-                        "at most one of force, displacement, velocity, acceleration",
+                        "at most one of controller, force, displacement, velocity, acceleration",
                         format!("{}", many.len()),
                     ));
                 }
             };
-            let v = if what == "force" {
+            let v = if what == "controller" {
+                if !desc.controllers.iter().any(|c| &c.name == name) {
+                    return Err(lay.err(
+                        format!("{path}.controller"),
+                        "a controller name",
+                        format!("{name:?}"),
+                    ));
+                }
+                // Held at 0 in a drive mode the controller does not run in.
+                match controllers.command(&mut g, name) {
+                    Some(c) => c,
+                    None => zero,
+                }
+            } else if what == "force" {
                 match lay.elements.get(name.as_str()) {
                     Some(&i) => forces[i],
                     None => {
@@ -347,6 +372,8 @@ fn lower_mode(lay: &Layout, mode: &str) -> Result<Program, RigError> {
         outputs.push(sum);
     }
 
+    let sampling = controllers.sampling(lay, &mut g, &outputs, &mut tables)?;
+
     // A state starts from the rig's `initial_<state>` parameter where it has
     // one (a campaign's `"initial"` declares it), else at rest.
     let initial = lay
@@ -367,6 +394,7 @@ fn lower_mode(lay: &Layout, mode: &str) -> Result<Program, RigError> {
         run_constant: vec![],
         tables,
         initial,
+        sampling,
     };
     p.mark_run_constants();
     Ok(p)

@@ -55,6 +55,9 @@ pub enum EmitError {
     /// More transitions than [`MAX_TRANSITIONS`].
     #[error("{0} located switches; the GPU kernels take at most {MAX_TRANSITIONS}")]
     TooManyTransitions(usize),
+    /// A rig with digital controllers (not written for the kernels yet).
+    #[error("the GPU kernels do not run digital controllers yet")]
+    Controllers,
 }
 
 /// A program prepared for the kernels: which run constants become slots, and the
@@ -100,6 +103,9 @@ impl GpuRig {
     pub fn with_fitness(prog: &Program, fitness: Option<Program>) -> Result<Self, EmitError> {
         if prog.transitions.len() > MAX_TRANSITIONS {
             return Err(EmitError::TooManyTransitions(prog.transitions.len()));
+        }
+        if prog.sampling.is_some() {
+            return Err(EmitError::Controllers);
         }
         let tape = Tape::new(prog);
         // Run constants read by a per-step operation or used as a root.
@@ -277,6 +283,7 @@ impl Emitter<'_> {
                 Op::In(Input::Slot(_)) => unreachable!("slots are run constants"),
                 Op::In(Input::State(k)) => format!("y.s{k}"),
                 Op::In(Input::Regime(m)) => format!("real(md.m{m})"),
+                Op::In(Input::Held(k)) => format!("md.h{k}"),
                 Op::In(Input::Table(k)) => {
                     format!("ck.tab{k}")
                 }

@@ -1,0 +1,181 @@
+//! A held (sampled, zero-order-hold) controller against its exact solution,
+//! and the CPU lanes against the f64 reference on controlled rigs.
+//!
+//! The mass of `tests/rigs/held_pd.json` feels only its controller's force,
+//! which is constant between sample instants, so over each piece the exact
+//! solution is the double integrator's step: `x += v·τ + u·τ²/(2m)`,
+//! `v += u·τ/m` (the matrix exponential of one period with the held input).
+//! RK4 integrates that polynomial exactly, so the rig must match it to
+//! rounding, at one step per sample and at a period of 0.7 samples, whose
+//! instants fall inside steps.
+
+use std::ops::ControlFlow;
+
+use rigfit::base::{Drive, Report, SampleGrid};
+use rigfit::model::compiled::CompiledRig;
+use rigfit::rig::desc::RigDesc;
+
+fn rig_desc(file: &str) -> RigDesc {
+    let path = format!("{}/tests/rigs/{file}", env!("CARGO_MANIFEST_DIR"));
+    serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap()
+}
+
+const M: f64 = 2.0;
+const KP: f64 = 400.0;
+const KD: f64 = 12.0;
+const X0: f64 = 0.01;
+
+/// The exact held PD loop at period `p`: position and command at every time
+/// of `times` (the command as set at the last instant at or before it).
+fn exact(p: f64, times: &[f64]) -> Vec<(f64, f64)> {
+    let (mut x, mut v, mut x_prev, mut u) = (X0, 0.0, X0, 0.0);
+    let mut tk = 0.0;
+    let mut k = 0u64;
+    let mut out = vec![];
+    for &t in times {
+        // Every instant up to t (within rounding), the state carried exactly.
+        while (k as f64) * p <= t + 1e-9 * p {
+            let t_next = k as f64 * p;
+            let tau = t_next - tk;
+            x += v * tau + u * tau * tau / (2.0 * M);
+            v += u * tau / M;
+            tk = t_next;
+            let u_new = -KP * x - KD * (x - x_prev) / p;
+            x_prev = x;
+            u = u_new;
+            k += 1;
+        }
+        let tau = t - tk;
+        out.push((x + v * tau + u * tau * tau / (2.0 * M), u));
+    }
+    out
+}
+
+fn simulate(desc: RigDesc, grid: &SampleGrid) -> Vec<(f64, f64)> {
+    let r = CompiledRig::new(desc, "held_pd").unwrap();
+    let p = vec![M, KP, KD, X0];
+    let mut out = vec![];
+    r.simulate(&p, &Drive::Velocity, grid, &mut |s| {
+        out.push((s.outputs[0], s.outputs[1]));
+        ControlFlow::Continue(())
+    });
+    out
+}
+
+fn worst(got: &[(f64, f64)], want: &[(f64, f64)]) -> (f64, f64) {
+    let xs = want.iter().map(|w| w.0.abs()).fold(0.0, f64::max);
+    let us = want.iter().map(|w| w.1.abs()).fold(0.0, f64::max);
+    got.iter().zip(want).fold((0.0, 0.0), |(ex, eu), (g, w)| {
+        (
+            f64::max(ex, (g.0 - w.0).abs() / xs),
+            f64::max(eu, (g.1 - w.1).abs() / us),
+        )
+    })
+}
+
+#[test]
+fn a_held_pd_loop_matches_its_exact_discrete_solution_at_one_step_per_sample() {
+    let grid = SampleGrid {
+        t0: 0.0,
+        dt: 1e-3,
+        samples: 400,
+        substeps: 1,
+    };
+    let got = simulate(rig_desc("held_pd.json"), &grid);
+    let times: Vec<f64> = (0..grid.samples).map(|k| grid.time(k)).collect();
+    let want = exact(1e-3, &times);
+    // The loop rings down: the position changes sign and decays.
+    assert!(want.iter().any(|w| w.0 < -1e-3), "no overshoot");
+    let (ex, eu) = worst(&got, &want);
+    assert!(
+        ex <= 1e-10 && eu <= 1e-10,
+        "position {ex:e}, command {eu:e}"
+    );
+}
+
+#[test]
+fn a_period_of_seven_tenths_of_a_sample_hits_its_instants_exactly() {
+    let grid = SampleGrid {
+        t0: 0.0,
+        dt: 1e-3,
+        samples: 300,
+        substeps: 1,
+    };
+    let mut desc = rig_desc("held_pd.json");
+    desc.controllers[0].period = 0.7e-3;
+    let got = simulate(desc, &grid);
+    let times: Vec<f64> = (0..grid.samples).map(|k| grid.time(k)).collect();
+    let want = exact(0.7e-3, &times);
+    let (ex, eu) = worst(&got, &want);
+    assert!(
+        ex <= 1e-10 && eu <= 1e-10,
+        "position {ex:e}, command {eu:e}"
+    );
+    // Taken at whole steps instead, the instants would be up to 0.3 ms
+    // late: the same test fails by far more than its tolerance.
+    let late = exact(1e-3, &times);
+    assert!(worst(&late, &want).0 > 1e-3);
+}
+
+/// Every output and state of every run, as bits.
+fn histories(r: &CompiledRig, ps: &[Vec<f64>], grid: &SampleGrid, many: bool) -> Vec<Vec<u64>> {
+    if many {
+        let refs: Vec<&[f64]> = ps.iter().map(|p| p.as_slice()).collect();
+        let mut h = vec![vec![]; ps.len()];
+        r.simulate_many(&refs, &Drive::Velocity, grid, Report::Full, &mut |l, s| {
+            h[l].extend(s.outputs.iter().chain(s.state).map(|v| v.to_bits()));
+            ControlFlow::Continue(())
+        });
+        h
+    } else {
+        ps.iter()
+            .map(|p| {
+                let mut h = vec![];
+                r.simulate(p, &Drive::Velocity, grid, &mut |s| {
+                    h.extend(s.outputs.iter().chain(s.state).map(|v| v.to_bits()));
+                    ControlFlow::Continue(())
+                });
+                h
+            })
+            .collect()
+    }
+}
+
+#[test]
+fn lanes_match_the_reference_on_a_held_controller_with_stick_slip() {
+    // Sample instants every 0.7 ms and stick-slip switches in the same
+    // steps; nine candidates (a full block of eight and one more).
+    let r = CompiledRig::new(rig_desc("held_stick_slip.json"), "held_stick_slip").unwrap();
+    let base: Vec<f64> = r.params().iter().map(|p| p.default.unwrap()).collect();
+    let ps: Vec<Vec<f64>> = (0..9)
+        .map(|i| {
+            let mut p = base.clone();
+            p[1] *= 1.0 + 0.1 * i as f64;
+            p[3] *= 1.0 - 0.05 * i as f64;
+            p
+        })
+        .collect();
+    let grid = SampleGrid {
+        t0: 0.0,
+        dt: 1e-3,
+        samples: 1200,
+        substeps: 2,
+    };
+    let one = histories(&r, &ps, &grid, false);
+    let many = histories(&r, &ps, &grid, true);
+    for (i, (a, b)) in many.iter().zip(&one).enumerate() {
+        assert!(a == b, "candidate {i} differs");
+    }
+    // The run both sticks and slips, and its command saturates.
+    let drive = Drive::Velocity;
+    let mut st = r.stepper(&ps[0], &drive).unwrap();
+    let mut y = st.y0.clone();
+    let h = grid.step();
+    let mut saturated = false;
+    for i in 0..(grid.samples - 1) * grid.substeps {
+        st.step(i as f64 * h, h, &mut y);
+        saturated |= st.held[1].abs() == 12.0;
+    }
+    assert!(st.fired.len() > 8, "{} switches", st.fired.len());
+    assert!(saturated, "the command never saturates");
+}
