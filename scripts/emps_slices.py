@@ -19,9 +19,9 @@ note = "# EMPS estimation record (Janot, Gautier, Brunot 2019); see PROVENANCE.m
 
 with open("campaigns/emps/closed_loop.csv", "w") as f:
     f.write(note)
-    f.write("time_s,position_m,reference_position_m\n")
+    f.write("time_s,position_m,reference_position_m,controller_voltage_V\n")
     for r in body:
-        f.write(f"{r[0]},{r[1]},{r[2]}\n")
+        f.write(f"{r[0]},{r[1]},{r[2]},{r[3]}\n")
 
 starts = []
 for w in WINDOWS:

@@ -119,10 +119,21 @@ fn a_period_of_seven_tenths_of_a_sample_hits_its_instants_exactly() {
 
 /// Every output and state of every run, as bits.
 fn histories(r: &CompiledRig, ps: &[Vec<f64>], grid: &SampleGrid, many: bool) -> Vec<Vec<u64>> {
+    driven_histories(r, ps, &Drive::Velocity, grid, many)
+}
+
+/// [`histories`] under `drive`.
+fn driven_histories(
+    r: &CompiledRig,
+    ps: &[Vec<f64>],
+    drive: &Drive,
+    grid: &SampleGrid,
+    many: bool,
+) -> Vec<Vec<u64>> {
     if many {
         let refs: Vec<&[f64]> = ps.iter().map(|p| p.as_slice()).collect();
         let mut h = vec![vec![]; ps.len()];
-        r.simulate_many(&refs, &Drive::Velocity, grid, Report::Full, &mut |l, s| {
+        r.simulate_many(&refs, drive, grid, Report::Full, &mut |l, s| {
             h[l].extend(s.outputs.iter().chain(s.state).map(|v| v.to_bits()));
             ControlFlow::Continue(())
         });
@@ -131,7 +142,7 @@ fn histories(r: &CompiledRig, ps: &[Vec<f64>], grid: &SampleGrid, many: bool) ->
         ps.iter()
             .map(|p| {
                 let mut h = vec![];
-                r.simulate(p, &Drive::Velocity, grid, &mut |s| {
+                r.simulate(p, drive, grid, &mut |s| {
                     h.extend(s.outputs.iter().chain(s.state).map(|v| v.to_bits()));
                     ControlFlow::Continue(())
                 });
@@ -178,4 +189,104 @@ fn lanes_match_the_reference_on_a_held_controller_with_stick_slip() {
     }
     assert!(st.fired.len() > 8, "{} switches", st.fired.len());
     assert!(saturated, "the command never saturates");
+}
+
+/// Every run of `ps` through the lane code of `desc`'s program for `drive`,
+/// on vector instructions `isa`, or built to native f64 code.
+fn lane_histories(
+    desc: &RigDesc,
+    ps: &[Vec<f64>],
+    drive: &Drive,
+    grid: &SampleGrid,
+    isa: Option<rigfit::compile::Isa>,
+) -> Vec<Vec<u64>> {
+    use rigfit::compile::{Arith, LANES, LaneCode, LaneRunner, Native, Tape};
+    let lowered = rigfit::compile::lower(desc, "lanes").unwrap();
+    let mode = match drive {
+        Drive::Velocity => "velocity",
+        Drive::Force(_) => "force",
+    };
+    let prog = lowered.programs.iter().find(|p| p.mode == mode).unwrap();
+    let tape = Tape::new(prog);
+    let code = LaneCode::new(prog, &tape);
+    let native = match isa {
+        Some(_) => None,
+        // No C compiler here is a failure, not a skip.
+        None => {
+            Some(Native::build(&code, Arith::F64).expect("the C compiler builds the lane code"))
+        }
+    };
+    let mut many = vec![vec![]; ps.len()];
+    for (c, chunk) in ps.chunks(LANES).enumerate() {
+        let refs: Vec<&[f64]> = chunk.iter().map(|p| p.as_slice()).collect();
+        let runner = LaneRunner::new(prog, &tape, &code, &refs, drive.force_table());
+        let mut runner = match (&native, isa) {
+            (Some(n), _) => runner.with_native(n),
+            (None, Some(isa)) => runner.with_isa(isa),
+            (None, None) => unreachable!(),
+        };
+        runner.run(grid, Report::Full, &mut |l, s| {
+            many[c * LANES + l].extend(s.outputs.iter().chain(s.state).map(|v| v.to_bits()));
+            ControlFlow::Continue(())
+        });
+    }
+    many
+}
+
+#[test]
+fn every_lane_path_matches_the_reference_bit_for_bit_on_controlled_rigs() {
+    let grid = SampleGrid {
+        t0: 0.0,
+        dt: 1e-3,
+        samples: 800,
+        substeps: 2,
+    };
+    let mut pd_07 = rig_desc("held_pd.json");
+    pd_07.controllers[0].period = 0.7e-3;
+    // The EMPS drive under its held controller, following a reference that
+    // starts at 0.1 m/s and reverses (the Coulomb term switching sign).
+    let emps = rigfit::rig::shipped("emps").unwrap();
+    let t: Vec<f64> = (0..=800).map(|i| i as f64 * 1e-3).collect();
+    let qg: Vec<f64> = t.iter().map(|&t| 0.02 * (7.0 * t).sin()).collect();
+    let reference = Drive::Force(rigfit::base::PiecewiseLinear { t, value: qg });
+    for (desc, drive) in [
+        (rig_desc("held_stick_slip.json"), Drive::Velocity),
+        (pd_07, Drive::Velocity),
+        (emps, reference),
+    ] {
+        let r = CompiledRig::new(desc.clone(), "lanes").unwrap();
+        let base: Vec<f64> = r
+            .params()
+            .iter()
+            .map(|p| match (desc.id.as_str(), p.name.as_str()) {
+                ("emps", "m") => 95.0,
+                ("emps", "f_v") => 200.0,
+                ("emps", "f_c") => 20.0,
+                _ => p.default.unwrap(),
+            })
+            .collect();
+        let ps: Vec<Vec<f64>> = (0..11)
+            .map(|i| {
+                let mut p = base.clone();
+                p[0] *= 1.0 + 0.07 * i as f64;
+                p
+            })
+            .collect();
+        let one = driven_histories(&r, &ps, &drive, &grid, false);
+        let mut paths: Vec<Option<rigfit::compile::Isa>> = rigfit::compile::Isa::available()
+            .into_iter()
+            .map(Some)
+            .collect();
+        paths.push(None);
+        for isa in paths {
+            let many = lane_histories(&desc, &ps, &drive, &grid, isa);
+            for (i, (a, b)) in many.iter().zip(&one).enumerate() {
+                assert!(
+                    a == b,
+                    "{}, {isa:?} (None: native): candidate {i} differs",
+                    desc.id
+                );
+            }
+        }
+    }
 }

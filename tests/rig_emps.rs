@@ -1,9 +1,11 @@
 //! `rigs/emps.json` on the EMPS benchmark's measured record (Janot, Gautier,
-//! Brunot 2019; `campaigns/emps/`): the shipped closed-loop campaign, with a
-//! small search over the whole record, recovers the viscous and Coulomb
-//! friction and the offset of the benchmark's inverse model, and the mass as
-//! low as the continuous form of the sampled controller puts it (README,
-//! "EMPS"); the reference position reaches the rig as a column of the data file.
+//! Brunot 2019; `campaigns/emps/`): the shipped closed-loop campaign, the
+//! drive's digital controller held between its 1 kHz samples and fitted to
+//! the recorded position and controller voltage at once, with a small search
+//! over the whole record, recovers the mass, the friction and the offset of
+//! the benchmark's inverse model within 2 % and 0.3 N (the continuous form of
+//! the controller put the mass 9 % low); the reference position reaches the
+//! rig as a column of the data file.
 
 use std::path::Path;
 
@@ -43,19 +45,17 @@ fn the_closed_loop_fit_recovers_the_inverse_models_friction_and_offset() {
         println!("{n}: {:.4} (inverse model {r})", value(n));
     }
     println!("1 − R² = {:.3e}", s.fitness);
-    assert!(s.fitness < 1e-9, "1 − R² = {:e}", s.fitness);
-    for n in ["f_v", "f_c"] {
+    // The mean of the two channels' 1 − R²: the voltage's 2.6e-3 (its
+    // residual is mostly the position's, 1.7 µm RMS, times the loop's gain
+    // kv·kp = 3.9e4 V/m), the position's 4.3e-10.
+    assert!(s.fitness < 2e-3, "1 − R² = {:e}", s.fitness);
+    for n in ["m", "f_v", "f_c"] {
         let r = IDIM.iter().find(|x| x.0 == n).unwrap().1;
-        assert!((value(n) / r - 1.0).abs() < 0.05, "{n} = {}", value(n));
+        assert!((value(n) / r - 1.0).abs() < 0.02, "{n} = {}", value(n));
     }
     assert!(
         (value("f_offset") - -3.19).abs() < 0.3,
         "offset {}",
         value("f_offset")
     );
-    // The continuous servo sees the held, sampled controller's delay as less
-    // mass: the same fit to a record made with the sampled controller and the
-    // inverse model's values gives 86.7 kg (README).
-    let m = value("m") / 95.09;
-    assert!((0.87..0.95).contains(&m), "m = {} kg", value("m"));
 }

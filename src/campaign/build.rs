@@ -96,9 +96,18 @@ pub(crate) fn build(
         };
         let (lo, hi) = corners(&r.base[e], &genes, e, &r.sources[e]);
         check_physics(file, model, &r.base[e], &lo, &hi, &r.paths[e], &free)?;
+        // The record is read once for all of an experiment's channels.
+        let mut record = None;
         for (view, output, name) in super::channels::views(file, model, e, x)? {
-            let (mut exp, bytes_hash, read) =
-                experiment(file, dir, e, &view, digest, reading, &mut r.warnings)?;
+            let (mut exp, bytes_hash, read) = experiment(
+                file,
+                dir,
+                e,
+                &view,
+                (digest, &mut record),
+                reading,
+                &mut r.warnings,
+            )?;
             if !model.supports(&exp.drive) {
                 return Err(invalid(
                     file,
@@ -300,12 +309,15 @@ fn rig_error(e: rig::RigError) -> CampaignError {
 /// Loads and checks one experiment's data, drive, window and weight. Returns the
 /// experiment, the digest extended with the data file's bytes and the file read
 /// (none on a simulation's grid without a record and without a drive column).
+/// One channel of experiment `e` (`x` the channel's view of it). `record`
+/// holds the record's bytes once a first channel has read them (and added
+/// them to `digest`), for the experiment's other channels.
 fn experiment(
     file: &Path,
     dir: &Path,
     e: usize,
     x: &RawExperiment,
-    digest: u64,
+    (digest, record): (u64, &mut Option<Vec<u8>>),
     reading: Reading<'_>,
     warnings: &mut Vec<String>,
 ) -> Result<(ExperimentData, u64, Option<PathBuf>), CampaignError> {
@@ -364,19 +376,27 @@ fn experiment(
         path,
         source: Box::new(source),
     };
-    let bytes = if read {
-        crate::base::fsutil::read_record(&data_file).map_err(|err| {
-            let source = crate::base::data::DataError::Io {
-                file: data_file.clone(),
-                message: err.to_string(),
+    let digest = match record {
+        Some(_) => digest,
+        None => {
+            let bytes = if read {
+                crate::base::fsutil::read_record(&data_file).map_err(|err| {
+                    let source = crate::base::data::DataError::Io {
+                        file: data_file.clone(),
+                        message: err.to_string(),
+                    };
+                    data_err(format!("{data_at}.file"), source)
+                })?
+            } else {
+                Vec::new()
             };
-            data_err(format!("{data_at}.file"), source)
-        })?
-    } else {
-        Vec::new()
+            let d = fnv1a(digest, &bytes);
+            *record = Some(bytes);
+            d
+        }
     };
-    let digest = fnv1a(digest, &bytes);
-    let text = String::from_utf8_lossy(&bytes);
+    let bytes = record.as_deref().unwrap_or_default();
+    let text = String::from_utf8_lossy(bytes);
     let series = match reading.uniform() {
         Some((dt, samples, _)) => simulation::uniform_series(dt, samples),
         None => parse_csv(&text, &data_file, &spec).map_err(|s| data_err(data_at.clone(), s))?,

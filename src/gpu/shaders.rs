@@ -18,6 +18,8 @@ pub const SHARED_TABLE: &str = include_str!("../../shaders/shared/table.wgsl");
 pub const SHARED_MATH: &str = include_str!("../../shaders/shared/math.wgsl");
 /// The run loop of the compiled rigs (any state size, located switches).
 pub const SHARED_RIG_RUN: &str = include_str!("../../shaders/shared/rig_run.wgsl");
+/// The sample clock of a rig without controllers (compile-time false).
+pub const SHARED_NO_CONTROLLERS: &str = include_str!("../../shaders/shared/no_controllers.wgsl");
 /// Fitness kernel of the compiled rigs.
 pub const KERNEL_FITNESS: &str = include_str!("../../shaders/rig_fitness.wgsl");
 /// History kernel of the compiled rigs.
@@ -158,6 +160,19 @@ pub fn prelude(model: &GpuModel, precision: Precision, shape: ProblemShape) -> S
         "const LOCATE_TOLERANCE: real = {};\n",
         real_literal(tol, precision)
     ));
+    // How near a step's end a controller's sample instant counts as at it
+    // (SampleClock::step: the fraction times the period, in f64 the
+    // reference's own product); shared/no_controllers.wgsl has its own.
+    if let Some(period) = model.sample_period() {
+        let snap = match precision {
+            Precision::F64 => crate::compile::exec::sampling::SAMPLE_SNAP,
+            Precision::F32 => crate::compile::exec::sampling::SAMPLE_SNAP_F32,
+        };
+        s.push_str(&format!(
+            "const SAMPLE_SNAP: real = {};\n",
+            real_literal(snap * period, precision)
+        ));
+    }
     // The largest finite real: the open ends of the compiled rigs' event
     // windows (rig_window).
     let max = match precision {
@@ -243,6 +258,9 @@ pub fn source(
                 rig
             };
             parts.push(rig.source(&|v| real_literal(v, precision)));
+            if !rig.sampled() {
+                parts.push(SHARED_NO_CONTROLLERS.to_string());
+            }
             parts.push(param_fn(baked, precision));
             if kernel == Kernel::Fitness {
                 parts.push(record_fn(shape.record_vec4s));

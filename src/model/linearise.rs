@@ -98,6 +98,20 @@ impl CompiledRig {
         if !said.is_empty() {
             s += &format!(": {}", said.join(", "));
         }
+        if !self.desc.controllers.is_empty() {
+            // A held command is constant between samples: it adds no
+            // stiffness to the continuous rig, whatever its gains.
+            let names: Vec<&str> = self
+                .desc
+                .controllers
+                .iter()
+                .map(|c| c.name.as_str())
+                .collect();
+            s += &format!(
+                " (without its digital controllers, {}: their held command is constant between samples)",
+                names.join(", ")
+            );
+        }
         s
     }
 }

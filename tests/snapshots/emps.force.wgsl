@@ -1,27 +1,31 @@
 // Generated from the rig description by src/compile/back/wgsl/.
 
-const RIG_STATES: u32 = 3u;
-const RIG_MODES: u32 = 1u;
+const RIG_STATES: u32 = 2u;
+const RIG_MODES: u32 = 0u;
 const RIG_REPORT: u32 = 6u;
 
 struct RigState {
     s0: real,
     s1: real,
-    s2: real,
 }
 
 struct RigRegime {
     m0: u32,
+    h0: real,
+    h1: real,
+    h2: real,
+    kn: u32,
 }
 
 struct RunConsts {
-    k6: real,
-    k9: real,
-    k12: real,
-    k14: real,
-    k15: real,
+    k5: real,
+    k8: real,
+    k10: real,
+    k11: real,
     k23: real,
-    k30: real,
+    k29: real,
+    k33: real,
+    k34: real,
     toff0: u32,
     tlen0: u32,
     tt00: real,
@@ -33,18 +37,19 @@ struct RigReport {
 }
 
 struct RigEventValues {
-    g: array<real, 4>,
+    g: array<real, 1>,
 }
 
 fn rig_load(base: u32, ex: ExpInfo) -> RunConsts {
     var kc: RunConsts;
-    kc.k6 = param(base, P_K6);
-    kc.k9 = param(base, P_K9);
-    kc.k12 = param(base, P_K12);
-    kc.k14 = param(base, P_K14);
-    kc.k15 = param(base, P_K15);
+    kc.k5 = param(base, P_K5);
+    kc.k8 = param(base, P_K8);
+    kc.k10 = param(base, P_K10);
+    kc.k11 = param(base, P_K11);
     kc.k23 = param(base, P_K23);
-    kc.k30 = param(base, P_K30);
+    kc.k29 = param(base, P_K29);
+    kc.k33 = param(base, P_K33);
+    kc.k34 = param(base, P_K34);
     kc.toff0 = ex.table_offset;
     kc.tlen0 = ex.table_len;
     kc.tt00 = table_start(kc.toff0, kc.tlen0);
@@ -56,33 +61,40 @@ fn rig_state_load(sb: u32) -> RigState {
     var y: RigState;
     y.s0 = state[sb + 0u];
     y.s1 = state[sb + 1u];
-    y.s2 = state[sb + 2u];
     return y;
 }
 
 fn rig_regimes_load(sb: u32) -> RigRegime {
     var md: RigRegime;
-    md.m0 = u32(state[sb + 3u]);
+    md.h0 = state[sb + 2u];
+    md.h1 = state[sb + 3u];
+    md.h2 = state[sb + 4u];
+    md.kn = u32(state[sb + 5u]);
     return md;
 }
 
 fn rig_initial(base: u32, y: ptr<function, RigState>, md: ptr<function, RigRegime>) {
+    (*md).h0 = real(0e0);
+    (*md).h1 = real(0e0);
+    (*md).h2 = real(0e0);
+    (*md).kn = 0u;
 }
 
 fn rig_state_store(sb: u32, y: RigState, md: RigRegime) {
     state[sb + 0u] = y.s0;
     state[sb + 1u] = y.s1;
-    state[sb + 2u] = y.s2;
-    state[sb + 3u] = real(md.m0);
+    state[sb + 2u] = md.h0;
+    state[sb + 3u] = md.h1;
+    state[sb + 4u] = md.h2;
+    state[sb + 5u] = real(md.kn);
 }
 
-const RIG_ACC: u32 = 4u;
+const RIG_ACC: u32 = 6u;
 
 fn st_axpy(y: RigState, a: real, k: RigState) -> RigState {
     var r: RigState;
     r.s0 = y.s0 + a * k.s0;
     r.s1 = y.s1 + a * k.s1;
-    r.s2 = y.s2 + a * k.s2;
     return r;
 }
 
@@ -90,7 +102,6 @@ fn st_rk4(y: RigState, h6: real, k1: RigState, k2: RigState, k3: RigState, k4: R
     var r: RigState;
     r.s0 = y.s0 + h6 * (((k1.s0 + real(2.0) * k2.s0) + real(2.0) * k3.s0) + k4.s0);
     r.s1 = y.s1 + h6 * (((k1.s1 + real(2.0) * k2.s1) + real(2.0) * k3.s1) + k4.s1);
-    r.s2 = y.s2 + h6 * (((k1.s2 + real(2.0) * k2.s2) + real(2.0) * k3.s2) + k4.s2);
     return r;
 }
 
@@ -98,7 +109,6 @@ fn st_hermite(y0: RigState, f0: RigState, y1: RigState, f1: RigState, c00: real,
     var r: RigState;
     r.s0 = ((c00 * y0.s0 + c10 * f0.s0) + c01 * y1.s0) + c11 * f1.s0;
     r.s1 = ((c00 * y0.s1 + c10 * f0.s1) + c01 * y1.s1) + c11 * f1.s1;
-    r.s2 = ((c00 * y0.s2 + c10 * f0.s2) + c01 * y1.s2) + c11 * f1.s2;
     return r;
 }
 
@@ -119,120 +129,73 @@ fn rig_clock_shift(kc: RunConsts, c: DriveClocks, q: DriveClocks, t: real) -> Dr
 }
 
 fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigState {
-    let v3 = y.s0;
     let v4 = y.s1;
-    let v5 = ck.tab0;
-    let v7 = kc.k6 * v5;
-    let v8 = kc.k6 * v3;
-    let v10 = kc.k9 * v4;
-    let v11 = v8 + v10;
-    let v13 = kc.k12 * v4;
-    let v16 = y.s2;
-    let v17 = kc.k15 * v16;
-    let v20 = real(md.m0);
-    let v21 = select(real(0.0), real(1.0), v20 == real(0e0));
-    let v22 = select(real(0e0), v4, v21 != real(0.0));
-    let v24 = real(0e0) - v11;
-    let v25 = v24 - v13;
-    let v26 = v25 - v17;
-    let v27 = v26 - kc.k23;
-    let v28 = v27 + v7;
-    let v31 = v28 * kc.k30;
+    let v6 = md.h2;
+    let v7 = kc.k5 * v6;
+    let v9 = kc.k8 * v4;
+    let v12 = v4 / kc.k11;
+    let v15 = real(2e0) * v12;
+    let v16 = min(v15, real(4e1));
+    let v18 = max(v16, real(-4e1));
+    let v19 = expm1_r(v18);
+    let v20 = v19 + real(2e0);
+    let v21 = v19 / v20;
+    let v22 = kc.k10 * v21;
+    let v24 = real(0e0) - v9;
+    let v25 = v24 - v22;
+    let v26 = v25 - kc.k23;
+    let v27 = v26 + v7;
+    let v30 = v27 * kc.k29;
     var r: RigState;
     r.s0 = v4;
-    r.s1 = v31;
-    r.s2 = v22;
+    r.s1 = v30;
     return r;
 }
 
 fn rig_events_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigEventValues {
-    let v4 = y.s1;
-    let v16 = y.s2;
-    let v17 = kc.k15 * v16;
-    let v18 = v17 - kc.k14;
-    let v19 = v17 + kc.k14;
     var r: RigEventValues;
-    r.g[0] = v18;
-    r.g[1] = v19;
-    r.g[2] = v4;
-    r.g[3] = v4;
     return r;
 }
 
 fn rig_hits(g0: RigEventValues, g1: RigEventValues, md: RigRegime) -> u32 {
     var hits = 0u;
-    hits |= select(0u, 1u, md.m0 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
-    hits |= select(0u, 2u, md.m0 == 0u && -(g1.g[1]) >= real(0.0) && (!(-(g0.g[1]) >= real(0.0)) || -(g1.g[1]) > -(g0.g[1])));
-    hits |= select(0u, 4u, md.m0 == 1u && -(g1.g[2]) >= real(0.0) && (!(-(g0.g[2]) >= real(0.0)) || -(g1.g[2]) > -(g0.g[2])));
-    hits |= select(0u, 8u, md.m0 == 2u && g1.g[3] >= real(0.0) && (!(g0.g[3] >= real(0.0)) || g1.g[3] > g0.g[3]));
     return hits;
 }
 
 struct EventBases {
     b0: real,
-    b1: real,
-    b2: real,
 }
 
 fn rig_bases_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> EventBases {
-    let v4 = y.s1;
-    let v16 = y.s2;
-    let v17 = kc.k15 * v16;
-    let v19 = v17 + kc.k14;
     var r: EventBases;
-    r.b0 = v17;
-    r.b1 = v19;
-    r.b2 = v4;
+    r.b0 = real(0.0);
     return r;
 }
 
 struct EventWindows {
     lo0: real,
-    lo1: real,
-    lo2: real,
     hi0: real,
-    hi1: real,
-    hi2: real,
 }
 
 fn rig_window(kc: RunConsts, md: RigRegime) -> EventWindows {
     var w: EventWindows;
     w.lo0 = -REAL_MAX;
     w.hi0 = REAL_MAX;
-    w.hi0 = select(w.hi0, min(w.hi0, kc.k14), md.m0 == 0u);
-    w.lo1 = -REAL_MAX;
-    w.hi1 = REAL_MAX;
-    w.lo1 = select(w.lo1, max(w.lo1, real(0.0)), md.m0 == 0u);
-    w.lo2 = -REAL_MAX;
-    w.hi2 = REAL_MAX;
-    w.hi2 = select(w.hi2, min(w.hi2, real(0.0)), md.m0 == 2u);
-    w.lo2 = select(w.lo2, max(w.lo2, real(0.0)), md.m0 == 1u);
     return w;
 }
 
 fn rig_outside(w: EventWindows, b: EventBases) -> bool {
-    return b.b0 - w.hi0 >= real(0.0)
-        | b.b1 - w.lo1 <= real(0.0)
-        | b.b2 - w.hi2 >= real(0.0)
-        | b.b2 - w.lo2 <= real(0.0);
+    return false;
 }
 
 fn rig_oriented(g: RigEventValues, i: u32) -> real {
     switch i {
-        case 0u: { return g.g[0]; }
-        case 1u: { return -(g.g[1]); }
-        case 2u: { return -(g.g[2]); }
-        case 3u: { return g.g[3]; }
         default: { return real(0.0); }
     }
 }
 
 fn rig_fire(i: u32, md: ptr<function, RigRegime>) {
     switch i {
-        case 0u: { (*md).m0 = 1u; }
-        case 1u: { (*md).m0 = 2u; }
-        case 2u: { (*md).m0 = 0u; }
-        case 3u: { (*md).m0 = 0u; }
         default: {}
     }
 }
@@ -245,15 +208,22 @@ fn rig_output0_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCl
 fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigReport {
     let v3 = y.s0;
     let v4 = y.s1;
-    let v16 = y.s2;
-    let v17 = kc.k15 * v16;
+    let v6 = md.h2;
+    let v12 = v4 / kc.k11;
+    let v15 = real(2e0) * v12;
+    let v16 = min(v15, real(4e1));
+    let v18 = max(v16, real(-4e1));
+    let v19 = expm1_r(v18);
+    let v20 = v19 + real(2e0);
+    let v21 = v19 / v20;
+    let v22 = kc.k10 * v21;
     var r: RigReport;
     r.v[0] = v3;
     r.v[1] = v4;
-    r.v[2] = v17;
-    r.v[3] = v3;
-    r.v[4] = v4;
-    r.v[5] = v16;
+    r.v[2] = v22;
+    r.v[3] = v6;
+    r.v[4] = v3;
+    r.v[5] = v4;
     return r;
 }
 
@@ -263,5 +233,36 @@ fn rig_deriv(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigState {
 
 fn rig_events(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigEventValues {
     return rig_events_c(kc, t, y, md, rig_clock(kc, t));
+}
+
+const RIG_SAMPLED: bool = true;
+const SAMPLE_PERIOD: real = real(1e-3);
+const SAMPLE_PHASE: real = real(0e0);
+
+fn rig_instant(md: RigRegime) -> real {
+    return SAMPLE_PHASE + real(md.kn) * SAMPLE_PERIOD;
+}
+
+fn rig_sample_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigRegime {
+    let v3 = y.s0;
+    let v31 = md.h0;
+    let v32 = md.h1;
+    let v35 = ck.tab0;
+    let v36 = v35 - v3;
+    let v37 = kc.k34 * v36;
+    let v38 = v3 - v32;
+    let v41 = v38 / real(2e-3);
+    let v42 = v37 - v41;
+    let v43 = kc.k33 * v42;
+    var r = md;
+    r.h0 = v3;
+    r.h1 = v31;
+    r.h2 = v43;
+    r.kn = md.kn + 1u;
+    return r;
+}
+
+fn rig_sample(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigRegime {
+    return rig_sample_c(kc, t, y, md, rig_clock(kc, t));
 }
 

@@ -1,13 +1,12 @@
 // Generated from the rig description by src/compile/back/wgsl/.
 
-const RIG_STATES: u32 = 3u;
-const RIG_MODES: u32 = 1u;
+const RIG_STATES: u32 = 2u;
+const RIG_MODES: u32 = 0u;
 const RIG_REPORT: u32 = 6u;
 
 struct RigState {
     s0: real,
     s1: real,
-    s2: real,
 }
 
 struct RigRegime {
@@ -17,11 +16,9 @@ struct RigRegime {
 struct RunConsts {
     k5: real,
     k7: real,
-    k10: real,
-    k12: real,
-    k13: real,
-    k21: real,
-    k27: real,
+    k8: real,
+    k20: real,
+    k25: real,
 }
 
 struct RigReport {
@@ -29,18 +26,16 @@ struct RigReport {
 }
 
 struct RigEventValues {
-    g: array<real, 4>,
+    g: array<real, 1>,
 }
 
 fn rig_load(base: u32, ex: ExpInfo) -> RunConsts {
     var kc: RunConsts;
     kc.k5 = param(base, P_K5);
     kc.k7 = param(base, P_K7);
-    kc.k10 = param(base, P_K10);
-    kc.k12 = param(base, P_K12);
-    kc.k13 = param(base, P_K13);
-    kc.k21 = param(base, P_K21);
-    kc.k27 = param(base, P_K27);
+    kc.k8 = param(base, P_K8);
+    kc.k20 = param(base, P_K20);
+    kc.k25 = param(base, P_K25);
     return kc;
 }
 
@@ -48,13 +43,11 @@ fn rig_state_load(sb: u32) -> RigState {
     var y: RigState;
     y.s0 = state[sb + 0u];
     y.s1 = state[sb + 1u];
-    y.s2 = state[sb + 2u];
     return y;
 }
 
 fn rig_regimes_load(sb: u32) -> RigRegime {
     var md: RigRegime;
-    md.m0 = u32(state[sb + 3u]);
     return md;
 }
 
@@ -64,17 +57,14 @@ fn rig_initial(base: u32, y: ptr<function, RigState>, md: ptr<function, RigRegim
 fn rig_state_store(sb: u32, y: RigState, md: RigRegime) {
     state[sb + 0u] = y.s0;
     state[sb + 1u] = y.s1;
-    state[sb + 2u] = y.s2;
-    state[sb + 3u] = real(md.m0);
 }
 
-const RIG_ACC: u32 = 4u;
+const RIG_ACC: u32 = 2u;
 
 fn st_axpy(y: RigState, a: real, k: RigState) -> RigState {
     var r: RigState;
     r.s0 = y.s0 + a * k.s0;
     r.s1 = y.s1 + a * k.s1;
-    r.s2 = y.s2 + a * k.s2;
     return r;
 }
 
@@ -82,7 +72,6 @@ fn st_rk4(y: RigState, h6: real, k1: RigState, k2: RigState, k3: RigState, k4: R
     var r: RigState;
     r.s0 = y.s0 + h6 * (((k1.s0 + real(2.0) * k2.s0) + real(2.0) * k3.s0) + k4.s0);
     r.s1 = y.s1 + h6 * (((k1.s1 + real(2.0) * k2.s1) + real(2.0) * k3.s1) + k4.s1);
-    r.s2 = y.s2 + h6 * (((k1.s2 + real(2.0) * k2.s2) + real(2.0) * k3.s2) + k4.s2);
     return r;
 }
 
@@ -90,7 +79,6 @@ fn st_hermite(y0: RigState, f0: RigState, y1: RigState, f1: RigState, c00: real,
     var r: RigState;
     r.s0 = ((c00 * y0.s0 + c10 * f0.s0) + c01 * y1.s0) + c11 * f1.s0;
     r.s1 = ((c00 * y0.s1 + c10 * f0.s1) + c01 * y1.s1) + c11 * f1.s1;
-    r.s2 = ((c00 * y0.s2 + c10 * f0.s2) + c01 * y1.s2) + c11 * f1.s2;
     return r;
 }
 
@@ -110,117 +98,70 @@ fn rig_clock_shift(kc: RunConsts, c: DriveClocks, q: DriveClocks, t: real) -> Dr
 }
 
 fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigState {
-    let v3 = y.s0;
     let v4 = y.s1;
-    let v6 = kc.k5 * v3;
-    let v8 = kc.k7 * v4;
-    let v9 = v6 + v8;
-    let v11 = kc.k10 * v4;
-    let v14 = y.s2;
-    let v15 = kc.k13 * v14;
-    let v18 = real(md.m0);
-    let v19 = select(real(0.0), real(1.0), v18 == real(0e0));
-    let v20 = select(real(0e0), v4, v19 != real(0.0));
-    let v22 = real(0e0) - v9;
-    let v23 = v22 - v11;
-    let v24 = v23 - v15;
-    let v25 = v24 - kc.k21;
-    let v28 = v25 * kc.k27;
+    let v6 = kc.k5 * v4;
+    let v9 = v4 / kc.k8;
+    let v12 = real(2e0) * v9;
+    let v13 = min(v12, real(4e1));
+    let v15 = max(v13, real(-4e1));
+    let v16 = expm1_r(v15);
+    let v17 = v16 + real(2e0);
+    let v18 = v16 / v17;
+    let v19 = kc.k7 * v18;
+    let v21 = real(0e0) - v6;
+    let v22 = v21 - v19;
+    let v23 = v22 - kc.k20;
+    let v26 = v23 * kc.k25;
     var r: RigState;
     r.s0 = v4;
-    r.s1 = v28;
-    r.s2 = v20;
+    r.s1 = v26;
     return r;
 }
 
 fn rig_events_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigEventValues {
-    let v4 = y.s1;
-    let v14 = y.s2;
-    let v15 = kc.k13 * v14;
-    let v16 = v15 - kc.k12;
-    let v17 = v15 + kc.k12;
     var r: RigEventValues;
-    r.g[0] = v16;
-    r.g[1] = v17;
-    r.g[2] = v4;
-    r.g[3] = v4;
     return r;
 }
 
 fn rig_hits(g0: RigEventValues, g1: RigEventValues, md: RigRegime) -> u32 {
     var hits = 0u;
-    hits |= select(0u, 1u, md.m0 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
-    hits |= select(0u, 2u, md.m0 == 0u && -(g1.g[1]) >= real(0.0) && (!(-(g0.g[1]) >= real(0.0)) || -(g1.g[1]) > -(g0.g[1])));
-    hits |= select(0u, 4u, md.m0 == 1u && -(g1.g[2]) >= real(0.0) && (!(-(g0.g[2]) >= real(0.0)) || -(g1.g[2]) > -(g0.g[2])));
-    hits |= select(0u, 8u, md.m0 == 2u && g1.g[3] >= real(0.0) && (!(g0.g[3] >= real(0.0)) || g1.g[3] > g0.g[3]));
     return hits;
 }
 
 struct EventBases {
     b0: real,
-    b1: real,
-    b2: real,
 }
 
 fn rig_bases_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> EventBases {
-    let v4 = y.s1;
-    let v14 = y.s2;
-    let v15 = kc.k13 * v14;
-    let v17 = v15 + kc.k12;
     var r: EventBases;
-    r.b0 = v15;
-    r.b1 = v17;
-    r.b2 = v4;
+    r.b0 = real(0.0);
     return r;
 }
 
 struct EventWindows {
     lo0: real,
-    lo1: real,
-    lo2: real,
     hi0: real,
-    hi1: real,
-    hi2: real,
 }
 
 fn rig_window(kc: RunConsts, md: RigRegime) -> EventWindows {
     var w: EventWindows;
     w.lo0 = -REAL_MAX;
     w.hi0 = REAL_MAX;
-    w.hi0 = select(w.hi0, min(w.hi0, kc.k12), md.m0 == 0u);
-    w.lo1 = -REAL_MAX;
-    w.hi1 = REAL_MAX;
-    w.lo1 = select(w.lo1, max(w.lo1, real(0.0)), md.m0 == 0u);
-    w.lo2 = -REAL_MAX;
-    w.hi2 = REAL_MAX;
-    w.hi2 = select(w.hi2, min(w.hi2, real(0.0)), md.m0 == 2u);
-    w.lo2 = select(w.lo2, max(w.lo2, real(0.0)), md.m0 == 1u);
     return w;
 }
 
 fn rig_outside(w: EventWindows, b: EventBases) -> bool {
-    return b.b0 - w.hi0 >= real(0.0)
-        | b.b1 - w.lo1 <= real(0.0)
-        | b.b2 - w.hi2 >= real(0.0)
-        | b.b2 - w.lo2 <= real(0.0);
+    return false;
 }
 
 fn rig_oriented(g: RigEventValues, i: u32) -> real {
     switch i {
-        case 0u: { return g.g[0]; }
-        case 1u: { return -(g.g[1]); }
-        case 2u: { return -(g.g[2]); }
-        case 3u: { return g.g[3]; }
         default: { return real(0.0); }
     }
 }
 
 fn rig_fire(i: u32, md: ptr<function, RigRegime>) {
     switch i {
-        case 0u: { (*md).m0 = 1u; }
-        case 1u: { (*md).m0 = 2u; }
-        case 2u: { (*md).m0 = 0u; }
-        case 3u: { (*md).m0 = 0u; }
         default: {}
     }
 }
@@ -233,15 +174,21 @@ fn rig_output0_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCl
 fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigReport {
     let v3 = y.s0;
     let v4 = y.s1;
-    let v14 = y.s2;
-    let v15 = kc.k13 * v14;
+    let v9 = v4 / kc.k8;
+    let v12 = real(2e0) * v9;
+    let v13 = min(v12, real(4e1));
+    let v15 = max(v13, real(-4e1));
+    let v16 = expm1_r(v15);
+    let v17 = v16 + real(2e0);
+    let v18 = v16 / v17;
+    let v19 = kc.k7 * v18;
     var r: RigReport;
     r.v[0] = v3;
     r.v[1] = v4;
-    r.v[2] = v15;
-    r.v[3] = v3;
-    r.v[4] = v4;
-    r.v[5] = v14;
+    r.v[2] = v19;
+    r.v[3] = real(0e0);
+    r.v[4] = v3;
+    r.v[5] = v4;
     return r;
 }
 

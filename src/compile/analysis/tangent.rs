@@ -181,6 +181,7 @@ mod tests {
                 let tape = Tape::new(prog);
                 let n = prog.deriv.len();
                 let mut frame = Frame::new(prog, &tape, &params, Some(&table));
+                let held = crate::compile::exec::initial::initial_held(prog, &frame);
                 // Small displacements and rates, different in every slot.
                 let y: Vec<f64> = (0..n).map(|i| 1e-5 * (1.0 + 0.37 * i as f64)).collect();
                 for ones in [false, true] {
@@ -203,7 +204,7 @@ mod tests {
                                 t,
                                 y,
                                 regimes: &regimes,
-                                held: &[],
+                                held: &held,
                             },
                         );
                         prog.deriv.iter().map(|&d| frame.get(d)).collect()

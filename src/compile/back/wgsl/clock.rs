@@ -1,6 +1,8 @@
 //! The drive clocks: a drive's `exp(c·t)` found in the graph, emitted as
 //! `struct DriveClocks` with `rig_clock` and `rig_clock_shift`, so a block of
-//! the run loop computes it once and carries it from step to step.
+//! the run loop computes it once and carries it from step to step; and the
+//! controllers' sample clock (`rig_instant`, `rig_sample_c`), the kernels'
+//! [`crate::compile::exec::sampling::SampleClock`].
 
 use std::fmt::Write as _;
 
@@ -101,6 +103,50 @@ impl Emitter<'_> {
             let _ = writeln!(s, "    r.tab{k} = {};", table_lookup(k));
         }
         s.push_str("    return r;\n}\n\n");
+        s
+    }
+}
+
+impl Emitter<'_> {
+    /// A rig with controllers: `RIG_SAMPLED`, the period and phase,
+    /// `rig_instant(md)` (the time of the next
+    /// instant, from its index as [`crate::compile::program::Sampling::instant`]
+    /// computes it) and `rig_sample_c(kc, t, y, md, ck)` (every held state
+    /// set from its update at `t`, all from the values before, and the next
+    /// instant counted: [`crate::compile::exec::events::EventStepper::sample`]).
+    /// `SAMPLE_SNAP`, which depends on the kernel's precision
+    /// ([`crate::compile::exec::sampling::SAMPLE_SNAP`] or `SAMPLE_SNAP_F32`
+    /// of the period), is the prelude's (`src/gpu/shaders.rs`).
+    /// Nothing without controllers: the stitcher then adds
+    /// `shaders/shared/no_controllers.wgsl`, whose `RIG_SAMPLED` is a
+    /// compile-time false, so such a rig emits what it did before
+    /// controllers existed and its kernels carry no sampling code.
+    pub(super) fn sample_functions(&self) -> String {
+        let p = self.prog();
+        let Some(smp) = &p.sampling else {
+            return String::new();
+        };
+        let lit = self.literal;
+        let mut s = format!(
+            "const RIG_SAMPLED: bool = true;\nconst SAMPLE_PERIOD: real = {};\nconst SAMPLE_PHASE: real = {};\n\n",
+            lit(smp.period),
+            lit(smp.phase)
+        );
+        s.push_str(
+            "fn rig_instant(md: RigRegime) -> real {\n    return SAMPLE_PHASE + real(md.kn) * SAMPLE_PERIOD;\n}\n\n",
+        );
+        let _ = write!(
+            s,
+            "fn rig_sample_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigRegime {{\n{}    var r = md;\n",
+            self.body(&smp.update)
+        );
+        for (k, &id) in smp.update.iter().enumerate() {
+            let _ = writeln!(s, "    r.h{k} = {};", self.name(id));
+        }
+        s.push_str("    r.kn = md.kn + 1u;\n    return r;\n}\n\n");
+        s.push_str(
+            "fn rig_sample(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigRegime {\n    return rig_sample_c(kc, t, y, md, rig_clock(kc, t));\n}\n\n",
+        );
         s
     }
 }

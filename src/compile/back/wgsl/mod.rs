@@ -11,7 +11,9 @@
 //!
 //! What the emitted source defines (names prefixed `rig_` or `RigState`/`RigRegime`/`RunConsts`):
 //! - `struct RigState` (continuous state, fields `s0…`), `struct RigRegime` (mode
-//!   variables, `m0…`), `struct RunConsts` (the run's constants and table offsets);
+//!   variables, `m0…`; with controllers also the held states `h0…` and the
+//!   next sample instant's index `kn`), `struct RunConsts` (the run's
+//!   constants and table offsets);
 //! - `rig_load(base, ex) -> RunConsts`, `rig_state_load(sb)`, `rig_state_store(sb, y, md)`,
 //!   `rig_regimes_load(sb)`, `rig_initial(base, &y, &md)` (the run's initial
 //!   state and regimes, packed per run where the program has initial-state
@@ -37,6 +39,13 @@
 //!   as `rig_deriv_c`, `rig_events_c`, `rig_output0_c` and `rig_report_c`,
 //!   taking `ck`; `rig_deriv` and `rig_events` (for the located-switch path)
 //!   compute it at `t`, as the CPU reference computes the exponential.
+//! - with controllers, the sample clock ([`Emitter::sample_functions`]):
+//!   `RIG_SAMPLED`, `SAMPLE_PERIOD`, `SAMPLE_PHASE`, `rig_instant(md)` and `rig_sample_c(kc, t, y, md, ck) -> RigRegime`
+//!   (every held state from its update, the next instant counted), with
+//!   `rig_sample` computing the clocks at `t`; the state buffer keeps the
+//!   held states and the index after the regimes (`SAMPLE_SNAP`, which
+//!   depends on the precision, is the prelude's). Without controllers none
+//!   of it is written (`shaders/shared/no_controllers.wgsl` stands in).
 
 use std::fmt::Write as _;
 
@@ -55,9 +64,6 @@ pub enum EmitError {
     /// More transitions than [`MAX_TRANSITIONS`].
     #[error("{0} located switches; the GPU kernels take at most {MAX_TRANSITIONS}")]
     TooManyTransitions(usize),
-    /// A rig with digital controllers (not written for the kernels yet).
-    #[error("the GPU kernels do not run digital controllers yet")]
-    Controllers,
 }
 
 /// A program prepared for the kernels: which run constants become slots, and the
@@ -104,15 +110,18 @@ impl GpuRig {
         if prog.transitions.len() > MAX_TRANSITIONS {
             return Err(EmitError::TooManyTransitions(prog.transitions.len()));
         }
-        if prog.sampling.is_some() {
-            return Err(EmitError::Controllers);
-        }
         let tape = Tape::new(prog);
         // Run constants read by a per-step operation or used as a root.
         let mut roots: Vec<Id> = prog.deriv.clone();
         roots.extend(prog.event_roots());
         roots.extend(&prog.outputs);
         roots.extend(&prog.full_state);
+        // The controllers' updates, and their held states' values before the
+        // first instant (read by `rig_initial`).
+        if let Some(s) = &prog.sampling {
+            roots.extend(&s.update);
+            roots.extend(&s.initial);
+        }
         let live = prog.graph.live(&roots);
         let mut wanted = vec![false; prog.graph.ops.len()];
         for (i, op) in prog.graph.ops.iter().enumerate() {
@@ -179,9 +188,26 @@ impl GpuRig {
         self.prog.mode_count()
     }
 
-    /// Values per run in the state buffer: the states, the regimes, the residual sum.
+    /// Held (controller) states.
+    pub fn held(&self) -> usize {
+        self.prog.held_count()
+    }
+
+    /// Whether the rig has controllers (sample instants).
+    pub fn sampled(&self) -> bool {
+        self.prog.sampling.is_some()
+    }
+
+    /// The controllers' sample period (s), if the rig has controllers.
+    pub fn sample_period(&self) -> Option<f64> {
+        self.prog.sampling.as_ref().map(|s| s.period)
+    }
+
+    /// Values per run in the state buffer: the states, the regimes, with
+    /// controllers the held states and the next instant's index, then the
+    /// residual sum.
     pub fn state_stride(&self) -> u32 {
-        (self.states() + self.regimes() + 1) as u32
+        (self.states() + self.regimes() + self.held() + usize::from(self.sampled()) + 1) as u32
     }
 
     /// Values per history record: t, every output, the full state.
@@ -341,11 +367,15 @@ impl Emitter<'_> {
             self.fields("s", ns, "real")
         );
         // WGSL has no empty structs: a rig without regimes keeps one unused.
-        let _ = write!(
-            s,
-            "struct RigRegime {{\n{}}}\n\n",
-            self.fields("m", nm.max(1), "u32")
-        );
+        // The held states and the next instant's index ride with the
+        // regimes: they too change only at a switch in time, and go wherever
+        // the regimes go.
+        let mut md = self.fields("m", nm.max(1), "u32");
+        if p.sampling.is_some() {
+            md.push_str(&self.fields("h", self.rig.held(), "real"));
+            md.push_str("    kn: u32,\n");
+        }
+        let _ = write!(s, "struct RigRegime {{\n{md}}}\n\n");
         let mut kc = String::new();
         for &i in &self.rig.slots {
             let _ = writeln!(kc, "    k{i}: real,");
@@ -374,12 +404,15 @@ impl Emitter<'_> {
         s.push_str(&self.state_algebra());
         s.push_str(&self.clock_functions());
         s.push_str(&self.functions());
+        s.push_str(&self.sample_functions());
         s
     }
 
     fn loaders(&self) -> String {
         let p = self.prog();
-        let (ns, nm) = (self.rig.states(), self.rig.regimes());
+        let (ns, nm, nh) = (self.rig.states(), self.rig.regimes(), self.rig.held());
+        // The next instant's index, after the held states.
+        let kn = ns + nm + nh;
         let mut s = String::from(
             "fn rig_load(base: u32, ex: ExpInfo) -> RunConsts {\n    var kc: RunConsts;\n",
         );
@@ -415,6 +448,12 @@ impl Emitter<'_> {
         for j in 0..nm {
             let _ = writeln!(s, "    md.m{j} = u32(state[sb + {}u]);", ns + j);
         }
+        if p.sampling.is_some() {
+            for k in 0..nh {
+                let _ = writeln!(s, "    md.h{k} = state[sb + {}u];", ns + nm + k);
+            }
+            let _ = writeln!(s, "    md.kn = u32(state[sb + {kn}u]);");
+        }
         s.push_str("    return md;\n}\n\n");
         // The run's start (`advance`, before its first step): the packed
         // initial state and regimes, or nothing (the cleared state buffer is
@@ -428,6 +467,18 @@ impl Emitter<'_> {
                 let _ = writeln!(s, "    (*md).m{j} = u32(param(base, P_M0_{j}));");
             }
         }
+        // The held states' values before the first instant: run constants,
+        // read as slots (or written as literals), as the initial state is.
+        if let Some(smp) = &p.sampling {
+            for (k, &id) in smp.initial.iter().enumerate() {
+                let v = match p.graph.ops[id as usize] {
+                    Op::Const(c) => (self.literal)(c),
+                    _ => format!("param(base, P_K{id})"),
+                };
+                let _ = writeln!(s, "    (*md).h{k} = {v};");
+            }
+            s.push_str("    (*md).kn = 0u;\n");
+        }
         s.push_str("}\n\n");
         s.push_str("fn rig_state_store(sb: u32, y: RigState, md: RigRegime) {\n");
         for i in 0..ns {
@@ -436,7 +487,14 @@ impl Emitter<'_> {
         for j in 0..nm {
             let _ = writeln!(s, "    state[sb + {}u] = real(md.m{j});", ns + j);
         }
-        let _ = writeln!(s, "}}\n\nconst RIG_ACC: u32 = {}u;\n", ns + nm);
+        if p.sampling.is_some() {
+            for k in 0..nh {
+                let _ = writeln!(s, "    state[sb + {}u] = md.h{k};", ns + nm + k);
+            }
+            let _ = writeln!(s, "    state[sb + {kn}u] = real(md.kn);");
+        }
+        let acc = kn + usize::from(p.sampling.is_some());
+        let _ = writeln!(s, "}}\n\nconst RIG_ACC: u32 = {acc}u;\n");
         s
     }
 
