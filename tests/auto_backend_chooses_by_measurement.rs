@@ -4,7 +4,9 @@
 //! the path with the higher rate, and a second run of the same job reads the
 //! choice back from the cache instead of measuring again. A forced backend
 //! measures nothing, and `rigfit check` estimates the job's time from the
-//! rates measured for it.
+//! rates measured for it. A job too short for a trial to pay back runs on
+//! the CPU unmeasured and says so, unless `RIGFIT_AUTO_TRIAL=always` (or
+//! `RIGFIT_REQUIRE_GPU=1`, which opens the GPU to fail without one).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -12,6 +14,18 @@ use std::process::Command;
 use serde_json::Value;
 
 fn run(campaign: &Path, out: &Path, cache: &Path, backend: &str) -> Value {
+    run_trial(campaign, out, cache, backend, "always").0
+}
+
+/// `rigfit run` with `RIGFIT_AUTO_TRIAL` set to `trial`: its result and
+/// what it said.
+fn run_trial(
+    campaign: &Path,
+    out: &Path,
+    cache: &Path,
+    backend: &str,
+    trial: &str,
+) -> (Value, String) {
     let o = Command::new(env!("CARGO_BIN_EXE_rigfit"))
         .arg("run")
         .arg(campaign)
@@ -19,9 +33,11 @@ fn run(campaign: &Path, out: &Path, cache: &Path, backend: &str) -> Value {
         .arg(out)
         .args(["--backend", backend])
         .env("RIGFIT_CACHE_DIR", cache)
+        .env("RIGFIT_AUTO_TRIAL", trial)
+        .env_remove("RIGFIT_REQUIRE_GPU")
         .output()
         .unwrap();
-    let err = String::from_utf8_lossy(&o.stderr);
+    let err = String::from_utf8_lossy(&o.stderr).to_string();
     assert!(o.status.success(), "rigfit run failed: {err}");
     if backend == "auto" {
         assert!(
@@ -29,7 +45,27 @@ fn run(campaign: &Path, out: &Path, cache: &Path, backend: &str) -> Value {
             "no choice said: {err}"
         );
     }
-    serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap()
+    let result =
+        serde_json::from_str(&std::fs::read_to_string(out.join("result.json")).unwrap()).unwrap();
+    (result, err)
+}
+
+#[test]
+fn a_job_too_short_for_a_trial_runs_on_the_cpu_unmeasured() {
+    let dir = tempfile::tempdir().unwrap();
+    let campaign = small_campaign(dir.path());
+    let cache = dir.path().join("cache");
+    let (r, said) = run_trial(&campaign, &dir.path().join("a"), &cache, "auto", "");
+    assert_eq!(r["backend"], "cpu");
+    assert!(r.get("backend_trial").is_none(), "nothing measured");
+    assert!(
+        said.contains("without a trial: the job is estimated at") && said.contains("under 4 s"),
+        "{said}"
+    );
+    assert!(
+        !cache.join("backend-trials.json").exists(),
+        "nothing cached"
+    );
 }
 
 #[test]

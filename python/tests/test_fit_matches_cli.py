@@ -117,6 +117,8 @@ def test_backend_auto_takes_the_clis_measured_choice(bearing, cli, tmp_path, mon
     # `auto` races the two paths once and caches the choice per machine and
     # job; both sides read the same cache, so they run on the same path.
     monkeypatch.setenv("RIGFIT_CACHE_DIR", str(tmp_path / "cache"))
+    # A job this short would run on the CPU unmeasured: measure it anyway.
+    monkeypatch.setenv("RIGFIT_AUTO_TRIAL", "always")
     cli("run", bearing, "--backend", "auto", "--seed", "4", "--out", tmp_path / "cli")
     cli_json = json.loads((tmp_path / "cli" / "result.json").read_text())
     r = rigfit.fit(rigfit.Campaign.from_json(bearing), seed=4, backend="auto")

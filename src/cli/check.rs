@@ -11,7 +11,7 @@ use super::campaign_file::load_for_check;
 use super::options::RunLengthArgs;
 use super::output::Output;
 use rigfit::campaign::Campaign;
-use rigfit::job::memory::{self, MemoryEstimate, human_bytes};
+use rigfit::job::memory::{self, GPU_STEPS_PER_S_ASSUMED, MemoryEstimate, human_bytes};
 
 /// `rigfit check`.
 #[derive(Debug, Args)]
@@ -21,12 +21,6 @@ pub struct CheckArgs {
     #[command(flatten)]
     pub run_length: RunLengthArgs,
 }
-
-/// Candidate-steps per second `check` assumes for the GPU path: lavapipe's
-/// f32 kernels on two cores measure about 1.2e8 (README, throughput); a
-/// discrete GPU runs one to two orders of magnitude more, so on one the
-/// estimate is an upper bound.
-const GPU_STEPS_PER_S_ASSUMED: f64 = 1e8;
 
 /// The job's wall time, estimated from its steps: the GA's candidates on
 /// every core and at [`GPU_STEPS_PER_S_ASSUMED`] on the GPU, then the polish's
@@ -132,12 +126,14 @@ pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
                     "about {} on the CPU ({} cores at an assumed {:.0e} steps/s each), about \
                      {} on the GPU (at an assumed {:.0e} candidate-steps/s, lavapipe's f32 rate; \
                      a discrete GPU runs 10 to 100 times more); `run --backend auto` measures \
-                     both, and `check` uses its figures once it has",
+                     both (a job under {} s on its faster path runs on the CPU unmeasured), and \
+                     `check` uses its figures once it has",
                     rigfit::campaign::human_duration(f("cpu_seconds")),
                     f("cpu_cores"),
                     rigfit::campaign::CPU_STEPS_PER_S_PER_CORE,
                     rigfit::campaign::human_duration(f("gpu_seconds")),
-                    GPU_STEPS_PER_S_ASSUMED
+                    GPU_STEPS_PER_S_ASSUMED,
+                    rigfit::job::backend::SHORT_JOB_SECONDS,
                 )
             };
             let _ = write!(

@@ -14,6 +14,14 @@
 //! population, so the next run of the same job on the same machine skips the
 //! trial and repeats the choice (and a resumed job keeps its path).
 //!
+//! A job too short for a trial to pay back ([`SHORT_JOB_SECONDS`] on its
+//! faster path, as `check` estimates it) runs on the CPU unmeasured: the
+//! trial alone (opening the GPU's pipelines, warm-ups, three timed batches)
+//! takes 0.3 to 1 s on a 2-core machine, more than lavapipe could save on
+//! it, and the CPU starts at once. `RIGFIT_AUTO_TRIAL=always` measures
+//! those too, and so does `RIGFIT_REQUIRE_GPU=1`, which makes a missing
+//! adapter an error (so the GPU is opened, whatever the job's length).
+//!
 //! [`open_job_evaluator`] is that flow whole (the refusals before any work,
 //! the cached choice, the race, the cache), as the CLI's `rigfit run` and the
 //! Python package's `rigfit.fit` both open their evaluator.
@@ -36,6 +44,16 @@ use crate::gpu::GpuError;
 /// candidates faster than the CPU lanes and 256 of them slower), above it
 /// fewer candidates, in whole workgroups of 64.
 pub const TRIAL_STEPS: f64 = 3e7;
+
+/// Estimated wall time (s) on the faster path below which `auto` runs a job
+/// on the CPU without a trial ([`crate::job::memory::TimeEstimate`], at the
+/// assumed rates: every core at the CPU's, the GPU at
+/// [`crate::job::memory::GPU_STEPS_PER_S_ASSUMED`]). Measured on the shipped
+/// campaigns (2026-11-26, 2 cores, lavapipe): every one estimated below it
+/// ran as fast on the CPU as on lavapipe or faster, within 6 %, once each
+/// path's start-up is counted; the trial took 0.3 to 0.7 s of their 0.4 to
+/// 4 s.
+pub const SHORT_JOB_SECONDS: f64 = 4.0;
 
 /// Fewest candidates a trial batch scores (the population, where smaller).
 pub const TRIAL_MIN_CANDIDATES: usize = 128;
@@ -177,6 +195,11 @@ pub enum OpenNote {
         /// Why.
         error: String,
     },
+    /// `auto` ran a short job on the CPU without a trial.
+    ShortJob {
+        /// The job's estimated wall time on its faster path (s).
+        seconds: f64,
+    },
 }
 
 impl std::fmt::Display for OpenNote {
@@ -189,6 +212,12 @@ impl std::fmt::Display for OpenNote {
             Self::NotCached { error } => write!(
                 f,
                 "the backend choice could not be cached ({error}); the next run measures again"
+            ),
+            Self::ShortJob { seconds } => write!(
+                f,
+                "backend auto chose the CPU without a trial: the job is estimated at {seconds:.1} s on \
+                 its faster path, under {SHORT_JOB_SECONDS} s, too short for a GPU's start-up and a \
+                 trial to pay back (--backend gpu runs it there)"
             ),
         }
     }
@@ -265,6 +294,15 @@ pub fn open_job_evaluator(
     if let Some(t) = cached.clone().filter(|t| t.chosen == "cpu") {
         return Ok(on_cpu(cpu, notes, Some(t)));
     }
+    let always = std::env::var("RIGFIT_AUTO_TRIAL").is_ok_and(|v| v == "always")
+        || crate::gpu::gpu_required();
+    if trial_key.is_some() && cached.is_none() && !always {
+        let seconds = short_job_estimate(campaign);
+        if seconds < SHORT_JOB_SECONDS {
+            notes.push(OpenNote::ShortJob { seconds });
+            return Ok(on_cpu(cpu, notes, None));
+        }
+    }
     let opened =
         crate::gpu::open_evaluator_on(campaign.problem.clone(), backend, precision, adapter)
             .map_err(OpenError::Gpu)?;
@@ -299,6 +337,19 @@ pub fn open_job_evaluator(
         notes,
         trial,
     })
+}
+
+/// The job's estimated wall time on its faster path (s), at the assumed
+/// rates `check` starts from.
+pub fn short_job_estimate(campaign: &Campaign) -> f64 {
+    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    let e = crate::job::memory::TimeEstimate::of(
+        campaign,
+        super::steps_per_candidate(campaign),
+        cores,
+        crate::job::memory::GPU_STEPS_PER_S_ASSUMED,
+    );
+    e.cpu_seconds.min(e.gpu_seconds)
 }
 
 /// The trial batch: `n` genomes spread over the search box by a fixed seed.

@@ -305,6 +305,12 @@ pub const POLISH_SHARE_OF_FITNESS_RATE: f64 = 0.13;
 /// full rounds (median 6.6; starts retired early take fewer).
 pub const POLISH_ROUNDS_EXPECTED: usize = 7;
 
+/// Candidate-steps per second assumed for the GPU path before any is
+/// measured: lavapipe's f32 kernels on two cores measure about 1.2e8
+/// (README, throughput); a discrete GPU runs one to two orders of magnitude
+/// more, so on one an estimate from it is an upper bound.
+pub const GPU_STEPS_PER_S_ASSUMED: f64 = 1e8;
+
 /// What a job costs besides the GA and the polish: the process, the
 /// campaign, opening the path (lavapipe's pipelines, the native lane
 /// build), `auto`'s trial where nothing is cached. Measured on the nine

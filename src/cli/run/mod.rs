@@ -199,6 +199,7 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
             }
             OpenNote::Fallback { note, .. } => format!("note: {note}"),
             OpenNote::NotCached { .. } => format!("warning: {note}"),
+            OpenNote::ShortJob { .. } => format!("note: {note}"),
         });
     }
     let (mut evaluator, backend_trial) = (opened.evaluator, opened.trial);
