@@ -152,3 +152,20 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn a_huge_clock_offset_is_refused_without_an_overflow() {
+    // Found by `campaign_parser_survives_value_replacement`: a clock offset
+    // of 1e300 s asked for a prologue of usize::MAX steps, whose sum with
+    // the record's overflowed while the step was chosen.
+    let dir = setup();
+    for offset in [
+        serde_json::json!(1e300),
+        serde_json::json!({"min": 0.0, "max": 1e300}),
+        serde_json::json!({"min": 0.0, "max": 1e300, "init": 1e300}),
+    ] {
+        let mut v = example();
+        v["experiments"][0]["offset"] = offset;
+        let _ = Campaign::from_str(&v.to_string(), dir.path(), "fuzz.json");
+    }
+}

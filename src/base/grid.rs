@@ -39,9 +39,11 @@ impl SampleGrid {
         }
     }
 
-    /// Total RK4 steps for the whole run, prologue included.
+    /// Total RK4 steps for the whole run, prologue included (saturating: a
+    /// clock offset of 1e300 s is a count to refuse, not an overflow).
     pub fn total_steps(&self) -> usize {
-        self.prologue_steps() + self.samples.saturating_sub(1) * self.substeps
+        self.prologue_steps()
+            .saturating_add(self.samples.saturating_sub(1).saturating_mul(self.substeps))
     }
 }
 

@@ -97,6 +97,21 @@ pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
                 e.window.end
             );
         }
+        for k in &c.model.desc.controllers {
+            let states: Vec<&str> = k.states.iter().map(|x| x.name.as_str()).collect();
+            let _ = write!(
+                s,
+                "\n  controller {} (\"{}\" experiments): sampled every {:e} s from {:e} s, held \
+                 states {}, command {} pushing {}",
+                k.name,
+                k.mode,
+                k.period,
+                k.phase,
+                states.join(", "),
+                k.command,
+                k.acts_on.node
+            );
+        }
         let _ = write!(
             s,
             "\n  one candidate: {:.3e} RK4 steps, about {} on one CPU core",

@@ -507,6 +507,7 @@ F double ssin(double a) { return sin(a); }
 F double scos(double a) { return cos(a); }
 void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) {
     double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26;
+    (void)r0; (void)t; (void)tab; (void)out;
     r4 = t;
     r7 = R[7];
     r8 = R[8];
@@ -558,6 +559,19 @@ void rig_deriv1(const double *restrict R, double t, const double *tab, double *r
     out[1] = r3;
     out[2] = r24;
     out[3] = r25;
+}
+void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) {
+    double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26;
+    (void)r0; (void)t; (void)tab; (void)out;
+    r4 = t;
+    r7 = R[7];
+    r20 = R[20];
+    r21 = r4 - r7;
+    r22 = r21 - r20;
+    out[0] = r21;
+    out[1] = r22;
+    out[2] = r21;
+    out[3] = r22;
 }
 void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {

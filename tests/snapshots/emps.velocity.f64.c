@@ -175,6 +175,7 @@ F double ssin(double a) { return sin(a); }
 F double scos(double a) { return cos(a); }
 void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) {
     double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14;
+    (void)r0; (void)t; (void)tab; (void)out;
     r3 = R[3];
     r1 = R[1];
     r4 = R[4];
@@ -200,6 +201,10 @@ void rig_deriv1(const double *restrict R, double t, const double *tab, double *r
     r12 = r12 * r11;
     out[0] = r1;
     out[1] = r12;
+}
+void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) {
+    double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14;
+    (void)r0; (void)t; (void)tab; (void)out;
 }
 void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {

@@ -242,6 +242,7 @@ F double ssin(double a) { return sin(a); }
 F double scos(double a) { return cos(a); }
 void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) {
     double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17;
+    (void)r0; (void)t; (void)tab; (void)out;
     r2 = R[2];
     r3 = R[3];
     r5 = R[5];
@@ -273,6 +274,10 @@ void rig_deriv1(const double *restrict R, double t, const double *tab, double *r
     out[1] = r3;
     out[2] = r15;
     out[3] = r17;
+}
+void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) {
+    double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17;
+    (void)r0; (void)t; (void)tab; (void)out;
 }
 void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {

@@ -419,6 +419,7 @@ F double ssin(double a) { return sin(a); }
 F double scos(double a) { return cos(a); }
 void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) {
     double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17;
+    (void)r0; (void)t; (void)tab; (void)out;
     r5 = R[5];
     r3 = t;
     r6 = R[6];
@@ -449,6 +450,21 @@ void rig_deriv1(const double *restrict R, double t, const double *tab, double *r
     out[0] = r1;
     out[1] = r16;
     out[2] = r17;
+}
+void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) {
+    double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17;
+    (void)r0; (void)t; (void)tab; (void)out;
+    r10 = R[10];
+    r2 = R[2];
+    r12 = R[12];
+    r1 = R[1];
+    r14 = r10 * r2;
+    r15 = r14 - r12;
+    r14 = r14 + r12;
+    out[0] = r15;
+    out[1] = r14;
+    out[2] = r1;
+    out[3] = r1;
 }
 void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {

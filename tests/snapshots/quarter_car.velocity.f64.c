@@ -781,6 +781,7 @@ F double ssin(double a) { return sin(a); }
 F double scos(double a) { return cos(a); }
 void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) {
     double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39;
+    (void)r0; (void)t; (void)tab; (void)out;
     r8 = R[8];
     r6 = t;
     r9 = R[9];
@@ -860,6 +861,20 @@ void rig_deriv1(const double *restrict R, double t, const double *tab, double *r
     out[3] = r12;
     out[4] = r30;
     out[5] = r36;
+}
+void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) {
+    double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39;
+    (void)r0; (void)t; (void)tab; (void)out;
+    r2 = R[2];
+    r1 = R[1];
+    r21 = R[21];
+    r29 = r2 - r1;
+    r30 = r29 - r21;
+    r29 = r29 + r21;
+    out[0] = r30;
+    out[1] = r30;
+    out[2] = r29;
+    out[3] = r29;
 }
 void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {

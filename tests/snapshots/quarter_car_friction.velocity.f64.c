@@ -867,6 +867,7 @@ F double ssin(double a) { return sin(a); }
 F double scos(double a) { return cos(a); }
 void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) {
     double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43;
+    (void)r0; (void)t; (void)tab; (void)out;
     r10 = R[10];
     r7 = t;
     r11 = R[11];
@@ -955,6 +956,33 @@ void rig_deriv1(const double *restrict R, double t, const double *tab, double *r
     out[4] = r34;
     out[5] = r41;
     out[6] = r39;
+}
+void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) {
+    double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43;
+    (void)r0; (void)t; (void)tab; (void)out;
+    r2 = R[2];
+    r1 = R[1];
+    r5 = R[5];
+    r4 = R[4];
+    r23 = R[23];
+    r27 = R[27];
+    r6 = R[6];
+    r30 = R[30];
+    r33 = r2 - r1;
+    r34 = r5 - r4;
+    r35 = r33 - r23;
+    r33 = r33 + r23;
+    r36 = r27 * r6;
+    r37 = r36 - r30;
+    r36 = r36 + r30;
+    out[0] = r35;
+    out[1] = r35;
+    out[2] = r33;
+    out[3] = r33;
+    out[4] = r37;
+    out[5] = r36;
+    out[6] = r34;
+    out[7] = r34;
 }
 void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {

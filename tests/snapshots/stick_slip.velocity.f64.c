@@ -180,6 +180,7 @@ F double ssin(double a) { return sin(a); }
 F double scos(double a) { return cos(a); }
 void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) {
     double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13;
+    (void)r0; (void)t; (void)tab; (void)out;
     r6 = R[6];
     r1 = R[1];
     r7 = R[7];
@@ -199,6 +200,23 @@ void rig_deriv1(const double *restrict R, double t, const double *tab, double *r
     out[0] = r1;
     out[1] = r11;
     out[2] = r13;
+}
+void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) {
+    double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13;
+    (void)r0; (void)t; (void)tab; (void)out;
+    r6 = R[6];
+    r1 = R[1];
+    r7 = R[7];
+    r2 = R[2];
+    r10 = R[10];
+    r11 = r6 - r1;
+    r12 = r7 * r2;
+    r13 = r12 - r10;
+    r12 = r12 + r10;
+    out[0] = r13;
+    out[1] = r12;
+    out[2] = r11;
+    out[3] = r11;
 }
 void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {

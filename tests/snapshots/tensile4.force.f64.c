@@ -420,6 +420,7 @@ F double ssin(double a) { return sin(a); }
 F double scos(double a) { return cos(a); }
 void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) {
     double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49;
+    (void)r0; (void)t; (void)tab; (void)out;
     r13 = R[13];
     r0 = R[0];
     r9 = R[9];
@@ -520,6 +521,27 @@ void rig_deriv1(const double *restrict R, double t, const double *tab, double *r
     out[5] = r45;
     out[6] = r47;
     out[7] = r42;
+}
+void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) {
+    double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49;
+    (void)r0; (void)t; (void)tab; (void)out;
+    r1 = R[1];
+    r0 = R[0];
+    r40 = R[40];
+    r41 = R[41];
+    r3 = R[3];
+    r2 = R[2];
+    r28 = R[28];
+    r42 = r1 - r0;
+    r43 = r42 - r40;
+    r42 = r42 - r41;
+    r44 = r3 - r2;
+    r44 = r44 - r28;
+    out[0] = r43;
+    out[1] = r43;
+    out[2] = r42;
+    out[3] = r44;
+    out[4] = r44;
 }
 void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {

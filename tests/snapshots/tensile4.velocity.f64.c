@@ -1007,6 +1007,7 @@ F double ssin(double a) { return sin(a); }
 F double scos(double a) { return cos(a); }
 void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) {
     double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49, r50, r51;
+    (void)r0; (void)t; (void)tab; (void)out;
     r8 = t;
     r12 = R[12];
     r13 = R[13];
@@ -1119,6 +1120,41 @@ void rig_deriv1(const double *restrict R, double t, const double *tab, double *r
     out[5] = r49;
     out[6] = r45;
     out[7] = r12;
+}
+void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) {
+    double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49, r50, r51;
+    (void)r0; (void)t; (void)tab; (void)out;
+    r8 = t;
+    r12 = R[12];
+    r13 = R[13];
+    r14 = R[14];
+    r15 = R[15];
+    r16 = R[16];
+    r1 = R[1];
+    r0 = R[0];
+    r42 = R[42];
+    r43 = R[43];
+    r2 = R[2];
+    r31 = R[31];
+    r44 = sle(r8, r12);
+    r45 = r13 * r8;
+    r45 = -r45;
+    r45 = sexpm1(r45);
+    r46 = r14 * r8;
+    r45 = r15 * r45;
+    r45 = r46 + r45;
+    r45 = ssel(r16, r46, r45);
+    r45 = ssel(r44, r12, r45);
+    r44 = r1 - r0;
+    r46 = r44 - r42;
+    r44 = r44 - r43;
+    r45 = r45 - r2;
+    r45 = r45 - r31;
+    out[0] = r46;
+    out[1] = r46;
+    out[2] = r44;
+    out[3] = r45;
+    out[4] = r45;
 }
 void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {

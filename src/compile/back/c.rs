@@ -618,38 +618,43 @@ pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
     s.push_str(STORE_HITS);
     s.push_str("}\n");
 
-    // rig_deriv1: one run's derivative for its redone steps; `R` its scalar
-    // register file (states, regimes and per-run constants at their
-    // registers), `out` the slopes.
+    // rig_deriv1 and rig_events1: one run's derivative and event functions
+    // for the steps its stepper redoes; `R` its scalar register file
+    // (states, regimes, held states and per-run constants at their
+    // registers), `out` the slopes or the event functions' values.
     s.push_str(SCALAR);
-    s.push_str(
-        "void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) {\n",
-    );
-    let _ = writeln!(
-        s,
-        "    double {};",
-        (0..code.registers)
-            .map(|i| format!("r{i}"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    );
-    for &reg in &inputs(&code.deriv) {
-        let src = if reg == code.time {
-            "t".to_string()
-        } else if let Some(k) = table_of(reg) {
-            format!("tab[{k}]")
-        } else {
-            format!("R[{reg}]")
-        };
-        let _ = writeln!(s, "    r{reg} = {src};");
+    for (name, list) in [("rig_deriv1", &code.deriv), ("rig_events1", &code.events)] {
+        let _ = writeln!(
+            s,
+            "void {name}(const double *restrict R, double t, const double *tab, double *restrict out) {{"
+        );
+        let _ = writeln!(
+            s,
+            "    double {};",
+            (0..code.registers)
+                .map(|i| format!("r{i}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        s.push_str("    (void)r0; (void)t; (void)tab; (void)out;\n");
+        for &reg in &inputs(list) {
+            let src = if reg == code.time {
+                "t".to_string()
+            } else if let Some(k) = table_of(reg) {
+                format!("tab[{k}]")
+            } else {
+                format!("R[{reg}]")
+            };
+            let _ = writeln!(s, "    r{reg} = {src};");
+        }
+        for ins in &list.code {
+            s.push_str(&statement(ins.dest, &ins.op, 's'));
+        }
+        for (i, &root) in list.roots.iter().enumerate() {
+            let _ = writeln!(s, "    out[{i}] = r{root};");
+        }
+        s.push_str("}\n");
     }
-    for ins in &code.deriv.code {
-        s.push_str(&statement(ins.dest, &ins.op, 's'));
-    }
-    for (i, &root) in code.deriv.roots.iter().enumerate() {
-        let _ = writeln!(s, "    out[{i}] = r{root};");
-    }
-    s.push_str("}\n");
 
     for (name, list) in [
         ("rig_report", &code.report),

@@ -82,10 +82,12 @@ pub struct Native {
     rk4: Rk4Fn,
     lists: [ListFn; 3],
     deriv1: Deriv1Fn,
-    /// The lane code's register count and state count, which
-    /// [`Self::deriv1`]'s slices hold.
+    events1: Deriv1Fn,
+    /// The lane code's register count, state count and event-function
+    /// count, which [`Self::deriv1`]'s and [`Self::events1`]'s slices hold.
     registers: usize,
     states: usize,
+    events: usize,
     /// Table values per derivative in [`Self::rk4`]'s `tab`.
     pub(crate) table_stride: usize,
     /// The per-run constants whose values, shared by every lane, let
@@ -209,6 +211,18 @@ impl Native {
         // SAFETY: the C reads registers below `registers`, tables below
         // `table_stride`, and writes `states` slopes.
         unsafe { (self.deriv1)(r.as_ptr(), t, tab.as_ptr(), out.as_mut_ptr()) }
+    }
+
+    /// One run's event functions in f64, bit for bit the scalar
+    /// reference's, as [`Self::deriv1`]: their values into `out`, one per
+    /// transition.
+    #[expect(unsafe_code, reason = "calls the compiled C")]
+    pub(crate) fn events1(&self, r: &[f64], t: f64, tab: &[f64], out: &mut [f64]) {
+        assert!(r.len() == self.registers && out.len() == self.events);
+        assert!(tab.len() >= self.table_stride);
+        // SAFETY: the C reads registers below `registers`, tables below
+        // `table_stride`, and writes `events` values.
+        unsafe { (self.events1)(r.as_ptr(), t, tab.as_ptr(), out.as_mut_ptr()) }
     }
 }
 
@@ -470,12 +484,15 @@ fn compile_and_load(
             list(b"rig_update\0")?,
         ];
         let deriv1: Deriv1Fn = *l.get::<Deriv1Fn>(b"rig_deriv1\0").map_err(load_err)?;
+        let events1: Deriv1Fn = *l.get::<Deriv1Fn>(b"rig_events1\0").map_err(load_err)?;
         Ok(Native {
             rk4,
             lists,
             deriv1,
+            events1,
             registers: code.registers,
             states: code.slopes.len(),
+            events: code.events.roots.len(),
             table_stride: c::table_stride(code),
             hoist_reads: c::hoistable(code).reads,
             arith,

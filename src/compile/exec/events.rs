@@ -42,6 +42,8 @@ struct NativeDeriv<'p> {
     /// and regimes at each call.
     r: Vec<f64>,
     tab: Vec<f64>,
+    /// The event functions' values from `native`.
+    g: Vec<f64>,
 }
 
 /// One run's integrator: scratch space, regimes and what fired.
@@ -125,22 +127,30 @@ impl<'p> EventStepper<'p> {
             native,
             r,
             tab: vec![0.0; native.table_stride],
+            g: vec![0.0; code.events.roots.len()],
         });
+    }
+
+    /// The native code's inputs at `(t, y)` in the current regimes and held
+    /// states: its register file and tables.
+    fn native_inputs(&mut self, t: f64, y: &[f64]) -> Option<&mut NativeDeriv<'p>> {
+        let nd = self.native.as_mut()?;
+        nd.r[..y.len()].copy_from_slice(y);
+        for (&m, &v) in nd.code.regimes.iter().zip(&self.regimes) {
+            nd.r[m as usize] = f64::from(v);
+        }
+        for (&m, &v) in nd.code.held.iter().zip(&self.held) {
+            nd.r[m as usize] = v;
+        }
+        for (k, v) in nd.tab.iter_mut().enumerate() {
+            *v = table_value(self.prog, self.frame.force(), k as u32, t);
+        }
+        Some(nd)
     }
 
     /// `dy/dt` at `(t, y)` in the current regimes, into `out`.
     pub fn deriv(&mut self, t: f64, y: &[f64], out: &mut [f64]) {
-        if let Some(nd) = &mut self.native {
-            nd.r[..y.len()].copy_from_slice(y);
-            for (&m, &v) in nd.code.regimes.iter().zip(&self.regimes) {
-                nd.r[m as usize] = f64::from(v);
-            }
-            for (&m, &v) in nd.code.held.iter().zip(&self.held) {
-                nd.r[m as usize] = v;
-            }
-            for (k, v) in nd.tab.iter_mut().enumerate() {
-                *v = table_value(self.prog, self.frame.force(), k as u32, t);
-            }
+        if let Some(nd) = self.native_inputs(t, y) {
             nd.native.deriv1(&nd.r, t, &nd.tab, out);
             return;
         }
@@ -180,8 +190,18 @@ impl<'p> EventStepper<'p> {
         self.tmp = tmp;
     }
 
-    /// Event-function values at `(t, y)` in the current regimes.
+    /// Event-function values at `(t, y)` in the current regimes, each at
+    /// its transition's root in the frame.
     fn events_at(&mut self, t: f64, y: &[f64]) {
+        let prog = self.prog;
+        if self.native_inputs(t, y).is_some() {
+            let nd = self.native.as_mut().expect("native code");
+            nd.native.events1(&nd.r, t, &nd.tab, &mut nd.g);
+            for (tr, &g) in prog.transitions.iter().zip(&nd.g) {
+                self.frame.vals[tr.g as usize] = g;
+            }
+            return;
+        }
         let pt = Point {
             t,
             y,
