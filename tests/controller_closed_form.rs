@@ -117,6 +117,28 @@ fn a_period_of_seven_tenths_of_a_sample_hits_its_instants_exactly() {
     assert!(worst(&late, &want).0 > 1e-3);
 }
 
+#[test]
+fn ten_instants_in_every_step_are_each_taken() {
+    // A controller ten times faster than the record: each 1 ms step is cut
+    // into ten pieces (none of them a located switch).
+    let grid = SampleGrid {
+        t0: 0.0,
+        dt: 1e-3,
+        samples: 200,
+        substeps: 1,
+    };
+    let mut desc = rig_desc("held_pd.json");
+    desc.controllers[0].period = 1e-4;
+    let got = simulate(desc, &grid);
+    let times: Vec<f64> = (0..grid.samples).map(|k| grid.time(k)).collect();
+    let want = exact(1e-4, &times);
+    let (ex, eu) = worst(&got, &want);
+    assert!(
+        ex <= 1e-10 && eu <= 1e-10,
+        "position {ex:e}, command {eu:e}"
+    );
+}
+
 /// Every output and state of every run, as bits.
 fn histories(r: &CompiledRig, ps: &[Vec<f64>], grid: &SampleGrid, many: bool) -> Vec<Vec<u64>> {
     driven_histories(r, ps, &Drive::Velocity, grid, many)

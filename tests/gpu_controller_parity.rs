@@ -190,6 +190,12 @@ fn cases() -> Vec<Case> {
             1,
         ),
         pd(
+            "held PD, period 0.1 ms (ten instants inside every step)",
+            held_pd(0.1e-3, 0.0),
+            0.0,
+            1,
+        ),
+        pd(
             "held PD, period 0.7 ms, phase 0.25 ms, two substeps, a prologue",
             held_pd(0.7e-3, 0.25e-3),
             2.6e-3,
