@@ -341,7 +341,7 @@ pub fn open_job_evaluator(
 
 /// The job's estimated wall time on its faster path (s), at the assumed
 /// rates `check` starts from.
-pub fn short_job_estimate(campaign: &Campaign) -> f64 {
+fn short_job_estimate(campaign: &Campaign) -> f64 {
     let cores = std::thread::available_parallelism().map_or(1, usize::from);
     let e = crate::job::memory::TimeEstimate::of(
         campaign,

@@ -202,27 +202,28 @@ impl Native {
 
     /// One run's derivative in f64 (whatever [`Self::arith`]), bit for bit
     /// the scalar reference's: `r` the run's scalar register file (states,
-    /// regimes and per-run constants at their registers), time `t`, table
-    /// values `tab`; the slopes into `out`.
-    #[expect(unsafe_code, reason = "calls the compiled C")]
+    /// regimes, held states and per-run constants at their registers), time
+    /// `t`, table values `tab`; the slopes into `out`.
     pub(crate) fn deriv1(&self, r: &[f64], t: f64, tab: &[f64], out: &mut [f64]) {
-        assert!(r.len() == self.registers && out.len() == self.states);
-        assert!(tab.len() >= self.table_stride);
-        // SAFETY: the C reads registers below `registers`, tables below
-        // `table_stride`, and writes `states` slopes.
-        unsafe { (self.deriv1)(r.as_ptr(), t, tab.as_ptr(), out.as_mut_ptr()) }
+        self.one_run(self.deriv1, self.states, r, t, tab, out);
     }
 
     /// One run's event functions in f64, bit for bit the scalar
     /// reference's, as [`Self::deriv1`]: their values into `out`, one per
     /// transition.
-    #[expect(unsafe_code, reason = "calls the compiled C")]
     pub(crate) fn events1(&self, r: &[f64], t: f64, tab: &[f64], out: &mut [f64]) {
-        assert!(r.len() == self.registers && out.len() == self.events);
+        self.one_run(self.events1, self.events, r, t, tab, out);
+    }
+
+    /// Calls `f`, one of the one-run functions, which writes `n` values.
+    #[expect(unsafe_code, reason = "calls the compiled C")]
+    fn one_run(&self, f: Deriv1Fn, n: usize, r: &[f64], t: f64, tab: &[f64], out: &mut [f64]) {
+        assert!(r.len() == self.registers && out.len() == n);
         assert!(tab.len() >= self.table_stride);
-        // SAFETY: the C reads registers below `registers`, tables below
-        // `table_stride`, and writes `events` values.
-        unsafe { (self.events1)(r.as_ptr(), t, tab.as_ptr(), out.as_mut_ptr()) }
+        // SAFETY: `f` is `rig_deriv1` or `rig_events1` of this library; each
+        // reads registers below `registers` and tables below `table_stride`,
+        // and writes its `n` values (`states` slopes, `events` values).
+        unsafe { f(r.as_ptr(), t, tab.as_ptr(), out.as_mut_ptr()) }
     }
 }
 

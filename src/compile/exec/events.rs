@@ -258,13 +258,14 @@ impl<'p> EventStepper<'p> {
     /// Takes the sample instants not yet taken at or before `t` (the first,
     /// at `t = 0`, before the first step or report).
     pub fn catch_up(&mut self, t: f64, y: &[f64]) {
-        if let Some(s) = self.prog.sampling.as_ref() {
-            let mut clock = self.clock;
-            clock.catch_up(s, &mut (&mut *self, y), t, &mut |(me, y), t| {
-                me.sample(t, y)
-            });
-            self.clock = clock;
-        }
+        let mut clock = self.clock;
+        clock.catch_up(
+            self.prog.sampling.as_ref(),
+            &mut (&mut *self, y),
+            t,
+            &mut |(me, y), t| me.sample(t, y),
+        );
+        self.clock = clock;
     }
 
     /// One piece of a step ([`Self::step`] between sample instants) where

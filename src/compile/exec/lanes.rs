@@ -391,11 +391,11 @@ impl<'p> LaneRunner<'p> {
 
     /// Takes the sample instants not yet taken at or before `t`.
     fn catch_up(&mut self, t: f64) {
-        if let Some(s) = self.prog.sampling.as_ref() {
-            let mut clock = self.clock;
-            clock.catch_up(s, self, t, &mut |me, t| me.sample(t));
-            self.clock = clock;
-        }
+        let mut clock = self.clock;
+        clock.catch_up(self.prog.sampling.as_ref(), self, t, &mut |me, t| {
+            me.sample(t)
+        });
+        self.clock = clock;
     }
 
     /// One piece of a step (between sample instants) for every lane; lanes

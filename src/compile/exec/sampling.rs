@@ -34,14 +34,15 @@ pub struct SampleClock {
 
 impl SampleClock {
     /// Takes every instant not yet taken at or before `t` (within the snap),
-    /// each by `update(ctx, t)`.
+    /// each by `update(ctx, t)`; nothing without controllers (`s` `None`).
     pub fn catch_up<C>(
         &mut self,
-        s: &Sampling,
+        s: Option<&Sampling>,
         ctx: &mut C,
         t: f64,
         update: &mut impl FnMut(&mut C, f64),
     ) {
+        let Some(s) = s else { return };
         while s.instant(self.next) <= t + SAMPLE_SNAP * s.period {
             update(ctx, t);
             self.next += 1;
@@ -65,7 +66,7 @@ impl SampleClock {
             piece(ctx, t, h);
             return;
         };
-        self.catch_up(s, ctx, t, update);
+        self.catch_up(Some(s), ctx, t, update);
         let end = t + h;
         let snap = SAMPLE_SNAP * s.period;
         let mut ta = t;
@@ -81,7 +82,7 @@ impl SampleClock {
                 break;
             }
         }
-        self.catch_up(s, ctx, end, update);
+        self.catch_up(Some(s), ctx, end, update);
     }
 }
 

@@ -224,15 +224,9 @@ impl<'a> Controllers<'a> {
         src: &str,
         path: &str,
     ) -> Result<Id, RigError> {
-        let short: String = src.chars().take(60).collect();
         let expected = "a formula of the controller's states, the rig's outputs and parameters, t, period and (in \"force\" mode) reference";
-        let e = expr::parse(src).map_err(|e| {
-            lay.err(
-                path,
-                expected,
-                format!("{short:?}, column {}: {}", e.column, e.message),
-            )
-        })?;
+        let at = lay.law_error(path, expected, src);
+        let e = expr::parse(src).map_err(&at)?;
         let desc = lay.desc;
         e.lower(g, &mut |g, name| {
             if let Some(&h) = own.get(name) {
@@ -277,15 +271,14 @@ impl<'a> Controllers<'a> {
                     )
                 })
                 .unwrap_or_default();
-            let mut names: Vec<&str> = own.keys().copied().collect();
-            names.extend(desc.outputs.iter().map(|o| o.name.as_str()));
-            names.extend(lay.params.keys().copied());
-            names.extend(["t", "period", "reference"]);
-            names.sort_unstable();
             let near = if other.is_empty() {
-                names
-                    .iter()
-                    .min_by_key(|n| strsim::levenshtein(n, name))
+                let names = own
+                    .keys()
+                    .copied()
+                    .chain(desc.outputs.iter().map(|o| o.name.as_str()))
+                    .chain(lay.params.keys().copied())
+                    .chain(["t", "period", "reference"]);
+                super::layout::nearest(names, name)
                     .map(|n| format!(" (did you mean '{n}'?)"))
                     .unwrap_or_default()
             } else {
@@ -295,12 +288,6 @@ impl<'a> Controllers<'a> {
                 "unknown name '{name}': not one of the controller's states, an output, a parameter, 't', 'period' or 'reference'{other}{near}"
             ))
         })
-        .map_err(|e| {
-            lay.err(
-                path,
-                expected,
-                format!("{short:?}, column {}: {}", e.column, e.message),
-            )
-        })
+        .map_err(at)
     }
 }

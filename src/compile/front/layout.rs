@@ -359,6 +359,24 @@ impl<'a> Layout<'a> {
         Ok(())
     }
 
+    /// How a law's parse or lowering error at `path` reads: the law (its
+    /// first 60 characters), the column and what is wrong there.
+    pub(super) fn law_error<'s>(
+        &'s self,
+        path: &'s str,
+        expected: &'s str,
+        src: &str,
+    ) -> impl Fn(crate::compile::front::expr::ExprError) -> RigError + 's {
+        let short: String = src.chars().take(60).collect();
+        move |e| {
+            self.err(
+                path,
+                expected,
+                format!("{short:?}, column {}: {}", e.column, e.message),
+            )
+        }
+    }
+
     /// Lowers a coefficient at `path`.
     /// An expression law: `src` lowered with `var` (`x` or `v`) bound to its
     /// value and every other name a parameter; errors name the column.
@@ -374,14 +392,8 @@ impl<'a> Layout<'a> {
             var.0
         );
         let short: String = src.chars().take(60).collect();
-        let at = |e: crate::compile::front::expr::ExprError| {
-            self.err(
-                path,
-                expected.clone(),
-                format!("{short:?}, column {}: {}", e.column, e.message),
-            )
-        };
-        let e = crate::compile::front::expr::parse(src).map_err(at)?;
+        let at = self.law_error(path, &expected, src);
+        let e = crate::compile::front::expr::parse(src).map_err(&at)?;
         let (reach, unit) = if var.0 == "x" {
             (law_reach(self.desc, None).0, "m")
         } else {
@@ -405,12 +417,8 @@ impl<'a> Layout<'a> {
             match params.get(name) {
                 Some(&i) => Ok(g.input(Input::Slot(i))),
                 None => {
-                    let mut names: Vec<&str> = params.keys().copied().collect();
-                    names.push(var.0);
-                    names.sort_unstable();
-                    let near = names
-                        .iter()
-                        .min_by_key(|n| strsim::levenshtein(n, name))
+                    let names = params.keys().copied().chain([var.0]);
+                    let near = nearest(names, name)
                         .map(|n| format!(" (did you mean '{n}'?)"))
                         .unwrap_or_default();
                     Err(format!(
@@ -430,14 +438,7 @@ impl<'a> Layout<'a> {
             Coef::Param(name) => match self.params.get(name.as_str()) {
                 Some(&i) => Ok(g.input(Input::Slot(i))),
                 None => {
-                    let mut names: Vec<&str> = self.params.keys().copied().collect();
-                    names.sort_unstable();
-                    let near = names
-                        .iter()
-                        .copied()
-                        .min_by(|a, b| {
-                            strsim::levenshtein(a, name).cmp(&strsim::levenshtein(b, name))
-                        })
+                    let near = nearest(self.params.keys().copied(), name)
                         .map(|n| format!(" (did you mean {n:?}?)"))
                         .unwrap_or_default();
                     Err(self.err(
@@ -531,6 +532,16 @@ pub fn not_finite_found(
 }
 
 /// A name the generated code and every output file can carry as it is.
+/// The name of `names` nearest `name` (edit distance; the first in sorted
+/// order of those as near), for a "did you mean".
+pub(super) fn nearest<'n>(names: impl IntoIterator<Item = &'n str>, name: &str) -> Option<&'n str> {
+    let mut names: Vec<&str> = names.into_iter().collect();
+    names.sort_unstable();
+    names
+        .into_iter()
+        .min_by_key(|n| strsim::levenshtein(n, name))
+}
+
 pub(super) fn ident(s: &str) -> bool {
     !s.is_empty()
         && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
