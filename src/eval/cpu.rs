@@ -19,6 +19,16 @@ pub struct CpuEvaluator {
     pool: rayon::ThreadPool,
     cancel: Option<Arc<AtomicBool>>,
     precision: Precision,
+    /// The thread of [`Evaluator::prepare_soon`]'s builds, joined on drop.
+    early_builds: Option<std::thread::JoinHandle<()>>,
+}
+
+impl Drop for CpuEvaluator {
+    fn drop(&mut self) {
+        if let Some(builds) = self.early_builds.take() {
+            let _ = builds.join();
+        }
+    }
 }
 
 impl CpuEvaluator {
@@ -47,6 +57,7 @@ impl CpuEvaluator {
             pool,
             cancel: None,
             precision: Precision::F64,
+            early_builds: None,
         })
     }
 
@@ -214,6 +225,31 @@ impl Evaluator for CpuEvaluator {
     fn prepare(&mut self) {
         for (e, exp) in self.problem.experiments.iter().enumerate() {
             self.problem.scoring_model(e).prepare_native(&exp.drive);
+        }
+    }
+
+    fn prepare_soon(&mut self) {
+        let problem = &self.problem;
+        let scoring: Vec<_> = (0..problem.experiments.len())
+            .map(|e| problem.scoring_model(e))
+            .collect();
+        let exps = &problem.experiments;
+        // Every fitness build first (the search), then the full programs'
+        // (the histories of the polish).
+        let (mut fitness, mut full) = (vec![], vec![]);
+        for (model, exp) in scoring.iter().zip(exps) {
+            let mut builds = model.native_builds(&exp.drive);
+            if builds.len() > 1 {
+                full.extend(builds.pop());
+            }
+            fitness.extend(builds);
+        }
+        for exp in exps {
+            full.extend(problem.model.native_builds(&exp.drive).pop());
+        }
+        fitness.extend(full);
+        if self.early_builds.is_none() {
+            self.early_builds = crate::compile::back::native::start_builds(&fitness);
         }
     }
 

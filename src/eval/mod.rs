@@ -33,7 +33,9 @@ pub enum Precision {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Backend {
-    /// The GPU when an adapter exists, otherwise the CPU (said once).
+    /// The faster path on this machine, by measurement
+    /// ([`crate::job::backend`]); the CPU where no adapter is found (said
+    /// once).
     #[default]
     Auto,
     /// The GPU; no adapter is an error.
@@ -196,6 +198,12 @@ pub trait Evaluator: Send {
     /// CPU lanes' native build), so that a timed trial measures the path
     /// the job runs. Nothing by default.
     fn prepare(&mut self) {}
+
+    /// Starts making ready, in the background, what [`Evaluator::prepare`]
+    /// makes ready now (and what the polish's histories run), for a job
+    /// long enough to want it: scoring goes on meanwhile as it would
+    /// without. Nothing by default.
+    fn prepare_soon(&mut self) {}
 
     /// The kernel variants it can score with, the one it starts with first
     /// (the GPU's [`KERNEL_VARIANTS`]); none by default. Which is fastest

@@ -204,6 +204,21 @@ impl CompiledRig {
         Ok(std::sync::Arc::new(Self::new(desc, file)?))
     }
 
+    /// The native builds runs of `drive` use, in the order a job wants
+    /// them: the fitness runs' (where they have a variant of their own),
+    /// then the full program's (histories, the polish); none where the
+    /// drive has no lane program.
+    pub fn native_builds(&self, drive: &Drive) -> Vec<(&NativeSlot, &LaneCode)> {
+        let Some(i) = self.program_for(drive) else {
+            return vec![];
+        };
+        let full = (&self.native[i], &self.lane_code[i]);
+        match &self.fitness[i] {
+            Some(f) => vec![(&f.native, &f.lane_code), full],
+            None => vec![full],
+        }
+    }
+
     /// Builds now the f64 native code the fitness runs of `drive` use, rather
     /// than once their work has made it pay ([`NativeSlot::get`]): for a timed
     /// trial, which should measure the path the job will run. Nothing where

@@ -69,6 +69,11 @@ F v vmax(v a, v b) { v r = pick(a > b, a, b); r = pick(a != a, b, r); return pic
 F v vlog(v a) { v r; for (int l = 0; l < WV; l++) r[l] = log(a[l]); return r; }
 F v vsin(v a) { v r; for (int l = 0; l < WV; l++) r[l] = sin(a[l]); return r; }
 F v vcos(v a) { v r; for (int l = 0; l < WV; l++) r[l] = cos(a[l]); return r; }
+/* The same of a uniform vector (every lane alike, as in the instructions
+   hoisted out of rig_rk4's loop): one call, its value in every lane. */
+F v ulog(v a) { return splat(log(a[0])); }
+F v usin(v a) { return splat(sin(a[0])); }
+F v ucos(v a) { return splat(cos(a[0])); }
 F unsigned long long lanebits(m k) {
   k &= (m){1, 2, 4, 8, 16, 32, 64, 128};
   k |= __builtin_shufflevector(k, k, 4, 5, 6, 7, 0, 1, 2, 3);
@@ -93,7 +98,7 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v u0_0 = r21;
     r21 = r8 * r21;
     v u0_1 = r21;
-    r21 = vsin(r21);
+    r21 = usin(r21);
     v u0_3 = r21;
     r23 = r10 * r21;
     v u0_4 = r23;
@@ -104,7 +109,7 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v u1_0 = r21;
     r21 = r8 * r21;
     v u1_1 = r21;
-    r21 = vsin(r21);
+    r21 = usin(r21);
     v u1_3 = r21;
     r23 = r10 * r21;
     v u1_4 = r23;
@@ -115,7 +120,7 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v u2_0 = r21;
     r21 = r8 * r21;
     v u2_1 = r21;
-    r21 = vsin(r21);
+    r21 = usin(r21);
     v u2_3 = r21;
     r23 = r10 * r21;
     v u2_4 = r23;
@@ -126,7 +131,7 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v u3_0 = r21;
     r21 = r8 * r21;
     v u3_1 = r21;
-    r21 = vsin(r21);
+    r21 = usin(r21);
     v u3_3 = r21;
     r23 = r10 * r21;
     v u3_4 = r23;

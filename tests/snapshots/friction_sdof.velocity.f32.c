@@ -111,6 +111,11 @@ F v vmax(v a, v b) { v r = pick(a > b, a, b); r = pick(a != a, b, r); return pic
 F v vlog(v a) { v r; for (int l = 0; l < WV; l++) r[l] = log(a[l]); return r; }
 F v vsin(v a) { v r; for (int l = 0; l < WV; l++) r[l] = sin(a[l]); return r; }
 F v vcos(v a) { v r; for (int l = 0; l < WV; l++) r[l] = cos(a[l]); return r; }
+/* The same of a uniform vector (every lane alike, as in the instructions
+   hoisted out of rig_rk4's loop): one call, its value in every lane. */
+F v ulog(v a) { return splat(log(a[0])); }
+F v usin(v a) { return splat(sin(a[0])); }
+F v ucos(v a) { return splat(cos(a[0])); }
 F unsigned long long lanebits(m k) {
   k &= (m){1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096, 8192, 16384, 32768};
   k |= __builtin_shufflevector(k, k, 8, 9, 10, 11, 12, 13, 14, 15, 0, 1, 2, 3, 4, 5, 6, 7);
@@ -134,7 +139,7 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v u0_0 = r14;
     r15 = vle(r6, r3);
     v u0_1 = r15;
-    r14 = vsin(r14);
+    r14 = usin(r14);
     v u0_2 = r14;
     r14 = r7 * r14;
     v u0_3 = r14;
@@ -145,7 +150,7 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v u1_0 = r14;
     r15 = vle(r6, r3);
     v u1_1 = r15;
-    r14 = vsin(r14);
+    r14 = usin(r14);
     v u1_2 = r14;
     r14 = r7 * r14;
     v u1_3 = r14;
@@ -156,7 +161,7 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v u2_0 = r14;
     r15 = vle(r6, r3);
     v u2_1 = r15;
-    r14 = vsin(r14);
+    r14 = usin(r14);
     v u2_2 = r14;
     r14 = r7 * r14;
     v u2_3 = r14;
@@ -167,7 +172,7 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v u3_0 = r14;
     r15 = vle(r6, r3);
     v u3_1 = r15;
-    r14 = vsin(r14);
+    r14 = usin(r14);
     v u3_2 = r14;
     r14 = r7 * r14;
     v u3_3 = r14;

@@ -69,6 +69,11 @@ F v vmax(v a, v b) { v r = pick(a > b, a, b); r = pick(a != a, b, r); return pic
 F v vlog(v a) { v r; for (int l = 0; l < WV; l++) r[l] = log(a[l]); return r; }
 F v vsin(v a) { v r; for (int l = 0; l < WV; l++) r[l] = sin(a[l]); return r; }
 F v vcos(v a) { v r; for (int l = 0; l < WV; l++) r[l] = cos(a[l]); return r; }
+/* The same of a uniform vector (every lane alike, as in the instructions
+   hoisted out of rig_rk4's loop): one call, its value in every lane. */
+F v ulog(v a) { return splat(log(a[0])); }
+F v usin(v a) { return splat(sin(a[0])); }
+F v ucos(v a) { return splat(cos(a[0])); }
 F unsigned long long lanebits(m k) {
   k &= (m){1, 2, 4, 8, 16, 32, 64, 128};
   k |= __builtin_shufflevector(k, k, 4, 5, 6, 7, 0, 1, 2, 3);
@@ -102,7 +107,7 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v u0_4 = r20;
     r21 = vle(r7, r2);
     v u0_5 = r21;
-    r20 = vsin(r20);
+    r20 = usin(r20);
     v u0_6 = r20;
     r20 = r8 * r20;
     v u0_7 = r20;
@@ -121,7 +126,7 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v u1_4 = r20;
     r21 = vle(r7, r2);
     v u1_5 = r21;
-    r20 = vsin(r20);
+    r20 = usin(r20);
     v u1_6 = r20;
     r20 = r8 * r20;
     v u1_7 = r20;
@@ -140,7 +145,7 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v u2_4 = r20;
     r21 = vle(r7, r2);
     v u2_5 = r21;
-    r20 = vsin(r20);
+    r20 = usin(r20);
     v u2_6 = r20;
     r20 = r8 * r20;
     v u2_7 = r20;
@@ -159,7 +164,7 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v u3_4 = r20;
     r21 = vle(r7, r2);
     v u3_5 = r21;
-    r20 = vsin(r20);
+    r20 = usin(r20);
     v u3_6 = r20;
     r20 = r8 * r20;
     v u3_7 = r20;

@@ -111,6 +111,11 @@ F v vmax(v a, v b) { v r = pick(a > b, a, b); r = pick(a != a, b, r); return pic
 F v vlog(v a) { v r; for (int l = 0; l < WV; l++) r[l] = log(a[l]); return r; }
 F v vsin(v a) { v r; for (int l = 0; l < WV; l++) r[l] = sin(a[l]); return r; }
 F v vcos(v a) { v r; for (int l = 0; l < WV; l++) r[l] = cos(a[l]); return r; }
+/* The same of a uniform vector (every lane alike, as in the instructions
+   hoisted out of rig_rk4's loop): one call, its value in every lane. */
+F v ulog(v a) { return splat(log(a[0])); }
+F v usin(v a) { return splat(sin(a[0])); }
+F v ucos(v a) { return splat(cos(a[0])); }
 F unsigned long long lanebits(m k) {
   k &= (m){1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096, 8192, 16384, 32768};
   k |= __builtin_shufflevector(k, k, 8, 9, 10, 11, 12, 13, 14, 15, 0, 1, 2, 3, 4, 5, 6, 7);
@@ -149,9 +154,9 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v u0_6 = r29;
     r31 = vle(r12, r6);
     v u0_7 = r31;
-    r32 = vsin(r30);
+    r32 = usin(r30);
     v u0_8 = r32;
-    r30 = vcos(r30);
+    r30 = ucos(r30);
     v u0_9 = r30;
     r32 = r13 * r32;
     v u0_10 = r32;
@@ -180,9 +185,9 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v u1_6 = r29;
     r31 = vle(r12, r6);
     v u1_7 = r31;
-    r32 = vsin(r30);
+    r32 = usin(r30);
     v u1_8 = r32;
-    r30 = vcos(r30);
+    r30 = ucos(r30);
     v u1_9 = r30;
     r32 = r13 * r32;
     v u1_10 = r32;
@@ -211,9 +216,9 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v u2_6 = r29;
     r31 = vle(r12, r6);
     v u2_7 = r31;
-    r32 = vsin(r30);
+    r32 = usin(r30);
     v u2_8 = r32;
-    r30 = vcos(r30);
+    r30 = ucos(r30);
     v u2_9 = r30;
     r32 = r13 * r32;
     v u2_10 = r32;
@@ -242,9 +247,9 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v u3_6 = r29;
     r31 = vle(r12, r6);
     v u3_7 = r31;
-    r32 = vsin(r30);
+    r32 = usin(r30);
     v u3_8 = r32;
-    r30 = vcos(r30);
+    r30 = ucos(r30);
     v u3_9 = r30;
     r32 = r13 * r32;
     v u3_10 = r32;

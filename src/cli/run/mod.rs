@@ -25,11 +25,11 @@ use rigfit::search::SearchError;
 /// Evaluator backend on the command line.
 #[derive(Debug, Clone, Copy, ValueEnum)]
 pub enum BackendArg {
-    /// GPU when an adapter exists, else CPU.
+    /// The faster of the two on this machine: measured by a short trial of each (cached per machine and job); a job estimated under 4 s runs on the CPU unmeasured; the CPU where no GPU adapter is found.
     Auto,
-    /// GPU only.
+    /// GPU only (no adapter is an error).
     Gpu,
-    /// f64 CPU reference.
+    /// The CPU lanes (f64 reference arithmetic).
     Cpu,
 }
 

@@ -193,6 +193,11 @@ F v vmax(v a, v b) { v r = pick(a > b, a, b); r = pick(a != a, b, r); return pic
 F v vlog(v a) { v r; for (int l = 0; l < WV; l++) r[l] = log(a[l]); return r; }
 F v vsin(v a) { v r; for (int l = 0; l < WV; l++) r[l] = sin(a[l]); return r; }
 F v vcos(v a) { v r; for (int l = 0; l < WV; l++) r[l] = cos(a[l]); return r; }
+/* The same of a uniform vector (every lane alike, as in the instructions
+   hoisted out of rig_rk4's loop): one call, its value in every lane. */
+F v ulog(v a) { return splat(log(a[0])); }
+F v usin(v a) { return splat(sin(a[0])); }
+F v ucos(v a) { return splat(cos(a[0])); }
 "#;
 
 /// One instruction as a C statement on the register locals `rN`, with the
@@ -381,7 +386,14 @@ fn stage_inputs(s: &mut String, code: &LaneCode, list: &List, stage: usize) {
 fn hoist(s: &mut String, code: &LaneCode, list: &List, hoisted: &[bool], stage: usize, keep: &str) {
     stage_inputs(s, code, list, stage);
     for (j, ins) in list.code.iter().enumerate().filter(|&(j, _)| hoisted[j]) {
-        s.push_str(&statement(ins.dest, &ins.op, 'v'));
+        // Every lane holds the same value here: the C library's functions
+        // are called once, not lane by lane.
+        s.push_str(&match ins.op {
+            Op::Ln(a) => format!("    r{} = ulog(r{a});\n", ins.dest),
+            Op::Sin(a) => format!("    r{} = usin(r{a});\n", ins.dest),
+            Op::Cos(a) => format!("    r{} = ucos(r{a});\n", ins.dest),
+            _ => statement(ins.dest, &ins.op, 'v'),
+        });
         let _ = writeln!(s, "    v {keep}{j} = r{};", ins.dest);
     }
 }

@@ -548,21 +548,28 @@ pub fn check_native_lanes() -> Result<(String, String), String> {
 /// When the lane ensemble runs native code: `RIGFIT_NATIVE=off` never,
 /// `always` from the first batch, otherwise once a program has run
 /// [`NATIVE_AFTER`] candidate-steps in this process (building takes about a
-/// quarter of a second, as long as the interpreter takes for some 4·10⁶).
+/// quarter of a second, as long as the interpreter takes for some 4·10⁶),
+/// or once a build started early ([`start_builds`], by a job that will run
+/// that long) is done.
 pub const NATIVE_AFTER: u64 = 4_000_000;
 
-/// One program's native build, made when [`NATIVE_AFTER`] says so.
+/// One program's native build, made when [`NATIVE_AFTER`] says so, or
+/// started early on a thread of its own ([`NativeSlot::start`]).
 #[derive(Debug, Default)]
 pub struct NativeSlot {
+    inner: Arc<SlotInner>,
+}
+
+#[derive(Debug, Default)]
+struct SlotInner {
     work: std::sync::atomic::AtomicU64,
+    /// Set while a thread of [`NativeSlot::start`] builds it.
+    building: std::sync::atomic::AtomicBool,
     built: std::sync::OnceLock<Option<Arc<Native>>>,
 }
 
-impl NativeSlot {
-    /// The build of `code` in `arith` now, whatever the work so far (`None`
-    /// where it cannot be had, or `RIGFIT_NATIVE=off`).
-    pub fn now(&self, code: &LaneCode, arith: Arith) -> Option<Arc<Native>> {
-        policy()?;
+impl SlotInner {
+    fn build(&self, code: &LaneCode, arith: Arith) -> Option<Arc<Native>> {
         self.built
             .get_or_init(|| match Native::build(code, arith) {
                 Ok(n) => Some(n),
@@ -584,22 +591,78 @@ impl NativeSlot {
             })
             .clone()
     }
+}
+
+impl NativeSlot {
+    /// The build of `code` in `arith` now, whatever the work so far (`None`
+    /// where it cannot be had, or `RIGFIT_NATIVE=off`); where a thread of
+    /// [`Self::start`] is building it, once that thread is done.
+    pub fn now(&self, code: &LaneCode, arith: Arith) -> Option<Arc<Native>> {
+        policy()?;
+        self.inner.build(code, arith)
+    }
 
     /// The f64 build to run `work` more candidate-steps of `code` with, once
     /// the program's work in this process has reached the policy's
-    /// threshold.
+    /// threshold; `None` while a thread of [`Self::start`] is building it.
     pub fn get(&self, code: &LaneCode, work: u64) -> Option<Arc<Native>> {
         let after = policy()?;
-        if let Some(b) = self.built.get() {
+        if let Some(b) = self.inner.built.get() {
             return b.clone();
         }
         if self
-            .work
-            .fetch_add(work, std::sync::atomic::Ordering::Relaxed)
-            < after
+            .inner
+            .building
+            .load(std::sync::atomic::Ordering::Acquire)
+            || self
+                .inner
+                .work
+                .fetch_add(work, std::sync::atomic::Ordering::Relaxed)
+                < after
         {
             return None;
         }
         self.now(code, Arith::F64)
     }
+}
+
+/// Starts building each program of `builds` in f64, in order, on one thread
+/// of its own (one compiler at a time), skipping those built or being built
+/// (nothing with `RIGFIT_NATIVE=off`): for a job that will run long enough
+/// to want them, so that the C compiler works while the interpreter does
+/// rather than in its place. Runs keep interpreting ([`NativeSlot::get`])
+/// until their build is there; [`NativeSlot::now`] waits for it. Returns the
+/// thread, to join before the process may end (its compiler's files are
+/// removed when it is done).
+pub fn start_builds(builds: &[(&NativeSlot, &LaneCode)]) -> Option<std::thread::JoinHandle<()>> {
+    use std::sync::atomic::Ordering;
+    policy()?;
+    let claimed: Vec<(Arc<SlotInner>, LaneCode)> = builds
+        .iter()
+        .filter(|(slot, _)| {
+            slot.inner.built.get().is_none() && !slot.inner.building.swap(true, Ordering::AcqRel)
+        })
+        .map(|(slot, code)| (slot.inner.clone(), (*code).clone()))
+        .collect();
+    if claimed.is_empty() {
+        return None;
+    }
+    let inners: Vec<Arc<SlotInner>> = claimed.iter().map(|(i, _)| i.clone()).collect();
+    let spawned = std::thread::Builder::new()
+        .name("rigfit-native".into())
+        .spawn(move || {
+            for (inner, code) in claimed {
+                inner.build(&code, Arith::F64);
+                inner.building.store(false, Ordering::Release);
+            }
+        });
+    // A thread that will not start leaves the builds to `get`.
+    spawned
+        .map_err(|e| {
+            log::info!("native lane code not built early: {e}");
+            for inner in inners {
+                inner.building.store(false, Ordering::Release);
+            }
+        })
+        .ok()
 }

@@ -70,6 +70,10 @@ pub struct EventStepper<'p> {
     start: Vec<f64>,
     f_end: Vec<f64>,
     interp: Vec<f64>,
+    /// The state at a piece's end, while a switch inside it is located.
+    y1: Vec<f64>,
+    /// The transitions that fired over a piece.
+    hits: Vec<usize>,
     /// Event-function values at the current step's start.
     g_start: Vec<f64>,
     /// Event-function values at the current step's end.
@@ -107,6 +111,8 @@ impl<'p> EventStepper<'p> {
             tmp: z.clone(),
             start: z.clone(),
             f_end: z.clone(),
+            y1: z.clone(),
+            hits: vec![],
             interp: z,
             g_start: vec![0.0; prog.transitions.len()],
             g_end: vec![0.0; prog.transitions.len()],
@@ -166,11 +172,15 @@ impl<'p> EventStepper<'p> {
         }
     }
 
-    fn rk4(&mut self, t: f64, h: f64, y: &mut [f64]) {
+    /// One RK4 step; `first_known`: `self.k[0]` already holds the slope at
+    /// `(t, y)` in the current regimes.
+    fn rk4(&mut self, t: f64, h: f64, y: &mut [f64], first_known: bool) {
         let n = y.len();
         let mut k = std::mem::take(&mut self.k);
         let mut tmp = std::mem::take(&mut self.tmp);
-        self.deriv(t, y, &mut k[0]);
+        if !first_known {
+            self.deriv(t, y, &mut k[0]);
+        }
         for i in 0..n {
             tmp[i] = y[i] + 0.5 * h * k[0][i];
         }
@@ -294,7 +304,7 @@ impl<'p> EventStepper<'p> {
                 self.k[0] = k0;
                 y.copy_from_slice(end);
             } else {
-                self.rk4(ta, rem, y);
+                self.rk4(ta, rem, y, false);
             }
             self.events_at(ta + rem, y);
             for (g1, tr) in self.g_end.iter_mut().zip(&self.prog.transitions) {
@@ -303,12 +313,17 @@ impl<'p> EventStepper<'p> {
             if self.triggered().next().is_none() {
                 return;
             }
-            let hits: Vec<usize> = self.triggered().collect();
-            let f0 = self.k[0].clone();
+            let mut hits = std::mem::take(&mut self.hits);
+            hits.clear();
+            hits.extend(self.triggered());
+            // The slope at the piece's start, kept for the step to the
+            // switch (same point, same regimes).
+            let f0 = std::mem::take(&mut self.k[0]);
             let mut f_end = std::mem::take(&mut self.f_end);
             self.deriv(ta + rem, y, &mut f_end);
             self.f_end = f_end;
-            let y1 = y.to_vec();
+            let mut y1 = std::mem::take(&mut self.y1);
+            y1.copy_from_slice(y);
             let mut best: Option<(f64, usize)> = None;
             for &tr in &hits {
                 let theta = self.locate(tr, ta, rem, &f0, &y1);
@@ -316,10 +331,11 @@ impl<'p> EventStepper<'p> {
                     best = Some((theta, tr));
                 }
             }
+            (self.k[0], self.y1, self.hits) = (f0, y1, hits);
             let (theta, tr) = best.expect("a hit");
             let s = theta * rem;
             y.copy_from_slice(&self.start);
-            self.rk4(ta, s, y);
+            self.rk4(ta, s, y, true);
             let tr_def = &self.prog.transitions[tr];
             self.regimes[tr_def.var as usize] = tr_def.to;
             self.fired.push(Fired {
