@@ -2,7 +2,10 @@
 //! the job on the faster path (src/job/backend.rs): result.json's
 //! `backend_trial` gives both measured rates and the choice, the job ran on
 //! the path with the higher rate, and a second run of the same job reads the
-//! choice back from the cache instead of measuring again. A forced backend
+//! choice back from the cache instead of measuring again. The trial scores
+//! the search's first generation, and the path kept does not score it again:
+//! the job takes those scores from memory and ends bit for bit where the
+//! cached run, which scores it, ends. A forced backend
 //! measures nothing, and `rigfit check` estimates the job's time from the
 //! rates measured for it. A job too short for a trial to pay back runs on
 //! the CPU unmeasured and says so, unless `RIGFIT_AUTO_TRIAL=always` (or
@@ -34,6 +37,7 @@ fn run_trial(
         .args(["--backend", backend])
         .env("RIGFIT_CACHE_DIR", cache)
         .env("RIGFIT_AUTO_TRIAL", trial)
+        .env("RUST_LOG", "rigfit=info")
         .env_remove("RIGFIT_REQUIRE_GPU")
         .output()
         .unwrap();
@@ -73,7 +77,11 @@ fn auto_runs_on_the_path_it_measured_faster_and_remembers_it() {
     let dir = tempfile::tempdir().unwrap();
     let campaign = small_campaign(dir.path());
     let cache = dir.path().join("cache");
-    let first = run(&campaign, &dir.path().join("a"), &cache, "auto");
+    let (first, said) = run_trial(&campaign, &dir.path().join("a"), &cache, "auto", "always");
+    assert!(
+        said.contains("64 candidates answered from memory"),
+        "the first generation scored again: {said}"
+    );
     let t = &first["backend_trial"];
     let (gpu, cpu) = (
         t["gpu_rate"].as_f64().unwrap(),
@@ -96,7 +104,13 @@ fn auto_runs_on_the_path_it_measured_faster_and_remembers_it() {
     assert!(t["trial_s"].as_f64().unwrap() > 0.0);
     assert!(cache.join("backend-trials.json").is_file());
 
-    let second = run(&campaign, &dir.path().join("b"), &cache, "auto");
+    let (second, said) = run_trial(&campaign, &dir.path().join("b"), &cache, "auto", "always");
+    assert!(!said.contains("answered from memory"), "{said}");
+    // The same search, its first generation from the trial's memory in the
+    // first run and scored in the second.
+    assert_eq!(second["fitness"], first["fitness"]);
+    assert_eq!(second["evaluations"], first["evaluations"]);
+    assert_eq!(second["parameters"], first["parameters"]);
     let t2 = &second["backend_trial"];
     assert_eq!(t2["cached"], true, "{t2}");
     assert_eq!(t2["chosen"], faster);
@@ -121,7 +135,10 @@ fn auto_runs_on_the_path_it_measured_faster_and_remembers_it() {
     let e = &check["search_estimate"];
     assert_eq!(e["measured"], true, "{e}");
     assert_eq!(e["gpu_steps_per_s_assumed"], t["gpu_rate"]);
-    assert_eq!(e["cpu_steps_per_s_assumed"], t["cpu_rate"]);
+    // The forced CPU run searched on every core: the rate its search ran at
+    // (tests/check_estimates_search_time.rs) takes the trial's place.
+    assert_eq!(e["cpu_rate_observed"], true, "{e}");
+    assert_ne!(e["cpu_steps_per_s_assumed"], t["cpu_rate"], "{e}");
 }
 
 /// The shipped friction rig's campaign with a small search (population 64,

@@ -1,6 +1,8 @@
 //! `rigfit check` estimates the whole job's wall time on the CPU and on the
 //! GPU (the GA, then the polish), says what rates it assumes, and grows the
-//! estimate with the steps a clock offset adds.
+//! estimate with the steps a clock offset adds. Once a run of the job has
+//! searched on every CPU core, `check` estimates the CPU from the rate that
+//! search ran at.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -8,17 +10,21 @@ use std::process::Command;
 use serde_json::{Value, json};
 
 fn check(c: &Path, json: bool) -> String {
+    // No measurement of an earlier run (src/job/backend.rs): the assumed
+    // rates.
+    let cache = tempfile::tempdir().unwrap();
+    check_with_cache(c, json, cache.path())
+}
+
+fn check_with_cache(c: &Path, json: bool, cache: &Path) -> String {
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_rigfit"));
     if json {
         cmd.arg("--json");
     }
-    // No measurement of an earlier `run --backend auto` (src/job/backend.rs):
-    // the assumed rates.
-    let cache = tempfile::tempdir().unwrap();
     let o = cmd
         .arg("check")
         .arg(c)
-        .env("RIGFIT_CACHE_DIR", cache.path())
+        .env("RIGFIT_CACHE_DIR", cache)
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
@@ -61,8 +67,11 @@ fn check_estimates_the_search_on_cpu_and_gpu_with_its_assumptions() {
         let cpu = f("cpu_seconds");
         assert_eq!(
             cpu,
-            f("startup_seconds") + steps / f("cpu_steps_per_s_assumed") + f("cpu_polish_seconds")
+            f("cpu_startup_seconds")
+                + steps / f("cpu_steps_per_s_assumed")
+                + f("cpu_polish_seconds")
         );
+        assert!(f("cpu_startup_seconds") < f("startup_seconds"), "{e}");
         gpu_seconds.push(gpu - f("startup_seconds"));
         let text = check(&c, false);
         assert!(
@@ -114,9 +123,14 @@ fn check_estimates_the_polish_after_the_search() {
         assert!(rate > 0.0 && rate < g("steps_per_s_assumed"), "{e}");
         let polish = steps / rate;
         assert_eq!(g("polish_seconds"), polish, "{e}");
+        let startup = if path == "cpu" {
+            f("cpu_startup_seconds")
+        } else {
+            f("startup_seconds")
+        };
         assert_eq!(
             g("seconds"),
-            f("startup_seconds") + f("steps") / g("steps_per_s_assumed") + polish
+            startup + f("steps") / g("steps_per_s_assumed") + polish
         );
     }
     let text = check(&c, false);
@@ -155,10 +169,67 @@ fn check_estimates_the_polish_after_the_search() {
     let none: Value = serde_json::from_str(&check(&small_path, true)).unwrap();
     let e = &none["search_estimate"];
     assert_eq!(e["polish_candidates"].as_f64(), Some(0.0), "{e}");
-    assert_eq!(
+    let (cpu, sum) = (
         e["cpu_seconds"].as_f64().unwrap(),
-        e["startup_seconds"].as_f64().unwrap()
-            + e["steps"].as_f64().unwrap() / e["cpu_steps_per_s_assumed"].as_f64().unwrap()
+        e["cpu_startup_seconds"].as_f64().unwrap()
+            + e["steps"].as_f64().unwrap() / e["cpu_steps_per_s_assumed"].as_f64().unwrap(),
     );
+    assert!((cpu / sum - 1.0).abs() < 1e-12, "{cpu} against {sum}");
     assert!(!check(&small_path, false).contains("the polish after it"));
+}
+
+/// A run that searched on every CPU core leaves the rate it ran at, and
+/// `check` estimates the CPU from it; a run on fewer threads leaves none.
+#[test]
+fn check_estimates_the_cpu_from_the_rate_its_last_search_ran_at() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let mut small: Value =
+        serde_json::from_str(&std::fs::read_to_string(campaign(dir.path(), 0.0)).unwrap()).unwrap();
+    small["search"]["population"] = json!(64);
+    small["search"]["generations"] = json!(3);
+    small["search"]["polish"] = json!({"enabled": false});
+    let path = dir.path().join("small.json");
+    std::fs::write(&path, small.to_string()).unwrap();
+    let run = |threads: &str, out: &str| {
+        let o = Command::new(env!("CARGO_BIN_EXE_rigfit"))
+            .args(["run", "--backend", "cpu", "--threads", threads, "--out"])
+            .arg(dir.path().join(out))
+            .arg(&path)
+            .env("RIGFIT_CACHE_DIR", &cache)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let r: Value = serde_json::from_str(
+            &std::fs::read_to_string(dir.path().join(out).join("result.json")).unwrap(),
+        )
+        .unwrap();
+        r
+    };
+    let estimate = || -> Value {
+        serde_json::from_str::<Value>(&check_with_cache(&path, true, &cache)).unwrap()
+            ["search_estimate"]
+            .clone()
+    };
+    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    if cores > 1 {
+        run("1", "one");
+        assert_eq!(
+            estimate()["cpu_rate_observed"],
+            false,
+            "one thread of {cores}"
+        );
+    }
+    let r = run("0", "all");
+    let e = estimate();
+    assert_eq!(e["cpu_rate_observed"], true, "{e}");
+    let steps = e["steps"].as_f64().unwrap() / e["candidates"].as_f64().unwrap();
+    let rate = r["evaluations"].as_f64().unwrap() * steps / r["wall_time_s"].as_f64().unwrap();
+    let kept = e["cpu_steps_per_s_assumed"].as_f64().unwrap();
+    assert!((kept / rate - 1.0).abs() < 1e-9, "{kept} against {rate}");
+    let text = check_with_cache(&path, false, &cache);
+    assert!(
+        text.contains("the rate its last search on every core here ran at"),
+        "{text}"
+    );
 }

@@ -63,7 +63,7 @@ fn an_offset_of_a_million_seconds_is_refused_with_its_estimate() {
         &[
             "c.json: experiments[0]: expected at most 1e8 RK4 steps per candidate",
             "--max-steps",
-            "27.8 h per candidate",
+            "9.3 h per candidate",
             "offset reaches 1e6 s",
         ],
     );

@@ -26,16 +26,27 @@ pub struct CheckArgs {
 /// every core and at [`GPU_STEPS_PER_S_ASSUMED`] on the GPU, then the polish's
 /// ([`memory::TimeEstimate`]).
 /// Where `run --backend auto` has measured this job on this machine before
-/// (src/job/backend.rs), its measured rates take the assumed ones' place.
+/// (src/job/backend.rs), its measured rates take the assumed ones' place;
+/// where a run of it searched on every CPU core here, the rate that search
+/// ran at takes the CPU's.
 fn search_estimate(c: &Campaign, steps_per_candidate: f64) -> serde_json::Value {
+    use rigfit::eval::PrecisionChoice;
     let cores = std::thread::available_parallelism().map_or(1, usize::from);
     let precision = format!("{:?}", c.solver.precision).to_lowercase();
     let measured = rigfit::job::backend::cached(&rigfit::job::backend::auto_key(c, &precision));
-    let e = memory::TimeEstimate::of(c, steps_per_candidate, cores, GPU_STEPS_PER_S_ASSUMED);
-    let e = match &measured {
-        Some(t) => e.with_cpu_rate(t.cpu_rate).with_gpu_rate(t.gpu_rate),
-        None => e,
+    let cpu_precision = match c.solver.precision {
+        PrecisionChoice::F32 => "f32",
+        PrecisionChoice::Auto | PrecisionChoice::F64 => "f64",
     };
+    let observed = rigfit::job::backend::observed_cpu_rate(c, cpu_precision);
+    let mut e = memory::TimeEstimate::of(c, steps_per_candidate, cores, GPU_STEPS_PER_S_ASSUMED);
+    if let Some(t) = &measured {
+        e = e.with_cpu_rate(t.cpu_rate).with_gpu_rate(t.gpu_rate);
+    }
+    if let Some(rate) = observed {
+        e = e.with_cpu_rate(rate);
+        e.cpu_rate_observed = true;
+    }
     let mut v = serde_json::to_value(e).unwrap_or_default();
     v["measured"] = serde_json::Value::Bool(measured.is_some());
     v
@@ -127,14 +138,31 @@ pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
         }
         if let Some(e) = &search {
             let f = |k: &str| e[k].as_f64().unwrap_or(0.0);
+            let observed = e["cpu_rate_observed"].as_bool() == Some(true);
             let rates = if e["measured"].as_bool() == Some(true) {
                 format!(
                     "about {} on the CPU (at {:.2e} candidate-steps/s), about {} on the GPU \
-                     (at {:.2e}), the rates `run --backend auto` measured for this job here",
+                     (at {:.2e}), the rates {} for this job here",
                     rigfit::campaign::human_duration(f("cpu_seconds")),
                     f("cpu_steps_per_s_assumed"),
                     rigfit::campaign::human_duration(f("gpu_seconds")),
                     f("gpu_steps_per_s_assumed"),
+                    if observed {
+                        "its last search on the CPU ran at and `run --backend auto` measured on the GPU"
+                    } else {
+                        "`run --backend auto` measured"
+                    },
+                )
+            } else if observed {
+                format!(
+                    "about {} on the CPU (at {:.2e} candidate-steps/s, the rate its last search \
+                     on every core here ran at), about {} on the GPU (at an assumed {:.0e} \
+                     candidate-steps/s, lavapipe's f32 rate; a discrete GPU runs 10 to 100 times \
+                     more)",
+                    rigfit::campaign::human_duration(f("cpu_seconds")),
+                    f("cpu_steps_per_s_assumed"),
+                    rigfit::campaign::human_duration(f("gpu_seconds")),
+                    GPU_STEPS_PER_S_ASSUMED,
                 )
             } else {
                 format!(

@@ -223,6 +223,11 @@ impl Evaluator for CpuEvaluator {
     }
 
     fn prepare(&mut self) {
+        // Every build started early is done (none left to compete with a
+        // timed batch), then the fitness builds, if none was started.
+        if let Some(builds) = self.early_builds.take() {
+            let _ = builds.join();
+        }
         for (e, exp) in self.problem.experiments.iter().enumerate() {
             self.problem.scoring_model(e).prepare_native(&exp.drive);
         }

@@ -8,6 +8,7 @@
 mod cpu;
 mod fitness;
 mod problem;
+mod remembered;
 mod residuals;
 
 use std::ops::Range;
@@ -17,6 +18,7 @@ pub use fitness::{
     FitnessAccumulator, score_many, score_one, simulate_histories, simulate_history,
 };
 pub use problem::{ExperimentData, Problem};
+pub use remembered::Remembered;
 pub use residuals::window_residuals;
 
 /// Floating-point precision of an evaluator's arithmetic.

@@ -24,7 +24,8 @@
 //! lanes interpret while the compiler works.
 //!
 //! A job too short for a trial to pay back ([`SHORT_JOB_SECONDS`] on its
-//! faster path, as `check` estimates it) runs on the CPU unmeasured: the
+//! faster path, as `check` estimates it) runs on the CPU unmeasured, and
+//! without consulting the cache (whose key lists the adapters): the
 //! trial alone (opening the GPU's pipelines, warm-ups, three timed batches)
 //! takes 0.3 to 1 s on a 2-core machine, more than lavapipe could save on
 //! it, and the CPU starts at once. `RIGFIT_AUTO_TRIAL=always` measures
@@ -44,8 +45,12 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 use crate::campaign::Campaign;
-use crate::eval::{Backend, CpuEvaluator, EvalError, Evaluator, PrecisionChoice};
+use crate::eval::{
+    Backend, CpuEvaluator, EvalError, Evaluator, PrecisionChoice, Remembered, Scores,
+};
 use crate::gpu::GpuError;
+use crate::search::GeneticAlgorithm;
+use crate::search::genes::genome_values;
 
 /// Most candidate-steps a trial batch takes on each path: below it the
 /// trial scores the job's whole population (a GPU's rate depends on the
@@ -67,8 +72,10 @@ pub const SHORT_JOB_SECONDS: f64 = 4.0;
 /// Fewest candidates a trial batch scores (the population, where smaller).
 pub const TRIAL_MIN_CANDIDATES: usize = 128;
 
-/// Candidates of the warm-up batch (enough for the GPU evaluator to build the
-/// specialised kernel the job's generations use).
+/// Candidates of a warm-up batch: enough for the GPU evaluator to build the
+/// specialised kernel the job's generations use, and for the CPU's first
+/// call into its native code and its first buffers of a batch's size (a
+/// timed batch without it made the CPU look a third slower than it is).
 const WARM_UP_CANDIDATES: usize = 64;
 
 /// What `auto` measured and chose.
@@ -304,20 +311,22 @@ pub fn open_job_evaluator(
         return Err(OpenError::KernelLimits(e));
     }
     // A named adapter asks for that GPU: no race.
-    let trial_key = (backend == Backend::Auto && pick == AutoPick::Measure && requested.is_none())
-        .then(|| auto_key(campaign, &format!("{precision:?}").to_lowercase()));
-    let cached = trial_key.as_deref().and_then(cached);
-    if let Some(t) = cached.clone().filter(|t| t.chosen == "cpu") {
-        return Ok(on_cpu(cpu, notes, Some(t)));
-    }
+    let measure = backend == Backend::Auto && pick == AutoPick::Measure && requested.is_none();
     let always = std::env::var("RIGFIT_AUTO_TRIAL").is_ok_and(|v| v == "always")
         || crate::gpu::gpu_required();
-    if trial_key.is_some() && cached.is_none() && !always {
+    // Before the cache's key, which lists the adapters (tens of
+    // milliseconds, a tenth of the shortest jobs).
+    if measure && !always {
         let seconds = short_job_estimate(campaign);
         if seconds < SHORT_JOB_SECONDS {
             notes.push(OpenNote::ShortJob { seconds });
             return Ok(on_cpu(cpu, notes, None));
         }
+    }
+    let trial_key = measure.then(|| auto_key(campaign, &format!("{precision:?}").to_lowercase()));
+    let cached = trial_key.as_deref().and_then(cached);
+    if let Some(t) = cached.clone().filter(|t| t.chosen == "cpu") {
+        return Ok(on_cpu(cpu, notes, Some(t)));
     }
     if trial_key.is_some() && cached.is_none() {
         cpu.prepare_soon();
@@ -383,53 +392,75 @@ fn short_job_estimate(campaign: &Campaign) -> f64 {
     e.cpu_seconds.min(e.gpu_seconds)
 }
 
-/// The trial batch: `n` genomes spread over the search box by a fixed seed.
+/// The trial batch: the first `n` candidates of the search's first
+/// generation (as the job's executor draws it, from the campaign's seed), so
+/// that the path kept has already scored that generation where `n` is the
+/// whole population ([`Remembered`]).
 fn trial_genomes(campaign: &Campaign, n: usize) -> Vec<Vec<f64>> {
     let genes = super::gene_specs(campaign);
-    let mut rng = ChaCha8Rng::seed_from_u64(0x7e57_ba7c);
-    (0..n)
-        .map(|_| genes.iter().map(|g| g.at_fraction(rng.random())).collect())
-        .collect()
+    let mut rng = ChaCha8Rng::seed_from_u64(campaign.search.seed);
+    match GeneticAlgorithm::new(campaign.search.clone(), genes.clone()) {
+        Ok(ga) => ga
+            .init(&mut rng)
+            .iter()
+            .take(n)
+            .map(|g| genome_values(&genes, g))
+            .collect(),
+        // Settings the search would refuse: any spread over the box times
+        // the paths as well.
+        Err(_) => (0..n)
+            .map(|_| genes.iter().map(|g| g.at_fraction(rng.random())).collect())
+            .collect(),
+    }
 }
 
 /// Makes `evaluator` ready to be timed on `genomes`: what it would make
-/// ready once it pays ([`Evaluator::prepare`]: the CPU lanes' native build),
-/// then a warm-up batch (the GPU's pipelines for the kernel variant in use).
-fn warm_up(
+/// ready once it pays ([`Evaluator::prepare`]: the CPU lanes' native builds),
+/// then a first batch of the first `warm_up` genomes (the GPU's pipelines
+/// for the kernel variant in use; the CPU's first call into its native code
+/// and its first buffers).
+fn make_ready(
     campaign: &Campaign,
     evaluator: &mut dyn Evaluator,
     genomes: &[Vec<f64>],
     path: &'static str,
+    warm_up: usize,
 ) -> Result<(), TrialError> {
     evaluator.prepare();
-    let warm = &genomes[..genomes.len().min(WARM_UP_CANDIDATES)];
+    let warm = &genomes[..genomes.len().min(warm_up)];
     evaluator
         .fitness(&campaign.batch(warm))
         .map_err(|source| TrialError::Eval { path, source })?;
     Ok(())
 }
 
-/// Candidate-steps per second of `evaluator` on `genomes`, warmed up.
+/// Candidate-steps per second of `evaluator` on `batch` (of `n` candidates),
+/// made ready, with the scores.
 fn rate(
     campaign: &Campaign,
     evaluator: &mut dyn Evaluator,
-    genomes: &[Vec<f64>],
+    batch: &crate::eval::Batch,
+    n: usize,
     path: &'static str,
-) -> Result<f64, TrialError> {
-    let batch = campaign.batch(genomes);
+) -> Result<(f64, Scores), TrialError> {
     let start = Instant::now();
-    evaluator
-        .fitness(&batch)
+    let scores = evaluator
+        .fitness(batch)
         .map_err(|source| TrialError::Eval { path, source })?;
     let s = start.elapsed().as_secs_f64().max(1e-9);
-    Ok(genomes.len() as f64 * super::steps_per_candidate(campaign) / s)
+    Ok((n as f64 * super::steps_per_candidate(campaign) / s, scores))
 }
 
 /// Scores the trial batch on both paths and returns the faster evaluator
-/// with what was measured; `population` is the job's. Every path is made
-/// ready before any is timed: the GPU's kernels build while the CPU's
-/// native code may still be building ([`Evaluator::prepare_soon`]), and
-/// nothing builds while a batch is timed.
+/// with what was measured; `population` is the job's.
+///
+/// Every path is made ready before any is timed: the GPU's kernels build
+/// while the CPU's native code may still be building
+/// ([`Evaluator::prepare_soon`]), and nothing builds while a batch is timed
+/// (the CPU needs no warm-up batch once its builds are done). The batch is
+/// the search's first generation, or its first candidates: the evaluator
+/// returned remembers what it scored ([`Remembered`]), so where the trial
+/// scored the whole generation the job does not score it again.
 pub fn race(
     campaign: &Campaign,
     population: usize,
@@ -442,43 +473,49 @@ pub fn race(
     let variants = gpu.kernel_variants();
     for &variant in variants {
         gpu.use_kernel_variant(variant);
-        warm_up(campaign, gpu.as_mut(), &genomes, "gpu")?;
+        make_ready(campaign, gpu.as_mut(), &genomes, "gpu", WARM_UP_CANDIDATES)?;
     }
     if variants.is_empty() {
-        warm_up(campaign, gpu.as_mut(), &genomes, "gpu")?;
+        make_ready(campaign, gpu.as_mut(), &genomes, "gpu", WARM_UP_CANDIDATES)?;
     }
-    warm_up(campaign, cpu.as_mut(), &genomes, "cpu")?;
+    make_ready(campaign, cpu.as_mut(), &genomes, "cpu", WARM_UP_CANDIDATES)?;
+    let batch = campaign.batch(&genomes);
     // Each kernel variant of the GPU, the fastest kept.
     let mut gpu_kernel_rates = BTreeMap::new();
-    let mut best: Option<(&str, f64)> = None;
+    let mut best: Option<(&str, f64, Scores)> = None;
     for &variant in variants {
         gpu.use_kernel_variant(variant);
-        let r = rate(campaign, gpu.as_mut(), &genomes, "gpu")?;
+        let (r, scores) = rate(campaign, gpu.as_mut(), &batch, n, "gpu")?;
         gpu_kernel_rates.insert(variant.to_string(), r);
-        if best.is_none_or(|(_, b)| r > b) {
-            best = Some((variant, r));
+        if best.as_ref().is_none_or(|(_, b, _)| r > *b) {
+            best = Some((variant, r, scores));
         }
     }
-    let gpu_rate = match best {
-        Some((variant, r)) => {
+    let (gpu_rate, gpu_scores) = match best.as_ref() {
+        Some((variant, r, scores)) => {
             gpu.use_kernel_variant(variant);
-            r
+            (*r, scores.clone())
         }
-        None => rate(campaign, gpu.as_mut(), &genomes, "gpu")?,
+        None => rate(campaign, gpu.as_mut(), &batch, n, "gpu")?,
     };
-    let cpu_rate = rate(campaign, cpu.as_mut(), &genomes, "cpu")?;
+    let (cpu_rate, cpu_scores) = rate(campaign, cpu.as_mut(), &batch, n, "cpu")?;
     let gpu_wins = gpu_rate >= cpu_rate;
     let trial = BackendTrial {
         chosen: if gpu_wins { "gpu" } else { "cpu" }.into(),
         gpu_rate,
-        gpu_kernel: best.map(|(v, _)| v.to_string()),
+        gpu_kernel: best.map(|(v, _, _)| v.to_string()),
         gpu_kernel_rates,
         cpu_rate,
         candidates: n,
         trial_s: start.elapsed().as_secs_f64(),
         cached: false,
     };
-    Ok((if gpu_wins { gpu } else { cpu }, trial))
+    let (chosen, scores) = if gpu_wins {
+        (gpu, gpu_scores)
+    } else {
+        (cpu, cpu_scores)
+    };
+    Ok((Box::new(Remembered::new(chosen, batch, scores)), trial))
 }
 
 /// Candidates in the timed trial batch: the population where it takes at
@@ -543,11 +580,29 @@ pub fn processor() -> String {
         .unwrap_or_else(|| std::env::consts::ARCH.to_string())
 }
 
-fn read_cache(file: &Path) -> BTreeMap<String, BackendTrial> {
+/// Every entry of a cache file (`{key: value}`), none where it is missing
+/// or unreadable.
+fn read_cache<T: serde::de::DeserializeOwned>(file: &Path) -> BTreeMap<String, T> {
     crate::base::fsutil::read_input(file, 1 << 20)
         .ok()
         .and_then(|b| serde_json::from_slice(&b).ok())
         .unwrap_or_default()
+}
+
+/// Keeps `value` under `key` in the cache file `file` (written whole,
+/// atomically).
+fn keep_in<T: Serialize + serde::de::DeserializeOwned>(
+    file: &Path,
+    key: &str,
+    value: T,
+) -> std::io::Result<()> {
+    if let Some(dir) = file.parent() {
+        std::fs::create_dir_all(dir)?;
+    }
+    let mut all: BTreeMap<String, T> = read_cache(file);
+    all.insert(key.to_string(), value);
+    let json = serde_json::to_vec_pretty(&all).expect("a cache serialises");
+    crate::base::fsutil::atomic_write(file, &json)
 }
 
 /// The choice cached under `key` in [`cache_file`], marked as cached.
@@ -556,11 +611,13 @@ pub fn cached(key: &str) -> Option<BackendTrial> {
 }
 
 fn cached_in(file: &Path, key: &str) -> Option<BackendTrial> {
-    read_cache(file).remove(key).map(|t| BackendTrial {
-        cached: true,
-        trial_s: 0.0,
-        ..t
-    })
+    read_cache::<BackendTrial>(file)
+        .remove(key)
+        .map(|t| BackendTrial {
+            cached: true,
+            trial_s: 0.0,
+            ..t
+        })
 }
 
 /// Keeps `trial` under `key` in [`cache_file`] (the file written whole,
@@ -574,13 +631,63 @@ pub fn remember(key: &str, trial: &BackendTrial) -> std::io::Result<()> {
 }
 
 fn remember_in(file: &Path, key: &str, trial: &BackendTrial) -> std::io::Result<()> {
-    if let Some(dir) = file.parent() {
-        std::fs::create_dir_all(dir)?;
+    keep_in(file, key, trial.clone())
+}
+
+/// What a job's search ran at on every CPU core: what `check` estimates the
+/// next run of the same job from, where `auto` measured nothing (a short
+/// job runs on the CPU unmeasured) or the CPU was forced.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ObservedRate {
+    /// Candidate-steps per second of the search (its own work included).
+    pub cpu_rate: f64,
+    /// The search's evaluations.
+    pub evaluations: usize,
+    /// The search's wall time (s).
+    pub seconds: f64,
+}
+
+/// The file of [`ObservedRate`]s: `observed-rates.json` beside
+/// [`cache_file`].
+fn observed_file() -> Option<PathBuf> {
+    Some(cache_file()?.with_file_name("observed-rates.json"))
+}
+
+/// The key of a job's [`ObservedRate`]: the processor and its cores, the
+/// campaign's digest, the CPU's precision (`"f64"`, `"f32"`) and the
+/// population (no adapters: listing them takes longer than the shortest
+/// jobs' start-up).
+pub fn observed_key(campaign: &Campaign, precision: &str) -> String {
+    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    format!(
+        "{} ({cores} cores) | campaign {:016x} | {precision} | population {}",
+        processor(),
+        campaign.digest,
+        campaign.search.population
+    )
+}
+
+/// The CPU rate the last run of `campaign` at `precision` on this machine
+/// observed, if one was kept.
+pub fn observed_cpu_rate(campaign: &Campaign, precision: &str) -> Option<f64> {
+    let file = observed_file()?;
+    read_cache::<ObservedRate>(&file)
+        .remove(&observed_key(campaign, precision))
+        .map(|o| o.cpu_rate)
+        .filter(|r| r.is_finite() && *r > 0.0)
+}
+
+/// Keeps what a job's search ran at on every CPU core, for `check`. A rate
+/// that cannot be kept is only a rougher estimate next time.
+pub fn remember_observed(
+    campaign: &Campaign,
+    precision: &str,
+    observed: ObservedRate,
+) -> std::io::Result<()> {
+    match observed_file() {
+        Some(file) => keep_in(&file, &observed_key(campaign, precision), observed),
+        None => Ok(()),
     }
-    let mut all = read_cache(file);
-    all.insert(key.to_string(), trial.clone());
-    let json = serde_json::to_vec_pretty(&all).expect("trials serialise");
-    crate::base::fsutil::atomic_write(file, &json)
 }
 
 #[cfg(test)]

@@ -311,13 +311,20 @@ pub const POLISH_ROUNDS_EXPECTED: usize = 7;
 /// more, so on one an estimate from it is an upper bound.
 pub const GPU_STEPS_PER_S_ASSUMED: f64 = 1e8;
 
-/// What a job costs besides the GA and the polish: the process, the
-/// campaign, opening the path (lavapipe's pipelines, the native lane
-/// build), `auto`'s trial where nothing is cached. Measured on the nine
-/// shipped campaigns (2026-11-26, under load): a run's wall time outside its
-/// job plus the trial, 0.65 to 2.6 s (of which the trial 0.2 to 1.0 s, none
-/// once `auto`'s choice is cached).
+/// What a job on the GPU path costs besides the GA and the polish: the
+/// process, the campaign, opening the GPU (lavapipe's pipelines), `auto`'s
+/// trial where nothing is cached. Measured on the nine shipped campaigns
+/// (2026-11-26, under load): a run's wall time outside its job plus the
+/// trial, 0.65 to 2.6 s (of which the trial 0.2 to 1.0 s, none once
+/// `auto`'s choice is cached).
 pub const STARTUP_SECONDS: f64 = 1.0;
+
+/// The same on the CPU path, which opens no GPU and, for the short jobs
+/// `auto` runs there unmeasured, takes no trial (the lanes' native code
+/// builds while the first generations interpret): measured on the eleven
+/// shipped campaigns (2026-11-26, idle), a run's wall time outside its GA
+/// and polish was 0.04 to 0.64 s, median 0.08.
+pub const CPU_STARTUP_SECONDS: f64 = 0.2;
 
 /// A job's wall time, estimated before any work from its steps: start-up,
 /// the GA's candidates at the fitness path's rate, then the polish's
@@ -339,8 +346,13 @@ pub struct TimeEstimate {
     pub gpu_steps_per_s_assumed: f64,
     /// The job on the GPU: start-up, the GA, then the polish (s).
     pub gpu_seconds: f64,
-    /// [`STARTUP_SECONDS`], in both totals.
+    /// [`STARTUP_SECONDS`], in the GPU's total.
     pub startup_seconds: f64,
+    /// [`CPU_STARTUP_SECONDS`], in the CPU's total.
+    pub cpu_startup_seconds: f64,
+    /// Whether the CPU's rate is the one the last run of this job on this
+    /// machine ran at ([`crate::job::backend::observed_cpu_rate`]).
+    pub cpu_rate_observed: bool,
     /// The polish's candidates at most: `starts × (2 × genes + 1)` per
     /// iteration and once more for the first linearisation (0 without the
     /// polish).
@@ -394,6 +406,8 @@ impl TimeEstimate {
             gpu_steps_per_s_assumed: 0.0,
             gpu_seconds: 0.0,
             startup_seconds: STARTUP_SECONDS,
+            cpu_startup_seconds: CPU_STARTUP_SECONDS,
+            cpu_rate_observed: false,
             polish_candidates: rounds,
             polish_steps: rounds * steps_per_candidate,
             polish_candidates_expected: expected,
@@ -407,22 +421,19 @@ impl TimeEstimate {
         .with_gpu_rate(gpu_steps_per_s)
     }
 
-    /// At a path's GA rate `rate` (candidate-steps per second): the polish's
-    /// rate, the polish's seconds and the job's.
-    fn at_rate(&self, rate: f64) -> (f64, f64, f64) {
+    /// At a path's GA rate `rate` (candidate-steps per second) after
+    /// `startup` seconds: the polish's rate, the polish's seconds and the
+    /// job's.
+    fn at_rate(&self, rate: f64, startup: f64) -> (f64, f64, f64) {
         let polish_rate = POLISH_SHARE_OF_FITNESS_RATE * rate;
         let polish = self.polish_steps_expected / polish_rate;
-        (
-            polish_rate,
-            polish,
-            self.startup_seconds + self.steps / rate + polish,
-        )
+        (polish_rate, polish, startup + self.steps / rate + polish)
     }
 
     /// The same with the GA's CPU rate `rate` (candidate-steps per second,
     /// every core), as measured.
     pub fn with_cpu_rate(self, rate: f64) -> Self {
-        let (polish_rate, polish, seconds) = self.at_rate(rate);
+        let (polish_rate, polish, seconds) = self.at_rate(rate, self.cpu_startup_seconds);
         Self {
             cpu_steps_per_s_assumed: rate,
             cpu_polish_steps_per_s: polish_rate,
@@ -435,7 +446,7 @@ impl TimeEstimate {
     /// The same with the GA's GPU rate `rate` (candidate-steps per second),
     /// as measured.
     pub fn with_gpu_rate(self, rate: f64) -> Self {
-        let (polish_rate, polish, seconds) = self.at_rate(rate);
+        let (polish_rate, polish, seconds) = self.at_rate(rate, self.startup_seconds);
         Self {
             gpu_steps_per_s_assumed: rate,
             gpu_polish_steps_per_s: polish_rate,
@@ -456,14 +467,15 @@ pub fn polish_estimate_text(e: &serde_json::Value) -> String {
     format!(
         "\n  the polish after it: about {:.3e} candidates expected, at most {:.3e} (its \
          iteration limit), {:.3e} RK4 steps as full histories: about {} on the CPU and {} \
-         on the GPU, at {:.0} % of each path's rate; and about {} of start-up; both \
-         included in the times above",
+         on the GPU, at {:.0} % of each path's rate; and about {} of start-up on the CPU, \
+         {} on the GPU; all included in the times above",
         f("polish_candidates_expected"),
         f("polish_candidates"),
         f("polish_steps_expected"),
         crate::campaign::human_duration(f("cpu_polish_seconds")),
         crate::campaign::human_duration(f("gpu_polish_seconds")),
         100.0 * POLISH_SHARE_OF_FITNESS_RATE,
+        crate::campaign::human_duration(f("cpu_startup_seconds")),
         crate::campaign::human_duration(f("startup_seconds")),
     )
 }

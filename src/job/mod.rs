@@ -302,7 +302,30 @@ pub fn run_observed(
         // The results are complete: the checkpoint has served its purpose.
         let _ = std::fs::remove_file(&checkpoint);
     }
+    observe_cpu_rate(campaign, &summary, opts);
     Ok(summary)
+}
+
+/// Keeps the rate a whole search ran at on every CPU core, for `check`'s
+/// next estimate of the same job ([`backend::remember_observed`]); nothing
+/// for a search on the GPU, on fewer threads, interrupted or resumed.
+fn observe_cpu_rate(campaign: &Campaign, summary: &JobSummary, opts: &JobOptions) {
+    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    let whole = !opts.resume
+        && summary.stop_reason != TerminationReason::Interrupted.to_string()
+        && summary.wall_time_s > 0.0
+        && summary.evaluations > 0;
+    if summary.backend != "cpu" || !(opts.threads == 0 || opts.threads == cores) || !whole {
+        return;
+    }
+    let observed = backend::ObservedRate {
+        cpu_rate: summary.evaluations as f64 * steps_per_candidate(campaign) / summary.wall_time_s,
+        evaluations: summary.evaluations as usize,
+        seconds: summary.wall_time_s,
+    };
+    if let Err(e) = backend::remember_observed(campaign, &summary.precision, observed) {
+        log::info!("the search's CPU rate could not be kept for `check`: {e}");
+    }
 }
 
 /// The local polish the executor runs after the GA, from the GA's final

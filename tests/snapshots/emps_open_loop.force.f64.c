@@ -107,14 +107,6 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v u1_1 = r19;
     r19 = vsel(r19, r7, r8);
     v u1_2 = r19;
-    r4 = splat(tt[2]);
-    r5 = splat(tab[2 + 0]);
-    r18 = r6 * r5;
-    v u2_0 = r18;
-    r19 = vle(r4, r7);
-    v u2_1 = r19;
-    r19 = vsel(r19, r7, r8);
-    v u2_2 = r19;
     r4 = splat(tt[3]);
     r5 = splat(tab[3 + 0]);
     r18 = r6 * r5;
@@ -192,9 +184,9 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     a3 = a3 + TWO * r7; r3 = y3 + CH * r7;
     r4 = splat(tt[2]);
     r5 = splat(tab[2 + 0]);
-    r18 = u2_0;
-    r19 = u2_1;
-    r19 = u2_2;
+    r18 = u1_0;
+    r19 = u1_1;
+    r19 = u1_2;
     r19 = r2 - r19;
     r20 = r9 * r19;
     r19 = r19 / r10;

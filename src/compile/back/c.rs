@@ -398,6 +398,13 @@ fn hoist(s: &mut String, code: &LaneCode, list: &List, hoisted: &[bool], stage: 
     }
 }
 
+/// The stage whose hoisted values stage `stage` of `rig_rk4` reads: the
+/// second and third stages are both at `t + h/2` (`tt[1] == tt[2]`, as the
+/// lane runner passes them), so the third reads the second's.
+fn hoisted_stage(stage: usize) -> usize {
+    if stage == 2 { 1 } else { stage }
+}
+
 /// `rig_rk4`'s loop over blocks: hoisted (`Some`: which instructions were
 /// computed before the loop, into `u{stage}_{index}` and `e_{index}`) or
 /// not.
@@ -429,7 +436,7 @@ fn rk4_loop(s: &mut String, code: &LaneCode, hoisted: Option<&Hoistable>) {
         stage_inputs(s, code, &code.deriv, stage);
         for (j, ins) in code.deriv.code.iter().enumerate() {
             if hoisted.is_some_and(|h| h.deriv[j]) {
-                let _ = writeln!(s, "    r{} = u{stage}_{j};", ins.dest);
+                let _ = writeln!(s, "    r{} = u{}_{j};", ins.dest, hoisted_stage(stage));
             } else {
                 s.push_str(&statement(ins.dest, &ins.op, 'v'));
             }
@@ -602,7 +609,7 @@ pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
     .collect();
     let table_of = |reg: Reg| table_regs.iter().find(|&&(_, r)| r == reg).map(|&(k, _)| k);
 
-    // rig_rk4: tt[4] the derivative's times, tab[4 * table_stride] the
+    // rig_rk4: tt[4] the derivative's times (tt[1] == tt[2] = t + h/2), tab[4 * table_stride] the
     // tables at them, ch = 0.5·h, h, h6 = h/6 (computed by the caller as the
     // interpreter does); `hoist`: every constant `hoistable` lists is the
     // same in every lane; `hit`: a bit per lane past an armed switch at the
@@ -617,7 +624,7 @@ pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
         for &reg in &hoisted.reads {
             load(&mut s, reg, "", code, &|_| None);
         }
-        for stage in 0..4 {
+        for stage in [0, 1, 3] {
             let keep = format!("u{stage}_");
             hoist(&mut s, code, &code.deriv, &hoisted.deriv, stage, &keep);
         }
