@@ -235,26 +235,21 @@ impl Evaluator for CpuEvaluator {
 
     fn prepare_soon(&mut self) {
         let problem = &self.problem;
-        let scoring: Vec<_> = (0..problem.experiments.len())
-            .map(|e| problem.scoring_model(e))
-            .collect();
         let exps = &problem.experiments;
-        // Every fitness build first (the search), then the full programs'
-        // (the histories of the polish).
-        let (mut fitness, mut full) = (vec![], vec![]);
-        for (model, exp) in scoring.iter().zip(exps) {
-            let mut builds = model.native_builds(&exp.drive);
-            if builds.len() > 1 {
-                full.extend(builds.pop());
-            }
-            fitness.extend(builds);
-        }
-        for exp in exps {
-            full.extend(problem.model.native_builds(&exp.drive).pop());
-        }
-        fitness.extend(full);
+        let scoring: Vec<_> = (0..exps.len()).map(|e| problem.scoring_model(e)).collect();
+        // Every fitness build first (the search: each scoring model's first),
+        // then the full programs' (the polish's histories: the rig's own
+        // model's last); `start_builds` takes a slot named twice once.
+        let fitness = scoring
+            .iter()
+            .zip(exps)
+            .filter_map(|(model, exp)| model.native_builds(&exp.drive).first().copied());
+        let full = exps
+            .iter()
+            .filter_map(|exp| problem.model.native_builds(&exp.drive).last().copied());
+        let builds: Vec<_> = fitness.chain(full).collect();
         if self.early_builds.is_none() {
-            self.early_builds = crate::compile::back::native::start_builds(&fitness);
+            self.early_builds = crate::compile::back::native::start_builds(&builds);
         }
     }
 

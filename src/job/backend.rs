@@ -19,16 +19,17 @@
 //! own ([`Evaluator::prepare_soon`]) before the GPU opens, so the C compiler
 //! and the GPU's device and pipelines are made ready at once, and every path
 //! is ready before any is timed (on a 2-core machine, 0.1 to 0.3 s for the
-//! whole trial where it took 0.2 to 0.5 s one part after the other). The
-//! same early build serves a job that runs on the CPU from the start: its
-//! lanes interpret while the compiler works.
+//! whole trial where it took 0.2 to 0.5 s one part after the other; about
+//! 0.9 s on a long record, the EMPS closed loop). Its batch is the search's
+//! first generation, which the path kept then answers from memory
+//! ([`Remembered`]). The same early build serves a job that runs on the CPU
+//! from the start: its lanes interpret while the compiler works.
 //!
 //! A job too short for a trial to pay back ([`SHORT_JOB_SECONDS`] on its
 //! faster path, as `check` estimates it) runs on the CPU unmeasured, and
-//! without consulting the cache (whose key lists the adapters): the
-//! trial alone (opening the GPU's pipelines, warm-ups, three timed batches)
-//! takes 0.3 to 1 s on a 2-core machine, more than lavapipe could save on
-//! it, and the CPU starts at once. `RIGFIT_AUTO_TRIAL=always` measures
+//! without consulting the cache (whose key lists the adapters): opening
+//! lavapipe alone takes 0.1 to 0.3 s on a 2-core machine, about what it
+//! could save on such a job, and the CPU starts at once. `RIGFIT_AUTO_TRIAL=always` measures
 //! those too, and so does `RIGFIT_REQUIRE_GPU=1`, which makes a missing
 //! adapter an error (so the GPU is opened, whatever the job's length).
 //!
@@ -434,13 +435,12 @@ fn make_ready(
     Ok(())
 }
 
-/// Candidate-steps per second of `evaluator` on `batch` (of `n` candidates),
-/// made ready, with the scores.
+/// Candidate-steps per second of `evaluator` on `batch`, made ready, with
+/// the scores.
 fn rate(
     campaign: &Campaign,
     evaluator: &mut dyn Evaluator,
     batch: &crate::eval::Batch,
-    n: usize,
     path: &'static str,
 ) -> Result<(f64, Scores), TrialError> {
     let start = Instant::now();
@@ -448,7 +448,8 @@ fn rate(
         .fitness(batch)
         .map_err(|source| TrialError::Eval { path, source })?;
     let s = start.elapsed().as_secs_f64().max(1e-9);
-    Ok((n as f64 * super::steps_per_candidate(campaign) / s, scores))
+    let candidate_steps = batch.candidates as f64 * super::steps_per_candidate(campaign);
+    Ok((candidate_steps / s, scores))
 }
 
 /// Scores the trial batch on both paths and returns the faster evaluator
@@ -485,7 +486,7 @@ pub fn race(
     let mut best: Option<(&str, f64, Scores)> = None;
     for &variant in variants {
         gpu.use_kernel_variant(variant);
-        let (r, scores) = rate(campaign, gpu.as_mut(), &batch, n, "gpu")?;
+        let (r, scores) = rate(campaign, gpu.as_mut(), &batch, "gpu")?;
         gpu_kernel_rates.insert(variant.to_string(), r);
         if best.as_ref().is_none_or(|(_, b, _)| r > *b) {
             best = Some((variant, r, scores));
@@ -496,9 +497,9 @@ pub fn race(
             gpu.use_kernel_variant(variant);
             (*r, scores.clone())
         }
-        None => rate(campaign, gpu.as_mut(), &batch, n, "gpu")?,
+        None => rate(campaign, gpu.as_mut(), &batch, "gpu")?,
     };
-    let (cpu_rate, cpu_scores) = rate(campaign, cpu.as_mut(), &batch, n, "cpu")?;
+    let (cpu_rate, cpu_scores) = rate(campaign, cpu.as_mut(), &batch, "cpu")?;
     let gpu_wins = gpu_rate >= cpu_rate;
     let trial = BackendTrial {
         chosen: if gpu_wins { "gpu" } else { "cpu" }.into(),
@@ -625,13 +626,9 @@ fn cached_in(file: &Path, key: &str) -> Option<BackendTrial> {
 /// caller warns, the job goes on.
 pub fn remember(key: &str, trial: &BackendTrial) -> std::io::Result<()> {
     match cache_file() {
-        Some(file) => remember_in(&file, key, trial),
+        Some(file) => keep_in(&file, key, trial.clone()),
         None => Ok(()),
     }
-}
-
-fn remember_in(file: &Path, key: &str, trial: &BackendTrial) -> std::io::Result<()> {
-    keep_in(file, key, trial.clone())
 }
 
 /// What a job's search ran at on every CPU core: what `check` estimates the
@@ -642,7 +639,7 @@ pub struct ObservedRate {
     /// Candidate-steps per second of the search (its own work included).
     pub cpu_rate: f64,
     /// The search's evaluations.
-    pub evaluations: usize,
+    pub evaluations: u64,
     /// The search's wall time (s).
     pub seconds: f64,
 }
@@ -718,7 +715,7 @@ mod tests {
             cached: false,
         };
         assert_eq!(cached_in(&file, "k"), None);
-        remember_in(&file, "k", &t).unwrap();
+        keep_in(&file, "k", t.clone()).unwrap();
         let back = cached_in(&file, "k").unwrap();
         assert!(back.cached);
         assert_eq!(back.trial_s, 0.0);

@@ -301,26 +301,24 @@ pub fn run_observed(
     if outcome.termination != TerminationReason::Interrupted {
         // The results are complete: the checkpoint has served its purpose.
         let _ = std::fs::remove_file(&checkpoint);
+        observe_cpu_rate(campaign, &summary, opts);
     }
-    observe_cpu_rate(campaign, &summary, opts);
     Ok(summary)
 }
 
 /// Keeps the rate a whole search ran at on every CPU core, for `check`'s
-/// next estimate of the same job ([`backend::remember_observed`]); nothing
-/// for a search on the GPU, on fewer threads, interrupted or resumed.
+/// next estimate of the same job ([`backend::remember_observed`]), from a
+/// search that was not interrupted; nothing for a search on the GPU, on
+/// fewer threads or resumed.
 fn observe_cpu_rate(campaign: &Campaign, summary: &JobSummary, opts: &JobOptions) {
     let cores = std::thread::available_parallelism().map_or(1, usize::from);
-    let whole = !opts.resume
-        && summary.stop_reason != TerminationReason::Interrupted.to_string()
-        && summary.wall_time_s > 0.0
-        && summary.evaluations > 0;
+    let whole = !opts.resume && summary.wall_time_s > 0.0 && summary.evaluations > 0;
     if summary.backend != "cpu" || !(opts.threads == 0 || opts.threads == cores) || !whole {
         return;
     }
     let observed = backend::ObservedRate {
         cpu_rate: summary.evaluations as f64 * steps_per_candidate(campaign) / summary.wall_time_s,
-        evaluations: summary.evaluations as usize,
+        evaluations: summary.evaluations,
         seconds: summary.wall_time_s,
     };
     if let Err(e) = backend::remember_observed(campaign, &summary.precision, observed) {

@@ -224,13 +224,9 @@ impl CompiledRig {
     /// trial, which should measure the path the job will run. Nothing where
     /// the drive has no lane program or `RIGFIT_NATIVE=off`.
     pub fn prepare_native(&self, drive: &Drive) {
-        let Some(i) = self.program_for(drive) else {
-            return;
-        };
-        match &self.fitness[i] {
-            Some(f) => f.native.now(&f.lane_code, Arith::F64),
-            None => self.native[i].now(&self.lane_code[i], Arith::F64),
-        };
+        if let Some((slot, code)) = self.native_builds(drive).first() {
+            slot.now(code, Arith::F64);
+        }
     }
 
     /// The f64 native build of `code` in `slot` for running `params` on

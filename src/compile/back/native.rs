@@ -554,7 +554,7 @@ pub fn check_native_lanes() -> Result<(String, String), String> {
 pub const NATIVE_AFTER: u64 = 4_000_000;
 
 /// One program's native build, made when [`NATIVE_AFTER`] says so, or
-/// started early on a thread of its own ([`NativeSlot::start`]).
+/// started early on a thread of its own ([`start_builds`]).
 #[derive(Debug, Default)]
 pub struct NativeSlot {
     inner: Arc<SlotInner>,
@@ -563,7 +563,7 @@ pub struct NativeSlot {
 #[derive(Debug, Default)]
 struct SlotInner {
     work: std::sync::atomic::AtomicU64,
-    /// Set while a thread of [`NativeSlot::start`] builds it.
+    /// Set while a thread of [`start_builds`] builds it.
     building: std::sync::atomic::AtomicBool,
     built: std::sync::OnceLock<Option<Arc<Native>>>,
 }
@@ -596,7 +596,7 @@ impl SlotInner {
 impl NativeSlot {
     /// The build of `code` in `arith` now, whatever the work so far (`None`
     /// where it cannot be had, or `RIGFIT_NATIVE=off`); where a thread of
-    /// [`Self::start`] is building it, once that thread is done.
+    /// [`start_builds`] is building it, once that thread is done.
     pub fn now(&self, code: &LaneCode, arith: Arith) -> Option<Arc<Native>> {
         policy()?;
         self.inner.build(code, arith)
@@ -604,7 +604,7 @@ impl NativeSlot {
 
     /// The f64 build to run `work` more candidate-steps of `code` with, once
     /// the program's work in this process has reached the policy's
-    /// threshold; `None` while a thread of [`Self::start`] is building it.
+    /// threshold; `None` while a thread of [`start_builds`] is building it.
     pub fn get(&self, code: &LaneCode, work: u64) -> Option<Arc<Native>> {
         let after = policy()?;
         if let Some(b) = self.inner.built.get() {
