@@ -16,6 +16,11 @@ bins=("$@")
 export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-$(mktemp -d)}"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
+# Seconds since START (date +%s%N), to the millisecond, in shell arithmetic alone.
+seconds_since() {
+    local ms=$((($(date +%s%N) - $1) / 1000000))
+    printf '%d.%03d' $((ms / 1000)) $((ms % 1000))
+}
 
 echo "processor: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'), $(nproc) cores"
 echo "flags: $(grep -m1 -o -w 'avx512f' /proc/cpuinfo || echo 'no avx512f'), $(grep -m1 -o -w 'avx2' /proc/cpuinfo || echo 'no avx2')"
@@ -32,11 +37,10 @@ for c in campaigns/*.json; do
         for b in ${RIGFIT_TABLE_BACKENDS:-gpu cpu auto}; do
             out="$work/out-$b"
             rm -rf "$out" "$work/cache"
-            start=$(date +%s.%N)
+            start=$(date +%s%N)
             if RIGFIT_CACHE_DIR="$work/cache" "$bin" run "$c" --backend "$b" --out "$out" --quiet \
                 >/dev/null 2>"$work/err"; then
-                end=$(date +%s.%N)
-                secs[$b]=$(echo "$end - $start" | bc -l)
+                secs[$b]=$(seconds_since "$start")
                 if [ "$b" = auto ]; then
                     chose=$(python3 -c "import json,sys; r=json.load(open('$out/result.json')); print(r['backend'] + ('' if 'backend_trial' in r else ' (no trial)'))")
                 fi
@@ -48,10 +52,10 @@ for c in campaigns/*.json; do
         # auto again with the cache the first auto left: no trial.
         acached=nan
         if [ -n "${secs[auto]:-}" ] && [ "${secs[auto]}" != nan ]; then
-            start=$(date +%s.%N)
+            start=$(date +%s%N)
             if RIGFIT_CACHE_DIR="$work/cache" "$bin" run "$c" --backend auto --out "$work/out-again" \
                 --quiet >/dev/null 2>&1; then
-                acached=$(echo "$(date +%s.%N) - $start" | bc -l)
+                acached=$(seconds_since "$start")
             fi
             rm -rf "$work/out-again"
         fi

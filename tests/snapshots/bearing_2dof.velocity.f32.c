@@ -68,6 +68,12 @@ F void split(v x, d *lo, d *hi) {
 #define ST(A, i, x) split((x), &((d *)&(A)[(i) * BLOCKS])[2 * q], &((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 /* A per-run constant's row holds its lanes as f32, packed at its start. */
 #define LDC(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
+/* Row i of A copied into B as stored: the step's start kept for a redone
+   step, without rounding to f32 and back (a tenth of the step's work on
+   the tensile rig). The lanes read it as f32 all the same; a redone step
+   run in f64 starts from the row as it was stored. */
+#define KEEP(B, A, i) (((d *)&(B)[(i) * BLOCKS])[2 * q] = ((d *)&(A)[(i) * BLOCKS])[2 * q], \
+                       ((d *)&(B)[(i) * BLOCKS])[2 * q + 1] = ((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 F v fsplat(float x) { return (v){VALL(x)}; }
 F v fpick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
 F v vabs(v a) { return (v)((u)a & 0x7fffffffu); }
@@ -193,10 +199,10 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r17 = LDC(R, 17);
     r18 = LDC(R, 18);
     r19 = LDC(R, 19);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
-    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
-    y3 = LD(R, 3); ST(Y, 3, y3); r3 = y3;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
     r4 = splat(tt[0]);
     r21 = u0_0;
     r21 = u0_1;
@@ -331,14 +337,9 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 3, r3);
     /* the event functions at the step's end */
     r4 = splat(tt[3]);
-    r7 = LDC(R, 7);
     r20 = LDC(R, 20);
-    r5 = LD(R, 5);
-    r6 = LD(R, 6);
     r21 = e_0;
     r22 = e_1;
-    ST(R, 21, r21);
-    ST(R, 22, r22);
     ST(R, 21, r21);
     ST(R, 22, r22);
     m k = (m){0};
@@ -371,10 +372,10 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r17 = LDC(R, 17);
     r18 = LDC(R, 18);
     r19 = LDC(R, 19);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
-    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
-    y3 = LD(R, 3); ST(Y, 3, y3); r3 = y3;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
     r4 = splat(tt[0]);
     r21 = r4 - r7;
     r21 = r8 * r21;
@@ -509,14 +510,9 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 3, r3);
     /* the event functions at the step's end */
     r4 = splat(tt[3]);
-    r7 = LDC(R, 7);
     r20 = LDC(R, 20);
-    r5 = LD(R, 5);
-    r6 = LD(R, 6);
     r21 = r4 - r7;
     r22 = r21 - r20;
-    ST(R, 21, r21);
-    ST(R, 22, r22);
     ST(R, 21, r21);
     ST(R, 22, r22);
     m k = (m){0};

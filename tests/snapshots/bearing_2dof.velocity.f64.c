@@ -54,6 +54,7 @@ typedef d v; typedef dm m; typedef du u;
 #define LD(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
 #define ST(A, i, x) (((v *)&(A)[(i) * BLOCKS])[q] = (x))
 #define LDC LD
+#define KEEP(B, A, i) (((v *)&(B)[(i) * BLOCKS])[q] = ((v *)&(A)[(i) * BLOCKS])[q])
 F v vabs(v a) { return (v)((u)a & 0x7fffffffffffffffULL); }
 F v vexp(v x) { return dexp(x); }
 F v vexpm1(v x) { return dexpm1(x); }
@@ -150,10 +151,10 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r17 = LDC(R, 17);
     r18 = LDC(R, 18);
     r19 = LDC(R, 19);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
-    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
-    y3 = LD(R, 3); ST(Y, 3, y3); r3 = y3;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
     r4 = splat(tt[0]);
     r21 = u0_0;
     r21 = u0_1;
@@ -288,14 +289,9 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 3, r3);
     /* the event functions at the step's end */
     r4 = splat(tt[3]);
-    r7 = LDC(R, 7);
     r20 = LDC(R, 20);
-    r5 = LD(R, 5);
-    r6 = LD(R, 6);
     r21 = e_0;
     r22 = e_1;
-    ST(R, 21, r21);
-    ST(R, 22, r22);
     ST(R, 21, r21);
     ST(R, 22, r22);
     m k = (m){0};
@@ -328,10 +324,10 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r17 = LDC(R, 17);
     r18 = LDC(R, 18);
     r19 = LDC(R, 19);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
-    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
-    y3 = LD(R, 3); ST(Y, 3, y3); r3 = y3;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
     r4 = splat(tt[0]);
     r21 = r4 - r7;
     r21 = r8 * r21;
@@ -466,14 +462,9 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 3, r3);
     /* the event functions at the step's end */
     r4 = splat(tt[3]);
-    r7 = LDC(R, 7);
     r20 = LDC(R, 20);
-    r5 = LD(R, 5);
-    r6 = LD(R, 6);
     r21 = r4 - r7;
     r22 = r21 - r20;
-    ST(R, 21, r21);
-    ST(R, 22, r22);
     ST(R, 21, r21);
     ST(R, 22, r22);
     m k = (m){0};

@@ -54,6 +54,7 @@ typedef d v; typedef dm m; typedef du u;
 #define LD(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
 #define ST(A, i, x) (((v *)&(A)[(i) * BLOCKS])[q] = (x))
 #define LDC LD
+#define KEEP(B, A, i) (((v *)&(B)[(i) * BLOCKS])[q] = ((v *)&(A)[(i) * BLOCKS])[q])
 F v vabs(v a) { return (v)((u)a & 0x7fffffffffffffffULL); }
 F v vexp(v x) { return dexp(x); }
 F v vexpm1(v x) { return dexpm1(x); }
@@ -93,8 +94,8 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r6 = LDC(R, 6);
     r7 = LDC(R, 7);
     r8 = LDC(R, 8);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
     r3 = splat(tab[0 + 0]);
     r9 = r4 - r0;
     r10 = r4 - r1;

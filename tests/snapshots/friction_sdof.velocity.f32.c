@@ -68,6 +68,12 @@ F void split(v x, d *lo, d *hi) {
 #define ST(A, i, x) split((x), &((d *)&(A)[(i) * BLOCKS])[2 * q], &((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 /* A per-run constant's row holds its lanes as f32, packed at its start. */
 #define LDC(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
+/* Row i of A copied into B as stored: the step's start kept for a redone
+   step, without rounding to f32 and back (a tenth of the step's work on
+   the tensile rig). The lanes read it as f32 all the same; a redone step
+   run in f64 starts from the row as it was stored. */
+#define KEEP(B, A, i) (((d *)&(B)[(i) * BLOCKS])[2 * q] = ((d *)&(A)[(i) * BLOCKS])[2 * q], \
+                       ((d *)&(B)[(i) * BLOCKS])[2 * q + 1] = ((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 F v fsplat(float x) { return (v){VALL(x)}; }
 F v fpick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
 F v vabs(v a) { return (v)((u)a & 0x7fffffffu); }
@@ -179,9 +185,9 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r10 = LDC(R, 10);
     r4 = LD(R, 4);
     r11 = LDC(R, 11);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
-    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
     r3 = splat(tt[0]);
     r14 = u0_0;
     r15 = u0_1;
@@ -262,15 +268,12 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 1, r1);
     ST(R, 2, r2);
     /* the event functions at the step's end */
-    r10 = LDC(R, 10);
     r12 = LDC(R, 12);
-    r4 = LD(R, 4);
     r14 = r10 * r2;
     r15 = r14 - r12;
     r14 = r14 + r12;
     ST(R, 15, r15);
     ST(R, 14, r14);
-    ST(R, 1, r1);
     ST(R, 1, r1);
     m k = (m){0};
     k |= (r4 == splat(0.0)) & (r15 >= splat(0.0));
@@ -295,9 +298,9 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r10 = LDC(R, 10);
     r4 = LD(R, 4);
     r11 = LDC(R, 11);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
-    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
     r3 = splat(tt[0]);
     r14 = r5 * r3;
     r15 = vle(r6, r3);
@@ -378,15 +381,12 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 1, r1);
     ST(R, 2, r2);
     /* the event functions at the step's end */
-    r10 = LDC(R, 10);
     r12 = LDC(R, 12);
-    r4 = LD(R, 4);
     r14 = r10 * r2;
     r15 = r14 - r12;
     r14 = r14 + r12;
     ST(R, 15, r15);
     ST(R, 14, r14);
-    ST(R, 1, r1);
     ST(R, 1, r1);
     m k = (m){0};
     k |= (r4 == splat(0.0)) & (r15 >= splat(0.0));

@@ -54,6 +54,7 @@ typedef d v; typedef dm m; typedef du u;
 #define LD(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
 #define ST(A, i, x) (((v *)&(A)[(i) * BLOCKS])[q] = (x))
 #define LDC LD
+#define KEEP(B, A, i) (((v *)&(B)[(i) * BLOCKS])[q] = ((v *)&(A)[(i) * BLOCKS])[q])
 F v vabs(v a) { return (v)((u)a & 0x7fffffffffffffffULL); }
 F v vexp(v x) { return dexp(x); }
 F v vexpm1(v x) { return dexpm1(x); }
@@ -136,9 +137,9 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r10 = LDC(R, 10);
     r4 = LD(R, 4);
     r11 = LDC(R, 11);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
-    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
     r3 = splat(tt[0]);
     r14 = u0_0;
     r15 = u0_1;
@@ -219,15 +220,12 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 1, r1);
     ST(R, 2, r2);
     /* the event functions at the step's end */
-    r10 = LDC(R, 10);
     r12 = LDC(R, 12);
-    r4 = LD(R, 4);
     r14 = r10 * r2;
     r15 = r14 - r12;
     r14 = r14 + r12;
     ST(R, 15, r15);
     ST(R, 14, r14);
-    ST(R, 1, r1);
     ST(R, 1, r1);
     m k = (m){0};
     k |= (r4 == splat(0.0)) & (r15 >= splat(0.0));
@@ -252,9 +250,9 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r10 = LDC(R, 10);
     r4 = LD(R, 4);
     r11 = LDC(R, 11);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
-    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
     r3 = splat(tt[0]);
     r14 = r5 * r3;
     r15 = vle(r6, r3);
@@ -335,15 +333,12 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 1, r1);
     ST(R, 2, r2);
     /* the event functions at the step's end */
-    r10 = LDC(R, 10);
     r12 = LDC(R, 12);
-    r4 = LD(R, 4);
     r14 = r10 * r2;
     r15 = r14 - r12;
     r14 = r14 + r12;
     ST(R, 15, r15);
     ST(R, 14, r14);
-    ST(R, 1, r1);
     ST(R, 1, r1);
     m k = (m){0};
     k |= (r4 == splat(0.0)) & (r15 >= splat(0.0));

@@ -68,6 +68,12 @@ F void split(v x, d *lo, d *hi) {
 #define ST(A, i, x) split((x), &((d *)&(A)[(i) * BLOCKS])[2 * q], &((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 /* A per-run constant's row holds its lanes as f32, packed at its start. */
 #define LDC(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
+/* Row i of A copied into B as stored: the step's start kept for a redone
+   step, without rounding to f32 and back (a tenth of the step's work on
+   the tensile rig). The lanes read it as f32 all the same; a redone step
+   run in f64 starts from the row as it was stored. */
+#define KEEP(B, A, i) (((d *)&(B)[(i) * BLOCKS])[2 * q] = ((d *)&(A)[(i) * BLOCKS])[2 * q], \
+                       ((d *)&(B)[(i) * BLOCKS])[2 * q + 1] = ((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 F v fsplat(float x) { return (v){VALL(x)}; }
 F v fpick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
 F v vabs(v a) { return (v)((u)a & 0x7fffffffu); }
@@ -215,8 +221,8 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r17 = LDC(R, 17);
     r18 = LDC(R, 18);
     r19 = LDC(R, 19);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
     r2 = splat(tt[0]);
     r20 = u0_0;
     r20 = u0_1;
@@ -453,8 +459,8 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r17 = LDC(R, 17);
     r18 = LDC(R, 18);
     r19 = LDC(R, 19);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
     r2 = splat(tt[0]);
     r20 = r3 * r2;
     r20 = r4 * r20;

@@ -54,6 +54,7 @@ typedef d v; typedef dm m; typedef du u;
 #define LD(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
 #define ST(A, i, x) (((v *)&(A)[(i) * BLOCKS])[q] = (x))
 #define LDC LD
+#define KEEP(B, A, i) (((v *)&(B)[(i) * BLOCKS])[q] = ((v *)&(A)[(i) * BLOCKS])[q])
 F v vabs(v a) { return (v)((u)a & 0x7fffffffffffffffULL); }
 F v vexp(v x) { return dexp(x); }
 F v vexpm1(v x) { return dexpm1(x); }
@@ -172,8 +173,8 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r17 = LDC(R, 17);
     r18 = LDC(R, 18);
     r19 = LDC(R, 19);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
     r2 = splat(tt[0]);
     r20 = u0_0;
     r20 = u0_1;
@@ -410,8 +411,8 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r17 = LDC(R, 17);
     r18 = LDC(R, 18);
     r19 = LDC(R, 19);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
     r2 = splat(tt[0]);
     r20 = r3 * r2;
     r20 = r4 * r20;

@@ -68,6 +68,12 @@ F void split(v x, d *lo, d *hi) {
 #define ST(A, i, x) split((x), &((d *)&(A)[(i) * BLOCKS])[2 * q], &((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 /* A per-run constant's row holds its lanes as f32, packed at its start. */
 #define LDC(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
+/* Row i of A copied into B as stored: the step's start kept for a redone
+   step, without rounding to f32 and back (a tenth of the step's work on
+   the tensile rig). The lanes read it as f32 all the same; a redone step
+   run in f64 starts from the row as it was stored. */
+#define KEEP(B, A, i) (((d *)&(B)[(i) * BLOCKS])[2 * q] = ((d *)&(A)[(i) * BLOCKS])[2 * q], \
+                       ((d *)&(B)[(i) * BLOCKS])[2 * q + 1] = ((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 F v fsplat(float x) { return (v){VALL(x)}; }
 F v fpick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
 F v vabs(v a) { return (v)((u)a & 0x7fffffffu); }
@@ -254,12 +260,12 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r24 = LDC(R, 24);
     r25 = LDC(R, 25);
     r26 = LDC(R, 26);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
-    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
-    y3 = LD(R, 3); ST(Y, 3, y3); r3 = y3;
-    y4 = LD(R, 4); ST(Y, 4, y4); r4 = y4;
-    y5 = LD(R, 5); ST(Y, 5, y5); r5 = y5;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
+    y4 = LD(R, 4); KEEP(Y, R, 4); r4 = y4;
+    y5 = LD(R, 5); KEEP(Y, R, 5); r5 = y5;
     r6 = splat(tt[0]);
     r29 = u0_0;
     r30 = u0_1;
@@ -487,14 +493,10 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 4, r4);
     ST(R, 5, r5);
     /* the event functions at the step's end */
-    r21 = LDC(R, 21);
-    r7 = LD(R, 7);
     r29 = r2 - r1;
     r30 = r29 - r21;
     r29 = r29 + r21;
     ST(R, 30, r30);
-    ST(R, 30, r30);
-    ST(R, 29, r29);
     ST(R, 29, r29);
     m k = (m){0};
     k |= (r7 == splat(0.0)) & (r30 >= splat(0.0));
@@ -531,12 +533,12 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r24 = LDC(R, 24);
     r25 = LDC(R, 25);
     r26 = LDC(R, 26);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
-    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
-    y3 = LD(R, 3); ST(Y, 3, y3); r3 = y3;
-    y4 = LD(R, 4); ST(Y, 4, y4); r4 = y4;
-    y5 = LD(R, 5); ST(Y, 5, y5); r5 = y5;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
+    y4 = LD(R, 4); KEEP(Y, R, 4); r4 = y4;
+    y5 = LD(R, 5); KEEP(Y, R, 5); r5 = y5;
     r6 = splat(tt[0]);
     r29 = r8 * r6;
     r30 = r9 * r29;
@@ -764,14 +766,10 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 4, r4);
     ST(R, 5, r5);
     /* the event functions at the step's end */
-    r21 = LDC(R, 21);
-    r7 = LD(R, 7);
     r29 = r2 - r1;
     r30 = r29 - r21;
     r29 = r29 + r21;
     ST(R, 30, r30);
-    ST(R, 30, r30);
-    ST(R, 29, r29);
     ST(R, 29, r29);
     m k = (m){0};
     k |= (r7 == splat(0.0)) & (r30 >= splat(0.0));

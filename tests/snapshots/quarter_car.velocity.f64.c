@@ -54,6 +54,7 @@ typedef d v; typedef dm m; typedef du u;
 #define LD(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
 #define ST(A, i, x) (((v *)&(A)[(i) * BLOCKS])[q] = (x))
 #define LDC LD
+#define KEEP(B, A, i) (((v *)&(B)[(i) * BLOCKS])[q] = ((v *)&(A)[(i) * BLOCKS])[q])
 F v vabs(v a) { return (v)((u)a & 0x7fffffffffffffffULL); }
 F v vexp(v x) { return dexp(x); }
 F v vexpm1(v x) { return dexpm1(x); }
@@ -211,12 +212,12 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r24 = LDC(R, 24);
     r25 = LDC(R, 25);
     r26 = LDC(R, 26);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
-    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
-    y3 = LD(R, 3); ST(Y, 3, y3); r3 = y3;
-    y4 = LD(R, 4); ST(Y, 4, y4); r4 = y4;
-    y5 = LD(R, 5); ST(Y, 5, y5); r5 = y5;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
+    y4 = LD(R, 4); KEEP(Y, R, 4); r4 = y4;
+    y5 = LD(R, 5); KEEP(Y, R, 5); r5 = y5;
     r6 = splat(tt[0]);
     r29 = u0_0;
     r30 = u0_1;
@@ -444,14 +445,10 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 4, r4);
     ST(R, 5, r5);
     /* the event functions at the step's end */
-    r21 = LDC(R, 21);
-    r7 = LD(R, 7);
     r29 = r2 - r1;
     r30 = r29 - r21;
     r29 = r29 + r21;
     ST(R, 30, r30);
-    ST(R, 30, r30);
-    ST(R, 29, r29);
     ST(R, 29, r29);
     m k = (m){0};
     k |= (r7 == splat(0.0)) & (r30 >= splat(0.0));
@@ -488,12 +485,12 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r24 = LDC(R, 24);
     r25 = LDC(R, 25);
     r26 = LDC(R, 26);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
-    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
-    y3 = LD(R, 3); ST(Y, 3, y3); r3 = y3;
-    y4 = LD(R, 4); ST(Y, 4, y4); r4 = y4;
-    y5 = LD(R, 5); ST(Y, 5, y5); r5 = y5;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
+    y4 = LD(R, 4); KEEP(Y, R, 4); r4 = y4;
+    y5 = LD(R, 5); KEEP(Y, R, 5); r5 = y5;
     r6 = splat(tt[0]);
     r29 = r8 * r6;
     r30 = r9 * r29;
@@ -721,14 +718,10 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 4, r4);
     ST(R, 5, r5);
     /* the event functions at the step's end */
-    r21 = LDC(R, 21);
-    r7 = LD(R, 7);
     r29 = r2 - r1;
     r30 = r29 - r21;
     r29 = r29 + r21;
     ST(R, 30, r30);
-    ST(R, 30, r30);
-    ST(R, 29, r29);
     ST(R, 29, r29);
     m k = (m){0};
     k |= (r7 == splat(0.0)) & (r30 >= splat(0.0));

@@ -68,6 +68,12 @@ F void split(v x, d *lo, d *hi) {
 #define ST(A, i, x) split((x), &((d *)&(A)[(i) * BLOCKS])[2 * q], &((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 /* A per-run constant's row holds its lanes as f32, packed at its start. */
 #define LDC(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
+/* Row i of A copied into B as stored: the step's start kept for a redone
+   step, without rounding to f32 and back (a tenth of the step's work on
+   the tensile rig). The lanes read it as f32 all the same; a redone step
+   run in f64 starts from the row as it was stored. */
+#define KEEP(B, A, i) (((d *)&(B)[(i) * BLOCKS])[2 * q] = ((d *)&(A)[(i) * BLOCKS])[2 * q], \
+                       ((d *)&(B)[(i) * BLOCKS])[2 * q + 1] = ((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 F v fsplat(float x) { return (v){VALL(x)}; }
 F v fpick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
 F v vabs(v a) { return (v)((u)a & 0x7fffffffu); }
@@ -256,13 +262,13 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r9 = LD(R, 9);
     r28 = LDC(R, 28);
     r29 = LDC(R, 29);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
-    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
-    y3 = LD(R, 3); ST(Y, 3, y3); r3 = y3;
-    y4 = LD(R, 4); ST(Y, 4, y4); r4 = y4;
-    y5 = LD(R, 5); ST(Y, 5, y5); r5 = y5;
-    y6 = LD(R, 6); ST(Y, 6, y6); r6 = y6;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
+    y4 = LD(R, 4); KEEP(Y, R, 4); r4 = y4;
+    y5 = LD(R, 5); KEEP(Y, R, 5); r5 = y5;
+    y6 = LD(R, 6); KEEP(Y, R, 6); r6 = y6;
     r7 = splat(tt[0]);
     r33 = u0_0;
     r34 = u0_1;
@@ -515,11 +521,7 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 5, r5);
     ST(R, 6, r6);
     /* the event functions at the step's end */
-    r23 = LDC(R, 23);
-    r27 = LDC(R, 27);
     r30 = LDC(R, 30);
-    r8 = LD(R, 8);
-    r9 = LD(R, 9);
     r33 = r2 - r1;
     r34 = r5 - r4;
     r35 = r33 - r23;
@@ -528,12 +530,9 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r37 = r36 - r30;
     r36 = r36 + r30;
     ST(R, 35, r35);
-    ST(R, 35, r35);
-    ST(R, 33, r33);
     ST(R, 33, r33);
     ST(R, 37, r37);
     ST(R, 36, r36);
-    ST(R, 34, r34);
     ST(R, 34, r34);
     m k = (m){0};
     k |= (r8 == splat(0.0)) & (r35 >= splat(0.0));
@@ -576,13 +575,13 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r9 = LD(R, 9);
     r28 = LDC(R, 28);
     r29 = LDC(R, 29);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
-    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
-    y3 = LD(R, 3); ST(Y, 3, y3); r3 = y3;
-    y4 = LD(R, 4); ST(Y, 4, y4); r4 = y4;
-    y5 = LD(R, 5); ST(Y, 5, y5); r5 = y5;
-    y6 = LD(R, 6); ST(Y, 6, y6); r6 = y6;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
+    y4 = LD(R, 4); KEEP(Y, R, 4); r4 = y4;
+    y5 = LD(R, 5); KEEP(Y, R, 5); r5 = y5;
+    y6 = LD(R, 6); KEEP(Y, R, 6); r6 = y6;
     r7 = splat(tt[0]);
     r33 = r10 * r7;
     r34 = r11 * r33;
@@ -835,11 +834,7 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 5, r5);
     ST(R, 6, r6);
     /* the event functions at the step's end */
-    r23 = LDC(R, 23);
-    r27 = LDC(R, 27);
     r30 = LDC(R, 30);
-    r8 = LD(R, 8);
-    r9 = LD(R, 9);
     r33 = r2 - r1;
     r34 = r5 - r4;
     r35 = r33 - r23;
@@ -848,12 +843,9 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r37 = r36 - r30;
     r36 = r36 + r30;
     ST(R, 35, r35);
-    ST(R, 35, r35);
-    ST(R, 33, r33);
     ST(R, 33, r33);
     ST(R, 37, r37);
     ST(R, 36, r36);
-    ST(R, 34, r34);
     ST(R, 34, r34);
     m k = (m){0};
     k |= (r8 == splat(0.0)) & (r35 >= splat(0.0));

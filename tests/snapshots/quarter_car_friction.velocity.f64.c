@@ -54,6 +54,7 @@ typedef d v; typedef dm m; typedef du u;
 #define LD(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
 #define ST(A, i, x) (((v *)&(A)[(i) * BLOCKS])[q] = (x))
 #define LDC LD
+#define KEEP(B, A, i) (((v *)&(B)[(i) * BLOCKS])[q] = ((v *)&(A)[(i) * BLOCKS])[q])
 F v vabs(v a) { return (v)((u)a & 0x7fffffffffffffffULL); }
 F v vexp(v x) { return dexp(x); }
 F v vexpm1(v x) { return dexpm1(x); }
@@ -213,13 +214,13 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r9 = LD(R, 9);
     r28 = LDC(R, 28);
     r29 = LDC(R, 29);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
-    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
-    y3 = LD(R, 3); ST(Y, 3, y3); r3 = y3;
-    y4 = LD(R, 4); ST(Y, 4, y4); r4 = y4;
-    y5 = LD(R, 5); ST(Y, 5, y5); r5 = y5;
-    y6 = LD(R, 6); ST(Y, 6, y6); r6 = y6;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
+    y4 = LD(R, 4); KEEP(Y, R, 4); r4 = y4;
+    y5 = LD(R, 5); KEEP(Y, R, 5); r5 = y5;
+    y6 = LD(R, 6); KEEP(Y, R, 6); r6 = y6;
     r7 = splat(tt[0]);
     r33 = u0_0;
     r34 = u0_1;
@@ -472,11 +473,7 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 5, r5);
     ST(R, 6, r6);
     /* the event functions at the step's end */
-    r23 = LDC(R, 23);
-    r27 = LDC(R, 27);
     r30 = LDC(R, 30);
-    r8 = LD(R, 8);
-    r9 = LD(R, 9);
     r33 = r2 - r1;
     r34 = r5 - r4;
     r35 = r33 - r23;
@@ -485,12 +482,9 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r37 = r36 - r30;
     r36 = r36 + r30;
     ST(R, 35, r35);
-    ST(R, 35, r35);
-    ST(R, 33, r33);
     ST(R, 33, r33);
     ST(R, 37, r37);
     ST(R, 36, r36);
-    ST(R, 34, r34);
     ST(R, 34, r34);
     m k = (m){0};
     k |= (r8 == splat(0.0)) & (r35 >= splat(0.0));
@@ -533,13 +527,13 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r9 = LD(R, 9);
     r28 = LDC(R, 28);
     r29 = LDC(R, 29);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
-    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
-    y3 = LD(R, 3); ST(Y, 3, y3); r3 = y3;
-    y4 = LD(R, 4); ST(Y, 4, y4); r4 = y4;
-    y5 = LD(R, 5); ST(Y, 5, y5); r5 = y5;
-    y6 = LD(R, 6); ST(Y, 6, y6); r6 = y6;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
+    y4 = LD(R, 4); KEEP(Y, R, 4); r4 = y4;
+    y5 = LD(R, 5); KEEP(Y, R, 5); r5 = y5;
+    y6 = LD(R, 6); KEEP(Y, R, 6); r6 = y6;
     r7 = splat(tt[0]);
     r33 = r10 * r7;
     r34 = r11 * r33;
@@ -792,11 +786,7 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 5, r5);
     ST(R, 6, r6);
     /* the event functions at the step's end */
-    r23 = LDC(R, 23);
-    r27 = LDC(R, 27);
     r30 = LDC(R, 30);
-    r8 = LD(R, 8);
-    r9 = LD(R, 9);
     r33 = r2 - r1;
     r34 = r5 - r4;
     r35 = r33 - r23;
@@ -805,12 +795,9 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r37 = r36 - r30;
     r36 = r36 + r30;
     ST(R, 35, r35);
-    ST(R, 35, r35);
-    ST(R, 33, r33);
     ST(R, 33, r33);
     ST(R, 37, r37);
     ST(R, 36, r36);
-    ST(R, 34, r34);
     ST(R, 34, r34);
     m k = (m){0};
     k |= (r8 == splat(0.0)) & (r35 >= splat(0.0));

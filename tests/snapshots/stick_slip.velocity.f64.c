@@ -54,6 +54,7 @@ typedef d v; typedef dm m; typedef du u;
 #define LD(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
 #define ST(A, i, x) (((v *)&(A)[(i) * BLOCKS])[q] = (x))
 #define LDC LD
+#define KEEP(B, A, i) (((v *)&(B)[(i) * BLOCKS])[q] = ((v *)&(A)[(i) * BLOCKS])[q])
 F v vabs(v a) { return (v)((u)a & 0x7fffffffffffffffULL); }
 F v vexp(v x) { return dexp(x); }
 F v vexpm1(v x) { return dexpm1(x); }
@@ -93,9 +94,9 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r4 = LD(R, 4);
     r8 = LDC(R, 8);
     r9 = LDC(R, 9);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
-    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
     r5 = splat(tab[0 + 0]);
     r11 = r6 - r1;
     r12 = r7 * r2;
@@ -148,17 +149,13 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 1, r1);
     ST(R, 2, r2);
     /* the event functions at the step's end */
-    r6 = LDC(R, 6);
-    r7 = LDC(R, 7);
     r10 = LDC(R, 10);
-    r4 = LD(R, 4);
     r11 = r6 - r1;
     r12 = r7 * r2;
     r13 = r12 - r10;
     r12 = r12 + r10;
     ST(R, 13, r13);
     ST(R, 12, r12);
-    ST(R, 11, r11);
     ST(R, 11, r11);
     m k = (m){0};
     k |= (r4 == splat(0.0)) & (r13 >= splat(0.0));

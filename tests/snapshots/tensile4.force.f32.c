@@ -68,6 +68,12 @@ F void split(v x, d *lo, d *hi) {
 #define ST(A, i, x) split((x), &((d *)&(A)[(i) * BLOCKS])[2 * q], &((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 /* A per-run constant's row holds its lanes as f32, packed at its start. */
 #define LDC(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
+/* Row i of A copied into B as stored: the step's start kept for a redone
+   step, without rounding to f32 and back (a tenth of the step's work on
+   the tensile rig). The lanes read it as f32 all the same; a redone step
+   run in f64 starts from the row as it was stored. */
+#define KEEP(B, A, i) (((d *)&(B)[(i) * BLOCKS])[2 * q] = ((d *)&(A)[(i) * BLOCKS])[2 * q], \
+                       ((d *)&(B)[(i) * BLOCKS])[2 * q + 1] = ((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 F v fsplat(float x) { return (v){VALL(x)}; }
 F v fpick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
 F v vabs(v a) { return (v)((u)a & 0x7fffffffu); }
@@ -161,14 +167,14 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r37 = LDC(R, 37);
     r38 = LDC(R, 38);
     r39 = LDC(R, 39);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
-    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
-    y3 = LD(R, 3); ST(Y, 3, y3); r3 = y3;
-    y4 = LD(R, 4); ST(Y, 4, y4); r4 = y4;
-    y5 = LD(R, 5); ST(Y, 5, y5); r5 = y5;
-    y6 = LD(R, 6); ST(Y, 6, y6); r6 = y6;
-    y7 = LD(R, 7); ST(Y, 7, y7); r7 = y7;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
+    y4 = LD(R, 4); KEEP(Y, R, 4); r4 = y4;
+    y5 = LD(R, 5); KEEP(Y, R, 5); r5 = y5;
+    y6 = LD(R, 6); KEEP(Y, R, 6); r6 = y6;
+    y7 = LD(R, 7); KEEP(Y, R, 7); r7 = y7;
     r12 = splat(tab[0 + 0]);
     r42 = r13 * r0;
     r43 = veq(r9, r14);
@@ -428,19 +434,13 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     /* the event functions at the step's end */
     r40 = LDC(R, 40);
     r41 = LDC(R, 41);
-    r28 = LDC(R, 28);
-    r10 = LD(R, 10);
-    r9 = LD(R, 9);
-    r11 = LD(R, 11);
     r42 = r1 - r0;
     r43 = r42 - r40;
     r42 = r42 - r41;
     r44 = r3 - r2;
     r44 = r44 - r28;
     ST(R, 43, r43);
-    ST(R, 43, r43);
     ST(R, 42, r42);
-    ST(R, 44, r44);
     ST(R, 44, r44);
     m k = (m){0};
     k |= (r10 == splat(0.0)) & (r43 >= splat(0.0));

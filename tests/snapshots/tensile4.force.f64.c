@@ -54,6 +54,7 @@ typedef d v; typedef dm m; typedef du u;
 #define LD(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
 #define ST(A, i, x) (((v *)&(A)[(i) * BLOCKS])[q] = (x))
 #define LDC LD
+#define KEEP(B, A, i) (((v *)&(B)[(i) * BLOCKS])[q] = ((v *)&(A)[(i) * BLOCKS])[q])
 F v vabs(v a) { return (v)((u)a & 0x7fffffffffffffffULL); }
 F v vexp(v x) { return dexp(x); }
 F v vexpm1(v x) { return dexpm1(x); }
@@ -118,14 +119,14 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r37 = LDC(R, 37);
     r38 = LDC(R, 38);
     r39 = LDC(R, 39);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
-    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
-    y3 = LD(R, 3); ST(Y, 3, y3); r3 = y3;
-    y4 = LD(R, 4); ST(Y, 4, y4); r4 = y4;
-    y5 = LD(R, 5); ST(Y, 5, y5); r5 = y5;
-    y6 = LD(R, 6); ST(Y, 6, y6); r6 = y6;
-    y7 = LD(R, 7); ST(Y, 7, y7); r7 = y7;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
+    y4 = LD(R, 4); KEEP(Y, R, 4); r4 = y4;
+    y5 = LD(R, 5); KEEP(Y, R, 5); r5 = y5;
+    y6 = LD(R, 6); KEEP(Y, R, 6); r6 = y6;
+    y7 = LD(R, 7); KEEP(Y, R, 7); r7 = y7;
     r12 = splat(tab[0 + 0]);
     r42 = r13 * r0;
     r43 = veq(r9, r14);
@@ -385,19 +386,13 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     /* the event functions at the step's end */
     r40 = LDC(R, 40);
     r41 = LDC(R, 41);
-    r28 = LDC(R, 28);
-    r10 = LD(R, 10);
-    r9 = LD(R, 9);
-    r11 = LD(R, 11);
     r42 = r1 - r0;
     r43 = r42 - r40;
     r42 = r42 - r41;
     r44 = r3 - r2;
     r44 = r44 - r28;
     ST(R, 43, r43);
-    ST(R, 43, r43);
     ST(R, 42, r42);
-    ST(R, 44, r44);
     ST(R, 44, r44);
     m k = (m){0};
     k |= (r10 == splat(0.0)) & (r43 >= splat(0.0));

@@ -68,6 +68,12 @@ F void split(v x, d *lo, d *hi) {
 #define ST(A, i, x) split((x), &((d *)&(A)[(i) * BLOCKS])[2 * q], &((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 /* A per-run constant's row holds its lanes as f32, packed at its start. */
 #define LDC(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
+/* Row i of A copied into B as stored: the step's start kept for a redone
+   step, without rounding to f32 and back (a tenth of the step's work on
+   the tensile rig). The lanes read it as f32 all the same; a redone step
+   run in f64 starts from the row as it was stored. */
+#define KEEP(B, A, i) (((d *)&(B)[(i) * BLOCKS])[2 * q] = ((d *)&(A)[(i) * BLOCKS])[2 * q], \
+                       ((d *)&(B)[(i) * BLOCKS])[2 * q + 1] = ((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 F v fsplat(float x) { return (v){VALL(x)}; }
 F v fpick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
 F v vabs(v a) { return (v)((u)a & 0x7fffffffu); }
@@ -273,14 +279,14 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r39 = LDC(R, 39);
     r40 = LDC(R, 40);
     r41 = LDC(R, 41);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
-    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
-    y3 = LD(R, 3); ST(Y, 3, y3); r3 = y3;
-    y4 = LD(R, 4); ST(Y, 4, y4); r4 = y4;
-    y5 = LD(R, 5); ST(Y, 5, y5); r5 = y5;
-    y6 = LD(R, 6); ST(Y, 6, y6); r6 = y6;
-    y7 = LD(R, 7); ST(Y, 7, y7); r7 = y7;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
+    y4 = LD(R, 4); KEEP(Y, R, 4); r4 = y4;
+    y5 = LD(R, 5); KEEP(Y, R, 5); r5 = y5;
+    y6 = LD(R, 6); KEEP(Y, R, 6); r6 = y6;
+    y7 = LD(R, 7); KEEP(Y, R, 7); r7 = y7;
     r8 = splat(tt[0]);
     r44 = u0_0;
     r45 = u0_1;
@@ -583,17 +589,8 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 7, r7);
     /* the event functions at the step's end */
     r8 = splat(tt[3]);
-    r12 = LDC(R, 12);
-    r13 = LDC(R, 13);
-    r14 = LDC(R, 14);
-    r15 = LDC(R, 15);
-    r16 = LDC(R, 16);
     r42 = LDC(R, 42);
     r43 = LDC(R, 43);
-    r31 = LDC(R, 31);
-    r10 = LD(R, 10);
-    r9 = LD(R, 9);
-    r11 = LD(R, 11);
     r44 = e_0;
     r45 = e_1;
     r45 = e_2;
@@ -609,9 +606,7 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r45 = r45 - r2;
     r45 = r45 - r31;
     ST(R, 46, r46);
-    ST(R, 46, r46);
     ST(R, 44, r44);
-    ST(R, 45, r45);
     ST(R, 45, r45);
     m k = (m){0};
     k |= (r10 == splat(0.0)) & (r46 >= splat(0.0));
@@ -662,14 +657,14 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r39 = LDC(R, 39);
     r40 = LDC(R, 40);
     r41 = LDC(R, 41);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
-    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
-    y3 = LD(R, 3); ST(Y, 3, y3); r3 = y3;
-    y4 = LD(R, 4); ST(Y, 4, y4); r4 = y4;
-    y5 = LD(R, 5); ST(Y, 5, y5); r5 = y5;
-    y6 = LD(R, 6); ST(Y, 6, y6); r6 = y6;
-    y7 = LD(R, 7); ST(Y, 7, y7); r7 = y7;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
+    y4 = LD(R, 4); KEEP(Y, R, 4); r4 = y4;
+    y5 = LD(R, 5); KEEP(Y, R, 5); r5 = y5;
+    y6 = LD(R, 6); KEEP(Y, R, 6); r6 = y6;
+    y7 = LD(R, 7); KEEP(Y, R, 7); r7 = y7;
     r8 = splat(tt[0]);
     r44 = vle(r8, r12);
     r45 = r13 * r8;
@@ -972,17 +967,8 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 7, r7);
     /* the event functions at the step's end */
     r8 = splat(tt[3]);
-    r12 = LDC(R, 12);
-    r13 = LDC(R, 13);
-    r14 = LDC(R, 14);
-    r15 = LDC(R, 15);
-    r16 = LDC(R, 16);
     r42 = LDC(R, 42);
     r43 = LDC(R, 43);
-    r31 = LDC(R, 31);
-    r10 = LD(R, 10);
-    r9 = LD(R, 9);
-    r11 = LD(R, 11);
     r44 = vle(r8, r12);
     r45 = r13 * r8;
     r45 = -r45;
@@ -998,9 +984,7 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r45 = r45 - r2;
     r45 = r45 - r31;
     ST(R, 46, r46);
-    ST(R, 46, r46);
     ST(R, 44, r44);
-    ST(R, 45, r45);
     ST(R, 45, r45);
     m k = (m){0};
     k |= (r10 == splat(0.0)) & (r46 >= splat(0.0));

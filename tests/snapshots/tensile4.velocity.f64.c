@@ -54,6 +54,7 @@ typedef d v; typedef dm m; typedef du u;
 #define LD(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
 #define ST(A, i, x) (((v *)&(A)[(i) * BLOCKS])[q] = (x))
 #define LDC LD
+#define KEEP(B, A, i) (((v *)&(B)[(i) * BLOCKS])[q] = ((v *)&(A)[(i) * BLOCKS])[q])
 F v vabs(v a) { return (v)((u)a & 0x7fffffffffffffffULL); }
 F v vexp(v x) { return dexp(x); }
 F v vexpm1(v x) { return dexpm1(x); }
@@ -230,14 +231,14 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r39 = LDC(R, 39);
     r40 = LDC(R, 40);
     r41 = LDC(R, 41);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
-    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
-    y3 = LD(R, 3); ST(Y, 3, y3); r3 = y3;
-    y4 = LD(R, 4); ST(Y, 4, y4); r4 = y4;
-    y5 = LD(R, 5); ST(Y, 5, y5); r5 = y5;
-    y6 = LD(R, 6); ST(Y, 6, y6); r6 = y6;
-    y7 = LD(R, 7); ST(Y, 7, y7); r7 = y7;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
+    y4 = LD(R, 4); KEEP(Y, R, 4); r4 = y4;
+    y5 = LD(R, 5); KEEP(Y, R, 5); r5 = y5;
+    y6 = LD(R, 6); KEEP(Y, R, 6); r6 = y6;
+    y7 = LD(R, 7); KEEP(Y, R, 7); r7 = y7;
     r8 = splat(tt[0]);
     r44 = u0_0;
     r45 = u0_1;
@@ -540,17 +541,8 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 7, r7);
     /* the event functions at the step's end */
     r8 = splat(tt[3]);
-    r12 = LDC(R, 12);
-    r13 = LDC(R, 13);
-    r14 = LDC(R, 14);
-    r15 = LDC(R, 15);
-    r16 = LDC(R, 16);
     r42 = LDC(R, 42);
     r43 = LDC(R, 43);
-    r31 = LDC(R, 31);
-    r10 = LD(R, 10);
-    r9 = LD(R, 9);
-    r11 = LD(R, 11);
     r44 = e_0;
     r45 = e_1;
     r45 = e_2;
@@ -566,9 +558,7 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r45 = r45 - r2;
     r45 = r45 - r31;
     ST(R, 46, r46);
-    ST(R, 46, r46);
     ST(R, 44, r44);
-    ST(R, 45, r45);
     ST(R, 45, r45);
     m k = (m){0};
     k |= (r10 == splat(0.0)) & (r46 >= splat(0.0));
@@ -619,14 +609,14 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r39 = LDC(R, 39);
     r40 = LDC(R, 40);
     r41 = LDC(R, 41);
-    y0 = LD(R, 0); ST(Y, 0, y0); r0 = y0;
-    y1 = LD(R, 1); ST(Y, 1, y1); r1 = y1;
-    y2 = LD(R, 2); ST(Y, 2, y2); r2 = y2;
-    y3 = LD(R, 3); ST(Y, 3, y3); r3 = y3;
-    y4 = LD(R, 4); ST(Y, 4, y4); r4 = y4;
-    y5 = LD(R, 5); ST(Y, 5, y5); r5 = y5;
-    y6 = LD(R, 6); ST(Y, 6, y6); r6 = y6;
-    y7 = LD(R, 7); ST(Y, 7, y7); r7 = y7;
+    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
+    y4 = LD(R, 4); KEEP(Y, R, 4); r4 = y4;
+    y5 = LD(R, 5); KEEP(Y, R, 5); r5 = y5;
+    y6 = LD(R, 6); KEEP(Y, R, 6); r6 = y6;
+    y7 = LD(R, 7); KEEP(Y, R, 7); r7 = y7;
     r8 = splat(tt[0]);
     r44 = vle(r8, r12);
     r45 = r13 * r8;
@@ -929,17 +919,8 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     ST(R, 7, r7);
     /* the event functions at the step's end */
     r8 = splat(tt[3]);
-    r12 = LDC(R, 12);
-    r13 = LDC(R, 13);
-    r14 = LDC(R, 14);
-    r15 = LDC(R, 15);
-    r16 = LDC(R, 16);
     r42 = LDC(R, 42);
     r43 = LDC(R, 43);
-    r31 = LDC(R, 31);
-    r10 = LD(R, 10);
-    r9 = LD(R, 9);
-    r11 = LD(R, 11);
     r44 = vle(r8, r12);
     r45 = r13 * r8;
     r45 = -r45;
@@ -955,9 +936,7 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r45 = r45 - r2;
     r45 = r45 - r31;
     ST(R, 46, r46);
-    ST(R, 46, r46);
     ST(R, 44, r44);
-    ST(R, 45, r45);
     ST(R, 45, r45);
     m k = (m){0};
     k |= (r10 == splat(0.0)) & (r46 >= splat(0.0));

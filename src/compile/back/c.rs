@@ -121,6 +121,7 @@ const F64_LANES: &str = r#"typedef d v; typedef dm m; typedef du u;
 #define LD(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
 #define ST(A, i, x) (((v *)&(A)[(i) * BLOCKS])[q] = (x))
 #define LDC LD
+#define KEEP(B, A, i) (((v *)&(B)[(i) * BLOCKS])[q] = ((v *)&(A)[(i) * BLOCKS])[q])
 F v vabs(v a) { return (v)((u)a & 0x7fffffffffffffffULL); }
 F v vexp(v x) { return dexp(x); }
 F v vexpm1(v x) { return dexpm1(x); }
@@ -145,6 +146,12 @@ F void split(v x, d *lo, d *hi) {
 #define ST(A, i, x) split((x), &((d *)&(A)[(i) * BLOCKS])[2 * q], &((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 /* A per-run constant's row holds its lanes as f32, packed at its start. */
 #define LDC(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
+/* Row i of A copied into B as stored: the step's start kept for a redone
+   step, without rounding to f32 and back (a tenth of the step's work on
+   the tensile rig). The lanes read it as f32 all the same; a redone step
+   run in f64 starts from the row as it was stored. */
+#define KEEP(B, A, i) (((d *)&(B)[(i) * BLOCKS])[2 * q] = ((d *)&(A)[(i) * BLOCKS])[2 * q], \
+                       ((d *)&(B)[(i) * BLOCKS])[2 * q + 1] = ((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 F v fsplat(float x) { return (v){VALL(x)}; }
 F v fpick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
 F v vabs(v a) { return (v)((u)a & 0x7fffffffu); }
@@ -430,7 +437,7 @@ fn rk4_loop(s: &mut String, code: &LaneCode, hoisted: Option<&Hoistable>) {
         load(s, reg, "", code, &|_| None);
     }
     for i in 0..n {
-        let _ = writeln!(s, "    y{i} = LD(R, {i}); ST(Y, {i}, y{i}); r{i} = y{i};");
+        let _ = writeln!(s, "    y{i} = LD(R, {i}); KEEP(Y, R, {i}); r{i} = y{i};");
     }
     for stage in 0..4 {
         stage_inputs(s, code, &code.deriv, stage);
@@ -473,8 +480,13 @@ fn step_end_events(s: &mut String, code: &LaneCode, hoisted: Option<&[bool]>) {
     }
     s.push_str("    /* the event functions at the step's end */\n");
     stage_inputs(s, code, &code.events, 3);
+    let held = still_loaded(code);
     for reg in event_loads(code) {
-        if (reg as usize) >= n && reg != code.time && !list.tables.iter().any(|&(_, r)| r == reg) {
+        if (reg as usize) >= n
+            && reg != code.time
+            && !list.tables.iter().any(|&(_, r)| r == reg)
+            && !held.contains(&reg)
+        {
             load(s, reg, "", code, &|_| None);
         }
     }
@@ -485,10 +497,38 @@ fn step_end_events(s: &mut String, code: &LaneCode, hoisted: Option<&[bool]>) {
             s.push_str(&statement(ins.dest, &ins.op, 'v'));
         }
     }
+    let mut stored = Vec::new();
     for &root in &list.roots {
-        let _ = writeln!(s, "    ST(R, {root}, r{root});");
+        if !stored.contains(&root) {
+            stored.push(root);
+            let _ = writeln!(s, "    ST(R, {root}, r{root});");
+        }
     }
     hit_test(s, code);
+}
+
+/// The registers `rig_rk4`'s loop loaded at its start for the derivative
+/// that still hold their rows at the step's end (no instruction or slope copy
+/// of the four stages wrote them): the event list reads them from there,
+/// not from the register file again (an f32 lane's load converts from f64).
+fn still_loaded(code: &LaneCode) -> Vec<Reg> {
+    let n = code.slopes.len();
+    let written: std::collections::HashSet<Reg> = code
+        .deriv
+        .code
+        .iter()
+        .map(|ins| ins.dest)
+        .chain(code.slope_copies.iter().map(|&(_, copy)| copy))
+        .collect();
+    inputs(&code.deriv)
+        .into_iter()
+        .filter(|&reg| {
+            (reg as usize) >= n
+                && reg != code.time
+                && !code.deriv.tables.iter().any(|&(_, r)| r == reg)
+                && !written.contains(&reg)
+        })
+        .collect()
 }
 
 /// The registers the event list and its hit test read: its inputs, the
