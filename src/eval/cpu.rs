@@ -86,6 +86,22 @@ impl CpuEvaluator {
         self.precision = Precision::F32;
         Ok(())
     }
+
+    /// Runs one task advances together out of `runs`: as many as the model's
+    /// lanes hold, but no more than a thread's share (in whole vector blocks
+    /// where the share is a block or more), so that a small batch (the
+    /// polish's Jacobian, six histories at a time on the EMPS rig) still
+    /// spreads over every thread: a block's runs take one vector whether one
+    /// lane is used or all, so a thread's three runs cost what its six did.
+    fn group_size(&self, runs: usize) -> usize {
+        let share = runs.div_ceil(self.pool.current_num_threads().max(1));
+        let share = if share >= 8 {
+            share.next_multiple_of(8)
+        } else {
+            share
+        };
+        self.problem.model.lanes().min(share).max(1)
+    }
 }
 
 impl Evaluator for CpuEvaluator {
@@ -114,14 +130,9 @@ impl Evaluator for CpuEvaluator {
                 .is_some_and(|f| f.load(Ordering::Relaxed))
         };
         // Groups of consecutive candidates of one experiment with one offset
-        // (one sample grid), as many as the model advances together.
-        // At most a thread's share, in whole vector blocks, so a small batch
-        // (a polish's Jacobian) still spreads over every thread.
-        let share = batch
-            .candidates
-            .div_ceil(self.pool.current_num_threads().max(1))
-            .next_multiple_of(8);
-        let lanes = problem.model.lanes().min(share).max(1);
+        // (one sample grid), as many as the model advances together, at most
+        // a thread's share.
+        let lanes = self.group_size(batch.candidates);
         let mut groups: Vec<(usize, usize, usize)> = Vec::new();
         for e in 0..ne {
             let mut i = 0;
@@ -182,13 +193,14 @@ impl Evaluator for CpuEvaluator {
         which: &[usize],
     ) -> Result<Vec<Vec<History>>, EvalError> {
         let problem = &self.problem;
-        // Groups of a lane block's worth of runs, each group advanced by the
-        // lane ensemble where its runs share the clock offset (the same bits
-        // as the reference run by run, at the lanes' rate: the polish asks
-        // for histories at every iteration).
+        // Groups of at most a thread's share of the runs, each group advanced
+        // by the lane ensemble where its runs share the clock offset (the
+        // same bits as the reference run by run, at the lanes' rate: the
+        // polish asks for histories at every iteration).
+        let group = self.group_size(which.len());
         let groups: Vec<Vec<Vec<History>>> = self.pool.install(|| {
             which
-                .par_chunks(crate::compile::exec::lanes::LANES)
+                .par_chunks(group)
                 .map(|group| {
                     let per_exp: Vec<Vec<History>> = (0..problem.experiments.len())
                         .map(|e| {
