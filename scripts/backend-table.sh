@@ -7,6 +7,7 @@
 #   cargo build --release && scripts/backend-table.sh [BINARY...]
 #
 # Set LP_NUM_THREADS (lavapipe's threads) as the jobs should see it;
+# RIGFIT_TABLE_CAMPAIGNS="campaigns/a.json campaigns/b.json" times those alone;
 # RIGFIT_TABLE_BACKENDS="gpu cpu" leaves out auto (a binary from before auto
 # measured, whose auto was the GPU wherever an adapter existed).
 set -euo pipefail
@@ -28,7 +29,7 @@ echo
 header="| campaign | binary | GPU (s) | CPU (s) | auto, first run (s) | auto chose | first ÷ faster | auto, cached (s) | cached ÷ faster | check's estimate GPU / CPU (s) |"
 echo "$header"
 echo "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"
-for c in campaigns/*.json; do
+for c in ${RIGFIT_TABLE_CAMPAIGNS:-campaigns/*.json}; do
     case "$c" in *reference_params*) continue ;; esac
     name="$(basename "$c" .json)"
     for bin in "${bins[@]}"; do
