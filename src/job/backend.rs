@@ -74,8 +74,8 @@ pub const SHORT_JOB_SECONDS: f64 = 4.0;
 /// Two paths' trial rates closer than this ratio are a close call, timed
 /// once more each: on the shipped tensile example (2 048 candidates) the
 /// CPU lanes' rate on a 2-core machine read 1.06e8 to 1.25e8 from one run
-/// to the next, and lavapipe's 1.02e8 to 1.07e8, so that one batch each
-/// chose lavapipe about one time in three, for a job 17 % slower.
+/// to the next, and lavapipe's 1.02e8 to 1.09e8, so that one batch each
+/// chose lavapipe about one time in three, for a job 15 to 18 % slower.
 pub const CLOSE_CALL: f64 = 1.15;
 
 /// Fewest candidates a trial batch scores (the population, where smaller).
@@ -500,7 +500,7 @@ pub fn race(
             best = Some((variant, r, scores));
         }
     }
-    let (gpu_rate, gpu_scores) = match best.as_ref() {
+    let (mut gpu_rate, gpu_scores) = match best.as_ref() {
         Some((variant, r, scores)) => {
             gpu.use_kernel_variant(variant);
             (*r, scores.clone())
@@ -508,7 +508,6 @@ pub fn race(
         None => rate(campaign, gpu.as_mut(), &batch, "gpu")?,
     };
     let (mut cpu_rate, cpu_scores) = rate(campaign, cpu.as_mut(), &batch, "cpu")?;
-    let mut gpu_rate = gpu_rate;
     // A close call is timed once more on each path (the CPU first, its
     // threads undisturbed by the GPU's), the faster of each path's two kept.
     if gpu_rate.max(cpu_rate) < CLOSE_CALL * gpu_rate.min(cpu_rate) {
