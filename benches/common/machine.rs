@@ -18,7 +18,7 @@ pub fn machine_line() -> String {
         (false, true) => "AVX2, no AVX-512",
         _ => "neither AVX2 nor AVX-512",
     };
-    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    let cores = rigfit::eval::all_cores();
     let lanes = std::env::var("RIGFIT_LANES_ISA").unwrap_or_else(|_| "widest".into());
     let picked = rigfit::compile::exec::lanes::Isa::detect();
     format!(

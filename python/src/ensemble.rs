@@ -102,7 +102,7 @@ pub fn simulate<'py>(
 fn simulate_lanes(c: &Campaign, sets: &[Vec<f64>], threads: usize, out: &mut Array4<f64>) {
     use std::ops::ControlFlow;
     let threads = match threads {
-        0 => std::thread::available_parallelism().map_or(1, usize::from),
+        0 => rigfit::eval::all_cores(),
         n => n,
     };
     let problem = &c.problem;

@@ -31,7 +31,7 @@ pub struct CheckArgs {
 /// ran at takes the CPU's.
 fn search_estimate(c: &Campaign, steps_per_candidate: f64) -> serde_json::Value {
     use rigfit::eval::PrecisionChoice;
-    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    let cores = rigfit::eval::all_cores();
     let precision = format!("{:?}", c.solver.precision).to_lowercase();
     let measured = rigfit::job::backend::cached(&rigfit::job::backend::auto_key(c, &precision));
     let cpu_precision = match c.solver.precision {

@@ -9,7 +9,7 @@ use rigfit::gpu::list_adapters;
 /// CPU's lane ensemble runs native code here.
 pub fn devices(out: &Output) -> Result<()> {
     let adapters = list_adapters();
-    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    let cores = rigfit::eval::all_cores();
     let native = rigfit::compile::back::native::check_native_lanes();
     let cpu_line = match &native {
         Ok((cc, version)) => format!(

@@ -31,6 +31,13 @@ impl Drop for CpuEvaluator {
     }
 }
 
+/// The cores this process may run on: what "all cores" means for
+/// [`CpuEvaluator`] (`threads` 0), for the rates kept per machine and for the
+/// time estimates; 1 where the system will not say.
+pub fn all_cores() -> usize {
+    std::thread::available_parallelism().map_or(1, usize::from)
+}
+
 impl CpuEvaluator {
     /// An evaluator on `threads` threads (0: all cores).
     ///
@@ -94,9 +101,10 @@ impl CpuEvaluator {
     /// spreads over every thread: a block's runs take one vector whether one
     /// lane is used or all, so a thread's three runs cost what its six did.
     fn group_size(&self, runs: usize) -> usize {
+        let block = crate::compile::exec::lanes::W;
         let share = runs.div_ceil(self.pool.current_num_threads().max(1));
-        let share = if share >= 8 {
-            share.next_multiple_of(8)
+        let share = if share >= block {
+            share.next_multiple_of(block)
         } else {
             share
         };

@@ -13,7 +13,7 @@ mod residuals;
 
 use std::ops::Range;
 
-pub use cpu::CpuEvaluator;
+pub use cpu::{CpuEvaluator, all_cores};
 pub use fitness::{
     FitnessAccumulator, score_many, score_one, simulate_histories, simulate_history,
 };

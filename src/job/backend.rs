@@ -391,7 +391,7 @@ fn worth_building_early(campaign: &Campaign) -> bool {
 /// The job's estimated wall time on its faster path (s), at the assumed
 /// rates `check` starts from.
 fn short_job_estimate(campaign: &Campaign) -> f64 {
-    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    let cores = crate::eval::all_cores();
     let e = crate::job::memory::TimeEstimate::of(
         campaign,
         super::steps_per_candidate(campaign),
@@ -425,18 +425,17 @@ fn trial_genomes(campaign: &Campaign, n: usize) -> Vec<Vec<f64>> {
 
 /// Makes `evaluator` ready to be timed on `genomes`: what it would make
 /// ready once it pays ([`Evaluator::prepare`]: the CPU lanes' native builds),
-/// then a first batch of the first `warm_up` genomes (the GPU's pipelines
-/// for the kernel variant in use; the CPU's first call into its native code
-/// and its first buffers).
+/// then a first batch of the first [`WARM_UP_CANDIDATES`] genomes (the GPU's
+/// pipelines for the kernel variant in use; the CPU's first call into its
+/// native code and its first buffers).
 fn make_ready(
     campaign: &Campaign,
     evaluator: &mut dyn Evaluator,
     genomes: &[Vec<f64>],
     path: &'static str,
-    warm_up: usize,
 ) -> Result<(), TrialError> {
     evaluator.prepare();
-    let warm = &genomes[..genomes.len().min(warm_up)];
+    let warm = &genomes[..genomes.len().min(WARM_UP_CANDIDATES)];
     evaluator
         .fitness(&campaign.batch(warm))
         .map_err(|source| TrialError::Eval { path, source })?;
@@ -482,12 +481,12 @@ pub fn race(
     let variants = gpu.kernel_variants();
     for &variant in variants {
         gpu.use_kernel_variant(variant);
-        make_ready(campaign, gpu.as_mut(), &genomes, "gpu", WARM_UP_CANDIDATES)?;
+        make_ready(campaign, gpu.as_mut(), &genomes, "gpu")?;
     }
     if variants.is_empty() {
-        make_ready(campaign, gpu.as_mut(), &genomes, "gpu", WARM_UP_CANDIDATES)?;
+        make_ready(campaign, gpu.as_mut(), &genomes, "gpu")?;
     }
-    make_ready(campaign, cpu.as_mut(), &genomes, "cpu", WARM_UP_CANDIDATES)?;
+    make_ready(campaign, cpu.as_mut(), &genomes, "cpu")?;
     let batch = campaign.batch(&genomes);
     // Each kernel variant of the GPU, the fastest kept.
     let mut gpu_kernel_rates = BTreeMap::new();
@@ -676,7 +675,7 @@ fn observed_file() -> Option<PathBuf> {
 /// population (no adapters: listing them takes longer than the shortest
 /// jobs' start-up).
 pub fn observed_key(campaign: &Campaign, precision: &str) -> String {
-    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    let cores = crate::eval::all_cores();
     format!(
         "{} ({cores} cores) | campaign {:016x} | {precision} | population {}",
         processor(),

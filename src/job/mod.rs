@@ -311,7 +311,7 @@ pub fn run_observed(
 /// search that was not interrupted; nothing for a search on the GPU, on
 /// fewer threads or resumed.
 fn observe_cpu_rate(campaign: &Campaign, summary: &JobSummary, opts: &JobOptions) {
-    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    let cores = crate::eval::all_cores();
     let whole = !opts.resume && summary.wall_time_s > 0.0 && summary.evaluations > 0;
     if summary.backend != "cpu" || !(opts.threads == 0 || opts.threads == cores) || !whole {
         return;

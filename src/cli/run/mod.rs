@@ -161,7 +161,7 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     for w in &c.warnings {
         out.note(&format!("warning: {w}"));
     }
-    let cores = std::thread::available_parallelism().map_or(1, usize::from);
+    let cores = rigfit::eval::all_cores();
     if a.threads > 2 * cores {
         out.note(&format!(
             "warning: --threads {} is far above the {cores} cores here; threads beyond the \

@@ -427,14 +427,10 @@ fn rk4_loop(s: &mut String, code: &LaneCode, hoisted: Option<&Hoistable>) {
             .collect::<Vec<_>>()
             .join(", ")
     );
-    for &reg in &inputs(&code.deriv) {
-        if (reg as usize) < n
-            || reg == code.time
-            || code.deriv.tables.iter().any(|&(_, r)| r == reg)
-        {
-            continue;
+    for reg in inputs(&code.deriv) {
+        if from_rows(code, &code.deriv, reg) {
+            load(s, reg, "", code, &|_| None);
         }
-        load(s, reg, "", code, &|_| None);
     }
     for i in 0..n {
         let _ = writeln!(s, "    y{i} = LD(R, {i}); KEEP(Y, R, {i}); r{i} = y{i};");
@@ -473,7 +469,6 @@ fn rk4_loop(s: &mut String, code: &LaneCode, hoisted: Option<&Hoistable>) {
 /// armed switch added to `hits`. `hoisted`: which instructions were computed
 /// before the loop, into `e_{index}`.
 fn step_end_events(s: &mut String, code: &LaneCode, hoisted: Option<&[bool]>) {
-    let n = code.slopes.len();
     let list = &code.events;
     if list.code.is_empty() && code.armed.is_empty() {
         return;
@@ -482,11 +477,7 @@ fn step_end_events(s: &mut String, code: &LaneCode, hoisted: Option<&[bool]>) {
     stage_inputs(s, code, &code.events, 3);
     let held = still_loaded(code);
     for reg in event_loads(code) {
-        if (reg as usize) >= n
-            && reg != code.time
-            && !list.tables.iter().any(|&(_, r)| r == reg)
-            && !held.contains(&reg)
-        {
+        if from_rows(code, list, reg) && !held.contains(&reg) {
             load(s, reg, "", code, &|_| None);
         }
     }
@@ -512,7 +503,6 @@ fn step_end_events(s: &mut String, code: &LaneCode, hoisted: Option<&[bool]>) {
 /// of the four stages wrote them): the event list reads them from there,
 /// not from the register file again (an f32 lane's load converts from f64).
 fn still_loaded(code: &LaneCode) -> Vec<Reg> {
-    let n = code.slopes.len();
     let written: std::collections::HashSet<Reg> = code
         .deriv
         .code
@@ -522,13 +512,17 @@ fn still_loaded(code: &LaneCode) -> Vec<Reg> {
         .collect();
     inputs(&code.deriv)
         .into_iter()
-        .filter(|&reg| {
-            (reg as usize) >= n
-                && reg != code.time
-                && !code.deriv.tables.iter().any(|&(_, r)| r == reg)
-                && !written.contains(&reg)
-        })
+        .filter(|&reg| from_rows(code, &code.deriv, reg) && !written.contains(&reg))
         .collect()
+}
+
+/// Whether `list`'s input `reg` is loaded from the register file: not a
+/// state (the step's own registers), the time or one of the list's tables
+/// (from `tt` and `tab`).
+fn from_rows(code: &LaneCode, list: &List, reg: Reg) -> bool {
+    (reg as usize) >= code.slopes.len()
+        && reg != code.time
+        && !list.tables.iter().any(|&(_, r)| r == reg)
 }
 
 /// The registers the event list and its hit test read: its inputs, the
