@@ -294,8 +294,7 @@ impl Evaluator for GpuEvaluator {
         if which.is_empty() {
             return Ok(Vec::new());
         }
-        let raw = self.run_histories(batch, which).map_err(device_error)?;
-        Ok(self.unpack_histories(&raw, which.len()))
+        self.run_histories(batch, which).map_err(device_error)
     }
 
     fn set_cancel(&mut self, flag: Arc<AtomicBool>) {

@@ -116,8 +116,9 @@ impl GpuEvaluator {
             enc.copy_buffer_to_buffer(&rb.fitness, 0, &rb.readback, 0, size);
             self.ctx.queue.submit([enc.finish()]);
         })?;
-        let bytes = pipeline::read_back(&self.ctx, &rb.readback, size)?;
-        Ok(from_real_bytes(&bytes, self.precision))
+        pipeline::read_back(&self.ctx, &rb.readback, size, |b| {
+            from_real_bytes(b, self.precision)
+        })
     }
 
     /// The scores of a fitness pass's raw values: a blown-up run (-1, or

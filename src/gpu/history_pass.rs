@@ -7,18 +7,19 @@ use crate::model::CompiledRig;
 
 use super::dispatch::encode_dispatches;
 use super::layout::Settings;
-use super::pack::{from_real_bytes, real_size};
+use super::pack::{Reals, real_size};
 use super::pipeline;
 use super::{GpuError, GpuEvaluator};
 
 impl GpuEvaluator {
     /// Runs the history kernel over candidates `which` of the batch and
-    /// returns its raw records.
+    /// returns one [`History`] per candidate and experiment, read from the
+    /// mapped records.
     pub(super) fn run_histories(
         &mut self,
         batch: &Batch,
         which: &[usize],
-    ) -> Result<Vec<f64>, GpuError> {
+    ) -> Result<Vec<Vec<History>>, GpuError> {
         let max_steps = self.upload(batch)?;
         let ne = self.problem.experiments.len();
         let runs = which.len() * ne;
@@ -93,13 +94,14 @@ impl GpuEvaluator {
             ctx.queue.submit([enc.finish()]);
             readback
         })?;
-        let bytes = pipeline::read_back(ctx, &readback, size)?;
-        Ok(from_real_bytes(&bytes, self.precision))
+        pipeline::read_back(ctx, &readback, size, |bytes| {
+            self.unpack_histories(&Reals::new(bytes, self.precision), which.len())
+        })
     }
 
     /// `raw` records of `candidates` candidates as one [`History`] per
     /// candidate and experiment.
-    pub(super) fn unpack_histories(&self, raw: &[f64], candidates: usize) -> Vec<Vec<History>> {
+    fn unpack_histories(&self, raw: &Reals<'_>, candidates: usize) -> Vec<Vec<History>> {
         let (n_out, n_state) = (
             self.problem.model.output_names().len(),
             self.problem.model.state_names().len(),
@@ -114,7 +116,7 @@ impl GpuEvaluator {
                     .map(|(ex, exp)| {
                         let base =
                             (j * self.packed.hist_stride as usize + ex.hist_offset as usize) * hv;
-                        let rec = |k: usize, v: usize| raw[base + k * hv + v];
+                        let rec = |k: usize, v: usize| raw.get(base + k * hv + v);
                         let n = ex.samples as usize;
                         History {
                             t: (0..n).map(|k| rec(k, 0)).collect(),

@@ -1,6 +1,8 @@
 //! Host-side packing: experiments, measured data and per-run parameters in the
 //! layouts of `layout.rs`, and conversion of f64 values to the kernel's `real`.
 
+use std::borrow::Cow;
+
 use crate::base::Drive;
 use crate::eval::{Batch, Precision, Problem};
 use crate::model::GpuModel;
@@ -126,12 +128,49 @@ pub fn to_real_bytes(values: &[f64], precision: Precision) -> Vec<u8> {
 
 /// Values of the kernel's `real` read back as f64.
 pub fn from_real_bytes(bytes: &[u8], precision: Precision) -> Vec<f64> {
-    match precision {
-        Precision::F64 => bytemuck::pod_collect_to_vec::<u8, f64>(bytes),
-        Precision::F32 => bytemuck::pod_collect_to_vec::<u8, f32>(bytes)
-            .into_iter()
-            .map(f64::from)
-            .collect(),
+    let reals = Reals::new(bytes, precision);
+    (0..reals.len()).map(|i| reals.get(i)).collect()
+}
+
+/// The kernel's `real`s in read-back bytes, read where they lie (copied only
+/// where the bytes are not aligned for them).
+#[derive(Debug)]
+pub enum Reals<'a> {
+    /// f32 kernels.
+    F32(Cow<'a, [f32]>),
+    /// f64 kernels.
+    F64(Cow<'a, [f64]>),
+}
+
+impl<'a> Reals<'a> {
+    /// `bytes` as `precision`'s values.
+    pub fn new(bytes: &'a [u8], precision: Precision) -> Self {
+        fn view<'a, T: bytemuck::Pod>(bytes: &'a [u8]) -> Cow<'a, [T]> {
+            match bytemuck::try_cast_slice(bytes) {
+                Ok(v) => Cow::Borrowed(v),
+                Err(_) => Cow::Owned(bytemuck::pod_collect_to_vec(bytes)),
+            }
+        }
+        match precision {
+            Precision::F32 => Reals::F32(view(bytes)),
+            Precision::F64 => Reals::F64(view(bytes)),
+        }
+    }
+
+    /// Value `i` as f64.
+    pub fn get(&self, i: usize) -> f64 {
+        match self {
+            Reals::F32(v) => f64::from(v[i]),
+            Reals::F64(v) => v[i],
+        }
+    }
+
+    /// How many values.
+    fn len(&self) -> usize {
+        match self {
+            Reals::F32(v) => v.len(),
+            Reals::F64(v) => v.len(),
+        }
     }
 }
 

@@ -210,13 +210,15 @@ pub fn bind_with(
     })
 }
 
-/// Maps `readback` (already filled by a submitted copy), waits, and returns the
-/// first `size` bytes.
-pub fn read_back(
+/// Maps `readback` (already filled by a submitted copy), waits, and returns
+/// what `read` makes of its first `size` bytes, read where they are mapped (a
+/// history pass's tens of megabytes are not copied out first).
+pub fn read_back<T>(
     ctx: &GpuContext,
     readback: &wgpu::Buffer,
     size: u64,
-) -> Result<Vec<u8>, GpuError> {
+    read: impl FnOnce(&[u8]) -> T,
+) -> Result<T, GpuError> {
     let slice = readback.slice(..size);
     let (tx, rx) = std::sync::mpsc::channel();
     slice.map_async(wgpu::MapMode::Read, move |r| {
@@ -237,15 +239,14 @@ pub fn read_back(
             during: "mapping the read-back buffer".into(),
             message: e.to_string(),
         })?;
-    let bytes = slice
-        .get_mapped_range()
-        .map_err(|e| GpuError::Device {
-            during: "reading the read-back buffer".into(),
-            message: e.to_string(),
-        })?
-        .to_vec();
+    let mapped = slice.get_mapped_range().map_err(|e| GpuError::Device {
+        during: "reading the read-back buffer".into(),
+        message: e.to_string(),
+    })?;
+    let out = read(&mapped);
+    drop(mapped);
     readback.unmap();
-    Ok(bytes)
+    Ok(out)
 }
 
 /// Workgroups to cover `n` invocations, refusing more than the device allows.

@@ -67,7 +67,7 @@ pub fn probe_math(
         ctx.queue.submit([enc.finish()]);
         readback
     })?;
-    let v = from_real_bytes(&pipeline::read_back(ctx, &readback, size)?, precision);
+    let v = pipeline::read_back(ctx, &readback, size, |b| from_real_bytes(b, precision))?;
     Ok(v.chunks(5)
         .map(|c| Probed {
             exp: c[0],
