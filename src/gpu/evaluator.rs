@@ -23,7 +23,7 @@ use crate::model::GpuModel;
 
 use super::fitness_pass::Specialised;
 use super::pack::{PackedProblem, pack_problem, real_size, to_real_bytes};
-use super::pipeline::{self, Binding, Kernelled};
+use super::pipeline::{self, Binding, Kernelled, Pending, Prepared};
 use super::run_buffers::RunBuffers;
 use super::shaders::{Kernel, ProblemShape, RECORD_BINDING};
 use super::specialise;
@@ -99,13 +99,16 @@ pub struct GpuEvaluator {
     pub(super) options: GpuOptions,
     pub(super) shape: ProblemShape,
     pub(super) fitness_layout: pipeline::Layout,
-    pub(super) fitness_kernel: Kernelled,
+    /// The generic fitness kernel, validated; compiled into `fitness_kernel`
+    /// when a batch first needs it.
+    pub(super) fitness_generic: Prepared,
+    pub(super) fitness_kernel: Option<Kernelled>,
     /// Specialised fitness kernels built so far, oldest first.
     pub(super) specialised: Vec<Specialised>,
     /// The one that scored the last batch.
     pub(super) last_specialised: Option<usize>,
     pub(super) history_layout: pipeline::Layout,
-    pub(super) history_kernel: Kernelled,
+    pub(super) history_kernel: Pending,
     pub(super) experiments: wgpu::Buffer,
     pub(super) data: wgpu::Buffer,
     /// The uniform copy of `data` the compiled rigs' fitness kernel reads
@@ -139,22 +142,16 @@ impl GpuEvaluator {
             exact_tables: exact_tables(&problem, &model),
         };
         // Each kernel on an explicit layout, so that its specialised variants
-        // share one bind group with it.
-        let generic = |kernel: Kernel, label: &str, bindings: &[Binding]| {
-            let layout = pipeline::layout(&ctx, label, bindings);
-            let built = pipeline::build(
-                &ctx,
-                Some((&model, shape, &[])),
-                precision,
-                kernel,
-                Some(&layout),
-            )?;
-            Ok::<_, GpuError>((layout, built))
-        };
-        let (fitness_layout, fitness_kernel) =
-            generic(Kernel::Fitness, "fitness layout", &FITNESS_BINDINGS)?;
-        let (history_layout, history_kernel) =
-            generic(Kernel::History, "history layout", &HISTORY_BINDINGS)?;
+        // share one bind group with it. Both are validated here; the generic
+        // fitness kernel is compiled where a batch first needs it (a
+        // calibration's batches take specialised ones), the history kernel on
+        // a thread of its own while the search begins.
+        let prepare =
+            |kernel: Kernel| pipeline::prepare(Some((&model, shape, &[])), precision, kernel);
+        let fitness_generic = prepare(Kernel::Fitness)?;
+        let fitness_layout = pipeline::layout(&ctx, "fitness layout", &FITNESS_BINDINGS);
+        let history_layout = pipeline::layout(&ctx, "history layout", &HISTORY_BINDINGS);
+        let history_kernel = Pending::spawn(&ctx, prepare(Kernel::History)?, &history_layout);
         let (experiments, data, record) = pipeline::scoped(&ctx, "problem buffers", || {
             // Zero-padded to whole vec4s; 16 bytes where no kernel reads it.
             let mut copy = match shape.record_vec4s {
@@ -191,7 +188,8 @@ impl GpuEvaluator {
             options,
             shape,
             fitness_layout,
-            fitness_kernel,
+            fitness_generic,
+            fitness_kernel: None,
             specialised: Vec::new(),
             last_specialised: None,
             history_layout,

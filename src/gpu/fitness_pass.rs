@@ -62,14 +62,28 @@ impl GpuEvaluator {
         Ok(Some(i))
     }
 
+    /// Compiles the generic fitness kernel, the first time a batch needs it.
+    fn compile_generic_fitness(&mut self) -> Result<(), GpuError> {
+        if self.fitness_kernel.is_none() {
+            let kernel =
+                pipeline::compile(&self.ctx, &self.fitness_generic, Some(&self.fitness_layout))?;
+            self.fitness_kernel = Some(kernel);
+        }
+        Ok(())
+    }
+
     /// Runs the fitness kernel over the batch and returns its raw value per
     /// run.
     pub(super) fn run_fitness(&mut self, batch: &Batch) -> Result<Vec<f64>, GpuError> {
         let max_steps = self.upload(batch)?;
         let runs = batch.candidates * self.problem.experiments.len();
-        let kernel = match self.specialise_for(runs)? {
+        let chosen = self.specialise_for(runs)?;
+        if chosen.is_none() {
+            self.compile_generic_fitness()?;
+        }
+        let kernel = match chosen {
             Some(i) => &self.specialised[i].kernel,
-            None => &self.fitness_kernel,
+            None => self.fitness_kernel.as_ref().expect("compiled above"),
         };
         let dispatches = self.dispatches(max_steps);
         let rb = self.runs.as_ref().expect("uploaded");

@@ -23,7 +23,9 @@ impl GpuEvaluator {
         let max_steps = self.upload(batch)?;
         let ne = self.problem.experiments.len();
         let runs = which.len() * ne;
-        let groups = pipeline::workgroups(&self.ctx, runs, self.history_kernel.workgroup_x)?;
+        self.history_kernel.wait()?;
+        let kernel = self.history_kernel.ready().expect("waited for above");
+        let groups = pipeline::workgroups(&self.ctx, runs, kernel.workgroup_x)?;
         let settings = self.settings(runs, self.packed.hist_stride);
         let real = real_size(self.precision);
         let run_bytes = self.run_bytes();
@@ -86,7 +88,7 @@ impl GpuEvaluator {
             encode_dispatches(
                 &mut enc,
                 "rk4 chunks",
-                &self.history_kernel,
+                kernel,
                 &[(&bind, groups)],
                 dispatches,
             );

@@ -48,7 +48,7 @@ pub enum Binding {
 
 /// An explicit layout (bind group 0 only), shared by every variant of a kernel
 /// so that one bind group serves them all.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct Layout {
     /// Bind group 0.
     pub group: wgpu::BindGroupLayout,
@@ -92,28 +92,50 @@ pub fn layout(ctx: &GpuContext, label: &str, bindings: &[Binding]) -> Layout {
     Layout { group, pipeline }
 }
 
-/// Builds `kernel` for `model` (with its problem's shape and baked per-run
-/// values, see [`shaders::param_fn`]) at `precision`: validates with naga, reads
-/// the workgroup size back, creates the pipeline, with `layout` or else the
-/// layout wgpu derives from the shader.
-pub fn build(
-    ctx: &GpuContext,
+/// A kernel's WGSL, validated by naga, with its workgroup size read back:
+/// everything but the driver's compile (milliseconds, against tens of them
+/// for lavapipe's compile).
+#[derive(Debug, Clone)]
+pub struct Prepared {
+    src: String,
+    kernel: Kernel,
+    /// `@workgroup_size(x, …)` of the entry point.
+    pub workgroup_x: u32,
+}
+
+/// Stitches and validates `kernel` for `model` (with its problem's shape and
+/// baked per-run values, see [`shaders::param_fn`]) at `precision`.
+pub fn prepare(
     model: Option<(&GpuModel, shaders::ProblemShape, &[Option<f64>])>,
     precision: Precision,
     kernel: Kernel,
-    layout: Option<&Layout>,
-) -> Result<Kernelled, GpuError> {
+) -> Result<Prepared, GpuError> {
     let src = match model {
         Some((m, shape, baked)) => shaders::source(m, precision, kernel, shape, baked),
         None => shaders::probe_source(precision),
     };
     let reflected = shaders::reflect(&src, precision, kernel)?;
+    Ok(Prepared {
+        src,
+        kernel,
+        workgroup_x: reflected.workgroup_size[0],
+    })
+}
+
+/// The driver's compile of a [`Prepared`] kernel: the pipeline, with `layout`
+/// or else the layout wgpu derives from the shader.
+pub fn compile(
+    ctx: &GpuContext,
+    prepared: &Prepared,
+    layout: Option<&Layout>,
+) -> Result<Kernelled, GpuError> {
+    let kernel = prepared.kernel;
     let pipeline = scoped(ctx, kernel.file(), || {
         let module = ctx
             .device
             .create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(kernel.file()),
-                source: wgpu::ShaderSource::Wgsl(src.as_str().into()),
+                source: wgpu::ShaderSource::Wgsl(prepared.src.as_str().into()),
             });
         ctx.device
             .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
@@ -127,8 +149,74 @@ pub fn build(
     })?;
     Ok(Kernelled {
         pipeline,
-        workgroup_x: reflected.workgroup_size[0],
+        workgroup_x: prepared.workgroup_x,
     })
+}
+
+/// [`prepare`], then [`compile`].
+pub fn build(
+    ctx: &GpuContext,
+    model: Option<(&GpuModel, shaders::ProblemShape, &[Option<f64>])>,
+    precision: Precision,
+    kernel: Kernel,
+    layout: Option<&Layout>,
+) -> Result<Kernelled, GpuError> {
+    compile(ctx, &prepare(model, precision, kernel)?, layout)
+}
+
+/// A kernel compiled on a thread of its own while the job goes on (error
+/// scopes are per thread, so its errors stay its own), taken where it is
+/// first needed.
+#[derive(Debug)]
+pub enum Pending {
+    /// Still compiling, or compiled and not yet asked for.
+    Compiling(std::thread::JoinHandle<Result<Kernelled, GpuError>>),
+    /// Compiled.
+    Ready(Kernelled),
+    /// The compile failed, or its thread died: why.
+    Failed(String),
+}
+
+impl Pending {
+    /// Starts compiling `prepared` on `layout` on a new thread.
+    pub fn spawn(ctx: &GpuContext, prepared: Prepared, layout: &Layout) -> Self {
+        let (ctx, layout) = (ctx.clone(), layout.clone());
+        Pending::Compiling(std::thread::spawn(move || {
+            compile(&ctx, &prepared, Some(&layout))
+        }))
+    }
+
+    /// The kernel, waiting for its compile where it is still running.
+    pub fn wait(&mut self) -> Result<&Kernelled, GpuError> {
+        if let Pending::Compiling(_) = self {
+            let Pending::Compiling(handle) =
+                std::mem::replace(self, Pending::Failed(String::new()))
+            else {
+                unreachable!("matched above")
+            };
+            *self = match handle.join() {
+                Ok(Ok(k)) => Pending::Ready(k),
+                Ok(Err(e)) => Pending::Failed(e.to_string()),
+                Err(_) => Pending::Failed("its thread panicked".into()),
+            };
+        }
+        match self {
+            Pending::Ready(k) => Ok(k),
+            Pending::Failed(message) => Err(GpuError::Device {
+                during: "compiling a kernel".into(),
+                message: message.clone(),
+            }),
+            Pending::Compiling(_) => unreachable!("joined above"),
+        }
+    }
+
+    /// The kernel, where [`Pending::wait`] has returned it.
+    pub fn ready(&self) -> Option<&Kernelled> {
+        match self {
+            Pending::Ready(k) => Some(k),
+            _ => None,
+        }
+    }
 }
 
 /// A buffer of `usage` initialised with `bytes`, zero-padded to at least 16

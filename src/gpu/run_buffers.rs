@@ -83,7 +83,7 @@ impl GpuEvaluator {
         let limits = self.ctx.device.limits();
         let groups = limits.max_compute_workgroups_per_dimension as usize;
         let widest = self.run_bytes().into_iter().max().unwrap_or(16);
-        let mut n = (groups * self.fitness_kernel.workgroup_x as usize)
+        let mut n = (groups * self.fitness_generic.workgroup_x as usize)
             .min((limits.max_storage_buffer_binding_size / widest) as usize);
         if let Some(m) = self.options.max_runs_per_pass {
             n = n.min(m);
