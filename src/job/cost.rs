@@ -24,6 +24,11 @@ impl<'a> CampaignCost<'a> {
         require_gpu: bool,
         threads: usize,
     ) -> Self {
+        let info = evaluator.info();
+        let gpu_real = (info.backend == "gpu").then_some(match info.precision {
+            crate::eval::Precision::F32 => 4,
+            crate::eval::Precision::F64 => 8,
+        });
         Self {
             campaign,
             evaluator,
@@ -31,7 +36,7 @@ impl<'a> CampaignCost<'a> {
             threads,
             fallback: None,
             chunk: super::memory::chunk_candidates(campaign),
-            history_chunk: super::memory::history_chunk(campaign),
+            history_chunk: super::memory::history_chunk(campaign, gpu_real),
         }
     }
 
