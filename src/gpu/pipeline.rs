@@ -168,53 +168,54 @@ pub fn build(
 /// scopes are per thread, so its errors stay its own), taken where it is
 /// first needed.
 #[derive(Debug)]
-pub enum Pending {
-    /// Still compiling, or compiled and not yet asked for.
-    Compiling(std::thread::JoinHandle<Result<Kernelled, GpuError>>),
-    /// Compiled.
-    Ready(Kernelled),
-    /// The compile failed, or its thread died: why.
-    Failed(String),
+pub struct Pending {
+    /// The compile, until it is waited for.
+    compiling: Option<std::thread::JoinHandle<Result<Kernelled, GpuError>>>,
+    /// Its outcome once waited for: the kernel, or why there is none.
+    done: Option<Result<Kernelled, String>>,
 }
 
 impl Pending {
     /// Starts compiling `prepared` on `layout` on a new thread.
     pub fn spawn(ctx: &GpuContext, prepared: Prepared, layout: &Layout) -> Self {
         let (ctx, layout) = (ctx.clone(), layout.clone());
-        Pending::Compiling(std::thread::spawn(move || {
-            compile(&ctx, &prepared, Some(&layout))
-        }))
+        let handle = std::thread::spawn(move || compile(&ctx, &prepared, Some(&layout)));
+        Pending {
+            compiling: Some(handle),
+            done: None,
+        }
     }
 
     /// The kernel, waiting for its compile where it is still running.
     pub fn wait(&mut self) -> Result<&Kernelled, GpuError> {
-        if let Pending::Compiling(_) = self {
-            let Pending::Compiling(handle) =
-                std::mem::replace(self, Pending::Failed(String::new()))
-            else {
-                unreachable!("matched above")
-            };
-            *self = match handle.join() {
-                Ok(Ok(k)) => Pending::Ready(k),
-                Ok(Err(e)) => Pending::Failed(e.to_string()),
-                Err(_) => Pending::Failed("its thread panicked".into()),
-            };
+        if let Some(handle) = self.compiling.take() {
+            self.done = Some(match handle.join() {
+                Ok(Ok(k)) => Ok(k),
+                Ok(Err(e)) => Err(e.to_string()),
+                Err(_) => Err("its thread panicked".into()),
+            });
         }
-        match self {
-            Pending::Ready(k) => Ok(k),
-            Pending::Failed(message) => Err(GpuError::Device {
+        match self.done.as_ref().expect("joined above") {
+            Ok(k) => Ok(k),
+            Err(message) => Err(GpuError::Device {
                 during: "compiling a kernel".into(),
                 message: message.clone(),
             }),
-            Pending::Compiling(_) => unreachable!("joined above"),
         }
     }
 
     /// The kernel, where [`Pending::wait`] has returned it.
     pub fn ready(&self) -> Option<&Kernelled> {
-        match self {
-            Pending::Ready(k) => Some(k),
-            _ => None,
+        self.done.as_ref().and_then(|r| r.as_ref().ok())
+    }
+}
+
+/// A compile still running when its evaluator goes is waited for, so that no
+/// thread is left inside the driver when the process exits.
+impl Drop for Pending {
+    fn drop(&mut self) {
+        if let Some(handle) = self.compiling.take() {
+            let _ = handle.join();
         }
     }
 }
