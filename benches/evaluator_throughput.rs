@@ -36,7 +36,10 @@
 mod cpu_time;
 #[path = "common/machine.rs"]
 mod machine;
+#[path = "common/population.rs"]
+mod population;
 use cpu_time::process_cpu_seconds;
+use population::{env_list, seeded_batch, steps};
 use std::path::Path;
 use std::time::{Duration, Instant};
 
@@ -44,7 +47,6 @@ use criterion::{BenchmarkId, Criterion, Throughput};
 use rigfit::campaign::Campaign;
 use rigfit::eval::{Batch, CpuEvaluator, Evaluator, Precision, Problem};
 use rigfit::gpu::{GpuContext, GpuEvaluator, GpuOptions};
-use rigfit::job::gene_specs;
 
 const POPULATIONS: [usize; 3] = [1024, 4096, 16384];
 /// Timed evaluations per table cell; the table shows the fastest.
@@ -80,31 +82,9 @@ fn problem() -> Problem {
     p
 }
 
-/// `n` candidates with every free parameter uniform over its bounds (in the
-/// logarithm for log-scale genes), from a fixed xorshift seed.
+/// `n` candidates of the measured campaign, from the benches' fixed seed.
 fn batch(n: usize) -> Batch {
-    let c = campaign();
-    let mut s = 0x2545_f491_4f6c_dd1d_u64;
-    let mut uniform = move || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 11) as f64 / (1u64 << 53) as f64
-    };
-    let genes = gene_specs(&c);
-    let genomes: Vec<Vec<f64>> = (0..n)
-        .map(|_| genes.iter().map(|g| g.at_fraction(uniform())).collect())
-        .collect();
-    c.batch(&genomes)
-}
-
-/// RK4 steps one candidate takes, over every experiment.
-fn steps(problem: &Problem) -> usize {
-    problem
-        .experiments
-        .iter()
-        .map(|e| e.grid(0.0, problem.substeps).total_steps())
-        .sum()
+    seeded_batch(&campaign(), n)
 }
 
 type Factory = Box<dyn Fn() -> Box<dyn Evaluator>>;
@@ -160,13 +140,6 @@ fn evaluators() -> Vec<Row> {
         Err(e) => eprintln!("no GPU ({e}); GPU rows skipped"),
     }
     v
-}
-
-/// The comma-separated items of environment variable `name`, if set.
-fn env_list(name: &str) -> Option<Vec<String>> {
-    std::env::var(name)
-        .ok()
-        .map(|v| v.split(',').map(|s| s.trim().to_string()).collect())
 }
 
 fn populations() -> Vec<usize> {

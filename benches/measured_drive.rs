@@ -24,14 +24,16 @@
 mod cpu_time;
 #[path = "common/machine.rs"]
 mod machine;
+#[path = "common/population.rs"]
+mod population;
 use std::f64::consts::PI;
 use std::time::Instant;
 
 use cpu_time::process_cpu_seconds;
+use population::{env_list, seeded_batch, steps};
 use rigfit::campaign::Campaign;
 use rigfit::eval::{Batch, CpuEvaluator, Evaluator, Precision, Problem};
 use rigfit::gpu::{GpuContext, GpuEvaluator, GpuOptions};
-use rigfit::job::gene_specs;
 use serde_json::json;
 
 const SAMPLES: usize = 5000;
@@ -94,30 +96,6 @@ fn campaign(dir: &std::path::Path, measured: bool) -> Campaign {
         .unwrap_or_else(|e| panic!("the bench's campaign: {e:#}"))
 }
 
-/// `n` candidates uniform over the genes' bounds, from a fixed seed.
-fn batch(c: &Campaign, n: usize) -> Batch {
-    let mut s = 0x2545_f491_4f6c_dd1d_u64;
-    let mut uniform = move || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 11) as f64 / (1u64 << 53) as f64
-    };
-    let genes = gene_specs(c);
-    let genomes: Vec<Vec<f64>> = (0..n)
-        .map(|_| genes.iter().map(|g| g.at_fraction(uniform())).collect())
-        .collect();
-    c.batch(&genomes)
-}
-
-fn steps(problem: &Problem) -> usize {
-    problem
-        .experiments
-        .iter()
-        .map(|e| e.grid(0.0, problem.substeps).total_steps())
-        .sum()
-}
-
 type Factory = Box<dyn Fn(Problem) -> Box<dyn Evaluator>>;
 
 fn paths() -> Vec<(String, Factory)> {
@@ -171,19 +149,13 @@ fn timed(eval: &mut dyn Evaluator, b: &Batch) -> (f64, f64) {
     (wall, cpu)
 }
 
-fn env_list(name: &str) -> Option<Vec<String>> {
-    std::env::var(name)
-        .ok()
-        .map(|v| v.split(',').map(|s| s.trim().to_string()).collect())
-}
-
 fn main() {
     let dir = tempfile::tempdir().expect("a temporary folder for the bench's record");
     write_record(dir.path());
     let analytic = campaign(dir.path(), false);
     let measured = campaign(dir.path(), true);
     let steps = steps(&analytic.problem);
-    assert_eq!(steps, self::steps(&measured.problem));
+    assert_eq!(steps, population::steps(&measured.problem));
     let rounds: usize = std::env::var("RIGFIT_BENCH_ROUNDS")
         .ok()
         .and_then(|v| v.parse().ok())
@@ -209,7 +181,7 @@ fn main() {
         let mut law = make(analytic.problem.clone());
         let mut column = make(measured.problem.clone());
         for &n in &pops {
-            let (ba, bm) = (batch(&analytic, n), batch(&measured, n));
+            let (ba, bm) = (seeded_batch(&analytic, n), seeded_batch(&measured, n));
             law.fitness(&ba).unwrap();
             column.fitness(&bm).unwrap();
             let (mut fast_a, mut fast_m) = (f64::INFINITY, f64::INFINITY);

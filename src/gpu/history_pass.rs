@@ -23,8 +23,8 @@ impl GpuEvaluator {
         let max_steps = self.upload(batch)?;
         let ne = self.problem.experiments.len();
         let runs = which.len() * ne;
-        self.history_kernel.wait()?;
-        let kernel = self.history_kernel.ready().expect("waited for above");
+        // A handle's copy, so that the kernel outlives the borrow of `self`.
+        let kernel = self.history_kernel.wait()?.clone();
         let groups = pipeline::workgroups(&self.ctx, runs, kernel.workgroup_x)?;
         let settings = self.settings(runs, self.packed.hist_stride);
         let real = real_size(self.precision);
@@ -88,7 +88,7 @@ impl GpuEvaluator {
             encode_dispatches(
                 &mut enc,
                 "rk4 chunks",
-                kernel,
+                &kernel,
                 &[(&bind, groups)],
                 dispatches,
             );

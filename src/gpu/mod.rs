@@ -88,7 +88,7 @@ pub use context::{
     list_adapters, requested_adapter,
 };
 pub use evaluator::{GpuEvaluator, GpuOptions};
-pub use pack::{from_real_bytes, to_real_bytes};
+pub use pack::{from_real_bytes, real_size, to_real_bytes};
 pub use probe::{Probed, probe_exp, probe_math};
 
 use crate::eval::{Backend, CpuEvaluator, Evaluator, Precision, PrecisionChoice, Problem, Scores};

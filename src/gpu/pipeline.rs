@@ -10,7 +10,7 @@ use super::shaders::{self, Kernel};
 use super::{GpuContext, GpuError};
 
 /// A compute pipeline with the workgroup size read back from its WGSL.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct Kernelled {
     /// The pipeline (auto layout, bind group 0).
     pub pipeline: wgpu::ComputePipeline,
@@ -202,11 +202,6 @@ impl Pending {
                 message: message.clone(),
             }),
         }
-    }
-
-    /// The kernel, where [`Pending::wait`] has returned it.
-    pub fn ready(&self) -> Option<&Kernelled> {
-        self.done.as_ref().and_then(|r| r.as_ref().ok())
     }
 }
 

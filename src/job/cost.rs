@@ -25,10 +25,8 @@ impl<'a> CampaignCost<'a> {
         threads: usize,
     ) -> Self {
         let info = evaluator.info();
-        let gpu_real = (info.backend == "gpu").then_some(match info.precision {
-            crate::eval::Precision::F32 => 4,
-            crate::eval::Precision::F64 => 8,
-        });
+        let gpu_real =
+            (info.backend == "gpu").then_some(crate::gpu::real_size(info.precision) as usize);
         Self {
             campaign,
             evaluator,
