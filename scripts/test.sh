@@ -35,6 +35,10 @@ export RIGFIT_CACHE_DIR
 # Lavapipe is the adapter the tests pin their tolerances on; use all cores.
 export LP_NUM_THREADS="${LP_NUM_THREADS:-$(nproc)}"
 
+# No incremental state: a test run builds each crate once, and the incremental
+# folder was 2.4 GB of the build (CI's disk once ran out).
+export CARGO_INCREMENTAL="${CARGO_INCREMENTAL:-0}"
+
 echo "test.sh: cargo fmt --check"
 cargo fmt --all --check
 echo "test.sh: cargo clippy"
