@@ -1,9 +1,12 @@
 // History kernel of the compiled rigs: integrates a few selected candidates and
 // writes, at every sample, HIST_VALUES values: t, every output, then the full
-// state. Never stops early, like simulate_history in src/eval/fitness.rs; a run
-// that chattered keeps its last state.
+// state; or, when settings.record is RECORD_SCORED, the scored output alone
+// (the polish's residuals need nothing else). Never stops early, like
+// simulate_history in src/eval/fitness.rs; a run that chattered keeps its last
+// state.
 
-// Selected runs' sample records, [selection][experiment block][sample][HIST_VALUES].
+// Selected runs' sample records, [selection][experiment block][sample][HIST_VALUES]
+// (a single value per sample with RECORD_SCORED).
 @group(0) @binding(6) var<storage, read_write> history: array<real>;
 // Candidate index of each selected slot.
 @group(0) @binding(7) var<storage, read> selection: array<u32>;
@@ -22,7 +25,12 @@ fn observe(
     acc: ptr<function, real>,
 ) -> bool {
     let j = slot / settings.experiments;
-    let o = ((j * settings.hist_stride) + ex.hist_offset + k) * HIST_VALUES;
+    let at = (j * settings.hist_stride) + ex.hist_offset + k;
+    if settings.record == RECORD_SCORED {
+        history[at] = rig_output0_c(kc, t, y, md, ck);
+        return false;
+    }
+    let o = at * HIST_VALUES;
     let rep = rig_report_c(kc, t, y, md, ck);
     history[o] = t;
     for (var i = 0u; i < RIG_REPORT; i += 1u) {

@@ -5,7 +5,9 @@
 //! the GPU by kernels that score its own output, and the GPU's fitness and
 //! histories equal the f64 CPU reference's as for one channel (1e-9 in f64,
 //! the documented f32 tolerances), every output of a history in the rig's
-//! own order whichever output the kernels scored.
+//! own order whichever output the kernels scored; the scored outputs alone
+//! (what the polish asks for) are those histories' scored output, bit for
+//! bit.
 mod oracle;
 mod tensile_common;
 
@@ -103,6 +105,26 @@ fn check(name: &str) {
                         );
                         worst_h = worst_h.max(d);
                     }
+                }
+            }
+        }
+        // The scored output alone: the same kernel's bits.
+        let scored = gpu.scored_outputs(&batch, &which).unwrap();
+        assert_eq!(scored.len(), which.len());
+        for (j, (s, h)) in scored.iter().zip(&hist).enumerate() {
+            for (e, (se, he)) in s.iter().zip(h).enumerate() {
+                let want = &he.outputs[problem.experiments[e].output];
+                assert_eq!(
+                    se.len(),
+                    want.len(),
+                    "{name} {precision:?} slot {j} run {e}"
+                );
+                for (k, (x, y)) in se.iter().zip(want).enumerate() {
+                    assert_eq!(
+                        x.to_bits(),
+                        y.to_bits(),
+                        "{name} {precision:?} slot {j} run {e} sample {k}: {x} vs {y}"
+                    );
                 }
             }
         }

@@ -14,7 +14,8 @@ struct Settings {
     // RK4 steps per sample interval (the problem's, shared by all experiments;
     // a uniform, so the step loop's trip count is uniform too).
     substeps: u32,
-    _pad0: u32,
+    // History kernel: RECORD_FULL or RECORD_SCORED.
+    record: u32,
     _pad1: u32,
     _pad2: u32,
 }

@@ -19,7 +19,7 @@ pub use fitness::{
 };
 pub use problem::{ExperimentData, Problem};
 pub use remembered::Remembered;
-pub use residuals::window_residuals;
+pub use residuals::{scored_residuals, window_residuals};
 
 /// Floating-point precision of an evaluator's arithmetic.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -190,6 +190,48 @@ pub trait Evaluator: Send {
         batch: &Batch,
         which: &[usize],
     ) -> Result<Vec<Vec<History>>, EvalError>;
+
+    /// The scored output ([`ExperimentData::output`]) of the chosen
+    /// candidates in every experiment, `[candidate][experiment][sample]`,
+    /// over samples `0..window.end`: all the polish's residuals need of
+    /// [`Evaluator::histories`], with the same bits. Checks the batch and the
+    /// indices, then asks [`Evaluator::checked_scored_outputs`].
+    fn scored_outputs(
+        &mut self,
+        batch: &Batch,
+        which: &[usize],
+    ) -> Result<Vec<Vec<Vec<f64>>>, EvalError> {
+        self.problem().check_batch(batch)?;
+        batch.check_indices(which)?;
+        self.checked_scored_outputs(batch, which)
+    }
+
+    /// [`Evaluator::scored_outputs`] of a batch and indices already checked:
+    /// taken from the full histories unless the evaluator can record the
+    /// scored output alone (the GPU's history kernel can).
+    fn checked_scored_outputs(
+        &mut self,
+        batch: &Batch,
+        which: &[usize],
+    ) -> Result<Vec<Vec<Vec<f64>>>, EvalError> {
+        let scored: Vec<usize> = self
+            .problem()
+            .experiments
+            .iter()
+            .map(|x| x.output)
+            .collect();
+        let histories = self.checked_histories(batch, which)?;
+        Ok(histories
+            .into_iter()
+            .map(|per_exp| {
+                per_exp
+                    .into_iter()
+                    .zip(&scored)
+                    .map(|(mut h, &o)| h.outputs.get_mut(o).map(std::mem::take).unwrap_or_default())
+                    .collect()
+            })
+            .collect())
+    }
 
     /// A flag that, once raised (Ctrl-C, SIGTERM), makes a [`Evaluator::fitness`]
     /// in flight stop as soon as it can and return [`EvalError::Cancelled`].

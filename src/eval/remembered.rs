@@ -68,6 +68,14 @@ impl Evaluator for Remembered {
         self.inner.checked_histories(batch, which)
     }
 
+    fn checked_scored_outputs(
+        &mut self,
+        batch: &Batch,
+        which: &[usize],
+    ) -> Result<Vec<Vec<Vec<f64>>>, EvalError> {
+        self.inner.checked_scored_outputs(batch, which)
+    }
+
     fn set_cancel(&mut self, flag: std::sync::Arc<std::sync::atomic::AtomicBool>) {
         self.inner.set_cancel(flag);
     }

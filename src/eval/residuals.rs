@@ -1,8 +1,7 @@
 //! Residual vectors for least-squares work (the local polish and the
-//! parameter uncertainty), computed on the host from evaluator histories.
-//!
-//! Any [`super::Evaluator`] returns histories, so residuals need nothing new
-//! from the kernels: the same batch gives the same histories, hence the same
+//! parameter uncertainty), computed on the host from the scored output of
+//! evaluator histories ([`super::Evaluator::scored_outputs`] or a full
+//! [`History`]): the same batch gives the same outputs, hence the same
 //! residual bits, on every evaluator that is deterministic today.
 
 use super::{ExperimentData, History};
@@ -15,7 +14,12 @@ use super::{ExperimentData, History};
 /// The sum of squares divided by [`ExperimentData::ss_tot`] is the run's
 /// `1 − R²`.
 pub fn window_residuals(exp: &ExperimentData, history: &History) -> Option<Vec<f64>> {
-    let out = history.outputs.get(exp.output)?;
+    scored_residuals(exp, history.outputs.get(exp.output)?)
+}
+
+/// [`window_residuals`] of the scored output alone, `out` over samples
+/// `0..window.end` (one experiment's [`super::Evaluator::scored_outputs`]).
+pub fn scored_residuals(exp: &ExperimentData, out: &[f64]) -> Option<Vec<f64>> {
     if out.len() < exp.window.end {
         return None;
     }

@@ -111,6 +111,42 @@ impl GpuByDrive {
     }
 }
 
+impl GpuByDrive {
+    /// Each kernel group's `[candidate][experiment]` records of candidates
+    /// `which` (from `run` on the group's part of `batch`), put back in the
+    /// problem's experiment order.
+    fn gather<T>(
+        &mut self,
+        batch: &Batch,
+        which: &[usize],
+        mut run: impl FnMut(&mut GpuEvaluator, &Batch) -> Result<Vec<Vec<T>>, EvalError>,
+    ) -> Result<Vec<Vec<T>>, EvalError> {
+        let ne = self.problem.experiments.len();
+        let mut out: Vec<Vec<Option<T>>> = (0..which.len())
+            .map(|_| (0..ne).map(|_| None).collect())
+            .collect();
+        for part in &mut self.parts {
+            let got = run(&mut part.evaluator, &sub_batch(batch, &part.experiments))?;
+            for (row, per_exp) in out.iter_mut().zip(got) {
+                for (&e, r) in part.experiments.iter().zip(per_exp) {
+                    row[e] = Some(r);
+                }
+            }
+        }
+        out.into_iter()
+            .map(|row| {
+                row.into_iter()
+                    .map(|r| {
+                        r.ok_or_else(|| {
+                            EvalError::Device("a kernel group left out a record".into())
+                        })
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+}
+
 /// The part of `batch` that belongs to `experiments`, in their order.
 fn sub_batch(batch: &Batch, experiments: &[usize]) -> Batch {
     Batch {
@@ -160,29 +196,15 @@ impl Evaluator for GpuByDrive {
         batch: &Batch,
         which: &[usize],
     ) -> Result<Vec<Vec<History>>, EvalError> {
-        let ne = self.problem.experiments.len();
-        let mut out: Vec<Vec<Option<History>>> = vec![vec![None; ne]; which.len()];
-        for part in &mut self.parts {
-            let hist = part
-                .evaluator
-                .histories(&sub_batch(batch, &part.experiments), which)?;
-            for (row, per_exp) in out.iter_mut().zip(hist) {
-                for (&e, h) in part.experiments.iter().zip(per_exp) {
-                    row[e] = Some(h);
-                }
-            }
-        }
-        out.into_iter()
-            .map(|row| {
-                row.into_iter()
-                    .map(|h| {
-                        h.ok_or_else(|| {
-                            EvalError::Device("a kernel group left out a history".into())
-                        })
-                    })
-                    .collect()
-            })
-            .collect()
+        self.gather(batch, which, |ev, sub| ev.histories(sub, which))
+    }
+
+    fn checked_scored_outputs(
+        &mut self,
+        batch: &Batch,
+        which: &[usize],
+    ) -> Result<Vec<Vec<Vec<f64>>>, EvalError> {
+        self.gather(batch, which, |ev, sub| ev.scored_outputs(sub, which))
     }
 
     fn set_cancel(&mut self, flag: Arc<AtomicBool>) {

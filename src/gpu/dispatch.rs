@@ -43,15 +43,17 @@ impl GpuEvaluator {
     }
 
     /// The settings of a pass over `runs` runs, with history records
-    /// `hist_stride` samples apart (0: no history).
-    pub(super) fn settings(&self, runs: usize, hist_stride: u32) -> Settings {
+    /// `hist_stride` samples apart (0: no history) holding `record`
+    /// ([`super::layout::RECORD_FULL`] or [`super::layout::RECORD_SCORED`]).
+    pub(super) fn settings(&self, runs: usize, hist_stride: u32, record: u32) -> Settings {
         Settings {
             runs: runs as u32,
             experiments: self.problem.experiments.len() as u32,
             chunk_steps: self.chunk_steps(),
             hist_stride,
             substeps: self.problem.substeps as u32,
-            _pad: [0; 3],
+            record,
+            _pad: [0; 2],
         }
     }
 

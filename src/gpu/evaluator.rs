@@ -295,6 +295,17 @@ impl Evaluator for GpuEvaluator {
         self.run_histories(batch, which).map_err(device_error)
     }
 
+    fn checked_scored_outputs(
+        &mut self,
+        batch: &Batch,
+        which: &[usize],
+    ) -> Result<Vec<Vec<Vec<f64>>>, EvalError> {
+        if which.is_empty() {
+            return Ok(Vec::new());
+        }
+        self.run_scored(batch, which).map_err(device_error)
+    }
+
     fn set_cancel(&mut self, flag: Arc<AtomicBool>) {
         self.cancel = Some(flag);
     }

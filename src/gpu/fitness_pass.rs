@@ -99,7 +99,7 @@ impl GpuEvaluator {
         let unfinished = to_real_bytes(&vec![UNFINISHED; runs], self.precision);
         pipeline::scoped(&self.ctx, "fitness pass", || {
             for &(part, count, _) in &parts {
-                let settings = self.settings(count, 0);
+                let settings = self.settings(count, 0, super::layout::RECORD_FULL);
                 self.ctx
                     .queue
                     .write_buffer(&part.settings, 0, bytemuck::bytes_of(&settings));

@@ -1,12 +1,12 @@
-//! The history pass of a [`GpuEvaluator`]: full records (time, outputs,
-//! states at every sample) of chosen candidates, in buffers of their own and
-//! one submit, read back as [`History`]s.
+//! The history pass of a [`GpuEvaluator`]: records of chosen candidates at
+//! every sample, in buffers of their own and one submit, read back either in
+//! full (time, outputs, states) as [`History`]s or as the scored output alone.
 
 use crate::eval::{Batch, History};
 use crate::model::CompiledRig;
 
 use super::dispatch::encode_dispatches;
-use super::layout::Settings;
+use super::layout::{RECORD_FULL, RECORD_SCORED, Settings};
 use super::pack::{Reals, real_size};
 use super::pipeline;
 use super::{GpuError, GpuEvaluator};
@@ -20,18 +20,47 @@ impl GpuEvaluator {
         batch: &Batch,
         which: &[usize],
     ) -> Result<Vec<Vec<History>>, GpuError> {
+        let values = self.model.hist_values();
+        self.run_records(batch, which, RECORD_FULL, values, |ev, raw| {
+            ev.unpack_histories(raw, which.len())
+        })
+    }
+
+    /// Runs the history kernel over candidates `which` of the batch writing
+    /// the scored output alone, and returns it per candidate and experiment
+    /// over samples `0..window.end`: a `1 / HIST_VALUES` share of the bytes
+    /// [`Self::run_histories`] writes, maps and unpacks.
+    pub(super) fn run_scored(
+        &mut self,
+        batch: &Batch,
+        which: &[usize],
+    ) -> Result<Vec<Vec<Vec<f64>>>, GpuError> {
+        self.run_records(batch, which, RECORD_SCORED, 1, |ev, raw| {
+            ev.unpack_scored(raw, which.len())
+        })
+    }
+
+    /// The history kernel over candidates `which` writing `record` (`values`
+    /// per sample), its mapped records handed to `unpack`.
+    fn run_records<T>(
+        &mut self,
+        batch: &Batch,
+        which: &[usize],
+        record: u32,
+        values: u32,
+        unpack: impl FnOnce(&Self, &Reals<'_>) -> T,
+    ) -> Result<T, GpuError> {
         let max_steps = self.upload(batch)?;
         let ne = self.problem.experiments.len();
         let runs = which.len() * ne;
         // A handle's copy, so that the kernel outlives the borrow of `self`.
         let kernel = self.history_kernel.wait()?.clone();
         let groups = pipeline::workgroups(&self.ctx, runs, kernel.workgroup_x)?;
-        let settings = self.settings(runs, self.packed.hist_stride);
+        let settings = self.settings(runs, self.packed.hist_stride, record);
         let real = real_size(self.precision);
         let run_bytes = self.run_bytes();
-        let size = (which.len() * self.packed.hist_stride as usize) as u64
-            * self.model.hist_values() as u64
-            * real;
+        let size =
+            (which.len() * self.packed.hist_stride as usize) as u64 * u64::from(values) * real;
         let selection: Vec<u32> = which.iter().map(|&i| i as u32).collect();
         let dispatches = self.dispatches(max_steps);
         let ctx = &self.ctx;
@@ -97,8 +126,28 @@ impl GpuEvaluator {
             readback
         })?;
         pipeline::read_back(ctx, &readback, size, |bytes| {
-            self.unpack_histories(&Reals::new(bytes, self.precision), which.len())
+            unpack(self, &Reals::new(bytes, self.precision))
         })
+    }
+
+    /// `raw` scored outputs (one value per sample) of `candidates`
+    /// candidates, per candidate and experiment.
+    fn unpack_scored(&self, raw: &Reals<'_>, candidates: usize) -> Vec<Vec<Vec<f64>>> {
+        let stride = self.packed.hist_stride as usize;
+        (0..candidates)
+            .map(|j| {
+                self.packed
+                    .experiments
+                    .iter()
+                    .map(|ex| {
+                        let base = j * stride + ex.hist_offset as usize;
+                        (0..ex.samples as usize)
+                            .map(|k| raw.get(base + k))
+                            .collect()
+                    })
+                    .collect()
+            })
+            .collect()
     }
 
     /// `raw` records of `candidates` candidates as one [`History`] per

@@ -22,8 +22,10 @@ pub struct Settings {
     pub hist_stride: u32,
     /// RK4 steps per sample interval (`Problem::substeps`).
     pub substeps: u32,
+    /// History pass: [`RECORD_FULL`] or [`RECORD_SCORED`].
+    pub record: u32,
     /// Padding to a 16-byte multiple.
-    pub _pad: [u32; 3],
+    pub _pad: [u32; 2],
 }
 const _: () = assert!(std::mem::size_of::<Settings>() == 32);
 
@@ -57,6 +59,13 @@ const _: () = assert!(std::mem::size_of::<ExpInfo>() == 48);
 pub const DRIVE_VELOCITY: u32 = 0;
 /// `ExpInfo::drive_kind` of a force-driven experiment.
 pub const DRIVE_FORCE: u32 = 1;
+
+/// `Settings::record`: the history kernel writes time, every output and the
+/// full state at each sample.
+pub const RECORD_FULL: u32 = 0;
+/// `Settings::record`: the history kernel writes the scored output alone at
+/// each sample (what the polish's residuals need).
+pub const RECORD_SCORED: u32 = 1;
 
 /// Progress flag: the run has finished (or diverged).
 pub const FLAG_DONE: u32 = 1;
@@ -111,6 +120,7 @@ pub fn shared_constants(
         ),
         ("DRIVE_VELOCITY".into(), DRIVE_VELOCITY),
         ("DRIVE_FORCE".into(), DRIVE_FORCE),
+        ("RECORD_SCORED".into(), RECORD_SCORED),
         ("STATE_STRIDE".into(), state_stride),
         ("HIST_VALUES".into(), hist_values),
         ("RUN_STRIDE".into(), run_stride(model_slots.len())),

@@ -1,7 +1,7 @@
 //! The campaign as the search's batched cost, with CPU fallback on device loss.
 
 use crate::campaign::Campaign;
-use crate::eval::{CpuEvaluator, EvalError, Evaluator, window_residuals};
+use crate::eval::{CpuEvaluator, EvalError, Evaluator, scored_residuals};
 use crate::search::{BatchCost, CostBatch, ResidualCost, SearchError};
 
 /// Scores genomes: genomes → per-experiment parameter vectors → evaluator →
@@ -78,6 +78,10 @@ impl CampaignCost<'_> {
                 log::warn!("{note}");
                 eprintln!("rigfit: warning: {note}");
                 self.fallback = Some(note);
+                // The CPU records whole histories: its chunk may be smaller.
+                self.history_chunk = self
+                    .history_chunk
+                    .min(super::memory::history_chunk(self.campaign, None));
                 self.evaluator = Box::new(CpuEvaluator::new(
                     self.campaign.problem.clone(),
                     self.threads,
@@ -124,16 +128,16 @@ impl ResidualCost for CampaignCost<'_> {
             .map(|(x, w)| (w / (total * x.ss_tot())).sqrt())
             .collect();
         let mut out = Vec::with_capacity(genomes.len());
-        // Histories are the size of the record: a chunk at a time, each turned
+        // Records are the size of the record: a chunk at a time, each turned
         // into residuals (the fit windows only) before the next.
         for part in genomes.chunks(self.history_chunk) {
             let batch = campaign.batch(part);
             let which: Vec<usize> = (0..part.len()).collect();
-            let histories = self.with_fallback(|ev| ev.histories(&batch, &which))?;
-            out.extend(histories.iter().map(|per_exp| {
+            let scored = self.with_fallback(|ev| ev.scored_outputs(&batch, &which))?;
+            out.extend(scored.iter().map(|per_exp| {
                 let mut r = Vec::new();
-                for ((exp, h), s) in exps.iter().zip(per_exp).zip(&scale) {
-                    r.extend(window_residuals(exp, h)?.into_iter().map(|v| v * s));
+                for ((exp, o), s) in exps.iter().zip(per_exp).zip(&scale) {
+                    r.extend(scored_residuals(exp, o)?.into_iter().map(|v| v * s));
                 }
                 Some(r)
             }));

@@ -214,34 +214,34 @@ pub fn chunk_candidates(campaign: &Campaign) -> usize {
     1 << n.ilog2()
 }
 
-/// Bytes of one run's history in every experiment: time, outputs and states
-/// per sample; on the GPU path also the raw history buffer, its read-back
-/// and its host copy.
+/// Bytes of one candidate's records for the polish's residuals, in every
+/// experiment: on the CPU path the whole history (time, outputs and states
+/// per sample, [`crate::eval::Evaluator::histories`]); on the GPU path
+/// (`gpu_real`: its bytes per value) the scored output alone
+/// ([`crate::eval::Evaluator::scored_outputs`]) in the history buffer, its
+/// read-back and the host's copy.
 fn history_bytes_per_candidate(campaign: &Campaign, gpu_real: Option<usize>) -> f64 {
     let m = &campaign.model;
-    let values = 1 + m.output_names().len() + m.state_names().len();
+    let per_sample = match gpu_real {
+        None => (1 + m.output_names().len() + m.state_names().len()) * 8,
+        Some(real) => 2 * real + 8,
+    };
     let samples: usize = campaign
         .problem
         .experiments
         .iter()
         .map(|x| x.window.end)
         .sum();
-    let gpu = gpu_real.map_or(0, |real| {
-        let values = crate::gpu::kernel_groups(&campaign.problem)
-            .ok()
-            .and_then(|g| g.iter().map(|k| k.model.hist_values()).max())
-            .unwrap_or(0);
-        values as usize * (2 * real + 8)
-    });
-    (samples * (values * 8 + gpu)) as f64
+    (samples * per_sample) as f64
 }
 
-/// Runs per chunk of the polish's histories on the path that runs them
+/// Candidates per chunk of the polish's records on the path that runs them
 /// (`gpu_real`: the GPU's bytes per value, `None` on the CPU): as many as fit
-/// in [`HISTORY_CHUNK_BYTES`], at least one. The CPU's histories hold no
-/// device copies, so more fit: on the EMPS closed loop's 24 841-sample
-/// records 16 candidates against the GPU's 6 in f64, and a chunk of six
-/// cost the CPU lanes two thirds of what a chunk of sixteen did.
+/// in [`HISTORY_CHUNK_BYTES`], at least one. On the EMPS closed loop's
+/// 24 841-sample records: 16 candidates on the CPU (whole histories; a
+/// chunk of six cost the CPU lanes two thirds of what a chunk of sixteen
+/// did), and on the GPU, which records the scored output alone, every
+/// candidate of a polish iteration in one chunk.
 pub fn history_chunk(campaign: &Campaign, gpu_real: Option<usize>) -> usize {
     let per = history_bytes_per_candidate(campaign, gpu_real);
     ((HISTORY_CHUNK_BYTES / per) as usize).max(1)
