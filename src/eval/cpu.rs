@@ -9,7 +9,7 @@ use rayon::prelude::*;
 
 use super::{
     Batch, EvalError, Evaluator, EvaluatorInfo, History, Precision, Problem, Scores, score_many,
-    score_one, simulate_histories, simulate_history,
+    score_one, simulate_histories, simulate_history, simulate_scored,
 };
 
 /// Scores candidates with the f64 reference on a rayon pool.
@@ -112,6 +112,59 @@ impl CpuEvaluator {
     }
 }
 
+impl CpuEvaluator {
+    /// One record per candidate of `which` and experiment,
+    /// `[candidate][experiment]`, from `record(problem, e, params, offset)`
+    /// (one per run of `params`, which share the clock offset): in groups
+    /// of at most a thread's share of the runs, each group advanced by the
+    /// lane ensemble where its runs share the clock offset (the same bits as
+    /// the reference run by run, at the lanes' rate: the polish asks for
+    /// records at every iteration), run by run where they do not.
+    fn records<T: Send>(
+        &self,
+        batch: &Batch,
+        which: &[usize],
+        record: impl Fn(&Problem, usize, &[&[f64]], f64) -> Vec<T> + Sync,
+    ) -> Vec<Vec<T>> {
+        let problem = &self.problem;
+        let group = self.group_size(which.len());
+        let groups: Vec<Vec<Vec<T>>> = self.pool.install(|| {
+            which
+                .par_chunks(group)
+                .map(|group| {
+                    let per_exp: Vec<Vec<T>> = (0..problem.experiments.len())
+                        .map(|e| {
+                            let offset = batch.offsets[e][group[0]];
+                            let shared = group
+                                .iter()
+                                .all(|&i| batch.offsets[e][i].to_bits() == offset.to_bits());
+                            if shared {
+                                let params: Vec<&[f64]> =
+                                    group.iter().map(|&i| batch.params_of(e, i)).collect();
+                                record(problem, e, &params, offset)
+                            } else {
+                                group
+                                    .iter()
+                                    .flat_map(|&i| {
+                                        let (p, o) = (batch.params_of(e, i), batch.offsets[e][i]);
+                                        record(problem, e, &[p], o)
+                                    })
+                                    .collect()
+                            }
+                        })
+                        .collect();
+                    // Candidate-major: each run's records over the experiments.
+                    let mut per_exp: Vec<_> = per_exp.into_iter().map(Vec::into_iter).collect();
+                    (0..group.len())
+                        .map(|_| per_exp.iter_mut().filter_map(Iterator::next).collect())
+                        .collect()
+                })
+                .collect()
+        });
+        groups.into_iter().flatten().collect()
+    }
+}
+
 impl Evaluator for CpuEvaluator {
     fn info(&self) -> EvaluatorInfo {
         EvaluatorInfo {
@@ -200,46 +253,20 @@ impl Evaluator for CpuEvaluator {
         batch: &Batch,
         which: &[usize],
     ) -> Result<Vec<Vec<History>>, EvalError> {
-        let problem = &self.problem;
-        // Groups of at most a thread's share of the runs, each group advanced
-        // by the lane ensemble where its runs share the clock offset (the
-        // same bits as the reference run by run, at the lanes' rate: the
-        // polish asks for histories at every iteration).
-        let group = self.group_size(which.len());
-        let groups: Vec<Vec<Vec<History>>> = self.pool.install(|| {
-            which
-                .par_chunks(group)
-                .map(|group| {
-                    let per_exp: Vec<Vec<History>> = (0..problem.experiments.len())
-                        .map(|e| {
-                            let offset = batch.offsets[e][group[0]];
-                            let shared = group
-                                .iter()
-                                .all(|&i| batch.offsets[e][i].to_bits() == offset.to_bits());
-                            if shared {
-                                let params: Vec<&[f64]> =
-                                    group.iter().map(|&i| batch.params_of(e, i)).collect();
-                                simulate_histories(problem, e, &params, offset)
-                            } else {
-                                group
-                                    .iter()
-                                    .map(|&i| {
-                                        let (p, o) = (batch.params_of(e, i), batch.offsets[e][i]);
-                                        simulate_history(problem, e, p, o)
-                                    })
-                                    .collect()
-                            }
-                        })
-                        .collect();
-                    // Candidate-major: each run's histories over the experiments.
-                    let mut per_exp: Vec<_> = per_exp.into_iter().map(Vec::into_iter).collect();
-                    (0..group.len())
-                        .map(|_| per_exp.iter_mut().filter_map(Iterator::next).collect())
-                        .collect()
-                })
-                .collect()
-        });
-        Ok(groups.into_iter().flatten().collect())
+        Ok(
+            self.records(batch, which, |problem, e, params, offset| match params {
+                [p] => vec![simulate_history(problem, e, p, offset)],
+                _ => simulate_histories(problem, e, params, offset),
+            }),
+        )
+    }
+
+    fn checked_scored_outputs(
+        &mut self,
+        batch: &Batch,
+        which: &[usize],
+    ) -> Result<Vec<Vec<Vec<f64>>>, EvalError> {
+        Ok(self.records(batch, which, simulate_scored))
     }
 
     fn prepare(&mut self) {

@@ -171,6 +171,28 @@ pub fn simulate_histories(
     hs
 }
 
+/// The scored output ([`super::ExperimentData::output`]) of several runs of
+/// experiment `e` at one clock offset, over samples `0..window.end`: the
+/// scoring rig's output 0 alone ([`Report::Measured`]), advanced by the
+/// lane ensemble as [`simulate_histories`] advances them, with the bits of
+/// those histories' scored output (the lanes' f64 code fuses nothing).
+pub fn simulate_scored(
+    problem: &Problem,
+    e: usize,
+    params: &[&[f64]],
+    offset: f64,
+) -> Vec<Vec<f64>> {
+    let exp = &problem.experiments[e];
+    let grid = exp.grid(offset, problem.substeps);
+    let mut out = vec![Vec::with_capacity(grid.samples); params.len()];
+    let model = problem.scoring_model(e);
+    model.simulate_many(params, &exp.drive, &grid, Report::Measured, &mut |i, s| {
+        out[i].push(s.outputs[0]);
+        ControlFlow::Continue(())
+    });
+    out
+}
+
 /// Full f64 reference history of one candidate in one experiment.
 pub fn simulate_history(problem: &Problem, e: usize, params: &[f64], offset: f64) -> History {
     let exp = &problem.experiments[e];

@@ -16,6 +16,7 @@ use std::ops::Range;
 pub use cpu::{CpuEvaluator, all_cores};
 pub use fitness::{
     FitnessAccumulator, score_many, score_one, simulate_histories, simulate_history,
+    simulate_scored,
 };
 pub use problem::{ExperimentData, Problem};
 pub use remembered::Remembered;

@@ -172,10 +172,25 @@ impl Evaluator for GpuByDrive {
         let ne = self.problem.experiments.len();
         let mut values = vec![0.0; batch.candidates * ne];
         let mut diverged = 0;
-        for part in &mut self.parts {
-            let scores = part
-                .evaluator
-                .fitness(&sub_batch(batch, &part.experiments))?;
+        // Each group on a thread of its own, so that their first batch's
+        // kernels compile side by side and their passes are submitted
+        // together; every run's bits are its own whatever runs beside it.
+        let all = std::thread::scope(|s| {
+            let running: Vec<_> = self
+                .parts
+                .iter_mut()
+                .map(|part| {
+                    let sub = sub_batch(batch, &part.experiments);
+                    s.spawn(move || part.evaluator.fitness(&sub))
+                })
+                .collect();
+            running
+                .into_iter()
+                .map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
+                .collect::<Vec<_>>()
+        });
+        for (part, scores) in self.parts.iter().zip(all) {
+            let scores = scores?;
             let ng = part.experiments.len();
             for i in 0..batch.candidates {
                 for (k, &e) in part.experiments.iter().enumerate() {

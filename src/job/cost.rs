@@ -78,10 +78,6 @@ impl CampaignCost<'_> {
                 log::warn!("{note}");
                 eprintln!("rigfit: warning: {note}");
                 self.fallback = Some(note);
-                // The CPU records whole histories: its chunk may be smaller.
-                self.history_chunk = self
-                    .history_chunk
-                    .min(super::memory::history_chunk(self.campaign, None));
                 self.evaluator = Box::new(CpuEvaluator::new(
                     self.campaign.problem.clone(),
                     self.threads,

@@ -215,17 +215,12 @@ pub fn chunk_candidates(campaign: &Campaign) -> usize {
 }
 
 /// Bytes of one candidate's records for the polish's residuals, in every
-/// experiment: on the CPU path the whole history (time, outputs and states
-/// per sample, [`crate::eval::Evaluator::histories`]); on the GPU path
-/// (`gpu_real`: its bytes per value) the scored output alone
-/// ([`crate::eval::Evaluator::scored_outputs`]) in the history buffer, its
-/// read-back and the host's copy.
+/// experiment: the scored output alone
+/// ([`crate::eval::Evaluator::scored_outputs`]) in f64 on the host, and on
+/// the GPU path (`gpu_real`: its bytes per value) in the history buffer and
+/// its read-back as well.
 fn history_bytes_per_candidate(campaign: &Campaign, gpu_real: Option<usize>) -> f64 {
-    let m = &campaign.model;
-    let per_sample = match gpu_real {
-        None => (1 + m.output_names().len() + m.state_names().len()) * 8,
-        Some(real) => 2 * real + 8,
-    };
+    let per_sample = 8 + gpu_real.map_or(0, |real| 2 * real);
     let samples: usize = campaign
         .problem
         .experiments
@@ -237,18 +232,16 @@ fn history_bytes_per_candidate(campaign: &Campaign, gpu_real: Option<usize>) -> 
 
 /// Candidates per chunk of the polish's records on the path that runs them
 /// (`gpu_real`: the GPU's bytes per value, `None` on the CPU): as many as fit
-/// in [`HISTORY_CHUNK_BYTES`], at least one. On the EMPS closed loop's
-/// 24 841-sample records: 16 candidates on the CPU (whole histories; a
-/// chunk of six cost the CPU lanes two thirds of what a chunk of sixteen
-/// did), and on the GPU, which records the scored output alone, every
-/// candidate of a polish iteration in one chunk.
+/// in [`HISTORY_CHUNK_BYTES`], at least one. With the scored output alone,
+/// every candidate of a polish iteration on the EMPS closed loop's
+/// 24 841-sample records fits one chunk, on either path.
 pub fn history_chunk(campaign: &Campaign, gpu_real: Option<usize>) -> usize {
     let per = history_bytes_per_candidate(campaign, gpu_real);
     ((HISTORY_CHUNK_BYTES / per) as usize).max(1)
 }
 
 /// The polish's residuals (every point and stencil of one iteration, over
-/// every fit window) plus one chunk of histories.
+/// every fit window) plus one chunk of their records.
 fn histories_bytes(campaign: &Campaign, gpu_real: Option<usize>) -> f64 {
     let polish = &campaign.search.polish;
     let g = campaign.genes.len();
