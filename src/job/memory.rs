@@ -288,12 +288,14 @@ fn meminfo_field(text: &str, name: &str) -> Option<f64> {
 
 /// The polish's candidate-steps per second as a share of the GA's fitness
 /// rate on the same path (the CPU lanes' or the GPU's, measured by `run
-/// --backend auto` where `check` has its figures). Its candidates are full
-/// histories (every output and state of every sample) turned into
-/// residuals and a linear solve per iteration, in batches of `starts × (2 ×
-/// genes + 1)`: measured on the nine shipped campaigns (2026-11-26, 2-core
-/// Xeon under load), 0.06 to 0.68 of the path's fitness rate, median 0.13.
-pub const POLISH_SHARE_OF_FITNESS_RATE: f64 = 0.13;
+/// --backend auto` where `check` has its figures). Its candidates are
+/// records of the scored output at every sample
+/// ([`crate::eval::Evaluator::scored_outputs`]) turned into residuals and a
+/// linear solve per iteration, in batches of `starts × (2 × genes + 1)`:
+/// measured on the eleven shipped campaigns on both paths (2026-11-26, idle
+/// 2-core Xeon, lavapipe), 0.27 to 0.86 of the path's fitness rate, median
+/// 0.47 (0.13 when the polish asked for whole histories).
+pub const POLISH_SHARE_OF_FITNESS_RATE: f64 = 0.47;
 
 /// The polish's rounds of `starts × (2 × genes + 1)` candidates a job is
 /// expected to take (the first linearisation and six iterations), at most
@@ -463,7 +465,7 @@ pub fn polish_estimate_text(e: &serde_json::Value) -> String {
     }
     format!(
         "\n  the polish after it: about {:.3e} candidates expected, at most {:.3e} (its \
-         iteration limit), {:.3e} RK4 steps as full histories: about {} on the CPU and {} \
+         iteration limit), {:.3e} RK4 steps of scored records: about {} on the CPU and {} \
          on the GPU, at {:.0} % of each path's rate; and about {} of start-up on the CPU, \
          {} on the GPU; all included in the times above",
         f("polish_candidates_expected"),
