@@ -110,9 +110,7 @@ impl CpuEvaluator {
         };
         self.problem.model.lanes().min(share).max(1)
     }
-}
 
-impl CpuEvaluator {
     /// One record per candidate of `which` and experiment,
     /// `[candidate][experiment]`, from `record(problem, e, params, offset)`
     /// (one per run of `params`, which share the clock offset): in groups

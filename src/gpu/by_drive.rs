@@ -109,9 +109,7 @@ impl GpuByDrive {
     pub fn groups(&self) -> Vec<Vec<usize>> {
         self.parts.iter().map(|p| p.experiments.clone()).collect()
     }
-}
 
-impl GpuByDrive {
     /// Each kernel group's `[candidate][experiment]` records of candidates
     /// `which` (from `run` on the group's part of `batch`), put back in the
     /// problem's experiment order.

@@ -20,8 +20,7 @@ impl GpuEvaluator {
         batch: &Batch,
         which: &[usize],
     ) -> Result<Vec<Vec<History>>, GpuError> {
-        let values = self.model.hist_values();
-        self.run_records(batch, which, RECORD_FULL, values, |ev, raw| {
+        self.run_records(batch, which, RECORD_FULL, |ev, raw| {
             ev.unpack_histories(raw, which.len())
         })
     }
@@ -35,21 +34,24 @@ impl GpuEvaluator {
         batch: &Batch,
         which: &[usize],
     ) -> Result<Vec<Vec<Vec<f64>>>, GpuError> {
-        self.run_records(batch, which, RECORD_SCORED, 1, |ev, raw| {
+        self.run_records(batch, which, RECORD_SCORED, |ev, raw| {
             ev.unpack_scored(raw, which.len())
         })
     }
 
-    /// The history kernel over candidates `which` writing `record` (`values`
-    /// per sample), its mapped records handed to `unpack`.
+    /// The history kernel over candidates `which` writing `record`, its
+    /// mapped records handed to `unpack`.
     fn run_records<T>(
         &mut self,
         batch: &Batch,
         which: &[usize],
         record: u32,
-        values: u32,
         unpack: impl FnOnce(&Self, &Reals<'_>) -> T,
     ) -> Result<T, GpuError> {
+        let values = match record {
+            RECORD_SCORED => 1,
+            _ => self.model.hist_values(),
+        };
         let max_steps = self.upload(batch)?;
         let ne = self.problem.experiments.len();
         let runs = which.len() * ne;

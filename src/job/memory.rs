@@ -221,13 +221,7 @@ pub fn chunk_candidates(campaign: &Campaign) -> usize {
 /// its read-back as well.
 fn history_bytes_per_candidate(campaign: &Campaign, gpu_real: Option<usize>) -> f64 {
     let per_sample = 8 + gpu_real.map_or(0, |real| 2 * real);
-    let samples: usize = campaign
-        .problem
-        .experiments
-        .iter()
-        .map(|x| x.window.end)
-        .sum();
-    (samples * per_sample) as f64
+    (summed(campaign, |x| x.window.end) * per_sample) as f64
 }
 
 /// Candidates per chunk of the polish's records on the path that runs them
@@ -240,8 +234,28 @@ pub fn history_chunk(campaign: &Campaign, gpu_real: Option<usize>) -> usize {
     ((HISTORY_CHUNK_BYTES / per) as usize).max(1)
 }
 
+/// Bytes of one candidate's whole history in every experiment (the best
+/// candidate's, which the job's outputs are written from): time, outputs and
+/// states per sample; on the GPU path also the raw history buffer, its
+/// read-back and its host copy.
+fn full_history_bytes(campaign: &Campaign, gpu_real: Option<usize>) -> f64 {
+    let m = &campaign.model;
+    let values = 1 + m.output_names().len() + m.state_names().len();
+    let samples = summed(campaign, |x| x.window.end);
+    let gpu = gpu_real.map_or(0, |real| {
+        let values = crate::gpu::kernel_groups(&campaign.problem)
+            .ok()
+            .and_then(|g| g.iter().map(|k| k.model.hist_values()).max())
+            .unwrap_or(0);
+        values as usize * (2 * real + 8)
+    });
+    (samples * (values * 8 + gpu)) as f64
+}
+
 /// The polish's residuals (every point and stencil of one iteration, over
-/// every fit window) plus one chunk of their records.
+/// every fit window) plus one chunk of their records, or the best
+/// candidate's whole history where that is larger (the outputs are written
+/// from it once the polish has let its records go).
 fn histories_bytes(campaign: &Campaign, gpu_real: Option<usize>) -> f64 {
     let polish = &campaign.search.polish;
     let g = campaign.genes.len();
@@ -257,7 +271,8 @@ fn histories_bytes(campaign: &Campaign, gpu_real: Option<usize>) -> f64 {
         0.0
     };
     let chunk = history_chunk(campaign, gpu_real).min(batch);
-    residuals + chunk as f64 * history_bytes_per_candidate(campaign, gpu_real)
+    let records = chunk as f64 * history_bytes_per_candidate(campaign, gpu_real);
+    residuals + records.max(full_history_bytes(campaign, gpu_real))
 }
 
 /// The memory available to a new job now (bytes): `MemAvailable` of
