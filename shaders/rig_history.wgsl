@@ -41,7 +41,7 @@ fn observe(
 
 fn finish(slot: u32, base: u32, acc: real) {}
 
-@compute @workgroup_size(64)
+@compute @workgroup_size(16)
 fn history_main(
     @builtin(global_invocation_id) gid: vec3<u32>,
     @builtin(local_invocation_index) lane: u32,
