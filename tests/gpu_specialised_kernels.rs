@@ -166,3 +166,32 @@ fn small_batches_use_the_generic_kernel() {
     special.fitness(&b).unwrap();
     assert_eq!(special.specialised_constants(), None);
 }
+
+/// A trial's warm-up builds the kernel that scores the batch and runs its
+/// first chunk only: the batch scored after it has the bits of a batch
+/// scored by an evaluator that never warmed up (the runs start again from
+/// their initial state), and the specialised kernel it built is the one
+/// that scores the batch.
+#[test]
+fn a_warm_up_readies_the_batch_and_leaves_its_scores_alone() {
+    let Some(ctx) = common::gpu() else { return };
+    let c = shipped();
+    let b = batch(&c, 13);
+    // Chunks of 64 steps: the warm-up's one chunk is a tenth of a run.
+    let options = GpuOptions {
+        chunk_steps: 64,
+        ..GpuOptions::default()
+    };
+    for p in precisions(&ctx) {
+        let mut fresh = GpuEvaluator::new(ctx.clone(), c.problem.clone(), p, options).unwrap();
+        let expected = fresh.fitness(&b).unwrap();
+        let mut warmed = GpuEvaluator::new(ctx.clone(), c.problem.clone(), p, options).unwrap();
+        warmed.warm_up(&b).unwrap();
+        let baked = warmed.specialised_constants();
+        assert!(baked.is_some_and(|n| n > 0), "{p:?}: {baked:?}");
+        let got = warmed.fitness(&b).unwrap();
+        assert_eq!(warmed.specialised_constants(), baked, "{p:?}");
+        assert_eq!(bits(&got.values), bits(&expected.values), "{p:?}");
+        assert_eq!(got.diverged, expected.diverged, "{p:?}");
+    }
+}

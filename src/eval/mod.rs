@@ -239,6 +239,13 @@ pub trait Evaluator: Send {
     /// An evaluator that cannot stop early ignores it.
     fn set_cancel(&mut self, _flag: std::sync::Arc<std::sync::atomic::AtomicBool>) {}
 
+    /// Makes ready what scoring `batch` needs, so that a batch timed after
+    /// it measures the scoring alone: the GPU builds the kernel that scores
+    /// it and runs its first chunk. By default it scores the batch once.
+    fn warm_up(&mut self, batch: &Batch) -> Result<(), EvalError> {
+        self.fitness(batch).map(|_| ())
+    }
+
     /// Makes ready now what the evaluator would make ready once it pays (the
     /// CPU lanes' native build), so that a timed trial measures the path
     /// the job runs. Nothing by default.

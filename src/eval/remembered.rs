@@ -80,6 +80,10 @@ impl Evaluator for Remembered {
         self.inner.set_cancel(flag);
     }
 
+    fn warm_up(&mut self, batch: &Batch) -> Result<(), EvalError> {
+        self.inner.warm_up(batch)
+    }
+
     fn prepare(&mut self) {
         self.inner.prepare();
     }

@@ -110,6 +110,32 @@ impl GpuByDrive {
         self.parts.iter().map(|p| p.experiments.clone()).collect()
     }
 
+    /// `run` on each kernel group's part of `batch`, each group on a thread
+    /// of its own, so that their first batch's kernels compile side by side
+    /// and their passes are submitted together; every run's bits are its own
+    /// whatever runs beside it. The results in the groups' order.
+    fn each_group<T: Send>(
+        &mut self,
+        batch: &Batch,
+        run: impl Fn(&mut GpuEvaluator, &Batch) -> T + Sync,
+    ) -> Vec<T> {
+        let run = &run;
+        std::thread::scope(|s| {
+            let running: Vec<_> = self
+                .parts
+                .iter_mut()
+                .map(|part| {
+                    let sub = sub_batch(batch, &part.experiments);
+                    s.spawn(move || run(&mut part.evaluator, &sub))
+                })
+                .collect();
+            running
+                .into_iter()
+                .map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
+                .collect()
+        })
+    }
+
     /// Each kernel group's `[candidate][experiment]` records of candidates
     /// `which` (from `run` on the group's part of `batch`), put back in the
     /// problem's experiment order.
@@ -170,23 +196,7 @@ impl Evaluator for GpuByDrive {
         let ne = self.problem.experiments.len();
         let mut values = vec![0.0; batch.candidates * ne];
         let mut diverged = 0;
-        // Each group on a thread of its own, so that their first batch's
-        // kernels compile side by side and their passes are submitted
-        // together; every run's bits are its own whatever runs beside it.
-        let all = std::thread::scope(|s| {
-            let running: Vec<_> = self
-                .parts
-                .iter_mut()
-                .map(|part| {
-                    let sub = sub_batch(batch, &part.experiments);
-                    s.spawn(move || part.evaluator.fitness(&sub))
-                })
-                .collect();
-            running
-                .into_iter()
-                .map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
-                .collect::<Vec<_>>()
-        });
+        let all = self.each_group(batch, |ev, sub| ev.fitness(sub));
         for (part, scores) in self.parts.iter().zip(all) {
             let scores = scores?;
             let ng = part.experiments.len();
@@ -202,6 +212,13 @@ impl Evaluator for GpuByDrive {
             values,
             diverged,
         })
+    }
+
+    fn warm_up(&mut self, batch: &Batch) -> Result<(), EvalError> {
+        self.problem.check_batch(batch)?;
+        self.each_group(batch, |ev, sub| ev.warm_up(sub))
+            .into_iter()
+            .collect()
     }
 
     fn checked_histories(

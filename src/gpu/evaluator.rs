@@ -284,6 +284,11 @@ impl Evaluator for GpuEvaluator {
         self.scores(raw)
     }
 
+    fn warm_up(&mut self, batch: &Batch) -> Result<(), EvalError> {
+        self.problem.check_batch(batch)?;
+        self.warm_fitness(batch).map_err(device_error)
+    }
+
     fn checked_histories(
         &mut self,
         batch: &Batch,

@@ -75,6 +75,42 @@ impl GpuEvaluator {
     /// Runs the fitness kernel over the batch and returns its raw value per
     /// run.
     pub(super) fn run_fitness(&mut self, batch: &Batch) -> Result<Vec<f64>, GpuError> {
+        let runs = self.dispatch_fitness(batch, None)?;
+        let rb = self.runs.as_ref().expect("uploaded");
+        let size = runs as u64 * real_size(self.precision);
+        pipeline::scoped(&self.ctx, "fitness read-back", || {
+            let mut enc = self
+                .ctx
+                .device
+                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                    label: Some("fitness copy"),
+                });
+            enc.copy_buffer_to_buffer(&rb.fitness, 0, &rb.readback, 0, size);
+            self.ctx.queue.submit([enc.finish()]);
+        })?;
+        pipeline::read_back(&self.ctx, &rb.readback, size, |b| {
+            from_real_bytes(b, self.precision)
+        })
+    }
+
+    /// The first chunk of the batch's fitness pass, its values never read:
+    /// the kernel that scores the batch built, its buffers sized and the
+    /// kernel run once on them (a driver that compiles a pipeline's machine
+    /// code at its first dispatch, as lavapipe does, compiles it here), at
+    /// the cost of one chunk instead of a whole pass.
+    pub(super) fn warm_fitness(&mut self, batch: &Batch) -> Result<(), GpuError> {
+        self.dispatch_fitness(batch, Some(1))?;
+        self.wait(None)
+    }
+
+    /// Uploads the batch, builds the kernel that scores it (specialised
+    /// where that pays), resets the runs and submits the pass's chunks, at
+    /// most `most_chunks` of them. Returns the batch's runs.
+    fn dispatch_fitness(
+        &mut self,
+        batch: &Batch,
+        most_chunks: Option<u32>,
+    ) -> Result<usize, GpuError> {
         let max_steps = self.upload(batch)?;
         let runs = batch.candidates * self.problem.experiments.len();
         let chosen = self.specialise_for(runs)?;
@@ -85,7 +121,9 @@ impl GpuEvaluator {
             Some(i) => &self.specialised[i].kernel,
             None => self.fitness_kernel.as_ref().expect("compiled above"),
         };
-        let dispatches = self.dispatches(max_steps);
+        let dispatches = self
+            .dispatches(max_steps)
+            .min(most_chunks.unwrap_or(u32::MAX));
         let rb = self.runs.as_ref().expect("uploaded");
         // The parts this batch uses, with their run counts and workgroups.
         let mut parts = Vec::new();
@@ -94,7 +132,6 @@ impl GpuEvaluator {
             let groups = pipeline::workgroups(&self.ctx, count, kernel.workgroup_x)?;
             parts.push((part, count, groups));
         }
-        let size = runs as u64 * real_size(self.precision);
         // A run that never reached its last sample would leave this sentinel.
         let unfinished = to_real_bytes(&vec![UNFINISHED; runs], self.precision);
         pipeline::scoped(&self.ctx, "fitness pass", || {
@@ -120,19 +157,7 @@ impl GpuEvaluator {
             .map(|&(part, _, groups)| (&part.bind, groups))
             .collect();
         self.submit_chunks(kernel, &binds, dispatches)?;
-        pipeline::scoped(&self.ctx, "fitness read-back", || {
-            let mut enc = self
-                .ctx
-                .device
-                .create_command_encoder(&wgpu::CommandEncoderDescriptor {
-                    label: Some("fitness copy"),
-                });
-            enc.copy_buffer_to_buffer(&rb.fitness, 0, &rb.readback, 0, size);
-            self.ctx.queue.submit([enc.finish()]);
-        })?;
-        pipeline::read_back(&self.ctx, &rb.readback, size, |b| {
-            from_real_bytes(b, self.precision)
-        })
+        Ok(runs)
     }
 
     /// The scores of a fitness pass's raw values: a blown-up run (-1, or

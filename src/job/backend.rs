@@ -425,9 +425,10 @@ fn trial_genomes(campaign: &Campaign, n: usize) -> Vec<Vec<f64>> {
 
 /// Makes `evaluator` ready to be timed on `genomes`: what it would make
 /// ready once it pays ([`Evaluator::prepare`]: the CPU lanes' native builds),
-/// then a first batch of the first [`WARM_UP_CANDIDATES`] genomes (the GPU's
-/// pipelines for the kernel variant in use; the CPU's first call into its
-/// native code and its first buffers).
+/// then [`Evaluator::warm_up`] on the first [`WARM_UP_CANDIDATES`] genomes
+/// (the GPU's pipelines for the kernel variant in use, run for one chunk;
+/// the CPU scores them: its first call into its native code and its first
+/// buffers).
 fn make_ready(
     campaign: &Campaign,
     evaluator: &mut dyn Evaluator,
@@ -437,9 +438,8 @@ fn make_ready(
     evaluator.prepare();
     let warm = &genomes[..genomes.len().min(WARM_UP_CANDIDATES)];
     evaluator
-        .fitness(&campaign.batch(warm))
-        .map_err(|source| TrialError::Eval { path, source })?;
-    Ok(())
+        .warm_up(&campaign.batch(warm))
+        .map_err(|source| TrialError::Eval { path, source })
 }
 
 /// Candidate-steps per second of `evaluator` on `batch`, made ready, with
