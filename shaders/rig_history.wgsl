@@ -41,6 +41,8 @@ fn observe(
 
 fn finish(slot: u32, base: u32, acc: real) {}
 
+// 16 runs a workgroup: lavapipe gives each workgroup to one of its threads, and
+// a polish pass is a few dozen runs, which 64 would put on one thread.
 @compute @workgroup_size(16)
 fn history_main(
     @builtin(global_invocation_id) gid: vec3<u32>,
