@@ -315,6 +315,51 @@ fn native_stick_slip_lanes_match_through_many_events() {
     assert_eq!(histories_native(&desc, &ps, None, &grid, Report::Full), one);
 }
 
+#[test]
+fn native_power_law_lanes_match_the_scalar_reference_bit_for_bit() {
+    // The inertial rig's power laws, `|x|^β` as `exp(β·ln|x|)`, with β and α
+    // different in every lane, so `ln` runs per lane in the vector code (the
+    // branch-free form) and per run in the reference: the same bits. The
+    // parameters are the shipped record's truth, spread.
+    let desc = rigfit::rig::shipped("inertial_sdof").unwrap();
+    let r = CompiledRig::new(desc.clone(), "inertial_sdof").unwrap();
+    let truth = [
+        9.0, 352.38, -61700.0, 365.17, 0.64, 1.41e6, 8.66e12, -8.74e8, 1.81, 11.768, 5.0, 12.5,
+    ];
+    let ps: Vec<Vec<f64>> = (0..LANES + 5)
+        .map(|i| {
+            let mut p = truth.to_vec();
+            let f = i as f64 / LANES as f64;
+            p[4] = 0.6 + 0.1 * f;
+            p[8] = 1.78 + 0.06 * f;
+            p
+        })
+        .collect();
+    let grid = SampleGrid {
+        t0: 0.0,
+        dt: 5e-4,
+        samples: 1500,
+        substeps: 8,
+    };
+    let one = histories_one(&r, &ps, &Drive::Velocity, &grid);
+    let many = histories_native(&desc, &ps, None, &grid, Report::Full);
+    for (i, (a, b)) in many.iter().zip(&one).enumerate() {
+        assert_eq!(a.len(), b.len());
+        let first = a.iter().zip(b).position(|(x, y)| x != y);
+        assert!(
+            first.is_none(),
+            "candidate {i} differs first at value {first:?}: {:?} against {:?}",
+            first.map(|k| f64::from_bits(a[k])),
+            first.map(|k| f64::from_bits(b[k]))
+        );
+    }
+    // Every value finite (a NaN's sign is not compared), and the runs
+    // moved: a history that is all zeros would agree vacuously.
+    assert!(one.iter().flatten().all(|&b| f64::from_bits(b).is_finite()));
+    let moved = one[3].iter().filter(|&&b| f64::from_bits(b) != 0.0).count();
+    assert!(moved > one[3].len() / 2, "{moved} of {}", one[3].len());
+}
+
 /// The f32 tolerance the GPU's f32 kernels are held to (`tests/gpu_rig_parity.rs`):
 /// each output's and state's largest difference from the f64 reference, over
 /// that series' largest magnitude.

@@ -48,6 +48,30 @@ F d dexpm1(d x) {
   d e = t * p + (t - 1.0);
   return dpick(x < dsplat(-40.0), dsplat(-1.0), dpick(x > dsplat(EXP_MAX), dsplat(__builtin_inf()), e));
 }
+/* ln x as math.rs's `ln` (fdlibm's log without branches): x = 2^k (1 + f)
+   with 1 + f in [sqrt(2)/2, sqrt(2)), a subnormal x scaled by 2^54 first;
+   k is exact either way, here from its bits (a conversion of 64-bit
+   integers AVX2 lacks). */
+#define SQRT_HALF_BITS 0x3fe6a09e00000000ULL
+F d dlog(d x) {
+  dm tiny = x < dsplat(0x1p-1022);
+  d xs = dpick(tiny, x * 0x1p54, x);
+  du b = (du)xs + (0x3ff0000000000000ULL - SQRT_HALF_BITS);
+  d k = ((d)(((b >> 52) & 0x7ffULL) | 0x4330000000000000ULL) - 0x1p52) - 1023.0;
+  k = k - dpick(tiny, dsplat(54.0), dsplat(0.0));
+  d f = (d)((b & 0x000fffffffffffffULL) + SQRT_HALF_BITS) - 1.0;
+  d hfsq = 0.5 * f * f;
+  d s = f / (2.0 + f);
+  d z = s * s, w = z * z;
+  d t1 = w * (0x1.999999997fa04p-2 + w * (0x1.c71c51d8e78afp-3 + w * 0x1.39a09d078c69fp-3));
+  d t2 = z * (0x1.5555555555593p-1 + w * (0x1.2492494229359p-2 + w * (0x1.7466496cb03dep-3 + w * 0x1.2f112df3e5244p-3)));
+  d r = t2 + t1;
+  d val = k * LN2_HI - ((hfsq - (s * (hfsq + r) + k * LN2_LO)) - f);
+  d neg = dpick(x == dsplat(0.0), dsplat(-__builtin_inf()), dsplat(__builtin_nan("")));
+  return dpick(x > dsplat(0.0), dpick(x == dsplat(__builtin_inf()), x, val), neg);
+}
+/* ln of one value: lane 0 of the vector form. */
+F double dlog1(double x) { return dlog(dsplat(x))[0]; }
 #define VALL(x) x, x, x, x, x, x, x, x, x, x, x, x, x, x, x, x
 #define JOIN 0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15
 #define LO 0, 1, 2, 3, 4, 5, 6, 7
@@ -75,6 +99,8 @@ F void split(v x, d *lo, d *hi) {
 #define KEEP(B, A, i) (((d *)&(B)[(i) * BLOCKS])[2 * q] = ((d *)&(A)[(i) * BLOCKS])[2 * q], \
                        ((d *)&(B)[(i) * BLOCKS])[2 * q + 1] = ((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 F v fsplat(float x) { return (v){VALL(x)}; }
+/* ln in f64 on each half, rounded once. */
+F v vlog(v x) { d lo, hi; split(x, &lo, &hi); return join(dlog(lo), dlog(hi)); }
 F v fpick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
 F v vabs(v a) { return (v)((u)a & 0x7fffffffu); }
 /* e^x and e^x - 1 in f32: the f64 forms' reduction with f32 constants
@@ -114,12 +140,11 @@ F v veq(v a, v b) { return (v)((a == b) & (m)splat(1.0)); }
 /* Rust's f64::min / f64::max: a NaN operand gives the other. */
 F v vmin(v a, v b) { v r = pick(a < b, a, b); r = pick(a != a, b, r); return pick(b != b, a, r); }
 F v vmax(v a, v b) { v r = pick(a > b, a, b); r = pick(a != a, b, r); return pick(b != b, a, r); }
-F v vlog(v a) { v r; for (int l = 0; l < WV; l++) r[l] = log(a[l]); return r; }
 F v vsin(v a) { v r; for (int l = 0; l < WV; l++) r[l] = sin(a[l]); return r; }
 F v vcos(v a) { v r; for (int l = 0; l < WV; l++) r[l] = cos(a[l]); return r; }
 /* The same of a uniform vector (every lane alike, as in the instructions
    hoisted out of rig_rk4's loop): one call, its value in every lane. */
-F v ulog(v a) { return splat(log(a[0])); }
+F v ulog(v a) { return splat(dlog1(a[0])); }
 F v usin(v a) { return splat(sin(a[0])); }
 F v ucos(v a) { return splat(cos(a[0])); }
 F unsigned long long lanebits(m k) {
@@ -212,7 +237,7 @@ F double seq(double a, double b) { return a == b ? 1.0 : 0.0; }
 F double smin(double a, double b) { return a != a ? b : b != b ? a : a < b ? a : b; }
 F double smax(double a, double b) { return a != a ? b : b != b ? a : a > b ? a : b; }
 F double sabs(double a) { return fabs(a); }
-F double slog(double a) { return log(a); }
+F double slog(double a) { return dlog1(a); }
 F double ssin(double a) { return sin(a); }
 F double scos(double a) { return cos(a); }
 void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) {

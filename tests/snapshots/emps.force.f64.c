@@ -48,6 +48,30 @@ F d dexpm1(d x) {
   d e = t * p + (t - 1.0);
   return dpick(x < dsplat(-40.0), dsplat(-1.0), dpick(x > dsplat(EXP_MAX), dsplat(__builtin_inf()), e));
 }
+/* ln x as math.rs's `ln` (fdlibm's log without branches): x = 2^k (1 + f)
+   with 1 + f in [sqrt(2)/2, sqrt(2)), a subnormal x scaled by 2^54 first;
+   k is exact either way, here from its bits (a conversion of 64-bit
+   integers AVX2 lacks). */
+#define SQRT_HALF_BITS 0x3fe6a09e00000000ULL
+F d dlog(d x) {
+  dm tiny = x < dsplat(0x1p-1022);
+  d xs = dpick(tiny, x * 0x1p54, x);
+  du b = (du)xs + (0x3ff0000000000000ULL - SQRT_HALF_BITS);
+  d k = ((d)(((b >> 52) & 0x7ffULL) | 0x4330000000000000ULL) - 0x1p52) - 1023.0;
+  k = k - dpick(tiny, dsplat(54.0), dsplat(0.0));
+  d f = (d)((b & 0x000fffffffffffffULL) + SQRT_HALF_BITS) - 1.0;
+  d hfsq = 0.5 * f * f;
+  d s = f / (2.0 + f);
+  d z = s * s, w = z * z;
+  d t1 = w * (0x1.999999997fa04p-2 + w * (0x1.c71c51d8e78afp-3 + w * 0x1.39a09d078c69fp-3));
+  d t2 = z * (0x1.5555555555593p-1 + w * (0x1.2492494229359p-2 + w * (0x1.7466496cb03dep-3 + w * 0x1.2f112df3e5244p-3)));
+  d r = t2 + t1;
+  d val = k * LN2_HI - ((hfsq - (s * (hfsq + r) + k * LN2_LO)) - f);
+  d neg = dpick(x == dsplat(0.0), dsplat(-__builtin_inf()), dsplat(__builtin_nan("")));
+  return dpick(x > dsplat(0.0), dpick(x == dsplat(__builtin_inf()), x, val), neg);
+}
+/* ln of one value: lane 0 of the vector form. */
+F double dlog1(double x) { return dlog(dsplat(x))[0]; }
 #define VALL(x) x, x, x, x, x, x, x, x
 typedef d v; typedef dm m; typedef du u;
 #define WV DW
@@ -58,6 +82,7 @@ typedef d v; typedef dm m; typedef du u;
 F v vabs(v a) { return (v)((u)a & 0x7fffffffffffffffULL); }
 F v vexp(v x) { return dexp(x); }
 F v vexpm1(v x) { return dexpm1(x); }
+F v vlog(v x) { return dlog(x); }
 #define NQ(nb) (((nb) * 8 + WV - 1) / WV)
 F v splat(double x) { return (v){VALL(x)}; }
 F v pick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
@@ -67,12 +92,11 @@ F v veq(v a, v b) { return (v)((a == b) & (m)splat(1.0)); }
 /* Rust's f64::min / f64::max: a NaN operand gives the other. */
 F v vmin(v a, v b) { v r = pick(a < b, a, b); r = pick(a != a, b, r); return pick(b != b, a, r); }
 F v vmax(v a, v b) { v r = pick(a > b, a, b); r = pick(a != a, b, r); return pick(b != b, a, r); }
-F v vlog(v a) { v r; for (int l = 0; l < WV; l++) r[l] = log(a[l]); return r; }
 F v vsin(v a) { v r; for (int l = 0; l < WV; l++) r[l] = sin(a[l]); return r; }
 F v vcos(v a) { v r; for (int l = 0; l < WV; l++) r[l] = cos(a[l]); return r; }
 /* The same of a uniform vector (every lane alike, as in the instructions
    hoisted out of rig_rk4's loop): one call, its value in every lane. */
-F v ulog(v a) { return splat(log(a[0])); }
+F v ulog(v a) { return splat(dlog1(a[0])); }
 F v usin(v a) { return splat(sin(a[0])); }
 F v ucos(v a) { return splat(cos(a[0])); }
 F unsigned long long lanebits(m k) {
@@ -186,7 +210,7 @@ F double seq(double a, double b) { return a == b ? 1.0 : 0.0; }
 F double smin(double a, double b) { return a != a ? b : b != b ? a : a < b ? a : b; }
 F double smax(double a, double b) { return a != a ? b : b != b ? a : a > b ? a : b; }
 F double sabs(double a) { return fabs(a); }
-F double slog(double a) { return log(a); }
+F double slog(double a) { return dlog1(a); }
 F double ssin(double a) { return sin(a); }
 F double scos(double a) { return cos(a); }
 void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) {
