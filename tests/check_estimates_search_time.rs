@@ -2,7 +2,8 @@
 //! GPU (the GA, then the polish), says what rates it assumes, and grows the
 //! estimate with the steps a clock offset adds. Once a run of the job has
 //! searched on every CPU core, `check` estimates the CPU from the rate that
-//! search ran at.
+//! search ran at; before that, it times the CPU lanes on a few of the job's
+//! candidates, unless `--no-measure` asks for the assumed rate.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -10,19 +11,24 @@ use std::process::Command;
 use serde_json::{Value, json};
 
 fn check(c: &Path, json: bool) -> String {
-    // No measurement of an earlier run (src/job/backend.rs): the assumed
-    // rates.
+    // No measurement of an earlier run (src/job/backend.rs), none by
+    // `check` itself: the assumed rates.
     let cache = tempfile::tempdir().unwrap();
-    check_with_cache(c, json, cache.path())
+    check_with(c, json, cache.path(), &["--no-measure"])
 }
 
 fn check_with_cache(c: &Path, json: bool, cache: &Path) -> String {
+    check_with(c, json, cache, &[])
+}
+
+fn check_with(c: &Path, json: bool, cache: &Path, flags: &[&str]) -> String {
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_rigfit"));
     if json {
         cmd.arg("--json");
     }
     let o = cmd
         .arg("check")
+        .args(flags)
         .arg(c)
         .env("RIGFIT_CACHE_DIR", cache)
         .output()
@@ -231,5 +237,69 @@ fn check_estimates_the_cpu_from_the_rate_its_last_search_ran_at() {
     assert!(
         text.contains("the rate its last search on every core here ran at"),
         "{text}"
+    );
+}
+
+/// Where nothing has measured the job on this machine, `check` times the CPU
+/// lanes on the search's first candidates and estimates the CPU from that
+/// rate; `--no-measure` keeps the assumed one, and a candidate too long to
+/// time before a job is not timed, with why.
+#[test]
+fn check_times_the_cpu_where_nothing_was_measured() {
+    let dir = tempfile::tempdir().unwrap();
+    let c = campaign(dir.path(), 0.0);
+    let cache = dir.path().join("cache");
+    let v: Value = serde_json::from_str(&check_with_cache(&c, true, &cache)).unwrap();
+    let e = &v["search_estimate"];
+    let t = &e["cpu_trial"];
+    let rate = t["rate"]
+        .as_f64()
+        .unwrap_or_else(|| panic!("a trial in {e}"));
+    assert!(rate > 1e4 && rate < 1e11, "{t}");
+    assert_eq!(e["cpu_steps_per_s_assumed"].as_f64(), Some(rate), "{e}");
+    // The population (1000) fits the trial's steps: the whole first
+    // generation is timed, in f64 (the campaign's precision is `auto`).
+    assert_eq!(t["candidates"].as_u64(), Some(1000), "{t}");
+    assert_eq!(t["precision"], "f64", "{t}");
+    assert!(t["trial_s"].as_f64().unwrap() > 0.0, "{t}");
+    let steps = e["steps"].as_f64().unwrap();
+    let polish = e["cpu_polish_seconds"].as_f64().unwrap();
+    let cpu = e["cpu_seconds"].as_f64().unwrap();
+    assert_eq!(
+        cpu,
+        e["cpu_startup_seconds"].as_f64().unwrap() + steps / rate + polish
+    );
+    let text = check_with_cache(&c, false, &cache);
+    assert!(
+        text.contains("candidate-steps/s, measured here in"),
+        "{text}"
+    );
+    assert!(text.contains("on 1000 of its candidates in f64"), "{text}");
+
+    // --no-measure: the assumed rate on every core.
+    let v: Value = serde_json::from_str(&check_with(&c, true, &cache, &["--no-measure"])).unwrap();
+    let e = &v["search_estimate"];
+    assert!(e.get("cpu_trial").is_none(), "{e}");
+    let cores = e["cpu_cores"].as_f64().unwrap();
+    assert_eq!(
+        e["cpu_steps_per_s_assumed"].as_f64(),
+        Some(3e7 * cores),
+        "{e}"
+    );
+
+    // A candidate of 5·10⁵ steps (0.5 s before the record at 1 µs steps):
+    // the smallest batch, 128 of them, is more than `check` times.
+    let long = campaign(dir.path(), 0.5);
+    let v: Value = serde_json::from_str(&check_with_cache(&long, true, &cache)).unwrap();
+    let e = &v["search_estimate"];
+    assert!(e.get("cpu_trial").is_none(), "{e}");
+    let why = e["cpu_trial_skipped"]
+        .as_str()
+        .unwrap_or_else(|| panic!("{e}"));
+    assert!(why.contains("128 candidates of"), "{why}");
+    assert_eq!(
+        e["cpu_steps_per_s_assumed"].as_f64(),
+        Some(3e7 * cores),
+        "{e}"
     );
 }

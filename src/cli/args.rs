@@ -110,8 +110,13 @@ pub enum Command {
     Ringdown(RingdownArgs),
     /// Classical identification from the papers the shipped rigs come from (restoring force, FRF, inverse model).
     Identify(IdentifyArgs),
-    /// Validate a campaign and its data without running anything.
-    #[command(after_help = "Example:\n  rigfit check campaigns/aa2024_t3_synthetic.json")]
+    /// Validate a campaign and its data without running the job, and estimate its memory and time.
+    #[command(
+        after_help = "The CPU's time is estimated from the rate this job's last search here ran at, \
+        or `run --backend auto`'s measurement; where neither exists, the CPU lanes are timed on a \
+        few of the job's candidates (a fraction of a second; --no-measure: an assumed rate).\n\n\
+        Example:\n  rigfit check campaigns/aa2024_t3_synthetic.json"
+    )]
     Check(CheckArgs),
 }
 

@@ -1,5 +1,8 @@
-//! `rigfit check`: a campaign and its data validated without running
-//! anything, with the run length, the memory and the search time it would take.
+//! `rigfit check`: a campaign and its data validated without running the
+//! job, with the run length, the memory and the search time it would take.
+//! Where no run has measured the job on this machine, the CPU's rate is
+//! measured on a few of its candidates ([`rigfit::job::backend::cpu_trial`],
+//! a fraction of a second) unless `--no-measure` asks for the assumed rate.
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -20,6 +23,11 @@ pub struct CheckArgs {
     pub campaign: PathBuf,
     #[command(flatten)]
     pub run_length: RunLengthArgs,
+    /// Estimate the CPU's time at an assumed rate instead of timing the CPU
+    /// lanes on a few of the job's candidates (which takes a fraction of a
+    /// second where no run has measured this job here).
+    #[arg(long)]
+    pub no_measure: bool,
 }
 
 /// The job's wall time, estimated from its steps: the GA's candidates on
@@ -28,8 +36,11 @@ pub struct CheckArgs {
 /// Where `run --backend auto` has measured this job on this machine before
 /// (src/job/backend.rs), its measured rates take the assumed ones' place;
 /// where a run of it searched on every CPU core here, the rate that search
-/// ran at takes the CPU's.
-fn search_estimate(c: &Campaign, steps_per_candidate: f64) -> serde_json::Value {
+/// ran at takes the CPU's. Where neither is known and `measure` asks, the
+/// CPU lanes are timed on a few of the job's candidates
+/// ([`rigfit::job::backend::cpu_trial`]: `cpu_trial` in the JSON, or
+/// `cpu_trial_skipped` with why).
+fn search_estimate(c: &Campaign, steps_per_candidate: f64, measure: bool) -> serde_json::Value {
     use rigfit::eval::PrecisionChoice;
     let cores = rigfit::eval::all_cores();
     let precision = format!("{:?}", c.solver.precision).to_lowercase();
@@ -47,8 +58,25 @@ fn search_estimate(c: &Campaign, steps_per_candidate: f64) -> serde_json::Value 
         e = e.with_cpu_rate(rate);
         e.cpu_rate_observed = true;
     }
+    let mut trial = None;
+    let mut skipped = None;
+    if measure && measured.is_none() && observed.is_none() {
+        match rigfit::job::backend::cpu_trial(c, cpu_precision == "f32") {
+            Ok(t) => {
+                e = e.with_cpu_rate(t.rate);
+                trial = Some(t);
+            }
+            Err(why) => skipped = Some(why.to_string()),
+        }
+    }
     let mut v = serde_json::to_value(e).unwrap_or_default();
     v["measured"] = serde_json::Value::Bool(measured.is_some());
+    if let Some(t) = trial {
+        v["cpu_trial"] = serde_json::to_value(t).unwrap_or_default();
+    }
+    if let Some(why) = skipped {
+        v["cpu_trial_skipped"] = serde_json::Value::String(why);
+    }
     v
 }
 
@@ -64,9 +92,6 @@ pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
             .map_err(|e| super::exit::BadInput(e.to_string()))?;
     }
     let length = c.check_run_length(args.run_length.max_steps)?;
-    let search = c
-        .search_given
-        .then(|| search_estimate(&c, length.steps_per_candidate));
     // The memory `run` will check, on the CPU and (where the rig has kernels)
     // on the GPU in f64, for the campaign's population.
     let cpu_memory = MemoryEstimate::of(&c, None);
@@ -74,6 +99,11 @@ pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
         .is_ok()
         .then(|| MemoryEstimate::of(&c, Some(8)));
     let available = memory::available_memory();
+    // A job `run` would refuse for its memory is not timed either.
+    let fits = available.is_none_or(|a| cpu_memory.total <= a);
+    let search = c
+        .search_given
+        .then(|| search_estimate(&c, length.steps_per_candidate, !args.no_measure && fits));
     out.json(&serde_json::json!({
         "campaign": c.name, "rig": c.model.id(), "experiments": c.problem.experiments.len(),
         "genes": c.genes.iter().map(|g| &g.name).collect::<Vec<_>>(),
@@ -153,6 +183,22 @@ pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
                         "`run --backend auto` measured"
                     },
                 )
+            } else if let Some(t) = e.get("cpu_trial") {
+                format!(
+                    "about {} on the CPU (at {:.2e} candidate-steps/s, measured here in {:.2} s \
+                     on {} of its candidates in {}), about {} on the GPU (at an assumed {:.0e} \
+                     candidate-steps/s, lavapipe's f32 rate; a discrete GPU runs 10 to 100 times \
+                     more); `run --backend auto` measures both (a job under {} s on its faster \
+                     path runs on the CPU unmeasured)",
+                    rigfit::campaign::human_duration(f("cpu_seconds")),
+                    f("cpu_steps_per_s_assumed"),
+                    t["trial_s"].as_f64().unwrap_or(0.0),
+                    t["candidates"],
+                    t["precision"].as_str().unwrap_or("f64"),
+                    rigfit::campaign::human_duration(f("gpu_seconds")),
+                    GPU_STEPS_PER_S_ASSUMED,
+                    rigfit::job::backend::SHORT_JOB_SECONDS,
+                )
             } else if observed {
                 format!(
                     "about {} on the CPU (at {:.2e} candidate-steps/s, the rate its last search \
@@ -177,7 +223,10 @@ pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
                     rigfit::campaign::human_duration(f("gpu_seconds")),
                     GPU_STEPS_PER_S_ASSUMED,
                     rigfit::job::backend::SHORT_JOB_SECONDS,
-                )
+                ) + &e["cpu_trial_skipped"]
+                    .as_str()
+                    .map(|why| format!(" (the CPU was not timed here: {why})"))
+                    .unwrap_or_default()
             };
             let _ = write!(
                 s,

@@ -81,6 +81,10 @@ pub const CLOSE_CALL: f64 = 1.15;
 /// Fewest candidates a trial batch scores (the population, where smaller).
 pub const TRIAL_MIN_CANDIDATES: usize = 128;
 
+/// Largest population whose first generation a trial draws whole to take
+/// its batch from it (a million genomes of a few genes: tens of megabytes).
+const TRIAL_DRAWS_GENERATION_UP_TO: usize = 1 << 20;
+
 /// Candidates of a warm-up batch: enough for the GPU evaluator to build the
 /// specialised kernel the job's generations use, and for the CPU's first
 /// call into its native code and its first buffers of a batch's size (a
@@ -408,16 +412,22 @@ fn short_job_estimate(campaign: &Campaign) -> f64 {
 fn trial_genomes(campaign: &Campaign, n: usize) -> Vec<Vec<f64>> {
     let genes = super::gene_specs(campaign);
     let mut rng = ChaCha8Rng::seed_from_u64(campaign.search.seed);
-    match GeneticAlgorithm::new(campaign.search.clone(), genes.clone()) {
-        Ok(ga) => ga
+    // A first generation too large to draw for a few of its candidates
+    // (its Latin hypercube is drawn whole) is not drawn: the trial's batch
+    // is then a spread of its own, which the generation does not repeat.
+    let ga = (campaign.search.population <= TRIAL_DRAWS_GENERATION_UP_TO)
+        .then(|| GeneticAlgorithm::new(campaign.search.clone(), genes.clone()).ok())
+        .flatten();
+    match ga {
+        Some(ga) => ga
             .init(&mut rng)
             .iter()
             .take(n)
             .map(|g| genome_values(&genes, g))
             .collect(),
-        // Settings the search would refuse: any spread over the box times
-        // the paths as well.
-        Err(_) => (0..n)
+        // Settings the search would refuse, or a generation too large:
+        // any spread over the box times the paths as well.
+        None => (0..n)
             .map(|_| genes.iter().map(|g| g.at_fraction(rng.random())).collect())
             .collect(),
     }
@@ -537,6 +547,93 @@ pub fn race(
         (cpu, cpu_scores)
     };
     Ok((Box::new(Remembered::new(chosen, batch, scores)), trial))
+}
+
+/// Most candidate-steps `check` times the CPU lanes on where nothing was
+/// measured before ([`cpu_trial`]): about 0.1 to 0.4 s on a 2-core machine,
+/// the native build included.
+pub const CHECK_TRIAL_STEPS: f64 = 1e7;
+
+/// What `check` measured of the CPU lanes on this job's rig and records
+/// ([`cpu_trial`]).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CpuTrial {
+    /// The rate (candidate-steps per second, every core).
+    pub rate: f64,
+    /// Candidates in the timed batch.
+    pub candidates: usize,
+    /// `"f64"` or `"f32"`: the arithmetic timed.
+    pub precision: &'static str,
+    /// Wall time the measurement took (s), the native build and the
+    /// warm-up included.
+    pub trial_s: f64,
+}
+
+/// Why [`cpu_trial`] measured nothing.
+#[derive(Debug, thiserror::Error)]
+pub enum CpuTrialError {
+    /// Even the smallest batch would take too long to time before a job.
+    #[error(
+        "{candidates} candidates of {steps:.3e} steps each are more than `check` times \
+         ({limit:.0e} candidate-steps)"
+    )]
+    TooLong {
+        /// The smallest batch.
+        candidates: usize,
+        /// RK4 steps per candidate.
+        steps: f64,
+        /// [`CHECK_TRIAL_STEPS`], four times over.
+        limit: f64,
+    },
+    /// The evaluator could not be opened or failed.
+    #[error(transparent)]
+    Eval(#[from] EvalError),
+}
+
+/// The CPU lanes' rate on `campaign`'s rig and records, measured as `auto`'s
+/// trial measures it (the search's first candidates, made ready first: the
+/// native build, a warm-up batch) on every core, in f32 where `f32` asks
+/// and the rig allows it: what `check` estimates the job from when no run
+/// has measured it. Its batch is the population or fewer, at most
+/// [`CHECK_TRIAL_STEPS`] candidate-steps but at least
+/// [`TRIAL_MIN_CANDIDATES`] (a group of lanes for each of two threads);
+/// where that batch would take more than four times [`CHECK_TRIAL_STEPS`],
+/// nothing is timed.
+pub fn cpu_trial(campaign: &Campaign, f32: bool) -> Result<CpuTrial, CpuTrialError> {
+    let start = Instant::now();
+    let steps = super::steps_per_candidate(campaign);
+    let fit = (CHECK_TRIAL_STEPS / steps.max(1.0)) as usize / 64 * 64;
+    let n = campaign
+        .search
+        .population
+        .min(fit.max(TRIAL_MIN_CANDIDATES))
+        .max(1);
+    if n as f64 * steps > 4.0 * CHECK_TRIAL_STEPS {
+        return Err(CpuTrialError::TooLong {
+            candidates: n,
+            steps,
+            limit: 4.0 * CHECK_TRIAL_STEPS,
+        });
+    }
+    let mut cpu = CpuEvaluator::try_new(campaign.problem.clone(), crate::eval::all_cores())?;
+    let precision = if f32 && cpu.use_f32().is_ok() {
+        "f32"
+    } else {
+        "f64"
+    };
+    let genomes = trial_genomes(campaign, n);
+    let path = "cpu";
+    make_ready(campaign, &mut cpu, &genomes, path)
+        .map_err(|TrialError::Eval { source, .. }| source)?;
+    let batch = campaign.batch(&genomes);
+    let (rate, _) =
+        rate(campaign, &mut cpu, &batch, path).map_err(|TrialError::Eval { source, .. }| source)?;
+    Ok(CpuTrial {
+        rate,
+        candidates: n,
+        precision,
+        trial_s: start.elapsed().as_secs_f64(),
+    })
 }
 
 /// Candidates in the timed trial batch: the population where it takes at

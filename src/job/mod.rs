@@ -199,13 +199,11 @@ pub fn gene_specs(campaign: &Campaign) -> Vec<GeneSpec> {
         .collect()
 }
 
-/// RK4 steps one candidate takes over all experiments (for throughput figures).
+/// RK4 steps one candidate takes over all experiments, the steps from
+/// `t = 0` to a record's first sample included (for throughput figures and
+/// rates): [`Campaign::run_length`]'s count, which `check` estimates from.
 pub fn steps_per_candidate(campaign: &Campaign) -> f64 {
-    let p = &campaign.problem;
-    p.experiments
-        .iter()
-        .map(|e| (e.window.end.saturating_sub(1) * p.substeps) as f64)
-        .sum()
+    campaign.run_length().steps_per_candidate
 }
 
 /// Runs the search and writes every output. The binary opens the output folder
