@@ -7,7 +7,8 @@
 //! the job takes those scores from memory and ends bit for bit where the
 //! cached run, which scores it, ends. A forced backend
 //! measures nothing, and `rigfit check` estimates the job's time from the
-//! rates measured for it. A job too short for a trial to pay back runs on
+//! rates measured for it; where none were, `check` races the paths itself
+//! and caches the choice, which the run then takes without a trial. A job too short for a trial to pay back runs on
 //! the CPU unmeasured and says so, unless `RIGFIT_AUTO_TRIAL=always` (or
 //! `RIGFIT_REQUIRE_GPU=1`, which opens the GPU to fail without one).
 
@@ -139,6 +140,62 @@ fn auto_runs_on_the_path_it_measured_faster_and_remembers_it() {
     // (tests/check_estimates_search_time.rs) takes the trial's place.
     assert_eq!(e["cpu_rate_observed"], true, "{e}");
     assert_ne!(e["cpu_steps_per_s_assumed"], t["cpu_rate"], "{e}");
+}
+
+#[test]
+fn check_races_the_paths_and_the_run_takes_its_choice() {
+    let dir = tempfile::tempdir().unwrap();
+    let campaign = small_campaign(dir.path());
+    let cache = dir.path().join("cache");
+    let check = |flags: &[&str]| -> Value {
+        let o = Command::new(env!("CARGO_BIN_EXE_rigfit"))
+            .args(["--json", "check"])
+            .args(flags)
+            .arg(&campaign)
+            .env("RIGFIT_CACHE_DIR", &cache)
+            .env_remove("RIGFIT_REQUIRE_GPU")
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+        v["search_estimate"].clone()
+    };
+    // --no-measure: nothing timed, nothing cached.
+    let e = check(&["--no-measure"]);
+    assert_eq!(e["measured"], false, "{e}");
+    assert!(
+        e.get("trial").is_none() && e.get("cpu_trial").is_none(),
+        "{e}"
+    );
+    assert!(!cache.join("backend-trials.json").exists());
+
+    let e = check(&[]);
+    assert_eq!(e["measured"], true, "{e}");
+    let t = &e["trial"];
+    let (gpu, cpu) = (
+        t["gpu_rate"]
+            .as_f64()
+            .unwrap_or_else(|| panic!("a race in {e}")),
+        t["cpu_rate"].as_f64().unwrap(),
+    );
+    assert!(gpu > 0.0 && cpu > 0.0, "{t}");
+    assert_eq!(t["chosen"], if gpu >= cpu { "gpu" } else { "cpu" }, "{t}");
+    assert_eq!(e["gpu_steps_per_s_assumed"].as_f64(), Some(gpu), "{e}");
+    assert_eq!(e["cpu_steps_per_s_assumed"].as_f64(), Some(cpu), "{e}");
+    assert!(cache.join("backend-trials.json").is_file());
+
+    // The run takes the cached choice without a trial of its own.
+    let (r, said) = run_trial(&campaign, &dir.path().join("a"), &cache, "auto", "always");
+    let rt = &r["backend_trial"];
+    assert_eq!(rt["cached"], true, "{rt} {said}");
+    assert_eq!(rt["chosen"], t["chosen"], "{rt}");
+    assert_eq!(rt["gpu_rate"], t["gpu_rate"], "{rt}");
+    assert_eq!(r["backend"], t["chosen"]);
+
+    // A second check reads it back, measuring nothing.
+    let e2 = check(&[]);
+    assert!(e2.get("trial").is_none(), "{e2}");
+    assert_eq!(e2["gpu_steps_per_s_assumed"].as_f64(), Some(gpu), "{e2}");
 }
 
 /// The shipped friction rig's campaign with a small search (population 64,

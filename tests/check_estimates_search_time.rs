@@ -17,12 +17,26 @@ fn check(c: &Path, json: bool) -> String {
     check_with(c, json, cache.path(), &["--no-measure"])
 }
 
-fn check_with_cache(c: &Path, json: bool, cache: &Path) -> String {
-    check_with(c, json, cache, &[])
+fn check_with(c: &Path, json: bool, cache: &Path, flags: &[&str]) -> String {
+    check_in(
+        Command::new(env!("CARGO_BIN_EXE_rigfit")),
+        c,
+        json,
+        cache,
+        flags,
+    )
 }
 
-fn check_with(c: &Path, json: bool, cache: &Path, flags: &[&str]) -> String {
+/// `check` where no GPU adapter can be found (a backend this platform does
+/// not have), so that only the CPU is measured.
+fn check_without_gpu(c: &Path, json: bool, cache: &Path) -> String {
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_rigfit"));
+    cmd.env("WGPU_BACKEND", "metal")
+        .env_remove("RIGFIT_REQUIRE_GPU");
+    check_in(cmd, c, json, cache, &[])
+}
+
+fn check_in(mut cmd: Command, c: &Path, json: bool, cache: &Path, flags: &[&str]) -> String {
     if json {
         cmd.arg("--json");
     }
@@ -212,8 +226,9 @@ fn check_estimates_the_cpu_from_the_rate_its_last_search_ran_at() {
         .unwrap();
         r
     };
+    // Nothing measured for the estimate but what the runs left.
     let estimate = || -> Value {
-        serde_json::from_str::<Value>(&check_with_cache(&path, true, &cache)).unwrap()
+        serde_json::from_str::<Value>(&check_with(&path, true, &cache, &["--no-measure"])).unwrap()
             ["search_estimate"]
             .clone()
     };
@@ -233,24 +248,27 @@ fn check_estimates_the_cpu_from_the_rate_its_last_search_ran_at() {
     let rate = r["evaluations"].as_f64().unwrap() * steps / r["wall_time_s"].as_f64().unwrap();
     let kept = e["cpu_steps_per_s_assumed"].as_f64().unwrap();
     assert!((kept / rate - 1.0).abs() < 1e-9, "{kept} against {rate}");
-    let text = check_with_cache(&path, false, &cache);
+    let text = check_with(&path, false, &cache, &["--no-measure"]);
     assert!(
         text.contains("the rate its last search on every core here ran at"),
         "{text}"
     );
 }
 
-/// Where nothing has measured the job on this machine, `check` times the CPU
-/// lanes on the search's first candidates and estimates the CPU from that
-/// rate; `--no-measure` keeps the assumed one, and a candidate too long to
-/// time before a job is not timed, with why.
+/// Where nothing has measured the job on this machine and there is no GPU
+/// to race (tests/auto_backend_chooses_by_measurement.rs races one),
+/// `check` times the CPU lanes on the search's first candidates and
+/// estimates the CPU from that rate; `--no-measure` keeps the assumed one,
+/// and a candidate too long to time before a job is not timed, with why.
 #[test]
 fn check_times_the_cpu_where_nothing_was_measured() {
     let dir = tempfile::tempdir().unwrap();
     let c = campaign(dir.path(), 0.0);
     let cache = dir.path().join("cache");
-    let v: Value = serde_json::from_str(&check_with_cache(&c, true, &cache)).unwrap();
+    let v: Value = serde_json::from_str(&check_without_gpu(&c, true, &cache)).unwrap();
     let e = &v["search_estimate"];
+    assert!(e["gpu_trial_skipped"].is_string(), "{e}");
+    assert_eq!(e["measured"], false, "{e}");
     let t = &e["cpu_trial"];
     let rate = t["rate"]
         .as_f64()
@@ -269,7 +287,8 @@ fn check_times_the_cpu_where_nothing_was_measured() {
         cpu,
         e["cpu_startup_seconds"].as_f64().unwrap() + steps / rate + polish
     );
-    let text = check_with_cache(&c, false, &cache);
+    let text = check_without_gpu(&c, false, &cache);
+    assert!(text.contains("the GPU was not timed here:"), "{text}");
     assert!(
         text.contains("candidate-steps/s, measured here in"),
         "{text}"
@@ -290,7 +309,7 @@ fn check_times_the_cpu_where_nothing_was_measured() {
     // A candidate of 5·10⁵ steps (0.5 s before the record at 1 µs steps):
     // the smallest batch, 128 of them, is more than `check` times.
     let long = campaign(dir.path(), 0.5);
-    let v: Value = serde_json::from_str(&check_with_cache(&long, true, &cache)).unwrap();
+    let v: Value = serde_json::from_str(&check_without_gpu(&long, true, &cache)).unwrap();
     let e = &v["search_estimate"];
     assert!(e.get("cpu_trial").is_none(), "{e}");
     let why = e["cpu_trial_skipped"]

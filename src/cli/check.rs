@@ -36,20 +36,54 @@ pub struct CheckArgs {
 /// Where `run --backend auto` has measured this job on this machine before
 /// (src/job/backend.rs), its measured rates take the assumed ones' place;
 /// where a run of it searched on every CPU core here, the rate that search
-/// ran at takes the CPU's. Where neither is known and `measure` asks, the
-/// CPU lanes are timed on a few of the job's candidates
-/// ([`rigfit::job::backend::cpu_trial`]: `cpu_trial` in the JSON, or
-/// `cpu_trial_skipped` with why).
+/// ran at takes the CPU's. Where `auto` has measured nothing and `measure`
+/// asks, `check` races the two paths as `auto` would
+/// ([`rigfit::job::backend::AutoPick::Race`], whatever the job's length;
+/// `trial` in the JSON) and caches what it measured for the next run; with
+/// no GPU to race (`gpu_trial_skipped`, with why), the CPU lanes alone are
+/// timed on a few of the job's candidates where no run has measured them
+/// ([`rigfit::job::backend::cpu_trial`]: `cpu_trial`, or `cpu_trial_skipped`
+/// with why).
 fn search_estimate(c: &Campaign, steps_per_candidate: f64, measure: bool) -> serde_json::Value {
-    use rigfit::eval::PrecisionChoice;
+    use rigfit::eval::{Backend, PrecisionChoice};
+    use rigfit::job::backend::{self, AutoPick};
     let cores = rigfit::eval::all_cores();
     let precision = format!("{:?}", c.solver.precision).to_lowercase();
-    let measured = rigfit::job::backend::cached(&rigfit::job::backend::auto_key(c, &precision));
+    let mut measured = backend::cached(&backend::auto_key(c, &precision));
+    let mut raced = None;
+    let mut gpu_skipped = None;
+    if measure && measured.is_none() {
+        let opened = backend::open_job_evaluator(
+            c,
+            Backend::Auto,
+            c.solver.precision,
+            None,
+            0,
+            AutoPick::Race,
+        );
+        match opened {
+            Ok(je) => match je.trial {
+                Some(t) => {
+                    raced = (!t.cached).then(|| t.clone());
+                    measured = Some(t);
+                }
+                None => {
+                    let notes: Vec<String> = je.notes.iter().map(|n| n.to_string()).collect();
+                    gpu_skipped = Some(if notes.is_empty() {
+                        "no GPU to race".to_string()
+                    } else {
+                        notes.join("; ")
+                    });
+                }
+            },
+            Err(e) => gpu_skipped = Some(format!("{e:#}")),
+        }
+    }
     let cpu_precision = match c.solver.precision {
         PrecisionChoice::F32 => "f32",
         PrecisionChoice::Auto | PrecisionChoice::F64 => "f64",
     };
-    let observed = rigfit::job::backend::observed_cpu_rate(c, cpu_precision);
+    let observed = backend::observed_cpu_rate(c, cpu_precision);
     let mut e = memory::TimeEstimate::of(c, steps_per_candidate, cores, GPU_STEPS_PER_S_ASSUMED);
     if let Some(t) = &measured {
         e = e.with_cpu_rate(t.cpu_rate).with_gpu_rate(t.gpu_rate);
@@ -61,7 +95,7 @@ fn search_estimate(c: &Campaign, steps_per_candidate: f64, measure: bool) -> ser
     let mut trial = None;
     let mut skipped = None;
     if measure && measured.is_none() && observed.is_none() {
-        match rigfit::job::backend::cpu_trial(c, cpu_precision == "f32") {
+        match backend::cpu_trial(c, cpu_precision == "f32") {
             Ok(t) => {
                 e = e.with_cpu_rate(t.rate);
                 trial = Some(t);
@@ -71,6 +105,12 @@ fn search_estimate(c: &Campaign, steps_per_candidate: f64, measure: bool) -> ser
     }
     let mut v = serde_json::to_value(e).unwrap_or_default();
     v["measured"] = serde_json::Value::Bool(measured.is_some());
+    if let Some(t) = raced {
+        v["trial"] = serde_json::to_value(t).unwrap_or_default();
+    }
+    if let Some(why) = gpu_skipped {
+        v["gpu_trial_skipped"] = serde_json::Value::String(why);
+    }
     if let Some(t) = trial {
         v["cpu_trial"] = serde_json::to_value(t).unwrap_or_default();
     }
@@ -172,15 +212,32 @@ pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
             let rates = if e["measured"].as_bool() == Some(true) {
                 format!(
                     "about {} on the CPU (at {:.2e} candidate-steps/s), about {} on the GPU \
-                     (at {:.2e}), the rates {} for this job here",
+                     (at {:.2e}), the rates {}",
                     rigfit::campaign::human_duration(f("cpu_seconds")),
                     f("cpu_steps_per_s_assumed"),
                     rigfit::campaign::human_duration(f("gpu_seconds")),
                     f("gpu_steps_per_s_assumed"),
-                    if observed {
-                        "its last search on the CPU ran at and `run --backend auto` measured on the GPU"
-                    } else {
-                        "`run --backend auto` measured"
+                    match (observed, e.get("trial")) {
+                        (true, None) => "its last search on the CPU ran at and `run --backend \
+                                         auto` measured on the GPU for this job here"
+                            .to_string(),
+                        (true, Some(t)) => format!(
+                            "its last search on the CPU ran at and the GPU measured just now for \
+                             this job, as `run --backend auto` measures it ({} of its candidates, \
+                             {:.2} s; kept, so that its next run here takes no trial)",
+                            t["candidates"],
+                            t["trial_s"].as_f64().unwrap_or(0.0)
+                        ),
+                        (false, Some(t)) => format!(
+                            "measured just now for this job, as `run --backend auto` measures \
+                             them ({} of its candidates, {:.2} s; kept, so that its next run here \
+                             takes no trial)",
+                            t["candidates"],
+                            t["trial_s"].as_f64().unwrap_or(0.0)
+                        ),
+                        (false, None) => {
+                            "`run --backend auto` measured for this job here".to_string()
+                        }
                     },
                 )
             } else if let Some(t) = e.get("cpu_trial") {
@@ -228,10 +285,14 @@ pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
                     .map(|why| format!(" (the CPU was not timed here: {why})"))
                     .unwrap_or_default()
             };
+            let gpu_skipped = e["gpu_trial_skipped"]
+                .as_str()
+                .map(|why| format!("; the GPU was not timed here: {why}"))
+                .unwrap_or_default();
             let _ = write!(
                 s,
                 "\n  the search: at most {:.3e} candidates ({} × {} generations), {:.3e} RK4 \
-                 steps: {rates}",
+                 steps: {rates}{gpu_skipped}",
                 f("candidates"),
                 c.search.population,
                 c.search.generations,

@@ -165,6 +165,10 @@ pub enum AutoPick {
     /// A job's choice: the one cached for this job on this machine, else a
     /// race of the two paths ([`race`]), cached for the next run.
     Measure,
+    /// A race of the two paths whatever the job's length (`check`'s
+    /// measurement where none is cached), cached for the next run as
+    /// [`Self::Measure`]'s.
+    Race,
     /// The GPU when there is one, unmeasured (one ensemble, with no
     /// generations to repay a race).
     Gpu,
@@ -324,12 +328,14 @@ pub fn open_job_evaluator(
         return Err(OpenError::KernelLimits(e));
     }
     // A named adapter asks for that GPU: no race.
-    let measure = backend == Backend::Auto && pick == AutoPick::Measure && requested.is_none();
+    let measure = backend == Backend::Auto
+        && matches!(pick, AutoPick::Measure | AutoPick::Race)
+        && requested.is_none();
     let always = std::env::var("RIGFIT_AUTO_TRIAL").is_ok_and(|v| v == "always")
         || crate::gpu::gpu_required();
     // Before the cache's key, which lists the adapters (tens of
     // milliseconds, a tenth of the shortest jobs).
-    if measure && !always {
+    if measure && !always && pick == AutoPick::Measure {
         let seconds = short_job_estimate(campaign);
         if seconds < SHORT_JOB_SECONDS {
             notes.push(OpenNote::ShortJob { seconds });
