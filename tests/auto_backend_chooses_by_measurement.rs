@@ -8,7 +8,8 @@
 //! cached run, which scores it, ends. A forced backend
 //! measures nothing, and `rigfit check` estimates the job's time from the
 //! rates measured for it; where none were, `check` races the paths itself
-//! and caches the choice, which the run then takes without a trial. A job too short for a trial to pay back runs on
+//! and caches the choice, which the run then takes without a trial, short
+//! job or not. A job too short for a trial to pay back runs on
 //! the CPU unmeasured and says so, unless `RIGFIT_AUTO_TRIAL=always` (or
 //! `RIGFIT_REQUIRE_GPU=1`, which opens the GPU to fail without one).
 
@@ -184,8 +185,13 @@ fn check_races_the_paths_and_the_run_takes_its_choice() {
     assert_eq!(e["cpu_steps_per_s_assumed"].as_f64(), Some(cpu), "{e}");
     assert!(cache.join("backend-trials.json").is_file());
 
-    // The run takes the cached choice without a trial of its own.
-    let (r, said) = run_trial(&campaign, &dir.path().join("a"), &cache, "auto", "always");
+    // The run, a job too short for a trial of its own, takes the cached
+    // choice.
+    let (r, said) = run_trial(&campaign, &dir.path().join("a"), &cache, "auto", "");
+    assert!(
+        said.contains("as measured before on this machine"),
+        "{said}"
+    );
     let rt = &r["backend_trial"];
     assert_eq!(rt["cached"], true, "{rt} {said}");
     assert_eq!(rt["chosen"], t["chosen"], "{rt}");

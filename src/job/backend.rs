@@ -27,10 +27,14 @@
 //! from the start: its lanes interpret while the compiler works.
 //!
 //! A job too short for a trial to pay back ([`SHORT_JOB_SECONDS`] on its
-//! faster path, as `check` estimates it) runs on the CPU unmeasured, and
-//! without consulting the cache (whose key lists the adapters): opening
-//! lavapipe alone takes 0.1 to 0.3 s on a 2-core machine, about what it
-//! could save on such a job, and the CPU starts at once. `RIGFIT_AUTO_TRIAL=always` measures
+//! faster path, as `check` estimates it at the assumed rates) runs on the
+//! CPU unmeasured: opening lavapipe alone takes 0.1 to 0.3 s on a 2-core
+//! machine, about what it could save on such a job, and the CPU starts at
+//! once. It takes a choice measured for it before (by `rigfit check`, which
+//! races the paths whatever the job's length, [`AutoPick::Race`]) where the
+//! cache holds one; it lists the adapters for the cache's key only where the
+//! cache holds a choice for its processor, campaign, precision and
+//! population. `RIGFIT_AUTO_TRIAL=always` measures
 //! those too, and so does `RIGFIT_REQUIRE_GPU=1`, which makes a missing
 //! adapter an error (so the GPU is opened, whatever the job's length).
 //!
@@ -333,17 +337,23 @@ pub fn open_job_evaluator(
         && requested.is_none();
     let always = std::env::var("RIGFIT_AUTO_TRIAL").is_ok_and(|v| v == "always")
         || crate::gpu::gpu_required();
+    let precision_key = format!("{precision:?}").to_lowercase();
     // Before the cache's key, which lists the adapters (tens of
-    // milliseconds, a tenth of the shortest jobs).
-    if measure && !always && pick == AutoPick::Measure {
-        let seconds = short_job_estimate(campaign);
-        if seconds < SHORT_JOB_SECONDS {
-            notes.push(OpenNote::ShortJob { seconds });
-            return Ok(on_cpu(cpu, notes, None));
-        }
-    }
-    let trial_key = measure.then(|| auto_key(campaign, &format!("{precision:?}").to_lowercase()));
+    // milliseconds, a tenth of the shortest jobs): a short job takes a
+    // choice measured for it (by `check`), else runs on the CPU unmeasured.
+    let short = (measure && !always && pick == AutoPick::Measure)
+        .then(|| short_job_estimate(campaign))
+        .filter(|&seconds| seconds < SHORT_JOB_SECONDS);
+    let trial_key = measure
+        .then(|| auto_key_if(campaign, &precision_key, short.is_none()))
+        .flatten();
     let cached = trial_key.as_deref().and_then(cached);
+    if let Some(seconds) = short
+        && cached.is_none()
+    {
+        notes.push(OpenNote::ShortJob { seconds });
+        return Ok(on_cpu(cpu, notes, None));
+    }
     if let Some(t) = cached.clone().filter(|t| t.chosen == "cpu") {
         return Ok(on_cpu(cpu, notes, Some(t)));
     }
@@ -689,6 +699,26 @@ pub fn auto_key(campaign: &Campaign, precision: &str) -> String {
         .collect::<Vec<_>>()
         .join(", ");
     cache_key(campaign, &adapters, precision, campaign.search.population)
+}
+
+/// [`auto_key`], where `always` or where the cache holds a choice for this
+/// processor, campaign, precision and population on some adapters (read
+/// without listing the adapters, which takes tens of milliseconds: a short
+/// job lists them only where a choice may be waiting for it).
+fn auto_key_if(campaign: &Campaign, precision: &str, always: bool) -> Option<String> {
+    let may_be_cached = || {
+        let tail = format!(
+            " | campaign {:016x} | {precision} | population {}",
+            campaign.digest, campaign.search.population
+        );
+        let head = format!("{} | ", processor());
+        cache_file().is_some_and(|file| {
+            read_cache::<serde_json::Value>(&file)
+                .keys()
+                .any(|k| k.starts_with(&head) && k.ends_with(&tail))
+        })
+    };
+    (always || may_be_cached()).then(|| auto_key(campaign, precision))
 }
 
 /// The processor's model name (Linux's /proc/cpuinfo), else the architecture.
