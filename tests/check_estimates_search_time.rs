@@ -306,6 +306,21 @@ fn check_times_the_cpu_where_nothing_was_measured() {
         "{e}"
     );
 
+    // A campaign that asks for the CPU: no GPU opened, the CPU timed.
+    let mut on_cpu: Value = serde_json::from_str(&std::fs::read_to_string(&c).unwrap()).unwrap();
+    on_cpu["solver"]["backend"] = json!("cpu");
+    let on_cpu_path = dir.path().join("on_cpu.json");
+    std::fs::write(&on_cpu_path, on_cpu.to_string()).unwrap();
+    let fresh = dir.path().join("fresh-cache");
+    let v: Value = serde_json::from_str(&check_with(&on_cpu_path, true, &fresh, &[])).unwrap();
+    let e = &v["search_estimate"];
+    let why = e["gpu_trial_skipped"]
+        .as_str()
+        .unwrap_or_else(|| panic!("{e}"));
+    assert!(why.contains("solver.backend is \"cpu\""), "{why}");
+    assert!(e["cpu_trial"]["rate"].as_f64().is_some(), "{e}");
+    assert!(!fresh.join("backend-trials.json").exists(), "nothing raced");
+
     // A candidate of 5·10⁵ steps (0.5 s before the record at 1 µs steps):
     // the smallest batch, 128 of them, is more than `check` times.
     let long = campaign(dir.path(), 0.5);

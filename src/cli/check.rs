@@ -52,7 +52,9 @@ fn search_estimate(c: &Campaign, steps_per_candidate: f64, measure: bool) -> ser
     let mut measured = backend::cached(&backend::auto_key(c, &precision));
     let mut raced = None;
     let mut gpu_skipped = None;
-    if measure && measured.is_none() {
+    if measure && measured.is_none() && c.solver.backend == Backend::Cpu {
+        gpu_skipped = Some("the campaign's solver.backend is \"cpu\"".to_string());
+    } else if measure && measured.is_none() {
         let opened = backend::open_job_evaluator(
             c,
             Backend::Auto,
