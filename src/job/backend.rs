@@ -707,15 +707,17 @@ pub fn auto_key(campaign: &Campaign, precision: &str) -> String {
 /// job lists them only where a choice may be waiting for it).
 fn auto_key_if(campaign: &Campaign, precision: &str, always: bool) -> Option<String> {
     let may_be_cached = || {
-        let tail = format!(
-            " | campaign {:016x} | {precision} | population {}",
-            campaign.digest, campaign.search.population
-        );
-        let head = format!("{} | ", processor());
+        // The key with a marker where the adapters go: what comes before
+        // and after it must match.
+        const MARK: &str = "\u{1}";
+        let probe = cache_key(campaign, MARK, precision, campaign.search.population);
+        let Some((head, tail)) = probe.split_once(MARK) else {
+            return false;
+        };
         cache_file().is_some_and(|file| {
-            read_cache::<serde_json::Value>(&file)
-                .keys()
-                .any(|k| k.starts_with(&head) && k.ends_with(&tail))
+            read_cache::<serde_json::Value>(&file).keys().any(|k| {
+                k.len() >= head.len() + tail.len() && k.starts_with(head) && k.ends_with(tail)
+            })
         })
     };
     (always || may_be_cached()).then(|| auto_key(campaign, precision))
