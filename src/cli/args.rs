@@ -112,9 +112,12 @@ pub enum Command {
     Identify(IdentifyArgs),
     /// Validate a campaign and its data without running the job, and estimate its memory and time.
     #[command(
-        after_help = "The CPU's time is estimated from the rate this job's last search here ran at, \
-        or `run --backend auto`'s measurement; where neither exists, the CPU lanes are timed on a \
-        few of the job's candidates (a fraction of a second; --no-measure: an assumed rate).\n\n\
+        after_help = "The time is estimated from rates measured for this job on this machine: \
+        `run --backend auto`'s, the rate its last search here ran at, or, where there are none, \
+        check's own race of the two paths as `run --backend auto` races them (a fraction of a \
+        second to a second or two; the choice is cached, and the run that follows takes it \
+        without a trial), or the CPU lanes timed alone where there is no GPU. --no-measure: \
+        assumed rates.\n\n\
         Example:\n  rigfit check campaigns/aa2024_t3_synthetic.json"
     )]
     Check(CheckArgs),

@@ -1,8 +1,9 @@
 //! `rigfit check`: a campaign and its data validated without running the
 //! job, with the run length, the memory and the search time it would take.
-//! Where no run has measured the job on this machine, the CPU's rate is
-//! measured on a few of its candidates ([`rigfit::job::backend::cpu_trial`],
-//! a fraction of a second) unless `--no-measure` asks for the assumed rate.
+//! Where nothing has measured the job on this machine, `check` races the two
+//! paths as `run --backend auto` would and caches the choice (or, with no GPU,
+//! times the CPU lanes alone on a few of its candidates): a fraction of a
+//! second to a second or two, unless `--no-measure` asks for assumed rates.
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -23,9 +24,10 @@ pub struct CheckArgs {
     pub campaign: PathBuf,
     #[command(flatten)]
     pub run_length: RunLengthArgs,
-    /// Estimate the CPU's time at an assumed rate instead of timing the CPU
-    /// lanes on a few of the job's candidates (which takes a fraction of a
-    /// second where no run has measured this job here).
+    /// Estimate the job's time at assumed rates instead of measuring them
+    /// where nothing has measured this job here (a race of the two paths as
+    /// `run --backend auto` races them, or the CPU lanes alone without a GPU:
+    /// a fraction of a second to a second or two).
     #[arg(long)]
     pub no_measure: bool,
 }
