@@ -320,6 +320,20 @@ fn check_times_the_cpu_where_nothing_was_measured() {
     assert!(why.contains("solver.backend is \"cpu\""), "{why}");
     assert!(e["cpu_trial"]["rate"].as_f64().is_some(), "{e}");
     assert!(!fresh.join("backend-trials.json").exists(), "nothing raced");
+    // An adapter named for `run`, which takes it unmeasured: no race either.
+    let mut named = Command::new(env!("CARGO_BIN_EXE_rigfit"));
+    named.env("RIGFIT_ADAPTER", "no-such-adapter");
+    let v: Value = serde_json::from_str(&check_in(named, &c, true, &fresh, &[])).unwrap();
+    let e = &v["search_estimate"];
+    let why = e["gpu_trial_skipped"]
+        .as_str()
+        .unwrap_or_else(|| panic!("{e}"));
+    assert!(
+        why.contains("RIGFIT_ADAPTER=no-such-adapter names the adapter"),
+        "{why}"
+    );
+    assert!(e["cpu_trial"]["rate"].as_f64().is_some(), "{e}");
+    assert!(!fresh.join("backend-trials.json").exists(), "nothing raced");
 
     // A candidate of 5·10⁵ steps (0.5 s before the record at 1 µs steps):
     // the smallest batch, 128 of them, is more than `check` times.

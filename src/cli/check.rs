@@ -54,8 +54,13 @@ fn search_estimate(c: &Campaign, steps_per_candidate: f64, measure: bool) -> ser
     let mut measured = backend::cached(&backend::auto_key(c, &precision));
     let mut raced = None;
     let mut gpu_skipped = None;
+    let requested = rigfit::gpu::requested_adapter(None);
     if measure && measured.is_none() && c.solver.backend == Backend::Cpu {
         gpu_skipped = Some("the campaign's solver.backend is \"cpu\"".to_string());
+    } else if let Some((_, named_by)) = requested.filter(|_| measure && measured.is_none()) {
+        gpu_skipped = Some(format!(
+            "{named_by} names the adapter `run` takes, unmeasured"
+        ));
     } else if measure && measured.is_none() {
         let opened = backend::open_job_evaluator(
             c,
