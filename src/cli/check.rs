@@ -54,14 +54,15 @@ fn search_estimate(c: &Campaign, steps_per_candidate: f64, measure: bool) -> ser
     let mut measured = backend::cached(&backend::auto_key(c, &precision));
     let mut raced = None;
     let mut gpu_skipped = None;
-    let requested = rigfit::gpu::requested_adapter(None);
-    if measure && measured.is_none() && c.solver.backend == Backend::Cpu {
+    if !measure || measured.is_some() {
+        // Nothing to race.
+    } else if c.solver.backend == Backend::Cpu {
         gpu_skipped = Some("the campaign's solver.backend is \"cpu\"".to_string());
-    } else if let Some((_, named_by)) = requested.filter(|_| measure && measured.is_none()) {
+    } else if let Some((_, named_by)) = rigfit::gpu::requested_adapter(None) {
         gpu_skipped = Some(format!(
             "{named_by} names the adapter `run` takes, unmeasured"
         ));
-    } else if measure && measured.is_none() {
+    } else {
         let opened = backend::open_job_evaluator(
             c,
             Backend::Auto,
@@ -218,6 +219,15 @@ pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
         if let Some(e) = &search {
             let f = |k: &str| e[k].as_f64().unwrap_or(0.0);
             let observed = e["cpu_rate_observed"].as_bool() == Some(true);
+            // What `check`'s own race measured, where it raced.
+            let raced = e.get("trial").map(|t| {
+                format!(
+                    "measured just now for this job, as `run --backend auto` measures them ({} \
+                     of its candidates, {:.2} s; kept, so that its next run here takes no trial)",
+                    t["candidates"],
+                    t["trial_s"].as_f64().unwrap_or(0.0)
+                )
+            });
             let rates = if e["measured"].as_bool() == Some(true) {
                 format!(
                     "about {} on the CPU (at {:.2e} candidate-steps/s), about {} on the GPU \
@@ -226,24 +236,14 @@ pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
                     f("cpu_steps_per_s_assumed"),
                     rigfit::campaign::human_duration(f("gpu_seconds")),
                     f("gpu_steps_per_s_assumed"),
-                    match (observed, e.get("trial")) {
+                    match (observed, raced) {
                         (true, None) => "its last search on the CPU ran at and `run --backend \
                                          auto` measured on the GPU for this job here"
                             .to_string(),
-                        (true, Some(t)) => format!(
-                            "its last search on the CPU ran at and the GPU measured just now for \
-                             this job, as `run --backend auto` measures it ({} of its candidates, \
-                             {:.2} s; kept, so that its next run here takes no trial)",
-                            t["candidates"],
-                            t["trial_s"].as_f64().unwrap_or(0.0)
-                        ),
-                        (false, Some(t)) => format!(
-                            "measured just now for this job, as `run --backend auto` measures \
-                             them ({} of its candidates, {:.2} s; kept, so that its next run here \
-                             takes no trial)",
-                            t["candidates"],
-                            t["trial_s"].as_f64().unwrap_or(0.0)
-                        ),
+                        (true, Some(how)) => {
+                            format!("its last search on the CPU ran at, and on the GPU {how}")
+                        }
+                        (false, Some(how)) => how,
                         (false, None) => {
                             "`run --backend auto` measured for this job here".to_string()
                         }

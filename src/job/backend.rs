@@ -502,7 +502,11 @@ pub fn race(
     mut cpu: Box<dyn Evaluator>,
 ) -> Result<(Box<dyn Evaluator>, BackendTrial), TrialError> {
     let start = Instant::now();
-    let n = trial_candidates(population, super::steps_per_candidate(campaign));
+    let n = trial_candidates(
+        population,
+        super::steps_per_candidate(campaign),
+        TRIAL_STEPS,
+    );
     let genomes = trial_genomes(campaign, n);
     let variants = gpu.kernel_variants();
     for &variant in variants {
@@ -618,12 +622,7 @@ pub enum CpuTrialError {
 pub fn cpu_trial(campaign: &Campaign, f32: bool) -> Result<CpuTrial, CpuTrialError> {
     let start = Instant::now();
     let steps = super::steps_per_candidate(campaign);
-    let fit = (CHECK_TRIAL_STEPS / steps.max(1.0)) as usize / 64 * 64;
-    let n = campaign
-        .search
-        .population
-        .min(fit.max(TRIAL_MIN_CANDIDATES))
-        .max(1);
+    let n = trial_candidates(campaign.search.population, steps, CHECK_TRIAL_STEPS);
     if n as f64 * steps > 4.0 * CHECK_TRIAL_STEPS {
         return Err(CpuTrialError::TooLong {
             candidates: n,
@@ -652,11 +651,11 @@ pub fn cpu_trial(campaign: &Campaign, f32: bool) -> Result<CpuTrial, CpuTrialErr
     })
 }
 
-/// Candidates in the timed trial batch: the population where it takes at
-/// most [`TRIAL_STEPS`], else as many whole workgroups as fit, at least
-/// [`TRIAL_MIN_CANDIDATES`].
-fn trial_candidates(population: usize, steps_per_candidate: f64) -> usize {
-    let fit = (TRIAL_STEPS / steps_per_candidate.max(1.0)) as usize / 64 * 64;
+/// Candidates in a timed trial batch: the population where it takes at
+/// most `budget` candidate-steps ([`TRIAL_STEPS`] for `auto`'s race), else
+/// as many whole workgroups as fit, at least [`TRIAL_MIN_CANDIDATES`].
+fn trial_candidates(population: usize, steps_per_candidate: f64, budget: f64) -> usize {
+    let fit = (budget / steps_per_candidate.max(1.0)) as usize / 64 * 64;
     population.min(fit.max(TRIAL_MIN_CANDIDATES)).max(1)
 }
 
@@ -848,11 +847,14 @@ mod tests {
 
     #[test]
     fn the_trial_scores_the_population_unless_it_is_long() {
-        assert_eq!(trial_candidates(2048, 2500.0), 2048);
-        assert_eq!(trial_candidates(128, 49_680.0), 128);
-        assert_eq!(trial_candidates(4096, 49_680.0), 576);
-        assert_eq!(trial_candidates(4096, 1e9), TRIAL_MIN_CANDIDATES);
-        assert_eq!(trial_candidates(40, 1e9), 40);
+        assert_eq!(trial_candidates(2048, 2500.0, TRIAL_STEPS), 2048);
+        assert_eq!(trial_candidates(128, 49_680.0, TRIAL_STEPS), 128);
+        assert_eq!(trial_candidates(4096, 49_680.0, TRIAL_STEPS), 576);
+        assert_eq!(
+            trial_candidates(4096, 1e9, TRIAL_STEPS),
+            TRIAL_MIN_CANDIDATES
+        );
+        assert_eq!(trial_candidates(40, 1e9, TRIAL_STEPS), 40);
     }
 
     #[test]
