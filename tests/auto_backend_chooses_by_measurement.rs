@@ -183,6 +183,13 @@ fn check_races_the_paths_and_the_run_takes_its_choice() {
     assert_eq!(t["chosen"], if gpu >= cpu { "gpu" } else { "cpu" }, "{t}");
     assert_eq!(e["gpu_steps_per_s_assumed"].as_f64(), Some(gpu), "{e}");
     assert_eq!(e["cpu_steps_per_s_assumed"].as_f64(), Some(cpu), "{e}");
+    // The GPU's start-up as the race timed it, on top of the CPU's.
+    let opened = t["gpu_startup_s"]
+        .as_f64()
+        .unwrap_or_else(|| panic!("the GPU's start-up in {t}"));
+    assert!(opened > 0.0 && opened.is_finite(), "{t}");
+    let startup = e["cpu_startup_seconds"].as_f64().unwrap() + opened;
+    assert_eq!(e["startup_seconds"].as_f64(), Some(startup), "{e}");
     assert!(cache.join("backend-trials.json").is_file());
 
     // The run, a job too short for a trial of its own, takes the cached
@@ -202,6 +209,7 @@ fn check_races_the_paths_and_the_run_takes_its_choice() {
     let e2 = check(&[]);
     assert!(e2.get("trial").is_none(), "{e2}");
     assert_eq!(e2["gpu_steps_per_s_assumed"].as_f64(), Some(gpu), "{e2}");
+    assert_eq!(e2["startup_seconds"].as_f64(), Some(startup), "{e2}");
 }
 
 /// The shipped friction rig's campaign with a small search (population 64,

@@ -38,7 +38,8 @@ pub struct CheckArgs {
 /// Where `run --backend auto` has measured this job on this machine before
 /// (src/job/backend.rs), its measured rates take the assumed ones' place;
 /// where a run of it searched on every CPU core here, the rate that search
-/// ran at takes the CPU's. Where `auto` has measured nothing and `measure`
+/// ran at takes the CPU's, and the GPU's start-up the trial timed takes
+/// [`memory::STARTUP_SECONDS`]'s place. Where `auto` has measured nothing and `measure`
 /// asks, `check` races the two paths as `auto` would
 /// ([`rigfit::job::backend::AutoPick::Race`], whatever the job's length;
 /// `trial` in the JSON) and caches what it measured for the next run; with
@@ -97,6 +98,9 @@ fn search_estimate(c: &Campaign, steps_per_candidate: f64, measure: bool) -> ser
     let mut e = memory::TimeEstimate::of(c, steps_per_candidate, cores, GPU_STEPS_PER_S_ASSUMED);
     if let Some(t) = &measured {
         e = e.with_cpu_rate(t.cpu_rate).with_gpu_rate(t.gpu_rate);
+        if let Some(s) = t.gpu_startup_s {
+            e = e.with_gpu_startup(s);
+        }
     }
     if let Some(rate) = observed {
         e = e.with_cpu_rate(rate);

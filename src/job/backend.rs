@@ -119,6 +119,12 @@ pub struct BackendTrial {
     pub trial_s: f64,
     /// Whether the choice came from the cache ([`cache_file`]).
     pub cached: bool,
+    /// Wall time from asking for the GPU to its first kernel variant built
+    /// and warmed up (s): what a job on the GPU spends before its first
+    /// generation beyond the CPU's start-up (`check` estimates from it);
+    /// `None` in a cache written before it was measured.
+    #[serde(default)]
+    pub gpu_startup_s: Option<f64>,
 }
 
 impl BackendTrial {
@@ -360,6 +366,7 @@ pub fn open_job_evaluator(
     if trial_key.is_some() && cached.is_none() {
         cpu.prepare_soon();
     }
+    let asked = Instant::now();
     let opened =
         crate::gpu::open_evaluator_on(campaign.problem.clone(), backend, precision, adapter)
             .map_err(OpenError::Gpu)?;
@@ -379,7 +386,12 @@ pub fn open_job_evaluator(
         }
         (Some(key), None) => {
             let population = campaign.search.population;
-            let (chosen, t) = race(campaign, population, opened.evaluator, Box::new(cpu))?;
+            let (chosen, t) = race(
+                campaign,
+                population,
+                (opened.evaluator, asked),
+                Box::new(cpu),
+            )?;
             if t.chosen == "cpu" {
                 notes.extend(f32_refused);
             }
@@ -494,11 +506,12 @@ fn rate(
 /// (the CPU needs no warm-up batch once its builds are done). The batch is
 /// the search's first generation, or its first candidates: the evaluator
 /// returned remembers what it scored ([`Remembered`]), so where the trial
-/// scored the whole generation the job does not score it again.
+/// scored the whole generation the job does not score it again. `gpu` comes
+/// with the instant it was asked for, from which its start-up is timed.
 pub fn race(
     campaign: &Campaign,
     population: usize,
-    mut gpu: Box<dyn Evaluator>,
+    (mut gpu, asked): (Box<dyn Evaluator>, Instant),
     mut cpu: Box<dyn Evaluator>,
 ) -> Result<(Box<dyn Evaluator>, BackendTrial), TrialError> {
     let start = Instant::now();
@@ -509,12 +522,15 @@ pub fn race(
     );
     let genomes = trial_genomes(campaign, n);
     let variants = gpu.kernel_variants();
+    let mut gpu_startup_s = None;
     for &variant in variants {
         gpu.use_kernel_variant(variant);
         make_ready(campaign, gpu.as_mut(), &genomes, "gpu")?;
+        gpu_startup_s.get_or_insert(asked.elapsed().as_secs_f64());
     }
     if variants.is_empty() {
         make_ready(campaign, gpu.as_mut(), &genomes, "gpu")?;
+        gpu_startup_s = Some(asked.elapsed().as_secs_f64());
     }
     make_ready(campaign, cpu.as_mut(), &genomes, "cpu")?;
     let batch = campaign.batch(&genomes);
@@ -560,6 +576,7 @@ pub fn race(
         candidates: n,
         trial_s: start.elapsed().as_secs_f64(),
         cached: false,
+        gpu_startup_s,
     };
     let (chosen, scores) = if gpu_wins {
         (gpu, gpu_scores)
@@ -870,6 +887,7 @@ mod tests {
             candidates: 128,
             trial_s: 0.25,
             cached: false,
+            gpu_startup_s: Some(0.3),
         };
         assert_eq!(cached_in(&file, "k"), None);
         keep_in(&file, "k", t.clone()).unwrap();
@@ -878,6 +896,7 @@ mod tests {
         assert_eq!(back.trial_s, 0.0);
         assert_eq!((back.chosen.as_str(), back.cpu_rate), ("cpu", 1e8));
         assert_eq!(back.gpu_kernel.as_deref(), Some("generic"));
+        assert_eq!(back.gpu_startup_s, Some(0.3));
         assert_eq!(back.gpu_kernel_rates, t.gpu_kernel_rates);
         assert_eq!(cached_in(&file, "other"), None);
         assert!(

@@ -360,7 +360,8 @@ pub struct TimeEstimate {
     pub gpu_steps_per_s_assumed: f64,
     /// The job on the GPU: start-up, the GA, then the polish (s).
     pub gpu_seconds: f64,
-    /// [`STARTUP_SECONDS`], in the GPU's total.
+    /// [`STARTUP_SECONDS`], in the GPU's total; where the GPU's start-up
+    /// was measured ([`Self::with_gpu_startup`]), the CPU's start-up plus it.
     pub startup_seconds: f64,
     /// [`CPU_STARTUP_SECONDS`], in the CPU's total.
     pub cpu_startup_seconds: f64,
@@ -455,6 +456,18 @@ impl TimeEstimate {
             cpu_seconds: seconds,
             ..self
         }
+    }
+
+    /// The same with the GPU opened in `seconds` (its adapter, device and
+    /// first kernel built and warmed up, as `auto`'s trial timed it) on top
+    /// of the start-up the CPU path pays as well.
+    pub fn with_gpu_startup(self, seconds: f64) -> Self {
+        let startup_seconds = self.cpu_startup_seconds + seconds;
+        Self {
+            startup_seconds,
+            ..self
+        }
+        .with_gpu_rate(self.gpu_steps_per_s_assumed)
     }
 
     /// The same with the GA's GPU rate `rate` (candidate-steps per second),
