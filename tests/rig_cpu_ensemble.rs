@@ -342,8 +342,20 @@ fn native_power_law_lanes_match_the_scalar_reference_bit_for_bit() {
         substeps: 8,
     };
     let one = histories_one(&r, &ps, &Drive::Velocity, &grid);
-    let many = histories_native(&desc, &ps, None, &grid, Report::Full);
-    for (i, (a, b)) in many.iter().zip(&one).enumerate() {
+    assert_same_bits(
+        &histories_native(&desc, &ps, None, &grid, Report::Full),
+        &one,
+    );
+    // Every value finite (a NaN's sign is not compared), and the runs
+    // moved: a history that is all zeros would agree vacuously.
+    assert!(one.iter().flatten().all(|&b| f64::from_bits(b).is_finite()));
+    let moved = one[3].iter().filter(|&&b| f64::from_bits(b) != 0.0).count();
+    assert!(moved > one[3].len() / 2, "{moved} of {}", one[3].len());
+}
+
+/// `many` differs from `want` nowhere; else where it first does.
+fn assert_same_bits(many: &[Vec<u64>], want: &[Vec<u64>]) {
+    for (i, (a, b)) in many.iter().zip(want).enumerate() {
         assert_eq!(a.len(), b.len());
         let first = a.iter().zip(b).position(|(x, y)| x != y);
         assert!(
@@ -353,11 +365,62 @@ fn native_power_law_lanes_match_the_scalar_reference_bit_for_bit() {
             first.map(|k| f64::from_bits(b[k]))
         );
     }
-    // Every value finite (a NaN's sign is not compared), and the runs
-    // moved: a history that is all zeros would agree vacuously.
-    assert!(one.iter().flatten().all(|&b| f64::from_bits(b).is_finite()));
-    let moved = one[3].iter().filter(|&&b| f64::from_bits(b) != 0.0).count();
-    assert!(moved > one[3].len() / 2, "{moved} of {}", one[3].len());
+}
+
+#[test]
+fn native_trig_drive_lanes_match_the_scalar_reference_bit_for_bit() {
+    // A sine and a chirp whose frequencies differ in every lane, so `sin`
+    // and `cos` run per lane in the vector code (the branch-free forms) and
+    // per run in the reference, through the friction rig's stick-slip and
+    // the quarter car's lift-off and backlash. One friction lane's phase
+    // passes 10⁶ half-way, where both take the C library's `sin`.
+    let grid = SampleGrid {
+        t0: 0.0,
+        dt: 1e-3,
+        samples: 1500,
+        substeps: 4,
+    };
+    let friction = [5.0, 6.4e4, 20.0, 10.0, 1.6e6, 30.0, 10.0];
+    let mut ps: Vec<Vec<f64>> = (0..LANES + 3)
+        .map(|i| {
+            let mut p = friction.to_vec();
+            p[6] = 8.0 + 4.0 * i as f64 / LANES as f64;
+            p
+        })
+        .collect();
+    ps[5][6] = 1e6 / (2.0 * std::f64::consts::PI * 0.75);
+    let quarter_car = [
+        40.0, 350.0, 1.751e5, 1751.0, 3.0e4, 2500.0, 800.0, 0.01, 2.0e4, 3.0e-4, 5e-4, 1.0, 2.8,
+    ];
+    let qs: Vec<Vec<f64>> = (0..LANES + 3)
+        .map(|i| {
+            let mut p = quarter_car.to_vec();
+            let f = i as f64 / LANES as f64;
+            p[11] = 1.0 + 20.0 * f;
+            p[12] = 2.0 + 60.0 * f;
+            p
+        })
+        .collect();
+    for (rig, ps) in [("friction_sdof", ps), ("quarter_car", qs)] {
+        let desc = rigfit::rig::shipped(rig).unwrap();
+        let r = CompiledRig::new(desc.clone(), rig).unwrap();
+        let one = histories_one(&r, &ps, &Drive::Velocity, &grid);
+        assert_same_bits(
+            &histories_native(&desc, &ps, None, &grid, Report::Full),
+            &one,
+        );
+        // Every value finite, and the runs moved.
+        assert!(
+            one.iter().flatten().all(|&b| f64::from_bits(b).is_finite()),
+            "{rig}"
+        );
+        let moved = one[3].iter().filter(|&&b| f64::from_bits(b) != 0.0).count();
+        assert!(
+            moved > one[3].len() / 2,
+            "{rig}: {moved} of {}",
+            one[3].len()
+        );
+    }
 }
 
 /// The f32 tolerance the GPU's f32 kernels are held to (`tests/gpu_rig_parity.rs`):

@@ -7,10 +7,10 @@
 //!
 //! Rounding: every result's ends are moved outward by one ulp
 //! ([`Interval::widen`]), which covers the correctly rounded `+ − × ÷` and the
-//! evaluators' `exp`/`expm1`/`ln` ([`crate::compile::exec::math`], held within
-//! 1–4 ulp of the C library by its tests) and the platform's `sin`/`cos`
-//! (within an ulp or so on the targets we run; a documented small widening,
-//! not a proof for a libm worse than that). Conventions: `0 · (±∞) = 0` (a zero tangent times an unbounded
+//! evaluators' `exp`/`expm1`/`ln`/`sin`/`cos` ([`crate::compile::exec::math`],
+//! held within 1–4 ulp of the C library by its tests, which is itself within
+//! an ulp or so on the targets we run: a documented small widening, not a
+//! proof for a libm worse than that). Conventions: `0 · (±∞) = 0` (a zero tangent times an unbounded
 //! value stays zero), a division by an interval holding 0 is the whole line,
 //! `ln` of a non-positive part is `−∞`.
 
@@ -175,7 +175,10 @@ impl Interval {
         if !(self.lo.is_finite() && self.hi.is_finite()) || self.hi - self.lo >= 2.0 * PI {
             return Self { lo: -1.0, hi: 1.0 };
         }
-        let f = |x: f64| if cos { x.cos() } else { x.sin() };
+        let f = |x: f64| {
+            use crate::compile::exec::math;
+            if cos { math::cos(x) } else { math::sin(x) }
+        };
         let base = if cos { 0.0 } else { FRAC_PI_2 };
         let (a, b) = (self.lo, self.hi);
         let mut r = Self::new(f(a), f(b));

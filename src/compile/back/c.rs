@@ -13,9 +13,10 @@
 //!
 //! In f64 the C evaluates every operation as the interpreter does: no
 //! contraction of a multiply and an add (`-ffp-contract=off`), `eˣ` and
-//! `eˣ − 1` and `ln` as [`crate::compile::exec::math`]'s branch-free forms step for step, `sin`
-//! and `cos` from the C library lane by lane (where Rust's `f64::sin` and
-//! `cos` go), so each lane's bits are the scalar reference's. In f32 the
+//! `eˣ − 1`, `ln`, `sin` and `cos` as [`crate::compile::exec::math`]'s
+//! branch-free forms step for step (a `sin` or `cos` of more than 10⁶ from
+//! the C library, lane by lane, as there), so each lane's bits are the
+//! scalar reference's. In f32 the
 //! same operations round to f32, a multiply and an add fused where the
 //! processor can (`-ffp-contract=fast`: 14 % off the tensile step); the
 //! register file still holds f64, so the runner around them is the same.
@@ -119,6 +120,78 @@ F d dlog(d x) {
 }
 /* ln of one value: lane 0 of the vector form. */
 F double dlog1(double x) { return dlog(dsplat(x))[0]; }
+/* sin x (cos x where c0) as math.rs's `trig`: fdlibm's medium reduction
+   x = n pi/2 + (y0 + yt), its later rounds taken only where the one before
+   cancelled (a vector takes them where any lane needs them, each lane then
+   keeping the round fdlibm stops at: the same bits as one value alone), the
+   kernel for n's quadrant, signed by it; beyond 1e6, at +-inf and NaN, the
+   C library's. The kernels are written once for doubles and vectors. */
+#define TRIG_MAX 1.0e6
+#define INV_PIO2 0x1.45f306dc9c883p-1
+#define KSIN(x, y) ({ __typeof__(x) z_ = (x) * (x), zz_ = z_ * z_, v_ = z_ * (x); \
+  __typeof__(x) r_ = 0x1.111111110f8a6p-7 + z_ * (-0x1.a01a019c161d5p-13 + z_ * 0x1.71de357b1fe7dp-19) \
+    + z_ * zz_ * (-0x1.ae5e68a2b9cebp-26 + z_ * 0x1.5d93a5acfd57cp-33); \
+  (x) - ((z_ * (0.5 * (y) - v_ * r_) - (y)) - v_ * -0x1.5555555555549p-3); })
+#define KCOS(x, y) ({ __typeof__(x) z_ = (x) * (x), zz_ = z_ * z_; \
+  __typeof__(x) r_ = z_ * (0x1.555555555554cp-5 + z_ * (-0x1.6c16c16c15177p-10 + z_ * 0x1.a01a019cb1590p-16)) \
+    + zz_ * zz_ * (-0x1.27e4f809c52adp-22 + z_ * (0x1.1ee9ebdb4b1c4p-29 + z_ * -0x1.8fae9be8838d4p-37)); \
+  __typeof__(x) h_ = 0.5 * z_, w_ = 1.0 - h_; \
+  w_ + (((1.0 - w_) - h_) + (z_ * r_ - (x) * (y))); })
+/* Round 2 (PIO2_2) or 3 (PIO2_3) of the reduction from round k-1's r. */
+#define ROUND(r, w, y0, n, P, PT) do { __typeof__(r) t_ = (r), p_ = (n) * (P); \
+  (r) = t_ - p_; (w) = (n) * (PT) - ((t_ - (r)) - p_); (y0) = (r) - (w); } while (0)
+F long long sexpo(double x) { union { double f; unsigned long long u; } b = {x}; return (b.u >> 52) & 0x7ff; }
+F double strig(double x, int c0) {
+  if (!(fabs(x) <= TRIG_MAX)) return c0 ? cos(x) : sin(x);
+  union { double f; unsigned long long u; } sh = {x * INV_PIO2 + SHIFT};
+  double n = sh.f - SHIFT;
+  long long j = sexpo(x);
+  double r = x - n * 0x1.921fb54400000p+0, w = n * 0x1.0b4611a626331p-34, y0 = r - w;
+  if (j - sexpo(y0) > 16) {
+    ROUND(r, w, y0, n, 0x1.0b4611a600000p-34, 0x1.3198a2e037073p-69);
+    if (j - sexpo(y0) > 49) ROUND(r, w, y0, n, 0x1.3198a2e000000p-69, 0x1.b839a252049c1p-104);
+  }
+  double yt = (r - y0) - w;
+  unsigned long long q = (sh.u & 3) + (unsigned long long)c0;
+  double v = (q & 1) ? KCOS(y0, yt) : KSIN(y0, yt);
+  return (q & 2) ? -v : v;
+}
+F dm dexpo(d x) { return (dm)(((du)x >> 52) & 0x7ffULL); }
+F d dtrig(d x, int c0) {
+  d shifted = x * INV_PIO2 + SHIFT;
+  d n = shifted - SHIFT;
+  dm j = dexpo(x);
+  d r = x - n * 0x1.921fb54400000p+0, w = n * 0x1.0b4611a626331p-34, y0 = r - w;
+  dm one = j - dexpo(y0) <= 16;
+  dm ok = (d)((du)x & 0x7fffffffffffffffULL) <= dsplat(TRIG_MAX);
+  long long rare = 0;
+  for (int l = 0; l < DW; l++) rare |= ~one[l] | ~ok[l];
+  if (rare) {
+    d r2 = r, w2 = w, y2 = y0;
+    ROUND(r2, w2, y2, n, 0x1.0b4611a600000p-34, 0x1.3198a2e037073p-69);
+    d r3 = r2, w3 = w2, y3 = y2;
+    ROUND(r3, w3, y3, n, 0x1.3198a2e000000p-69, 0x1.b839a252049c1p-104);
+    dm two = j - dexpo(y2) <= 49;
+    r = dpick(one, r, dpick(two, r2, r3));
+    w = dpick(one, w, dpick(two, w2, w3));
+    y0 = dpick(one, y0, dpick(two, y2, y3));
+  }
+  d yt = (r - y0) - w;
+  du q = ((du)shifted & 3ULL) + (unsigned long long)c0;
+  d val = dpick((dm)((q & 1ULL) != 0), KCOS(y0, yt), KSIN(y0, yt));
+  val = (d)((du)val ^ ((q & 2ULL) << 62));
+  if (rare)
+    for (int l = 0; l < DW; l++)
+      if (!ok[l]) val[l] = c0 ? cos(x[l]) : sin(x[l]);
+  return val;
+}
+/* Built once each, not inlined at every use: inlined, they took the C
+   compiler two thirds as long again on the quarter car's lanes, a cost each
+   short job pays. */
+static __attribute__((noinline)) d dsin(d x) { return dtrig(x, 0); }
+static __attribute__((noinline)) d dcos(d x) { return dtrig(x, 1); }
+static __attribute__((noinline)) double dsin1(double x) { return strig(x, 0); }
+static __attribute__((noinline)) double dcos1(double x) { return strig(x, 1); }
 "#;
 
 /// One run's f64 arithmetic, for the derivative a redone step takes
@@ -135,8 +208,8 @@ F double smin(double a, double b) { return a != a ? b : b != b ? a : a < b ? a :
 F double smax(double a, double b) { return a != a ? b : b != b ? a : a > b ? a : b; }
 F double sabs(double a) { return fabs(a); }
 F double slog(double a) { return dlog1(a); }
-F double ssin(double a) { return sin(a); }
-F double scos(double a) { return cos(a); }
+F double ssin(double a) { return dsin1(a); }
+F double scos(double a) { return dcos1(a); }
 "#;
 
 /// The lane type `v` of [`Arith::F64`]: the f64 vector, `DW` lanes of a
@@ -151,6 +224,8 @@ F v vabs(v a) { return (v)((u)a & 0x7fffffffffffffffULL); }
 F v vexp(v x) { return dexp(x); }
 F v vexpm1(v x) { return dexpm1(x); }
 F v vlog(v x) { return dlog(x); }
+F v vsin(v x) { return dsin(x); }
+F v vcos(v x) { return dcos(x); }
 "#;
 
 /// The lane type `v` of [`Arith::F32`]: twice the f64 vector's lanes, read
@@ -179,8 +254,10 @@ F void split(v x, d *lo, d *hi) {
 #define KEEP(B, A, i) (((d *)&(B)[(i) * BLOCKS])[2 * q] = ((d *)&(A)[(i) * BLOCKS])[2 * q], \
                        ((d *)&(B)[(i) * BLOCKS])[2 * q + 1] = ((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 F v fsplat(float x) { return (v){VALL(x)}; }
-/* ln in f64 on each half, rounded once. */
+/* ln, sin and cos in f64 on each half, rounded once. */
 F v vlog(v x) { d lo, hi; split(x, &lo, &hi); return join(dlog(lo), dlog(hi)); }
+F v vsin(v x) { d lo, hi; split(x, &lo, &hi); return join(dsin(lo), dsin(hi)); }
+F v vcos(v x) { d lo, hi; split(x, &lo, &hi); return join(dcos(lo), dcos(hi)); }
 F v fpick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
 F v vabs(v a) { return (v)((u)a & 0x7fffffffu); }
 /* e^x and e^x - 1 in f32: the f64 forms' reduction with f32 constants
@@ -225,13 +302,11 @@ F v veq(v a, v b) { return (v)((a == b) & (m)splat(1.0)); }
 /* Rust's f64::min / f64::max: a NaN operand gives the other. */
 F v vmin(v a, v b) { v r = pick(a < b, a, b); r = pick(a != a, b, r); return pick(b != b, a, r); }
 F v vmax(v a, v b) { v r = pick(a > b, a, b); r = pick(a != a, b, r); return pick(b != b, a, r); }
-F v vsin(v a) { v r; for (int l = 0; l < WV; l++) r[l] = sin(a[l]); return r; }
-F v vcos(v a) { v r; for (int l = 0; l < WV; l++) r[l] = cos(a[l]); return r; }
 /* The same of a uniform vector (every lane alike, as in the instructions
    hoisted out of rig_rk4's loop): one call, its value in every lane. */
 F v ulog(v a) { return splat(dlog1(a[0])); }
-F v usin(v a) { return splat(sin(a[0])); }
-F v ucos(v a) { return splat(cos(a[0])); }
+F v usin(v a) { return splat(dsin1(a[0])); }
+F v ucos(v a) { return splat(dcos1(a[0])); }
 "#;
 
 /// One instruction as a C statement on the register locals `rN`, with the
@@ -759,4 +834,115 @@ pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
         s.push_str("  }\n}\n");
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::compile::exec::math;
+
+    /// The prelude's `sin` and `cos` as the lanes call them, for vectors of
+    /// `vector_bytes` and for one value, on each of `xs` (in lanes of
+    /// `DW`): the bits of the vector `sin`, `cos`, then the scalar ones.
+    fn c_trig(xs: &[f64], vector_bytes: usize) -> Vec<[u64; 4]> {
+        let dir = tempfile::tempdir().unwrap();
+        let lanes = vector_bytes / 8;
+        let all = vec!["x"; lanes].join(", ");
+        let main = r#"#include <stdio.h>
+#include <string.h>
+int main(void) {
+  unsigned long long b[DW];
+  for (;;) {
+    for (int l = 0; l < DW; l++) if (scanf("%llx", &b[l]) != 1) return 0;
+    d x; memcpy(&x, b, sizeof x);
+    d s = dsin(x), c = dcos(x);
+    for (int l = 0; l < DW; l++) {
+      double o[4] = {s[l], c[l], dsin1(x[l]), dcos1(x[l])};
+      unsigned long long ob[4]; memcpy(ob, o, sizeof o);
+      printf("%llx %llx %llx %llx\n", ob[0], ob[1], ob[2], ob[3]);
+    }
+  }
+}
+"#;
+        let src = format!(
+            "#define BLOCKS {BLOCKS}\n#define VBYTES {vector_bytes}\n#define DALL(x) {all}\n{PRELUDE}{main}"
+        );
+        let (c, exe) = (dir.path().join("trig.c"), dir.path().join("trig"));
+        std::fs::write(&c, src).unwrap();
+        let built = std::process::Command::new(crate::compile::back::native::compiler())
+            .args(["-O2", "-march=native", "-ffp-contract=off", "-w", "-o"])
+            .arg(&exe)
+            .arg(&c)
+            .arg("-lm")
+            .output()
+            .expect("the C compiler runs");
+        assert!(
+            built.status.success(),
+            "{}",
+            String::from_utf8_lossy(&built.stderr)
+        );
+        let input: String = xs.iter().map(|x| format!("{:x}\n", x.to_bits())).collect();
+        let args = dir.path().join("args");
+        std::fs::write(&args, input).unwrap();
+        let out = std::process::Command::new(&exe)
+            .stdin(std::fs::File::open(&args).unwrap())
+            .output()
+            .unwrap();
+        assert!(out.status.success());
+        String::from_utf8(out.stdout)
+            .unwrap()
+            .lines()
+            .map(|l| {
+                let v: Vec<u64> = l
+                    .split(' ')
+                    .map(|h| u64::from_str_radix(h, 16).unwrap())
+                    .collect();
+                [v[0], v[1], v[2], v[3]]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn c_sin_and_cos_are_the_reference_bit_for_bit() {
+        // Next to multiples of π/2, where the reduction takes its second
+        // and third rounds, mixed in every vector with ordinary arguments,
+        // ones beyond the reduced range, ±∞, NaN, signed zeros and
+        // subnormals, so a vector takes each round for some lanes only.
+        let mut xs = vec![];
+        for k in 1..3000_i64 {
+            let x = k as f64 * std::f64::consts::FRAC_PI_2 * (1.0 + (k % 7) as f64 * 37.0);
+            let near = f64::from_bits(x.to_bits().wrapping_add_signed(k % 5 - 2));
+            xs.extend([near, 0.1 * k as f64, -near]);
+        }
+        xs.extend([
+            1.5e6,
+            -3e9,
+            1e300,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            0.0,
+            -0.0,
+            5e-324,
+            -1e-310,
+            1e-8,
+        ]);
+        for vector_bytes in [16, 32, 64] {
+            let lanes = vector_bytes / 8;
+            let mut padded = xs.clone();
+            padded.resize(xs.len().div_ceil(lanes) * lanes, 0.25);
+            let got = c_trig(&padded, vector_bytes);
+            assert_eq!(got.len(), padded.len());
+            for (x, g) in padded.iter().zip(&got) {
+                let want = [math::sin(*x), math::cos(*x)];
+                for (k, bits) in g.iter().enumerate() {
+                    let (a, b) = (f64::from_bits(*bits), want[k % 2]);
+                    assert!(
+                        a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()),
+                        "{vector_bytes}-byte vectors, output {k} at {x:e}: {a:e} against {b:e}"
+                    );
+                }
+            }
+        }
+    }
 }

@@ -503,7 +503,7 @@ fn compile_and_load(
 }
 
 /// The C compiler: `RIGFIT_CC`, or `cc`.
-fn compiler() -> String {
+pub(crate) fn compiler() -> String {
     std::env::var("RIGFIT_CC").unwrap_or_else(|_| "cc".into())
 }
 

@@ -1,8 +1,8 @@
 //! The lane interpreter: register code ([`crate::compile::exec::lane_code`]) applied
 //! to every lane in blocks of [`W`] lanes (structure of arrays), so the compiler
 //! turns each instruction into a few vector instructions; RK4's stage sums and the
-//! event marks, lane by lane. `exp`/`expm1`/`ln` are [`crate::compile::exec::math`]'s
-//! branch-free forms, which vectorise too.
+//! event marks, lane by lane. `exp`/`expm1`/`ln`/`sin`/`cos` are
+//! [`crate::compile::exec::math`]'s branch-free forms, which vectorise too.
 //!
 //! These loops are written once; [`super::isa`] builds them for each vector
 //! instruction set and picks one at run time.
@@ -88,7 +88,7 @@ impl Span {
 /// first `nb` blocks of `r`.
 #[inline(always)]
 pub(super) fn exec(code: &[Ins], span: &[Span], r: &mut [Reg], nb: usize) {
-    use crate::compile::exec::math::{exp, expm1, ln};
+    use crate::compile::exec::math::{cos, exp, expm1, ln, sin};
     for (&ins, &sp) in code.iter().zip(span) {
         // A value every lane shares is computed in one block (and copied
         // where a block of its own lane reads it).
@@ -108,8 +108,8 @@ pub(super) fn exec(code: &[Ins], span: &[Span], r: &mut [Reg], nb: usize) {
             Op::Exp(a) => un(r, nb, d, a, exp),
             Op::Expm1(a) => un(r, nb, d, a, expm1),
             Op::Ln(a) => un(r, nb, d, a, ln),
-            Op::Sin(a) => un(r, nb, d, a, f64::sin),
-            Op::Cos(a) => un(r, nb, d, a, f64::cos),
+            Op::Sin(a) => un(r, nb, d, a, sin),
+            Op::Cos(a) => un(r, nb, d, a, cos),
             Op::Select(c, a, b) => {
                 for k in 0..nb {
                     let (s, x, y) = (r[c as usize][k], r[a as usize][k], r[b as usize][k]);

@@ -1,9 +1,10 @@
-//! `eˣ`, `eˣ − 1` and `ln x` for the compiled rigs, written with `+`, `·`,
-//! `/`, comparisons and bit operations only, so a loop over lanes of
-//! candidates vectorises ([`crate::compile::exec::lanes`]) where a call into
-//! the C library's `exp` or `log` does not (a power law's `|x|^β` is
-//! `exp(β·ln|x|)`: on the inertial rig the C library's `log`, called lane by
-//! lane, took 40 % of a CPU job).
+//! `eˣ`, `eˣ − 1`, `ln x`, `sin x` and `cos x` for the compiled rigs, written
+//! with `+`, `·`, `/`, comparisons and bit operations only, so a loop over
+//! lanes of candidates vectorises ([`crate::compile::exec::lanes`]) where a
+//! call into the C library's `exp`, `log` or `sin` does not (a power law's
+//! `|x|^β` is `exp(β·ln|x|)`: on the inertial rig the C library's `log`,
+//! called lane by lane, took 40 % of a CPU job; on the friction rig, whose
+//! sine drive's frequency is fitted, its `sin` took 43 %).
 //!
 //! The scalar reference ([`crate::compile::ir::eval_op`]), the lane ensemble and the
 //! constant folder all call these, so every CPU path rounds alike. The algorithm
@@ -24,6 +25,16 @@
 //! zeros, so every input takes one path, and zero, negative, infinite and
 //! NaN inputs are picked at the end. Within 1 ulp of the C library (tests
 //! below).
+//!
+//! `sin` and `cos` are fdlibm's (`__ieee754_rem_pio2`'s medium-size case,
+//! `__kernel_sin`, and `__kernel_cos` in the form without its high-word
+//! split): `x = n·π/2 + (y₀ + y₁)` by `π/2` in three 33-bit splits, a round
+//! taken only where the one before cancelled, then the kernel `n mod 4` asks
+//! for on `y₀ + y₁`, signed by it (the C lanes compute both kernels and every
+//! round any lane needs, and pick per lane: the same bits). Beyond
+//! [`TRIG_REDUCED_UP_TO`] (where `n·π/2`'s first split stops being exact),
+//! and at ±∞ and NaN, they call the C library, as the C lanes do lane by lane.
+//! Within 1 ulp of the C library (tests below).
 
 const INV_LN2: f64 = std::f64::consts::LOG2_E;
 const LN2_HI: f64 = f64::from_bits(0x3fe6_2e42_fee0_0000);
@@ -148,6 +159,128 @@ pub fn ln(x: f64) -> f64 {
     }
 }
 
+/// `2/π`, and `π/2` in fdlibm's three splits: each `PIO2_i` has its low bits
+/// zero (33 significant bits), so `n·PIO2_i` is exact for `|n| < 2²⁰`, and
+/// `PIO2_iT` is the rest of `π/2` after it.
+const INV_PIO2: f64 = f64::from_bits(0x3fe4_5f30_6dc9_c883);
+const PIO2_1: f64 = f64::from_bits(0x3ff9_21fb_5440_0000);
+const PIO2_1T: f64 = f64::from_bits(0x3dd0_b461_1a62_6331);
+const PIO2_2: f64 = f64::from_bits(0x3dd0_b461_1a60_0000);
+const PIO2_2T: f64 = f64::from_bits(0x3ba3_198a_2e03_7073);
+const PIO2_3: f64 = f64::from_bits(0x3ba3_198a_2e00_0000);
+const PIO2_3T: f64 = f64::from_bits(0x397b_839a_2520_49c1);
+/// Largest `|x|` [`sin`] and [`cos`] reduce themselves (`x·2/π` below 2²⁰,
+/// so `n·PIO2_1` is exact); beyond it, and for ±∞ and NaN, they are the C
+/// library's.
+pub const TRIG_REDUCED_UP_TO: f64 = 1.0e6;
+/// fdlibm's `S1`–`S6`: `sin r ≈ r + r³·Σ Sᵢ·r²⁽ⁱ⁻¹⁾` on `|r| ≤ π/4`.
+const S: [f64; 6] = [
+    f64::from_bits(0xbfc5_5555_5555_5549),
+    f64::from_bits(0x3f81_1111_1110_f8a6),
+    f64::from_bits(0xbf2a_01a0_19c1_61d5),
+    f64::from_bits(0x3ec7_1de3_57b1_fe7d),
+    f64::from_bits(0xbe5a_e5e6_8a2b_9ceb),
+    f64::from_bits(0x3de5_d93a_5acf_d57c),
+];
+/// fdlibm's `C1`–`C6`: `cos r ≈ 1 − r²/2 + r⁴·Σ Cᵢ·r²⁽ⁱ⁻¹⁾`.
+const C: [f64; 6] = [
+    f64::from_bits(0x3fa5_5555_5555_554c),
+    f64::from_bits(0xbf56_c16c_16c1_5177),
+    f64::from_bits(0x3efa_01a0_19cb_1590),
+    f64::from_bits(0xbe92_7e4f_809c_52ad),
+    f64::from_bits(0x3e21_ee9e_bdb4_b1c4),
+    f64::from_bits(0xbda8_fae9_be88_38d4),
+];
+
+/// The biased exponent of `x`.
+#[inline(always)]
+fn exponent(x: f64) -> i64 {
+    ((x.to_bits() >> 52) & 0x7ff) as i64
+}
+
+/// `x = n·π/2 + (y₀ + y₁)` with `|y₀ + y₁| ≤ π/4` (about), `n mod 4` as an
+/// integer: fdlibm's medium-size reduction (`__ieee754_rem_pio2`), a second
+/// round where the first cancelled more than 16 bits, a third where the
+/// second cancelled more than 49, for `|x| ≤` [`TRIG_REDUCED_UP_TO`]. (The C
+/// lanes compute the later rounds where any lane needs them and each lane
+/// keeps the round this stops at: the same bits.)
+#[inline(always)]
+fn reduce_pio2(x: f64) -> (f64, f64, u64) {
+    let shifted = x * INV_PIO2 + SHIFT;
+    let n = shifted - SHIFT;
+    let j = exponent(x);
+    let mut r = x - n * PIO2_1;
+    let mut w = n * PIO2_1T;
+    let mut y0 = r - w;
+    // One further round, from the last one's `r`.
+    let round = |r: &mut f64, w: &mut f64, y0: &mut f64, p: f64, pt: f64| {
+        let t = *r;
+        let q = n * p;
+        *r = t - q;
+        *w = n * pt - ((t - *r) - q);
+        *y0 = *r - *w;
+    };
+    if j - exponent(y0) > 16 {
+        round(&mut r, &mut w, &mut y0, PIO2_2, PIO2_2T);
+        if j - exponent(y0) > 49 {
+            round(&mut r, &mut w, &mut y0, PIO2_3, PIO2_3T);
+        }
+    }
+    (y0, (r - y0) - w, shifted.to_bits() & 3)
+}
+
+/// `sin(y₀ + y₁)` for `|y₀ + y₁| ≤ π/4`, `y₁` the tail of `y₀`.
+#[inline(always)]
+fn sin_kernel(x: f64, y: f64) -> f64 {
+    let z = x * x;
+    let w = z * z;
+    let r = S[1] + z * (S[2] + z * S[3]) + z * w * (S[4] + z * S[5]);
+    let v = z * x;
+    x - ((z * (0.5 * y - v * r) - y) - v * S[0])
+}
+
+/// `cos(y₀ + y₁)` for `|y₀ + y₁| ≤ π/4`.
+#[inline(always)]
+fn cos_kernel(x: f64, y: f64) -> f64 {
+    let z = x * x;
+    let w = z * z;
+    let r = z * (C[0] + z * (C[1] + z * C[2])) + w * w * (C[3] + z * (C[4] + z * C[5]));
+    let hz = 0.5 * z;
+    let w = 1.0 - hz;
+    w + (((1.0 - w) - hz) + (z * r - x * y))
+}
+
+/// `sin x`, or `cos x` where `cos`: the kernel for the reduced argument's
+/// quadrant, signed by it.
+#[inline(always)]
+fn trig(x: f64, cos: bool) -> f64 {
+    if x.is_nan() || x.abs() > TRIG_REDUCED_UP_TO {
+        return if cos { x.cos() } else { x.sin() };
+    }
+    let (y0, y1, n) = reduce_pio2(x);
+    // sin: s, c, −s, −c by quadrant; cos: c, −s, −c, s.
+    let n = if cos { n + 1 } else { n };
+    let v = if n & 1 == 1 {
+        cos_kernel(y0, y1)
+    } else {
+        sin_kernel(y0, y1)
+    };
+    if n & 2 == 2 { -v } else { v }
+}
+
+/// `sin x`: within 1 ulp of the C library (its `sin` beyond
+/// [`TRIG_REDUCED_UP_TO`], at ±∞ and NaN).
+#[inline(always)]
+pub fn sin(x: f64) -> f64 {
+    trig(x, false)
+}
+
+/// `cos x`, as [`sin`].
+#[inline(always)]
+pub fn cos(x: f64) -> f64 {
+    trig(x, true)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -234,6 +367,57 @@ mod tests {
         assert!(ln(-1.0).is_nan());
         assert!(ln(f64::NEG_INFINITY).is_nan());
         assert!(ln(f64::NAN).is_nan());
+    }
+
+    #[test]
+    fn sin_and_cos_within_one_ulp_of_the_c_library() {
+        let mut worst = (0, 0.0);
+        let mut check = |x: f64| {
+            for (a, b) in [(sin(x), x.sin()), (cos(x), x.cos())] {
+                let u = ulps(a, b);
+                if u > worst.0 {
+                    worst = (u, x);
+                }
+            }
+        };
+        let ranges = [
+            points(-std::f64::consts::FRAC_PI_4, std::f64::consts::FRAC_PI_4),
+            points(-10.0, 10.0),
+            points(-1e3, 1e3),
+            points(-TRIG_REDUCED_UP_TO, TRIG_REDUCED_UP_TO),
+            points(-1e-8, 1e-8),
+        ];
+        ranges.into_iter().flatten().for_each(&mut check);
+        // Next to multiples of π/2, where the reduction cancels most, and
+        // over every binade below the limit, subnormals included.
+        for k in 1..200_000_i64 {
+            let x = (k as f64 * std::f64::consts::FRAC_PI_2).min(TRIG_REDUCED_UP_TO);
+            for d in -2..=2_i64 {
+                let y = f64::from_bits(x.to_bits().wrapping_add_signed(d));
+                check(y);
+                check(-y);
+            }
+        }
+        for e in -1074..20 {
+            let p = 2f64.powi(e);
+            for x in [p, f64::from_bits(p.to_bits() + 1), 1.5 * p] {
+                check(x);
+                check(-x);
+            }
+        }
+        assert!(worst.0 <= 1, "{} ulp at {:e}", worst.0, worst.1);
+        // Signed zeros, and the C library's own beyond the limit and at
+        // ±∞ and NaN.
+        assert_eq!(sin(-0.0).to_bits(), (-0.0f64).to_bits());
+        assert_eq!(sin(0.0).to_bits(), 0.0f64.to_bits());
+        assert_eq!(cos(-0.0), 1.0);
+        for x in [1.5e6, -3e9, 1e300, f64::MAX] {
+            assert_eq!(sin(x).to_bits(), x.sin().to_bits(), "{x}");
+            assert_eq!(cos(x).to_bits(), x.cos().to_bits(), "{x}");
+        }
+        for x in [f64::INFINITY, f64::NEG_INFINITY, f64::NAN] {
+            assert!(sin(x).is_nan() && cos(x).is_nan());
+        }
     }
 
     #[test]
