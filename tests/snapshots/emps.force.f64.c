@@ -285,7 +285,7 @@ F double sabs(double a) { return fabs(a); }
 F double slog(double a) { return dlog1(a); }
 F double ssin(double a) { return dsin1(a); }
 F double scos(double a) { return dcos1(a); }
-void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) {
+static __attribute__((noinline)) void deriv1_(const double *restrict R, double t, const double *tab, double *restrict out) {
     double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23;
     (void)r0; (void)t; (void)tab; (void)out;
     r7 = R[7];
@@ -318,10 +318,12 @@ void rig_deriv1(const double *restrict R, double t, const double *tab, double *r
     out[0] = r1;
     out[1] = r21;
 }
-void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) {
+static __attribute__((noinline)) void events1_(const double *restrict R, double t, const double *tab, double *restrict out) {
     double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23;
     (void)r0; (void)t; (void)tab; (void)out;
 }
+void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) { deriv1_(R, t, tab, out); }
+void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) { events1_(R, t, tab, out); }
 void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23;

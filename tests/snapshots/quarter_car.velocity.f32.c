@@ -891,7 +891,7 @@ F double sabs(double a) { return fabs(a); }
 F double slog(double a) { return dlog1(a); }
 F double ssin(double a) { return dsin1(a); }
 F double scos(double a) { return dcos1(a); }
-void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) {
+static __attribute__((noinline)) void deriv1_(const double *restrict R, double t, const double *tab, double *restrict out) {
     double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39;
     (void)r0; (void)t; (void)tab; (void)out;
     r8 = R[8];
@@ -974,7 +974,7 @@ void rig_deriv1(const double *restrict R, double t, const double *tab, double *r
     out[4] = r30;
     out[5] = r36;
 }
-void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) {
+static __attribute__((noinline)) void events1_(const double *restrict R, double t, const double *tab, double *restrict out) {
     double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39;
     (void)r0; (void)t; (void)tab; (void)out;
     r2 = R[2];
@@ -987,6 +987,132 @@ void rig_events1(const double *restrict R, double t, const double *tab, double *
     out[1] = r30;
     out[2] = r29;
     out[3] = r29;
+}
+void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) { deriv1_(R, t, tab, out); }
+void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) { events1_(R, t, tab, out); }
+#define NS 6
+#define NT 4
+#define MAX_EVENTS 16
+#define LOCATE_ITER 200
+#define LOCATE_TOL 1e-12
+static const int DIR_UP[NT] = {1, 0, 0, 1};
+static const long MODE[NT] = {7, 7, 7, 7};
+static const double TO[NT] = {1.0, 0.0, 2.0, 0.0};
+/* Whether transition i is armed at R's regimes: its variable at its value, its guard held. */
+static int armed1(const double *R, int i) {
+  switch (i) {
+  case 0: return R[7] == 0.0;
+  case 1: return R[7] == 1.0;
+  case 2: return R[7] == 0.0;
+  case 3: return R[7] == 2.0;
+  }
+  return 0;
+}
+/* rig_redo1: one run's step redone with its switches located, as
+   EventStepper::step_known (src/compile/exec/events.rs) redoes it, step for
+   step and in its order of operations, so its bits are the same: R the run's
+   scalar register file (its regimes and held states set; its state rows are
+   written here), y the step's start in and its end out, yend where the
+   lanes' plain step from y ended. Each fired switch's time and transition go
+   into ft and fi (at most MAX_EVENTS + 1); returns how many fired, with
+   *chat set where a step took more than MAX_EVENTS. */
+static void deriv_at(double *R, double t, const double *x, double *out) {
+  for (int i = 0; i < NS; i++) R[i] = x[i];
+  deriv1_(R, t, 0, out);
+}
+static void events_at(double *R, double t, const double *x, double *g) {
+  for (int i = 0; i < NS; i++) R[i] = x[i];
+  events1_(R, t, 0, g);
+}
+/* Transition i's event function oriented so that >= 0 is past its switch. */
+static double oriented1(int i, double g) { return DIR_UP[i] ? g : -g; }
+/* Transition::fires: past the switch at the end, and on the armed side at
+   the start or further past. */
+static int fires1(int i, double g0, double g1) {
+  double v0 = oriented1(i, g0), v1 = oriented1(i, g1);
+  return v1 >= 0.0 && (!(v0 >= 0.0) || v1 > v0);
+}
+static void rk4_1(double *R, double t, double h, double *y, double *k0, int known) {
+  double k1[NS], k2[NS], k3[NS], tmp[NS];
+  if (!known) deriv_at(R, t, y, k0);
+  for (int i = 0; i < NS; i++) tmp[i] = y[i] + 0.5 * h * k0[i];
+  deriv_at(R, t + 0.5 * h, tmp, k1);
+  for (int i = 0; i < NS; i++) tmp[i] = y[i] + 0.5 * h * k1[i];
+  deriv_at(R, t + 0.5 * h, tmp, k2);
+  for (int i = 0; i < NS; i++) tmp[i] = y[i] + h * k2[i];
+  deriv_at(R, t + h, tmp, k3);
+  for (int i = 0; i < NS; i++) y[i] += h / 6.0 * (k0[i] + 2.0 * k1[i] + 2.0 * k2[i] + k3[i]);
+}
+/* locate_crossing on the Hermite interpolant of the step [ta, ta + h]. */
+static double locate1(double *R, int tr, double ta, double h, const double *start,
+                      const double *f0, const double *y1, const double *fe, double v0, double v1) {
+  if (v0 >= 0.0 || v0 != v0) return 0.0;
+  double lo = 0.0, hi = 1.0, vlo = v0, vhi = v1, w0 = 2.0, w1 = 2.0, w2 = 2.0;
+  const double nudge = 0.5 * LOCATE_TOL;
+  int side = 0;
+  double x[NS], g[NT];
+  for (int it = 0; it < LOCATE_ITER; it++) {
+    double w = hi - lo;
+    if (w <= LOCATE_TOL || w != w) break;
+    double secant = lo + w * (vlo / (vlo - vhi));
+    double m = (w > 0.5 * w0 || !(lo <= secant && secant <= hi)) ? lo + 0.5 * w : secant;
+    m = smin(smax(m, lo + nudge), hi - nudge);
+    w0 = w1; w1 = w2; w2 = w;
+    double s2 = m * m, s3 = s2 * m;
+    double h00 = 2.0 * s3 - 3.0 * s2 + 1.0, h10 = (s3 - 2.0 * s2 + m) * h;
+    double h01 = -2.0 * s3 + 3.0 * s2, h11 = (s3 - s2) * h;
+    for (int i = 0; i < NS; i++) x[i] = h00 * start[i] + h10 * f0[i] + h01 * y1[i] + h11 * fe[i];
+    events_at(R, ta + m * h, x, g);
+    double vm = oriented1(tr, g[tr]);
+    if (vm == 0.0) return m;
+    if (vm > 0.0) {
+      if (side == 1) { double f = 1.0 - vm / vhi; vlo *= f > 0.0 ? f : 0.5; }
+      hi = m; vhi = vm; side = 1;
+    } else {
+      if (side == -1) { double f = 1.0 - vm / vlo; vhi *= f > 0.0 ? f : 0.5; }
+      lo = m; vlo = vm; side = -1;
+    }
+  }
+  return hi;
+}
+long rig_redo1(double *restrict R, double *restrict y, const double *restrict yend, double t,
+               double h, double *ft, long *fi, long *chat) {
+  double start[NS], k0[NS], fe[NS], y1[NS], gs[NT], ge[NT];
+  double ta = t, rem = h;
+  long nf = 0;
+  for (int ev = 0; ev <= MAX_EVENTS; ev++) {
+    for (int i = 0; i < NS; i++) start[i] = y[i];
+    events_at(R, ta, y, gs);
+    if (ev == 0) {
+      deriv_at(R, ta, y, k0);
+      for (int i = 0; i < NS; i++) y[i] = yend[i];
+    } else {
+      rk4_1(R, ta, rem, y, k0, 0);
+    }
+    events_at(R, ta + rem, y, ge);
+    int hits[NT], any = 0;
+    for (int i = 0; i < NT; i++) any |= hits[i] = armed1(R, i) && fires1(i, gs[i], ge[i]);
+    if (!any) return nf;
+    deriv_at(R, ta + rem, y, fe);
+    for (int i = 0; i < NS; i++) y1[i] = y[i];
+    double best = 0.0;
+    int tr = -1;
+    for (int i = 0; i < NT; i++) {
+      if (!hits[i]) continue;
+      double th = locate1(R, i, ta, rem, start, k0, y1, fe, oriented1(i, gs[i]), oriented1(i, ge[i]));
+      if (tr < 0 || th < best) { best = th; tr = i; }
+    }
+    double s = best * rem;
+    for (int i = 0; i < NS; i++) y[i] = start[i];
+    rk4_1(R, ta, s, y, k0, 1);
+    R[MODE[tr]] = TO[tr];
+    ft[nf] = ta + s; fi[nf] = tr; nf++;
+    ta += s;
+    rem -= s;
+    if (rem <= 0.0) return nf;
+  }
+  *chat = 1;
+  return nf;
 }
 void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {

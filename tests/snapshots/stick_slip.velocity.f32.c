@@ -325,7 +325,7 @@ F double sabs(double a) { return fabs(a); }
 F double slog(double a) { return dlog1(a); }
 F double ssin(double a) { return dsin1(a); }
 F double scos(double a) { return dcos1(a); }
-void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) {
+static __attribute__((noinline)) void deriv1_(const double *restrict R, double t, const double *tab, double *restrict out) {
     double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13;
     (void)r0; (void)t; (void)tab; (void)out;
     r6 = R[6];
@@ -348,7 +348,7 @@ void rig_deriv1(const double *restrict R, double t, const double *tab, double *r
     out[1] = r11;
     out[2] = r13;
 }
-void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) {
+static __attribute__((noinline)) void events1_(const double *restrict R, double t, const double *tab, double *restrict out) {
     double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13;
     (void)r0; (void)t; (void)tab; (void)out;
     r6 = R[6];
@@ -365,6 +365,8 @@ void rig_events1(const double *restrict R, double t, const double *tab, double *
     out[2] = r11;
     out[3] = r11;
 }
+void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) { deriv1_(R, t, tab, out); }
+void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) { events1_(R, t, tab, out); }
 void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13;

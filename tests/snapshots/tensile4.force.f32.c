@@ -563,7 +563,7 @@ F double sabs(double a) { return fabs(a); }
 F double slog(double a) { return dlog1(a); }
 F double ssin(double a) { return dsin1(a); }
 F double scos(double a) { return dcos1(a); }
-void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) {
+static __attribute__((noinline)) void deriv1_(const double *restrict R, double t, const double *tab, double *restrict out) {
     double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49;
     (void)r0; (void)t; (void)tab; (void)out;
     r13 = R[13];
@@ -667,7 +667,7 @@ void rig_deriv1(const double *restrict R, double t, const double *tab, double *r
     out[6] = r47;
     out[7] = r42;
 }
-void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) {
+static __attribute__((noinline)) void events1_(const double *restrict R, double t, const double *tab, double *restrict out) {
     double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49;
     (void)r0; (void)t; (void)tab; (void)out;
     r1 = R[1];
@@ -688,6 +688,8 @@ void rig_events1(const double *restrict R, double t, const double *tab, double *
     out[3] = r44;
     out[4] = r44;
 }
+void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) { deriv1_(R, t, tab, out); }
+void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) { events1_(R, t, tab, out); }
 void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49;

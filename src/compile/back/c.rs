@@ -212,6 +212,122 @@ F double ssin(double a) { return dsin1(a); }
 F double scos(double a) { return dcos1(a); }
 "#;
 
+/// One run's step redone in C with its switches located
+/// (`rig_redo1`), for a lane [`crate::compile::exec::lanes::LaneRunner`]
+/// hands to its stepper: [`crate::compile::exec::events::EventStepper`]'s
+/// `step_known` and `locate_crossing` step for step, so the same bits, with
+/// none of the calls, copies and frame writes around each derivative that
+/// took more of a redone step than the derivatives themselves (the quarter
+/// car with friction: 6.8 % of its lane-steps redone, two thirds of its CPU
+/// job).
+const REDO: &str = r#"/* rig_redo1: one run's step redone with its switches located, as
+   EventStepper::step_known (src/compile/exec/events.rs) redoes it, step for
+   step and in its order of operations, so its bits are the same: R the run's
+   scalar register file (its regimes and held states set; its state rows are
+   written here), y the step's start in and its end out, yend where the
+   lanes' plain step from y ended. Each fired switch's time and transition go
+   into ft and fi (at most MAX_EVENTS + 1); returns how many fired, with
+   *chat set where a step took more than MAX_EVENTS. */
+static void deriv_at(double *R, double t, const double *x, double *out) {
+  for (int i = 0; i < NS; i++) R[i] = x[i];
+  deriv1_(R, t, 0, out);
+}
+static void events_at(double *R, double t, const double *x, double *g) {
+  for (int i = 0; i < NS; i++) R[i] = x[i];
+  events1_(R, t, 0, g);
+}
+/* Transition i's event function oriented so that >= 0 is past its switch. */
+static double oriented1(int i, double g) { return DIR_UP[i] ? g : -g; }
+/* Transition::fires: past the switch at the end, and on the armed side at
+   the start or further past. */
+static int fires1(int i, double g0, double g1) {
+  double v0 = oriented1(i, g0), v1 = oriented1(i, g1);
+  return v1 >= 0.0 && (!(v0 >= 0.0) || v1 > v0);
+}
+static void rk4_1(double *R, double t, double h, double *y, double *k0, int known) {
+  double k1[NS], k2[NS], k3[NS], tmp[NS];
+  if (!known) deriv_at(R, t, y, k0);
+  for (int i = 0; i < NS; i++) tmp[i] = y[i] + 0.5 * h * k0[i];
+  deriv_at(R, t + 0.5 * h, tmp, k1);
+  for (int i = 0; i < NS; i++) tmp[i] = y[i] + 0.5 * h * k1[i];
+  deriv_at(R, t + 0.5 * h, tmp, k2);
+  for (int i = 0; i < NS; i++) tmp[i] = y[i] + h * k2[i];
+  deriv_at(R, t + h, tmp, k3);
+  for (int i = 0; i < NS; i++) y[i] += h / 6.0 * (k0[i] + 2.0 * k1[i] + 2.0 * k2[i] + k3[i]);
+}
+/* locate_crossing on the Hermite interpolant of the step [ta, ta + h]. */
+static double locate1(double *R, int tr, double ta, double h, const double *start,
+                      const double *f0, const double *y1, const double *fe, double v0, double v1) {
+  if (v0 >= 0.0 || v0 != v0) return 0.0;
+  double lo = 0.0, hi = 1.0, vlo = v0, vhi = v1, w0 = 2.0, w1 = 2.0, w2 = 2.0;
+  const double nudge = 0.5 * LOCATE_TOL;
+  int side = 0;
+  double x[NS], g[NT];
+  for (int it = 0; it < LOCATE_ITER; it++) {
+    double w = hi - lo;
+    if (w <= LOCATE_TOL || w != w) break;
+    double secant = lo + w * (vlo / (vlo - vhi));
+    double m = (w > 0.5 * w0 || !(lo <= secant && secant <= hi)) ? lo + 0.5 * w : secant;
+    m = smin(smax(m, lo + nudge), hi - nudge);
+    w0 = w1; w1 = w2; w2 = w;
+    double s2 = m * m, s3 = s2 * m;
+    double h00 = 2.0 * s3 - 3.0 * s2 + 1.0, h10 = (s3 - 2.0 * s2 + m) * h;
+    double h01 = -2.0 * s3 + 3.0 * s2, h11 = (s3 - s2) * h;
+    for (int i = 0; i < NS; i++) x[i] = h00 * start[i] + h10 * f0[i] + h01 * y1[i] + h11 * fe[i];
+    events_at(R, ta + m * h, x, g);
+    double vm = oriented1(tr, g[tr]);
+    if (vm == 0.0) return m;
+    if (vm > 0.0) {
+      if (side == 1) { double f = 1.0 - vm / vhi; vlo *= f > 0.0 ? f : 0.5; }
+      hi = m; vhi = vm; side = 1;
+    } else {
+      if (side == -1) { double f = 1.0 - vm / vlo; vhi *= f > 0.0 ? f : 0.5; }
+      lo = m; vlo = vm; side = -1;
+    }
+  }
+  return hi;
+}
+long rig_redo1(double *restrict R, double *restrict y, const double *restrict yend, double t,
+               double h, double *ft, long *fi, long *chat) {
+  double start[NS], k0[NS], fe[NS], y1[NS], gs[NT], ge[NT];
+  double ta = t, rem = h;
+  long nf = 0;
+  for (int ev = 0; ev <= MAX_EVENTS; ev++) {
+    for (int i = 0; i < NS; i++) start[i] = y[i];
+    events_at(R, ta, y, gs);
+    if (ev == 0) {
+      deriv_at(R, ta, y, k0);
+      for (int i = 0; i < NS; i++) y[i] = yend[i];
+    } else {
+      rk4_1(R, ta, rem, y, k0, 0);
+    }
+    events_at(R, ta + rem, y, ge);
+    int hits[NT], any = 0;
+    for (int i = 0; i < NT; i++) any |= hits[i] = armed1(R, i) && fires1(i, gs[i], ge[i]);
+    if (!any) return nf;
+    deriv_at(R, ta + rem, y, fe);
+    for (int i = 0; i < NS; i++) y1[i] = y[i];
+    double best = 0.0;
+    int tr = -1;
+    for (int i = 0; i < NT; i++) {
+      if (!hits[i]) continue;
+      double th = locate1(R, i, ta, rem, start, k0, y1, fe, oriented1(i, gs[i]), oriented1(i, ge[i]));
+      if (tr < 0 || th < best) { best = th; tr = i; }
+    }
+    double s = best * rem;
+    for (int i = 0; i < NS; i++) y[i] = start[i];
+    rk4_1(R, ta, s, y, k0, 1);
+    R[MODE[tr]] = TO[tr];
+    ft[nf] = ta + s; fi[nf] = tr; nf++;
+    ta += s;
+    rem -= s;
+    if (rem <= 0.0) return nf;
+  }
+  *chat = 1;
+  return nf;
+}
+"#;
+
 /// The lane type `v` of [`Arith::F64`]: the f64 vector, `DW` lanes of a
 /// register-file row (`q` counts vectors along the row).
 const F64_LANES: &str = r#"typedef d v; typedef dm m; typedef du u;
@@ -697,6 +813,49 @@ fn lane_bits(lanes: usize) -> String {
     s
 }
 
+/// Whether `rig_redo1` is built for `code`: it has switches, and its
+/// derivative and event functions read no table (whose values the caller
+/// computes at each time).
+pub fn redoes(code: &LaneCode) -> bool {
+    !code.events.roots.is_empty() && code.deriv.tables.is_empty() && code.events.tables.is_empty()
+}
+
+/// `rig_redo1` ([`REDO`]) for `code`, with its switches' tables: what arms
+/// each (`armed1`), which way it fires, the regime register it sets and the
+/// value.
+fn redo(s: &mut String, code: &LaneCode) {
+    use crate::compile::exec::events::{LOCATE_ITERATIONS, LOCATE_TOLERANCE, MAX_EVENTS_PER_STEP};
+    let list = |v: Vec<String>| v.join(", ");
+    let _ = writeln!(
+        s,
+        "#define NS {}\n#define NT {}\n#define MAX_EVENTS {MAX_EVENTS_PER_STEP}\n#define LOCATE_ITER {LOCATE_ITERATIONS}\n#define LOCATE_TOL {LOCATE_TOLERANCE:?}",
+        code.slopes.len(),
+        code.events.roots.len()
+    );
+    let _ = writeln!(
+        s,
+        "static const int DIR_UP[NT] = {{{}}};\nstatic const long MODE[NT] = {{{}}};\nstatic const double TO[NT] = {{{}}};",
+        list(
+            code.armed
+                .iter()
+                .map(|a| u8::from(a.2 == Direction::Up).to_string())
+                .collect()
+        ),
+        list(code.armed.iter().map(|a| a.0.to_string()).collect()),
+        list(code.sets.iter().map(|v| format!("{v:?}")).collect())
+    );
+    s.push_str("/* Whether transition i is armed at R's regimes: its variable at its value, its guard held. */\nstatic int armed1(const double *R, int i) {\n  switch (i) {\n");
+    for (i, (&(mode, from, _), guard)) in code.armed.iter().zip(&code.guards).enumerate() {
+        let guard: String = guard
+            .iter()
+            .map(|&(m, v)| format!(" && R[{m}] == {v:?}"))
+            .collect();
+        let _ = writeln!(s, "  case {i}: return R[{mode}] == {from:?}{guard};");
+    }
+    s.push_str("  }\n  return 0;\n}\n");
+    s.push_str(REDO);
+}
+
 /// The C source of `code`'s four functions on vectors of `vector_bytes`
 /// (16, 32 or 64: the processor's vector registers, [`crate::compile::exec::lanes::Isa::vector_bytes`]).
 pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
@@ -778,10 +937,10 @@ pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
     // (states, regimes, held states and per-run constants at their
     // registers), `out` the slopes or the event functions' values.
     s.push_str(SCALAR);
-    for (name, list) in [("rig_deriv1", &code.deriv), ("rig_events1", &code.events)] {
+    for (name, list) in [("deriv1_", &code.deriv), ("events1_", &code.events)] {
         let _ = writeln!(
             s,
-            "void {name}(const double *restrict R, double t, const double *tab, double *restrict out) {{"
+            "static __attribute__((noinline)) void {name}(const double *restrict R, double t, const double *tab, double *restrict out) {{"
         );
         let _ = writeln!(
             s,
@@ -809,6 +968,13 @@ pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
             let _ = writeln!(s, "    out[{i}] = r{root};");
         }
         s.push_str("}\n");
+    }
+    s.push_str(
+        "void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) { deriv1_(R, t, tab, out); }\n\
+         void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) { events1_(R, t, tab, out); }\n",
+    );
+    if redoes(code) {
+        redo(&mut s, code);
     }
 
     for (name, list) in [

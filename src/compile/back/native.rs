@@ -76,6 +76,30 @@ type Rk4Fn = unsafe extern "C" fn(
 );
 type ListFn = unsafe extern "C" fn(*mut Reg, c_long, f64, *const f64);
 type Deriv1Fn = unsafe extern "C" fn(*const f64, f64, *const f64, *mut f64);
+type Redo1Fn = unsafe extern "C" fn(
+    *mut f64,
+    *mut f64,
+    *const f64,
+    f64,
+    f64,
+    *mut f64,
+    *mut c_long,
+    *mut c_long,
+) -> c_long;
+
+/// Most switches one redone step fires before its run is flagged as
+/// chattering, and one more.
+pub(crate) const REDO_FIRED: usize = crate::compile::exec::events::MAX_EVENTS_PER_STEP + 1;
+
+/// What [`Native::redo1`] did: the switches it fired (time, transition)
+/// into the caller's buffers, how many, and whether the run chattered.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Redone {
+    /// Switches fired, in time order.
+    pub fired: usize,
+    /// Whether the step took more than its switches allow.
+    pub chattered: bool,
+}
 
 /// A loaded build of one program's lane code.
 pub struct Native {
@@ -83,6 +107,9 @@ pub struct Native {
     lists: [ListFn; 3],
     deriv1: Deriv1Fn,
     events1: Deriv1Fn,
+    /// `rig_redo1`, where the lane code has switches and no tables
+    /// ([`c::redoes`]).
+    redo1: Option<Redo1Fn>,
     /// The lane code's register count, state count and event-function
     /// count, which [`Self::deriv1`]'s and [`Self::events1`]'s slices hold.
     registers: usize,
@@ -213,6 +240,54 @@ impl Native {
     /// transition.
     pub(crate) fn events1(&self, r: &[f64], t: f64, tab: &[f64], out: &mut [f64]) {
         self.one_run(self.events1, self.events, r, t, tab, out);
+    }
+
+    /// Whether [`Self::redo1`] is built.
+    pub(crate) fn redoes(&self) -> bool {
+        self.redo1.is_some()
+    }
+
+    /// One run's step from `y` over `[t, t + h]` redone with its switches
+    /// located, bit for bit as the scalar reference's stepper redoes it
+    /// (`EventStepper::step_ending_at`), where [`Self::redoes`]: `r` the
+    /// run's scalar register file with its regimes and held states set (the
+    /// regimes it switches set there), `y_end` where the lanes' plain step
+    /// ended, `y` the start in and the end out; the switches it fires into
+    /// `times` and `transitions`.
+    #[expect(clippy::too_many_arguments, reason = "the C function's operands")]
+    #[expect(unsafe_code, reason = "calls the compiled C")]
+    pub(crate) fn redo1(
+        &self,
+        r: &mut [f64],
+        y: &mut [f64],
+        y_end: &[f64],
+        t: f64,
+        h: f64,
+        times: &mut [f64; REDO_FIRED],
+        transitions: &mut [c_long; REDO_FIRED],
+    ) -> Option<Redone> {
+        let f = self.redo1?;
+        assert!(r.len() == self.registers && y.len() == self.states && y_end.len() == self.states);
+        let mut chattered: c_long = 0;
+        // SAFETY: `rig_redo1` of this library reads and writes registers
+        // below `registers` and `states` values of `y` and `y_end`, and
+        // writes at most MAX_EVENTS_PER_STEP + 1 switches.
+        let n = unsafe {
+            f(
+                r.as_mut_ptr(),
+                y.as_mut_ptr(),
+                y_end.as_ptr(),
+                t,
+                h,
+                times.as_mut_ptr(),
+                transitions.as_mut_ptr(),
+                &mut chattered,
+            )
+        };
+        Some(Redone {
+            fired: usize::try_from(n).expect("a count"),
+            chattered: chattered != 0,
+        })
     }
 
     /// Calls `f`, one of the one-run functions, which writes `n` values.
@@ -486,11 +561,17 @@ fn compile_and_load(
         ];
         let deriv1: Deriv1Fn = *l.get::<Deriv1Fn>(b"rig_deriv1\0").map_err(load_err)?;
         let events1: Deriv1Fn = *l.get::<Deriv1Fn>(b"rig_events1\0").map_err(load_err)?;
+        let redo1 = if c::redoes(code) {
+            Some(*l.get::<Redo1Fn>(b"rig_redo1\0").map_err(load_err)?)
+        } else {
+            None
+        };
         Ok(Native {
             rk4,
             lists,
             deriv1,
             events1,
+            redo1,
             registers: code.registers,
             states: code.slopes.len(),
             events: code.events.roots.len(),

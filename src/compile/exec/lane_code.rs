@@ -74,6 +74,8 @@ pub struct LaneCode {
     ///
     /// [`Transition::guard`]: crate::compile::program::Transition::guard
     pub guards: Vec<Vec<(Reg, f64)>>,
+    /// Per event root, the value its transition sets its regime variable to.
+    pub sets: Vec<f64>,
     /// The time register.
     pub time: Reg,
     /// Each regime variable's register.
@@ -209,6 +211,7 @@ impl LaneCode {
                         .collect()
                 })
                 .collect(),
+            sets: prog.transitions.iter().map(|tr| f64::from(tr.to)).collect(),
             time,
             regimes,
             held,
