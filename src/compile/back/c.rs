@@ -25,8 +25,10 @@
 //! [`BLOCKS`] blocks): `rig_rk4` (one RK4 step, the start kept in `Y`, then
 //! the event list on the new state while it is still in registers, and a bit
 //! per lane past an armed switch), `rig_report` and `rig_measured` (one list,
-//! roots stored back where the interpreter leaves them); and `rig_deriv1`,
-//! one run's derivative in f64.
+//! roots stored back where the interpreter leaves them); and `rig_deriv1`
+//! and `rig_events1`, one run's derivative and event functions in f64, and
+//! `rig_redo1`, one run's step redone with its switches located (where the
+//! code has switches and reads no table).
 
 use std::fmt::Write;
 
