@@ -326,15 +326,7 @@ fn native_power_law_lanes_match_the_scalar_reference_bit_for_bit() {
     let truth = [
         9.0, 352.38, -61700.0, 365.17, 0.64, 1.41e6, 8.66e12, -8.74e8, 1.81, 11.768, 5.0, 12.5,
     ];
-    let ps: Vec<Vec<f64>> = (0..LANES + 5)
-        .map(|i| {
-            let mut p = truth.to_vec();
-            let f = i as f64 / LANES as f64;
-            p[4] = 0.6 + 0.1 * f;
-            p[8] = 1.78 + 0.06 * f;
-            p
-        })
-        .collect();
+    let ps = spread(&truth, LANES + 5, &[(4, 0.6, 0.1), (8, 1.78, 0.06)]);
     let grid = SampleGrid {
         t0: 0.0,
         dt: 5e-4,
@@ -351,6 +343,20 @@ fn native_power_law_lanes_match_the_scalar_reference_bit_for_bit() {
     assert!(one.iter().flatten().all(|&b| f64::from_bits(b).is_finite()));
     let moved = one[3].iter().filter(|&&b| f64::from_bits(b) != 0.0).count();
     assert!(moved > one[3].len() / 2, "{moved} of {}", one[3].len());
+}
+
+/// `runs` copies of `base`, each parameter `(index, from, span)` of `varied`
+/// set to `from + span · run / LANES`, so every lane of a full group differs.
+fn spread(base: &[f64], runs: usize, varied: &[(usize, f64, f64)]) -> Vec<Vec<f64>> {
+    (0..runs)
+        .map(|i| {
+            let mut p = base.to_vec();
+            for &(k, from, span) in varied {
+                p[k] = from + span * (i as f64 / LANES as f64);
+            }
+            p
+        })
+        .collect()
 }
 
 /// `many` differs from `want` nowhere; else where it first does.
@@ -381,26 +387,12 @@ fn native_trig_drive_lanes_match_the_scalar_reference_bit_for_bit() {
         substeps: 4,
     };
     let friction = [5.0, 6.4e4, 20.0, 10.0, 1.6e6, 30.0, 10.0];
-    let mut ps: Vec<Vec<f64>> = (0..LANES + 3)
-        .map(|i| {
-            let mut p = friction.to_vec();
-            p[6] = 8.0 + 4.0 * i as f64 / LANES as f64;
-            p
-        })
-        .collect();
+    let mut ps = spread(&friction, LANES + 3, &[(6, 8.0, 4.0)]);
     ps[5][6] = 1e6 / (2.0 * std::f64::consts::PI * 0.75);
     let quarter_car = [
         40.0, 350.0, 1.751e5, 1751.0, 3.0e4, 2500.0, 800.0, 0.01, 2.0e4, 3.0e-4, 5e-4, 1.0, 2.8,
     ];
-    let qs: Vec<Vec<f64>> = (0..LANES + 3)
-        .map(|i| {
-            let mut p = quarter_car.to_vec();
-            let f = i as f64 / LANES as f64;
-            p[11] = 1.0 + 20.0 * f;
-            p[12] = 2.0 + 60.0 * f;
-            p
-        })
-        .collect();
+    let qs = spread(&quarter_car, LANES + 3, &[(11, 1.0, 20.0), (12, 2.0, 60.0)]);
     for (rig, ps) in [("friction_sdof", ps), ("quarter_car", qs)] {
         let desc = rigfit::rig::shipped(rig).unwrap();
         let r = CompiledRig::new(desc.clone(), rig).unwrap();
