@@ -1,6 +1,7 @@
 #define BLOCKS 8
 #define VBYTES 64
 #define DALL(x) x, x, x, x, x, x, x, x
+#define TRIG_MAX 1000000.0
 #include <math.h>
 #define F static inline __attribute__((always_inline))
 /* A block of the register file: eight f64 lanes. */
@@ -76,9 +77,8 @@ F double dlog1(double x) { return dlog(dsplat(x))[0]; }
    x = n pi/2 + (y0 + yt), its later rounds taken only where the one before
    cancelled (a vector takes them where any lane needs them, each lane then
    keeping the round fdlibm stops at: the same bits as one value alone), the
-   kernel for n's quadrant, signed by it; beyond 1e6, at +-inf and NaN, the
-   C library's. The kernels are written once for doubles and vectors. */
-#define TRIG_MAX 1.0e6
+   kernel for n's quadrant, signed by it; beyond TRIG_MAX, at +-inf and NaN,
+   the C library's. The kernels are written once for doubles and vectors. */
 #define INV_PIO2 0x1.45f306dc9c883p-1
 #define KSIN(x, y) ({ __typeof__(x) z_ = (x) * (x), zz_ = z_ * z_, v_ = z_ * (x); \
   __typeof__(x) r_ = 0x1.111111110f8a6p-7 + z_ * (-0x1.a01a019c161d5p-13 + z_ * 0x1.71de357b1fe7dp-19) \

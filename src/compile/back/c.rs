@@ -126,9 +126,8 @@ F double dlog1(double x) { return dlog(dsplat(x))[0]; }
    x = n pi/2 + (y0 + yt), its later rounds taken only where the one before
    cancelled (a vector takes them where any lane needs them, each lane then
    keeping the round fdlibm stops at: the same bits as one value alone), the
-   kernel for n's quadrant, signed by it; beyond 1e6, at +-inf and NaN, the
-   C library's. The kernels are written once for doubles and vectors. */
-#define TRIG_MAX 1.0e6
+   kernel for n's quadrant, signed by it; beyond TRIG_MAX, at +-inf and NaN,
+   the C library's. The kernels are written once for doubles and vectors. */
 #define INV_PIO2 0x1.45f306dc9c883p-1
 #define KSIN(x, y) ({ __typeof__(x) z_ = (x) * (x), zz_ = z_ * z_, v_ = z_ * (x); \
   __typeof__(x) r_ = 0x1.111111110f8a6p-7 + z_ * (-0x1.a01a019c161d5p-13 + z_ * 0x1.71de357b1fe7dp-19) \
@@ -858,6 +857,23 @@ fn redo(s: &mut String, code: &LaneCode) {
     s.push_str(REDO);
 }
 
+/// `x, x, …` for `n` lanes: a splat as an initialiser, not a loop over the
+/// lanes (at -O2 GCC builds the loop's vector in memory and reloads it, a
+/// stalled store-to-load forward on every splat of a loop-varying value,
+/// which took the tensile event list 350 ns per 64 lanes instead of 133).
+fn all_lanes(n: usize) -> String {
+    vec!["x"; n].join(", ")
+}
+
+/// [`PRELUDE`] for vectors of `vector_bytes`, with the definitions it reads.
+fn prelude(vector_bytes: usize) -> String {
+    use crate::compile::exec::math::TRIG_REDUCED_UP_TO;
+    format!(
+        "#define BLOCKS {BLOCKS}\n#define VBYTES {vector_bytes}\n#define DALL(x) {}\n#define TRIG_MAX {TRIG_REDUCED_UP_TO:?}\n{PRELUDE}",
+        all_lanes(vector_bytes / 8)
+    )
+}
+
 /// The C source of `code`'s four functions on vectors of `vector_bytes`
 /// (16, 32 or 64: the processor's vector registers, [`crate::compile::exec::lanes::Isa::vector_bytes`]).
 pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
@@ -865,20 +881,13 @@ pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
         matches!(vector_bytes, 16 | 32 | 64),
         "{vector_bytes}-byte vectors"
     );
-    let mut s = format!("#define BLOCKS {BLOCKS}\n#define VBYTES {vector_bytes}\n");
+    let mut s = prelude(vector_bytes);
     let f64_lanes = vector_bytes / 8;
-    // A splat as an initialiser, not a loop over the lanes: at -O2 GCC
-    // builds the loop's vector in memory and reloads it (a stalled
-    // store-to-load forward on every splat of a loop-varying value), which
-    // took the tensile event list 350 ns per 64 lanes instead of 133.
-    let all = |n: usize| vec!["x"; n].join(", ");
-    let _ = writeln!(s, "#define DALL(x) {}", all(f64_lanes));
-    s.push_str(PRELUDE);
     let lanes = match arith {
         Arith::F64 => f64_lanes,
         Arith::F32 => 2 * f64_lanes,
     };
-    let _ = writeln!(s, "#define VALL(x) {}", all(lanes));
+    let _ = writeln!(s, "#define VALL(x) {}", all_lanes(lanes));
     match arith {
         Arith::F64 => s.push_str(F64_LANES),
         Arith::F32 => {
@@ -1014,8 +1023,6 @@ mod tests {
     /// `DW`): the bits of the vector `sin`, `cos`, then the scalar ones.
     fn c_trig(xs: &[f64], vector_bytes: usize) -> Vec<[u64; 4]> {
         let dir = tempfile::tempdir().unwrap();
-        let lanes = vector_bytes / 8;
-        let all = vec!["x"; lanes].join(", ");
         let main = r#"#include <stdio.h>
 #include <string.h>
 int main(void) {
@@ -1032,9 +1039,7 @@ int main(void) {
   }
 }
 "#;
-        let src = format!(
-            "#define BLOCKS {BLOCKS}\n#define VBYTES {vector_bytes}\n#define DALL(x) {all}\n{PRELUDE}{main}"
-        );
+        let src = format!("{}{main}", prelude(vector_bytes));
         let (c, exe) = (dir.path().join("trig.c"), dir.path().join("trig"));
         std::fs::write(&c, src).unwrap();
         let built = std::process::Command::new(crate::compile::back::native::compiler())

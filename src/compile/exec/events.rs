@@ -287,21 +287,18 @@ impl<'p> EventStepper<'p> {
     /// redone there: the same operations in the same order, so the same
     /// bits and the same switches fired.
     pub fn step_ending_at(&mut self, t: f64, h: f64, y: &mut [f64], y_end: &[f64]) {
-        if let Some(nd) = self.native.as_mut().filter(|nd| nd.native.redoes())
-            && !self.chattered
+        if !self.chattered
+            && self.native.as_ref().is_some_and(|nd| nd.native.redoes())
+            && let Some(nd) = self.native_inputs(t, y)
         {
-            for (&m, &v) in nd.code.regimes.iter().zip(&self.regimes) {
-                nd.r[m as usize] = f64::from(v);
-            }
-            for (&m, &v) in nd.code.held.iter().zip(&self.held) {
-                nd.r[m as usize] = v;
-            }
             let mut times = [0.0; REDO_FIRED];
             let mut transitions = [0; REDO_FIRED];
             let done = nd
                 .native
                 .redo1(&mut nd.r, y, y_end, t, h, &mut times, &mut transitions)
                 .expect("a build that redoes");
+            // The regimes it switched, read back from its register file.
+            let nd = self.native.as_ref().expect("native code");
             for (&m, v) in nd.code.regimes.iter().zip(&mut self.regimes) {
                 *v = nd.r[m as usize] as u32;
             }

@@ -1,8 +1,9 @@
 //! The lane interpreter: register code ([`crate::compile::exec::lane_code`]) applied
 //! to every lane in blocks of [`W`] lanes (structure of arrays), so the compiler
 //! turns each instruction into a few vector instructions; RK4's stage sums and the
-//! event marks, lane by lane. `exp`/`expm1`/`ln`/`sin`/`cos` are
-//! [`crate::compile::exec::math`]'s branch-free forms, which vectorise too.
+//! event marks, lane by lane. `exp`/`expm1`/`ln` are
+//! [`crate::compile::exec::math`]'s branch-free forms, which vectorise too;
+//! `sin`/`cos` are its scalar forms, lane by lane.
 //!
 //! These loops are written once; [`super::isa`] builds them for each vector
 //! instruction set and picks one at run time.

@@ -1,10 +1,14 @@
-//! `eˣ`, `eˣ − 1`, `ln x`, `sin x` and `cos x` for the compiled rigs, written
-//! with `+`, `·`, `/`, comparisons and bit operations only, so a loop over
-//! lanes of candidates vectorises ([`crate::compile::exec::lanes`]) where a
-//! call into the C library's `exp`, `log` or `sin` does not (a power law's
-//! `|x|^β` is `exp(β·ln|x|)`: on the inertial rig the C library's `log`,
-//! called lane by lane, took 40 % of a CPU job; on the friction rig, whose
-//! sine drive's frequency is fitted, its `sin` took 43 %).
+//! `eˣ`, `eˣ − 1`, `ln x`, `sin x` and `cos x` for the compiled rigs, the
+//! same bits on every CPU path. `eˣ`, `eˣ − 1` and `ln` are written with `+`,
+//! `·`, `/`, comparisons and bit operations only, so a loop over lanes of
+//! candidates vectorises ([`crate::compile::exec::lanes`]) where a call into
+//! the C library's `exp` or `log` does not; `sin` and `cos` here take the
+//! branches one value needs, and the C lanes
+//! ([`crate::compile::back::c`]) a branch-free vector form with the same
+//! bits (a power law's `|x|^β` is `exp(β·ln|x|)`: on the inertial rig the C
+//! library's `log`, called lane by lane, took 40 % of a CPU job; on the
+//! friction rig, whose sine drive's frequency is fitted, its `sin` took
+//! 43 %).
 //!
 //! The scalar reference ([`crate::compile::ir::eval_op`]), the lane ensemble and the
 //! constant folder all call these, so every CPU path rounds alike. The algorithm
