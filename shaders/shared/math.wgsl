@@ -4,49 +4,53 @@
 // defined and lavapipe returns wrong values. Held against f64::ln, sin and cos
 // by tests/gpu_math_matches_std.rs.
 
-// ln x for x > 0 (a run's constants never reach here: the host evaluates them).
-// x = 2^k·m with |ln m| ≤ ln2/2 (k from an f32 log2 after scaling x into f32's
-// range), then ln m = 2·atanh(s), s = (m − 1)/(m + 1), |s| ≤ 0.172, by its series
-// to s^23 (truncation below 1e-17 relative).
+// One step of ln_r's scaling: (m, k) to (m·2^∓n, k ± n) where m ≥ 2^n or
+// m < 2^-n (up = 2^n and down = 2^-n, from the prelude: f32 cannot hold them).
+// Multiplications by powers of two are exact; selected, not branched: lavapipe
+// runs both sides of a branch, and a loop cost it more than these steps.
+fn ln_scale(mk: vec2<real>, n: real, up: real, down: real) -> vec2<real> {
+    let huge = mk.x >= up;
+    let tiny = mk.x < down;
+    let by = select(select(real(1.0), down, huge), up, tiny);
+    let dk = select(select(real(0.0), n, huge), -n, tiny);
+    return vec2<real>(mk.x * by, mk.y + dk);
+}
+
+// ln x for x > 0 (a run's constants never reach here: the host evaluates them),
+// as fdlibm's e_log.c: x = 2^k·m with m in [√2/2, √2), f = m − 1,
+// s = f/(2 + f), and ln m = f − f²/2 + s·(f²/2 + R(s²)) with fdlibm's minimax
+// R (|error| < 2^-58.45), its even and odd terms in two chains.
 fn ln_r(x: real) -> real {
     if EXP_NATIVE {
         return real(log(f32(x)));
     }
-    // Scale m into [1e-30, 1e30], where f32 holds it: by 2^±340 while beyond
-    // LN_COARSE = 1e150 (three times reach 1e±308; the prelude defines it, as
-    // f32 cannot hold it), then by 2^±100 (four times).
-    var m = x;
-    var k = real(0.0);
-    for (var i = 0u; i < 3u; i += 1u) {
-        let tiny = m < real(1.0) / LN_COARSE;
-        let huge = m > LN_COARSE;
-        m = select(select(m, ldexp(m, -340), huge), ldexp(m, 340), tiny);
-        k += select(select(real(0.0), real(340.0), huge), real(-340.0), tiny);
-    }
-    for (var i = 0u; i < 4u; i += 1u) {
-        let tiny = m < real(1e-30);
-        let huge = m > real(1e30);
-        m = select(select(m, ldexp(m, -100), huge), ldexp(m, 100), tiny);
-        k += select(select(real(0.0), real(100.0), huge), real(-100.0), tiny);
-    }
-    let e = floor(real(log2(f32(m))) + real(0.5));
-    m = ldexp(m, -i32(e));
-    k += e;
-    let s = (m - real(1.0)) / (m + real(1.0));
+    // x into [2^-114, 2^64], where f32 holds it as a normal number, by 2^±512,
+    // 2^±256, 2^±128 and 2^±64 where beyond each.
+    var mk = vec2<real>(x, real(0.0));
+    mk = ln_scale(mk, real(512.0), LN_2P512, real(1.0) / LN_2P512);
+    mk = ln_scale(mk, real(256.0), LN_2P256, real(1.0) / LN_2P256);
+    mk = ln_scale(mk, real(128.0), LN_2P128, real(1.0) / LN_2P128);
+    mk = ln_scale(mk, real(64.0), LN_2P64, real(1.0) / LN_2P64);
+    var m = mk.x;
+    var k = mk.y;
+    // m's exponent from f32's frexp (m's fraction in f64 lies in [0.5, 1),
+    // or at 1 where f32's rounding carried into the exponent), then the
+    // fraction taken into [√2/2, √2).
+    let e = frexp(f32(m)).exp;
+    m = ldexp(m, -e);
+    let low = m < real(0.70710678118654752440);
+    m = select(m, m * real(2.0), low);
+    k += real(e - select(0, 1, low));
+    let f = m - real(1.0);
+    let s = f / (real(2.0) + f);
     let z = s * s;
-    var p = real(1.0 / 23.0);
-    p = p * z + real(1.0 / 21.0);
-    p = p * z + real(1.0 / 19.0);
-    p = p * z + real(1.0 / 17.0);
-    p = p * z + real(1.0 / 15.0);
-    p = p * z + real(1.0 / 13.0);
-    p = p * z + real(1.0 / 11.0);
-    p = p * z + real(1.0 / 9.0);
-    p = p * z + real(1.0 / 7.0);
-    p = p * z + real(1.0 / 5.0);
-    p = p * z + real(1.0 / 3.0);
-    let lnm = real(2.0) * s + real(2.0) * s * z * p;
-    return k * EXP_LN2_HI + (k * EXP_LN2_LO + lnm);
+    let w = z * z;
+    let t1 = w * (real(3.999999999940941908e-01) + w * (real(2.222219843214978396e-01)
+        + w * real(1.531383769920937332e-01)));
+    let t2 = z * (real(6.666666666666735130e-01) + w * (real(2.857142874366239149e-01)
+        + w * (real(1.818357216161805012e-01) + w * real(1.479819860511658591e-01))));
+    let hfsq = real(0.5) * f * f;
+    return k * EXP_LN2_HI - ((hfsq - (s * (hfsq + (t2 + t1)) + k * EXP_LN2_LO)) - f);
 }
 
 // sin r and cos r on |r| ≤ π/4 (fdlibm's kernel polynomials).

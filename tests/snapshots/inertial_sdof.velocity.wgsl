@@ -25,7 +25,7 @@ struct RunConsts {
     k54: real,
     k55: real,
     k68: real,
-    k80: real,
+    k77: real,
 }
 
 struct RigReport {
@@ -49,7 +49,7 @@ fn rig_load(base: u32, ex: ExpInfo) -> RunConsts {
     kc.k54 = param(base, P_K54);
     kc.k55 = param(base, P_K55);
     kc.k68 = param(base, P_K68);
-    kc.k80 = param(base, P_K80);
+    kc.k77 = param(base, P_K77);
     return kc;
 }
 
@@ -153,20 +153,17 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     let v65 = select(v62, v64, v63 != real(0.0));
     let v66 = kc.k54 * v65;
     let v67 = v53 + v66;
-    let v70 = real(3e0) * v59;
-    let v71 = exp_r(v70);
-    let v72 = select(v71, real(0e0), v57 != real(0.0));
-    let v73 = -v72;
-    let v74 = select(v72, v73, v63 != real(0.0));
-    let v75 = kc.k68 * v74;
-    let v76 = real(0e0) - v40;
-    let v77 = v76 - v67;
-    let v78 = v77 - v75;
-    let v81 = v78 * kc.k80;
-    let v82 = v81 - v29;
+    let v70 = v4 * v56;
+    let v71 = v70 * v56;
+    let v72 = kc.k68 * v71;
+    let v73 = real(0e0) - v40;
+    let v74 = v73 - v67;
+    let v75 = v74 - v72;
+    let v78 = v75 * kc.k77;
+    let v79 = v78 - v29;
     var r: RigState;
     r.s0 = v4;
-    r.s1 = v82;
+    r.s1 = v79;
     return r;
 }
 
@@ -265,24 +262,21 @@ fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
     let v65 = select(v62, v64, v63 != real(0.0));
     let v66 = kc.k54 * v65;
     let v67 = v53 + v66;
-    let v70 = real(3e0) * v59;
-    let v71 = exp_r(v70);
-    let v72 = select(v71, real(0e0), v57 != real(0.0));
-    let v73 = -v72;
-    let v74 = select(v72, v73, v63 != real(0.0));
-    let v75 = kc.k68 * v74;
-    let v76 = real(0e0) - v40;
-    let v77 = v76 - v67;
-    let v78 = v77 - v75;
-    let v81 = v78 * kc.k80;
-    let v82 = v81 - v29;
-    let v83 = v40 + v67;
-    let v84 = v83 + v75;
+    let v70 = v4 * v56;
+    let v71 = v70 * v56;
+    let v72 = kc.k68 * v71;
+    let v73 = real(0e0) - v40;
+    let v74 = v73 - v67;
+    let v75 = v74 - v72;
+    let v78 = v75 * kc.k77;
+    let v79 = v78 - v29;
+    let v80 = v40 + v67;
+    let v81 = v80 + v72;
     var r: RigReport;
     r.v[0] = v3;
-    r.v[1] = v84;
+    r.v[1] = v81;
     r.v[2] = v4;
-    r.v[3] = v82;
+    r.v[3] = v79;
     r.v[4] = v3;
     r.v[5] = v4;
     return r;
