@@ -45,6 +45,23 @@ fn cpu_fitness_is_bit_identical_across_runs() {
     twice(&mut CpuEvaluator::new(problem, 0), &batch);
 }
 
+/// A batch scored while the native build started early runs (on one
+/// thread fewer, beside the compiler) scores as the same batch does once it
+/// is done, and as an evaluator that started no build.
+#[test]
+fn cpu_fitness_while_the_native_build_runs_is_bit_identical() {
+    let (problem, batch) = setup();
+    let mut plain = CpuEvaluator::new(problem.clone(), 2);
+    let want = plain.fitness(&batch).unwrap();
+    let mut early = CpuEvaluator::new(problem, 2);
+    early.prepare_soon();
+    let during = early.fitness(&batch).unwrap();
+    early.prepare();
+    let after = early.fitness(&batch).unwrap();
+    assert_eq!(bits(&during.values), bits(&want.values));
+    assert_eq!(bits(&after.values), bits(&want.values));
+}
+
 #[test]
 fn gpu_f32_fitness_is_bit_identical_across_runs() {
     let Some(ctx) = common::gpu() else { return };
