@@ -35,6 +35,11 @@ fn start(campaign: &Path, out: &Path, resume: bool) -> Child {
         .arg("--out")
         .arg(out)
         .args(["--threads", "1"])
+        // A cache folder of each output's own: a job does not load the
+        // native builds another kept, so each takes as long as the kills'
+        // timings assume (the polish's histories interpret until their
+        // build is done).
+        .env("RIGFIT_CACHE_DIR", out.with_extension("cache"))
         .stdout(Stdio::null())
         .stderr(Stdio::piped());
     if resume {

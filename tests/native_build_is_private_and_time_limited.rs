@@ -2,7 +2,9 @@
 //! under any umask) and named with a token no other process can guess, one
 //! left behind by a killed process is removed by the next build, and a C
 //! compiler that hangs is stopped after `RIGFIT_CC_TIMEOUT` seconds, the job
-//! finishing on the interpreted lanes.
+//! finishing on the interpreted lanes. A build is kept in the cache folder
+//! for the next process, which loads it only where it is still a private
+//! file of this user's.
 
 use std::os::unix::fs::PermissionsExt as _;
 use std::path::{Path, PathBuf};
@@ -164,5 +166,88 @@ fn a_hung_compiler_is_stopped_and_the_job_interprets() {
         stopped
     });
     assert!(gone, "the compiler's own process {} still runs", pid.trim());
+    assert_eq!(std::fs::read_dir(&tmp).unwrap().count(), 0);
+}
+
+/// What `result.json` says of the fit, without the timings.
+fn fitted(out: &Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(out.join("result.json")).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert!(v["params"].is_object(), "result.json has no params: {text}");
+    serde_json::json!([v["params"], v["fitness"]])
+}
+
+#[test]
+fn a_kept_build_is_loaded_by_the_next_job_only_while_it_is_private() {
+    use std::os::unix::fs::PermissionsExt as _;
+    let dir = tempfile::tempdir().unwrap();
+    let tmp = dir.path().join("tmp");
+    std::fs::create_dir(&tmp).unwrap();
+    let cache = dir.path().join("cache");
+    let builds = dir.path().join("builds.txt");
+    // A compiler wrapper that counts the library builds (not its
+    // questions: `-dM -E`).
+    let cc = script(
+        dir.path(),
+        "counting-cc",
+        &format!(
+            "case \" $* \" in *' -shared '*) echo build >> '{}';; esac\nexec cc \"$@\"",
+            builds.display()
+        ),
+    );
+    let env = [
+        ("RIGFIT_CC", cc.to_str().unwrap()),
+        ("RIGFIT_CACHE_DIR", cache.to_str().unwrap()),
+    ];
+    let count = || {
+        std::fs::read_to_string(&builds)
+            .unwrap_or_default()
+            .lines()
+            .count()
+    };
+    let run = |name: &str| {
+        let out = dir.path().join(name);
+        let o = job(&tmp, &out, &env);
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        fitted(&out)
+    };
+    let first = run("first");
+    let built = count();
+    assert!(built >= 1, "the first job built nothing");
+    let kept: Vec<PathBuf> = std::fs::read_dir(cache.join("native"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert_eq!(kept.len(), built, "{kept:?}");
+    let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+    assert_eq!(mode(&cache.join("native")), 0o700);
+    assert!(kept.iter().all(|k| mode(k) == 0o600), "{kept:?}");
+    // The next job loads what was kept and scores the same.
+    assert_eq!(run("second"), first);
+    assert_eq!(count(), built, "the second job built again");
+    // A kept build others may write is not loaded: built again, and kept
+    // private again.
+    for k in &kept {
+        std::fs::set_permissions(k, std::fs::Permissions::from_mode(0o666)).unwrap();
+    }
+    assert_eq!(run("third"), first);
+    assert_eq!(
+        count(),
+        2 * built,
+        "a kept build others may write was loaded"
+    );
+    assert!(kept.iter().all(|k| mode(k) == 0o600), "{kept:?}");
+    // Nor is a link planted in its place.
+    let elsewhere = dir.path().join("elsewhere.so");
+    std::fs::rename(&kept[0], &elsewhere).unwrap();
+    std::os::unix::fs::symlink(&elsewhere, &kept[0]).unwrap();
+    assert_eq!(run("fourth"), first);
+    assert_eq!(count(), 2 * built + 1, "a planted link was loaded");
+    assert!(std::fs::symlink_metadata(&kept[0]).unwrap().is_file());
     assert_eq!(std::fs::read_dir(&tmp).unwrap().count(), 0);
 }

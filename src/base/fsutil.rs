@@ -12,6 +12,21 @@ pub const MAX_DESCRIPTION_BYTES: u64 = 64 << 20;
 /// Most bytes a measured record (a CSV file) may hold (512 MiB).
 pub const MAX_RECORD_BYTES: u64 = 512 << 20;
 
+/// rigfit's cache folder: `RIGFIT_CACHE_DIR`, else `$XDG_CACHE_HOME/rigfit`,
+/// else `~/.cache/rigfit`; `None` when none of them is set. It holds what
+/// rigfit measured and built on this machine (the backend trials, the native
+/// lane builds), never a user's results.
+pub fn cache_dir() -> Option<PathBuf> {
+    let var = |k: &str| {
+        std::env::var_os(k)
+            .filter(|v| !v.is_empty())
+            .map(PathBuf::from)
+    };
+    var("RIGFIT_CACHE_DIR")
+        .or_else(|| var("XDG_CACHE_HOME").map(|d| d.join("rigfit")))
+        .or_else(|| var("HOME").map(|d| d.join(".cache").join("rigfit")))
+}
+
 /// Writes `bytes` to `path` so that a reader (or a crash) sees either the old file
 /// or the complete new one, never a torn mix.
 ///

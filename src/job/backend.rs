@@ -680,15 +680,7 @@ fn trial_candidates(population: usize, steps_per_candidate: f64, budget: f64) ->
 /// `$XDG_CACHE_HOME/rigfit`, else `~/.cache/rigfit`; the file
 /// `backend-trials.json`. `None` when none of them is set.
 pub fn cache_file() -> Option<PathBuf> {
-    let var = |k: &str| {
-        std::env::var_os(k)
-            .filter(|v| !v.is_empty())
-            .map(PathBuf::from)
-    };
-    let dir = var("RIGFIT_CACHE_DIR")
-        .or_else(|| var("XDG_CACHE_HOME").map(|d| d.join("rigfit")))
-        .or_else(|| var("HOME").map(|d| d.join(".cache").join("rigfit")))?;
-    Some(dir.join("backend-trials.json"))
+    Some(crate::base::fsutil::cache_dir()?.join("backend-trials.json"))
 }
 
 /// The cache key of a job: processor, adapters, campaign digest, precision,

@@ -3,4 +3,5 @@
 
 pub mod c;
 pub mod native;
+pub mod native_cache;
 pub mod wgsl;

@@ -17,8 +17,9 @@
 //! `RIGFIT_LANES_ISA` asks for a narrower one than the processor has), for at
 //! most `RIGFIT_CC_TIMEOUT` seconds
 //! ([`CC_TIMEOUT_S`] by default). One library per distinct source is built per
-//! process. Where no compiler works, or it takes too long, the ensemble
-//! interprets, and says why once.
+//! process, and kept for the next ([`super::native_cache`]). Where no
+//! compiler works, or it takes too long, the ensemble interprets, and says
+//! why once.
 
 use std::collections::HashMap;
 use std::ffi::c_long;
@@ -157,12 +158,37 @@ impl Native {
         }
         let started = std::time::Instant::now();
         let scratch = scratch_dir()?;
-        let result = compile_and_load(&scratch, &src, code, arith, isa);
+        // A build kept by an earlier process (`native_cache`), else one
+        // compiled here and kept for the next.
+        let key = kept_key(&scratch, &src, arith, isa);
+        let kept = key
+            .as_deref()
+            .and_then(super::native_cache::find)
+            .and_then(|bytes| match load_kept(&scratch, &bytes, code, arith) {
+                Ok(n) => Some(n),
+                Err(e) => {
+                    log::info!("{e}; building again");
+                    None
+                }
+            });
+        let how = if kept.is_some() {
+            "loaded as kept"
+        } else {
+            "built"
+        };
+        let result = match kept {
+            Some(n) => Ok(n),
+            None => compile_and_load(&scratch, &src, code, arith, isa).inspect(|_| {
+                if let Some(key) = &key {
+                    super::native_cache::keep(key, &scratch.path.join(LIB));
+                }
+            }),
+        };
         // Only the files written above are in it; the library stays mapped.
         let _ = std::fs::remove_dir_all(&scratch.path);
         let n = Arc::new(result?);
         log::info!(
-            "native lane code built ({arith:?}, {} registers, {}-byte vectors) in {:.2} s",
+            "native lane code {how} ({arith:?}, {} registers, {}-byte vectors) in {:.2} s",
             code.registers,
             isa.vector_bytes(),
             started.elapsed().as_secs_f64()
@@ -448,17 +474,23 @@ fn compiler_timeout() -> std::time::Duration {
 /// longer is stopped and the lanes interpret.
 pub const CC_TIMEOUT_S: f64 = 60.0;
 
-/// Runs `cmd` (its stderr into `log`) until it ends or `limit` passes; then
-/// stops it and everything it started. Its exit status, or why there is
-/// none.
+/// Runs `cmd` (its stderr into `log`, its stdout into `out` or nowhere)
+/// until it ends or `limit` passes; then stops it and everything it started.
+/// Its exit status, or why there is none.
 fn run_limited(
     mut cmd: Command,
     log: &Path,
+    out: Option<&Path>,
     limit: std::time::Duration,
 ) -> Result<std::process::ExitStatus, String> {
-    let err = std::fs::File::create(log).map_err(|e| format!("could not be run: {e}"))?;
+    let create = |p: &Path| std::fs::File::create(p).map_err(|e| format!("could not be run: {e}"));
+    let err = create(log)?;
+    let stdout = match out {
+        Some(p) => std::process::Stdio::from(create(p)?),
+        None => std::process::Stdio::null(),
+    };
     cmd.stdin(std::process::Stdio::null())
-        .stdout(std::process::Stdio::null())
+        .stdout(stdout)
         .stderr(err);
     #[cfg(unix)]
     std::os::unix::process::CommandExt::process_group(&mut cmd, 0);
@@ -494,9 +526,91 @@ fn run_limited(
     }
 }
 
+/// The library's file name in a build directory.
+const LIB: &str = "lanes.so";
+
+/// The compiler's flags for `arith` on `isa`, before the output and source.
+fn flags(arith: Arith, isa: Isa) -> Vec<&'static str> {
+    let mut f = vec!["-O2", "-march=native"];
+    f.extend_from_slice(isa.narrowing_flags());
+    f.push(match arith {
+        Arith::F64 => "-ffp-contract=off",
+        Arith::F32 => "-ffp-contract=fast",
+    });
+    f.extend_from_slice(&["-fPIC", "-shared", "-w"]);
+    f
+}
+
+/// The text a kept build of `src` is found by ([`super::native_cache`]): the
+/// compiler, its flags, what it predefines for this processor with them (its
+/// version and the instruction-set extensions `-march=native` enables), and
+/// the source. The compiler is asked once per process and flags; `None`
+/// where it will not say (a compiler that fails, or takes longer than a
+/// build may), and nothing is kept or taken.
+fn kept_key(scratch: &Scratch, src: &str, arith: Arith, isa: Isa) -> Option<String> {
+    type Asked = HashMap<(String, Vec<&'static str>), Option<String>>;
+    static SAID: Mutex<Option<Asked>> = Mutex::new(None);
+    super::native_cache::folder()?;
+    let cc = compiler();
+    let mut probe: Vec<&'static str> = flags(arith, isa);
+    probe.retain(|f| *f != "-shared");
+    let mut said = SAID.lock().unwrap_or_else(|e| e.into_inner());
+    let said = said.get_or_insert_with(HashMap::new);
+    let target = said
+        .entry((cc.clone(), probe.clone()))
+        .or_insert_with(|| {
+            let out = scratch.path.join("target.txt");
+            let mut cmd = Command::new(&cc);
+            cmd.args(&probe).args(["-dM", "-E", "-x", "c", "/dev/null"]);
+            let status = run_limited(
+                cmd,
+                &scratch.path.join("probe.log"),
+                Some(&out),
+                compiler_timeout(),
+            );
+            match status {
+                Ok(s) if s.success() => std::fs::read_to_string(&out).ok(),
+                _ => None,
+            }
+        })
+        .clone()?;
+    Some(format!("{cc}\n{:?}\n{target}\n{src}", flags(arith, isa)))
+}
+
+/// Loads a kept build's `bytes` as a library just built: written into
+/// `scratch` (a new private file, under a name of its own, so that a build
+/// that follows where it fails to load is not taken for it by the loader)
+/// and checked there before it is loaded.
+fn load_kept(
+    scratch: &Scratch,
+    bytes: &[u8],
+    code: &LaneCode,
+    arith: Arith,
+) -> Result<Native, NativeError> {
+    use std::io::Write as _;
+    let lib = scratch.path.join("kept.so");
+    let mut options = std::fs::OpenOptions::new();
+    options.write(true).create_new(true);
+    #[cfg(unix)]
+    std::os::unix::fs::OpenOptionsExt::mode(&mut options, 0o700);
+    options
+        .open(&lib)
+        .and_then(|mut f| f.write_all(bytes))
+        .map_err(|source| NativeError::Io {
+            what: "writing",
+            path: lib.clone(),
+            source,
+        })?;
+    check_before_loading(scratch, &lib).map_err(|source| NativeError::Io {
+        what: "checking",
+        path: lib.clone(),
+        source,
+    })?;
+    load(&lib, code, arith)
+}
+
 /// Builds `src` (the C of `code` in `arith`) in `scratch` and loads its
 /// functions.
-#[expect(unsafe_code, reason = "loads the library just built and its functions")]
 fn compile_and_load(
     scratch: &Scratch,
     src: &str,
@@ -506,7 +620,7 @@ fn compile_and_load(
 ) -> Result<Native, NativeError> {
     let dir = &scratch.path;
     let c = dir.join("lanes.c");
-    let lib = dir.join("lanes.so");
+    let lib = dir.join(LIB);
     let io = |what, path: &Path| {
         let path = path.to_path_buf();
         move |source| NativeError::Io { what, path, source }
@@ -519,19 +633,14 @@ fn compile_and_load(
         .map_err(io("writing", &c))?;
     let cc = compiler();
     let mut cmd = Command::new(&cc);
-    cmd.args(["-O2", "-march=native"])
-        .args(isa.narrowing_flags())
-        .arg(match arith {
-            Arith::F64 => "-ffp-contract=off",
-            Arith::F32 => "-ffp-contract=fast",
-        })
-        .args(["-fPIC", "-shared", "-w", "-o"])
+    cmd.args(flags(arith, isa))
+        .arg("-o")
         .arg(&lib)
         .arg(&c)
         .arg("-lm");
     let log = dir.join("cc.log");
     let status =
-        run_limited(cmd, &log, compiler_timeout()).map_err(|why| NativeError::Compiler {
+        run_limited(cmd, &log, None, compiler_timeout()).map_err(|why| NativeError::Compiler {
             cc: cc.clone(),
             why,
         })?;
@@ -544,14 +653,23 @@ fn compile_and_load(
         });
     }
     check_before_loading(scratch, &lib).map_err(io("checking", &lib))?;
+    load(&lib, code, arith)
+}
+
+/// Loads the functions of `lib`, the build of `code` in `arith` (checked by
+/// [`check_before_loading`]).
+#[expect(unsafe_code, reason = "loads the library built and its functions")]
+fn load(lib: &Path, code: &LaneCode, arith: Arith) -> Result<Native, NativeError> {
     let load_err = |source| NativeError::Load {
-        path: lib.clone(),
+        path: lib.to_path_buf(),
         source,
     };
-    // SAFETY: the library is the C just written, which has no initialisers;
-    // each symbol is declared with the signature `native_c` writes for it.
+    // SAFETY: the library is the C `code` was written as (built here, or
+    // kept from a build of the same source by the same compiler), which has
+    // no initialisers; each symbol is declared with the signature `native_c`
+    // writes for it.
     unsafe {
-        let l = libloading::Library::new(&lib).map_err(load_err)?;
+        let l = libloading::Library::new(lib).map_err(load_err)?;
         let rk4: Rk4Fn = *l.get::<Rk4Fn>(b"rig_rk4\0").map_err(load_err)?;
         let list = |name: &[u8]| l.get::<ListFn>(name).map(|f| *f).map_err(load_err);
         let lists = [
