@@ -15,9 +15,11 @@
 //! its bytes then go into the build's own private folder and are loaded
 //! from there, as a library just compiled is, so what was checked is what is
 //! loaded. It is kept by writing a private temporary file (mode 0600) and
-//! renaming it into place, in a folder of mode 0700 (a temporary file left
-//! by a process killed meanwhile is swept by the next that keeps a build).
-//! Linux only; elsewhere every process builds its own.
+//! renaming it into place, in a folder of mode 0700; builds are read from
+//! and written into that folder only while it is a plain folder of the
+//! user's that nobody else may write. A temporary file left by a process
+//! killed meanwhile is swept by the next that keeps a build. Linux only;
+//! elsewhere every process builds its own.
 
 use std::path::{Path, PathBuf};
 
@@ -46,12 +48,15 @@ pub fn file_name(key: &str) -> String {
 #[cfg(target_os = "linux")]
 pub fn find(key: &str) -> Option<Vec<u8>> {
     use std::io::Read as _;
-    let path = folder()?.join(file_name(key));
-    let read = checked_open(&path).and_then(|mut f| {
-        let mut bytes = Vec::new();
-        f.read_to_end(&mut bytes)?;
-        Ok(bytes)
-    });
+    let dir = folder()?;
+    let path = dir.join(file_name(key));
+    let read = private_dir(&dir)
+        .and_then(|()| checked_open(&path))
+        .and_then(|mut f| {
+            let mut bytes = Vec::new();
+            f.read_to_end(&mut bytes)?;
+            Ok(bytes)
+        });
     match read {
         Ok(bytes) => Some(bytes),
         Err(e) => {
@@ -67,6 +72,26 @@ pub fn find(key: &str) -> Option<Vec<u8>> {
 #[cfg(not(target_os = "linux"))]
 pub fn find(_key: &str) -> Option<Vec<u8>> {
     None
+}
+
+/// Whether `dir` is a folder (not a link to one) of this process's user that
+/// nobody else may write: the only kind kept builds are read from or written
+/// into.
+#[cfg(target_os = "linux")]
+fn private_dir(dir: &Path) -> std::io::Result<()> {
+    use std::os::unix::fs::MetadataExt as _;
+    let meta = std::fs::symlink_metadata(dir)?;
+    let refuse = |why: &str| Err(std::io::Error::other(format!("{}: {why}", dir.display())));
+    if !meta.is_dir() {
+        return refuse("not a folder");
+    }
+    if meta.uid() != rustix::process::geteuid().as_raw() {
+        return refuse("owned by another user");
+    }
+    if meta.mode() & 0o022 != 0 {
+        return refuse("writable by others");
+    }
+    Ok(())
 }
 
 /// `path` opened without following a link at it, if it is a plain file
@@ -123,6 +148,7 @@ fn keep_in(dir: &Path, name: &str, lib: &Path) -> std::io::Result<()> {
         Err(e) if e.kind() != std::io::ErrorKind::AlreadyExists => return Err(e),
         _ => {}
     }
+    private_dir(dir)?;
     static SWEPT: std::sync::Once = std::sync::Once::new();
     SWEPT.call_once(|| sweep_temporaries(dir));
     let bytes = std::fs::read(lib)?;
@@ -241,5 +267,17 @@ mod tests {
         }
         sweep_temporaries(&kept);
         assert!(!gone.exists() && live.exists() && other.exists());
+        // A folder others may write, or a link planted in the folder's place,
+        // is neither written into nor read from.
+        std::fs::set_permissions(&kept, std::fs::Permissions::from_mode(0o777)).unwrap();
+        assert!(keep_in(&kept, "lanes-y.so", &lib).is_err());
+        assert!(!kept.join("lanes-y.so").exists());
+        assert!(private_dir(&kept).is_err());
+        std::fs::set_permissions(&kept, std::fs::Permissions::from_mode(0o700)).unwrap();
+        let planted = dir.path().join("planted");
+        std::os::unix::fs::symlink(&kept, &planted).unwrap();
+        assert!(keep_in(&planted, "lanes-z.so", &lib).is_err());
+        assert!(!kept.join("lanes-z.so").exists());
+        assert!(private_dir(&planted).is_err());
     }
 }
