@@ -24,8 +24,12 @@
 use std::path::{Path, PathBuf};
 
 /// The folder kept builds go in, under rigfit's cache folder; `None` where
-/// no cache folder is set.
+/// no cache folder is set, and off Linux (nothing is kept there, and the
+/// compiler is not asked for a key).
 pub fn folder() -> Option<PathBuf> {
+    if !cfg!(target_os = "linux") {
+        return None;
+    }
     crate::base::fsutil::cache_dir().map(|d| d.join("native"))
 }
 
@@ -79,19 +83,30 @@ pub fn find(_key: &str) -> Option<Vec<u8>> {
 /// into.
 #[cfg(target_os = "linux")]
 fn private_dir(dir: &Path) -> std::io::Result<()> {
-    use std::os::unix::fs::MetadataExt as _;
     let meta = std::fs::symlink_metadata(dir)?;
-    let refuse = |why: &str| Err(std::io::Error::other(format!("{}: {why}", dir.display())));
-    if !meta.is_dir() {
-        return refuse("not a folder");
+    let why = if meta.is_dir() {
+        not_private(&meta)
+    } else {
+        Some("not a folder")
+    };
+    match why {
+        Some(why) => Err(std::io::Error::other(format!("{}: {why}", dir.display()))),
+        None => Ok(()),
     }
+}
+
+/// Why what `meta` describes is not this process's user's alone to write:
+/// another user's, or writable by group or others; `None` where it is.
+#[cfg(target_os = "linux")]
+fn not_private(meta: &std::fs::Metadata) -> Option<&'static str> {
+    use std::os::unix::fs::MetadataExt as _;
     if meta.uid() != rustix::process::geteuid().as_raw() {
-        return refuse("owned by another user");
+        Some("owned by another user")
+    } else if meta.mode() & 0o022 != 0 {
+        Some("writable by others")
+    } else {
+        None
     }
-    if meta.mode() & 0o022 != 0 {
-        return refuse("writable by others");
-    }
-    Ok(())
 }
 
 /// `path` opened without following a link at it, if it is a plain file
@@ -105,20 +120,17 @@ pub fn checked_open(path: &Path) -> std::io::Result<std::fs::File> {
         .custom_flags(rustix::fs::OFlags::NOFOLLOW.bits() as i32)
         .open(path)?;
     let meta = file.metadata()?;
-    let refuse = |why: &str| Err(std::io::Error::other(why.to_string()));
-    if !meta.is_file() {
-        return refuse("not a plain file");
+    let why = if !meta.is_file() {
+        Some("not a plain file")
+    } else if meta.nlink() != 1 {
+        Some("linked elsewhere too")
+    } else {
+        not_private(&meta)
+    };
+    match why {
+        Some(why) => Err(std::io::Error::other(why)),
+        None => Ok(file),
     }
-    if meta.uid() != rustix::process::geteuid().as_raw() {
-        return refuse("owned by another user");
-    }
-    if meta.mode() & 0o022 != 0 {
-        return refuse("writable by others");
-    }
-    if meta.nlink() != 1 {
-        return refuse("linked elsewhere too");
-    }
-    Ok(file)
 }
 
 /// Keeps the library at `lib` (just built and loaded) as the build for
