@@ -49,8 +49,20 @@ pub fn cache_dir() -> Option<PathBuf> {
 /// assert_eq!(std::fs::read(&path).unwrap(), b"hello");
 /// ```
 pub fn atomic_write(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    atomic_write_mode(path, bytes, 0o666)
+}
+
+/// [`atomic_write`] of a file its owner alone may read and write (mode
+/// 0600 on Unix, created so: never readable by others, even for a moment).
+pub fn atomic_write_private(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    atomic_write_mode(path, bytes, 0o600)
+}
+
+/// [`atomic_write`], the temporary file created with `mode` (less the
+/// umask) on Unix.
+fn atomic_write_mode(path: &Path, bytes: &[u8], mode: u32) -> io::Result<()> {
     let tmp = temp_path_for(path)?;
-    let mut file = create_exclusive(&tmp)?;
+    let mut file = create_exclusive(&tmp, mode)?;
     let result = write_synced(&mut file, bytes).and_then(|()| fs::rename(&tmp, path));
     if let Err(e) = result {
         // The temporary file is the one created above, never someone else's.
@@ -98,14 +110,18 @@ pub fn is_temp_name_of(name: &str, base: &str) -> bool {
 
 /// Creates `path` for writing, failing when anything (a link included) is
 /// there.
-fn create_exclusive(path: &Path) -> io::Result<File> {
+fn create_exclusive(path: &Path, mode: u32) -> io::Result<File> {
     let mut options = OpenOptions::new();
     options.write(true).create_new(true);
     #[cfg(unix)]
     {
         use std::os::unix::fs::OpenOptionsExt as _;
-        options.custom_flags(rustix::fs::OFlags::NOFOLLOW.bits() as i32);
+        options
+            .mode(mode)
+            .custom_flags(rustix::fs::OFlags::NOFOLLOW.bits() as i32);
     }
+    #[cfg(not(unix))]
+    let _ = mode;
     options.open(path)
 }
 

@@ -587,26 +587,26 @@ fn load_kept(
     code: &LaneCode,
     arith: Arith,
 ) -> Result<Native, NativeError> {
-    use std::io::Write as _;
     let lib = scratch.path.join("kept.so");
-    let mut options = std::fs::OpenOptions::new();
-    options.write(true).create_new(true);
-    #[cfg(unix)]
-    std::os::unix::fs::OpenOptionsExt::mode(&mut options, 0o700);
-    options
-        .open(&lib)
-        .and_then(|mut f| f.write_all(bytes))
-        .map_err(|source| NativeError::Io {
-            what: "writing",
-            path: lib.clone(),
-            source,
-        })?;
-    check_before_loading(scratch, &lib).map_err(|source| NativeError::Io {
-        what: "checking",
-        path: lib.clone(),
-        source,
-    })?;
+    write_new(&lib, bytes).map_err(io("writing", &lib))?;
+    check_before_loading(scratch, &lib).map_err(io("checking", &lib))?;
     load(&lib, code, arith)
+}
+
+/// [`NativeError::Io`] of `what` was done to `path`, from its cause.
+fn io(what: &'static str, path: &Path) -> impl FnOnce(std::io::Error) -> NativeError {
+    let path = path.to_path_buf();
+    move |source| NativeError::Io { what, path, source }
+}
+
+/// Writes `bytes` into a new file at `path` (failing where anything is
+/// there already).
+fn write_new(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(path)
+        .and_then(|mut f| std::io::Write::write_all(&mut f, bytes))
 }
 
 /// Builds `src` (the C of `code` in `arith`) in `scratch` and loads its
@@ -621,16 +621,7 @@ fn compile_and_load(
     let dir = &scratch.path;
     let c = dir.join("lanes.c");
     let lib = dir.join(LIB);
-    let io = |what, path: &Path| {
-        let path = path.to_path_buf();
-        move |source| NativeError::Io { what, path, source }
-    };
-    std::fs::OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .open(&c)
-        .and_then(|mut f| std::io::Write::write_all(&mut f, src.as_bytes()))
-        .map_err(io("writing", &c))?;
+    write_new(&c, src.as_bytes()).map_err(io("writing", &c))?;
     let cc = compiler();
     let mut cmd = Command::new(&cc);
     cmd.args(flags(arith, isa))

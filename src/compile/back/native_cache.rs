@@ -151,8 +151,7 @@ pub fn keep(_key: &str, _lib: &Path) {}
 
 #[cfg(target_os = "linux")]
 fn keep_in(dir: &Path, name: &str, lib: &Path) -> std::io::Result<()> {
-    use std::io::Write as _;
-    use std::os::unix::fs::{DirBuilderExt as _, OpenOptionsExt as _};
+    use std::os::unix::fs::DirBuilderExt as _;
     if let Some(parent) = dir.parent() {
         std::fs::create_dir_all(parent)?;
     }
@@ -164,24 +163,7 @@ fn keep_in(dir: &Path, name: &str, lib: &Path) -> std::io::Result<()> {
     static SWEPT: std::sync::Once = std::sync::Once::new();
     SWEPT.call_once(|| sweep_temporaries(dir));
     let bytes = std::fs::read(lib)?;
-    let path = dir.join(name);
-    let tmp = crate::base::fsutil::temp_path_for(&path)?;
-    let written = std::fs::OpenOptions::new()
-        .write(true)
-        .create_new(true)
-        .mode(0o600)
-        .custom_flags(rustix::fs::OFlags::NOFOLLOW.bits() as i32)
-        .open(&tmp)
-        .and_then(|mut f| {
-            f.write_all(&bytes)?;
-            f.sync_all()
-        })
-        .and_then(|()| std::fs::rename(&tmp, &path));
-    if written.is_err() {
-        // The temporary file is the one created above, never another's.
-        let _ = std::fs::remove_file(&tmp);
-    }
-    written
+    crate::base::fsutil::atomic_write_private(&dir.join(name), &bytes)
 }
 
 /// Removes the temporary files of `dir` that a process killed while keeping
