@@ -162,14 +162,13 @@ F void split(v x, d *lo, d *hi) {
 }
 #define LD(A, i) join(((d *)&(A)[(i) * BLOCKS])[2 * q], ((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 #define ST(A, i, x) split((x), &((d *)&(A)[(i) * BLOCKS])[2 * q], &((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
-/* A per-run constant's row holds its lanes as f32, packed at its start. */
-#define LDC(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
-/* Row i of A copied into B as stored: the step's start kept for a redone
-   step, without rounding to f32 and back (a tenth of the step's work on
-   the tensile rig). The lanes read it as f32 all the same; a redone step
-   run in f64 starts from the row as it was stored. */
-#define KEEP(B, A, i) (((d *)&(B)[(i) * BLOCKS])[2 * q] = ((d *)&(A)[(i) * BLOCKS])[2 * q], \
-                       ((d *)&(B)[(i) * BLOCKS])[2 * q + 1] = ((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
+/* A per-run constant's row and a state's hold their lanes as f32, packed at
+   the row's start: read and written without rounding from f64 and back (a
+   fifth of the tensile rig's step where the states were f64 rows). */
+#define LDP(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
+#define STP(A, i, x) (((v *)&(A)[(i) * BLOCKS])[q] = (x))
+/* State row i of A copied into B: the step's start kept for a redone step. */
+#define KEEP(B, A, i) (((v *)&(B)[(i) * BLOCKS])[q] = ((v *)&(A)[(i) * BLOCKS])[q])
 F v fsplat(float x) { return (v){VALL(x)}; }
 /* ln, sin and cos in f64 on each half, rounded once. */
 F v vlog(v x) { d lo, hi; split(x, &lo, &hi); return join(dlog(lo), dlog(hi)); }
@@ -230,15 +229,16 @@ F unsigned long long lanebits(m k) {
 void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist, unsigned char *hit) {
   const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);
   unsigned long long hits = 0;
+  m kor = (m){0}, ks[(BLOCKS * 8 + WV - 1) / WV];
   if (hoist) {
   const long q = 0;
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26;
     (void)r0;
-    r7 = LDC(R, 7);
-    r8 = LDC(R, 8);
-    r10 = LDC(R, 10);
-    r12 = LDC(R, 12);
-    r20 = LDC(R, 20);
+    r7 = LDP(R, 7);
+    r8 = LDP(R, 8);
+    r10 = LDP(R, 10);
+    r12 = LDP(R, 12);
+    r20 = LDP(R, 20);
     r4 = splat(tt[0]);
     r21 = r4 - r7;
     v u0_0 = r21;
@@ -281,25 +281,25 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26;
     (void)r0;
     v y0, a0, y1, a1, y2, a2, y3, a3;
-    r7 = LDC(R, 7);
-    r8 = LDC(R, 8);
+    r7 = LDP(R, 7);
+    r8 = LDP(R, 8);
     r5 = LD(R, 5);
-    r9 = LDC(R, 9);
-    r10 = LDC(R, 10);
-    r11 = LDC(R, 11);
+    r9 = LDP(R, 9);
+    r10 = LDP(R, 10);
+    r11 = LDP(R, 11);
     r6 = LD(R, 6);
-    r12 = LDC(R, 12);
-    r13 = LDC(R, 13);
-    r14 = LDC(R, 14);
-    r15 = LDC(R, 15);
-    r16 = LDC(R, 16);
-    r17 = LDC(R, 17);
-    r18 = LDC(R, 18);
-    r19 = LDC(R, 19);
-    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
-    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
-    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
-    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
+    r12 = LDP(R, 12);
+    r13 = LDP(R, 13);
+    r14 = LDP(R, 14);
+    r15 = LDP(R, 15);
+    r16 = LDP(R, 16);
+    r17 = LDP(R, 17);
+    r18 = LDP(R, 18);
+    r19 = LDP(R, 19);
+    y0 = LDP(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LDP(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LDP(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LDP(R, 3); KEEP(Y, R, 3); r3 = y3;
     r4 = splat(tt[0]);
     r21 = u0_0;
     r21 = u0_1;
@@ -428,24 +428,23 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r1 = y1 + H6 * (a1 + r3);
     r2 = y2 + H6 * (a2 + r24);
     r3 = y3 + H6 * (a3 + r25);
-    ST(R, 0, r0);
-    ST(R, 1, r1);
-    ST(R, 2, r2);
-    ST(R, 3, r3);
+    STP(R, 0, r0);
+    STP(R, 1, r1);
+    STP(R, 2, r2);
+    STP(R, 3, r3);
     /* the event functions at the step's end */
     r4 = splat(tt[3]);
-    r20 = LDC(R, 20);
+    r20 = LDP(R, 20);
     r21 = e_0;
     r22 = e_1;
-    ST(R, 21, r21);
-    ST(R, 22, r22);
     m k = (m){0};
     k |= (r5 == splat(0.0)) & (r21 >= splat(0.0));
     k |= (r5 == splat(1.0)) & (r22 >= splat(0.0));
     k |= (r6 == splat(0.0)) & (r21 >= splat(0.0));
     k |= (r6 == splat(1.0)) & (r22 >= splat(0.0));
-    hits |= lanebits(k) << (q * WV);
+    ks[q] = k; kor |= k;
   }
+  if (lanebits(kor)) for (long q = 0; q < NQ(nb); q++) hits |= lanebits(ks[q]) << (q * WV);
   if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
   for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
   return;
@@ -454,25 +453,25 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26;
     (void)r0;
     v y0, a0, y1, a1, y2, a2, y3, a3;
-    r7 = LDC(R, 7);
-    r8 = LDC(R, 8);
+    r7 = LDP(R, 7);
+    r8 = LDP(R, 8);
     r5 = LD(R, 5);
-    r9 = LDC(R, 9);
-    r10 = LDC(R, 10);
-    r11 = LDC(R, 11);
+    r9 = LDP(R, 9);
+    r10 = LDP(R, 10);
+    r11 = LDP(R, 11);
     r6 = LD(R, 6);
-    r12 = LDC(R, 12);
-    r13 = LDC(R, 13);
-    r14 = LDC(R, 14);
-    r15 = LDC(R, 15);
-    r16 = LDC(R, 16);
-    r17 = LDC(R, 17);
-    r18 = LDC(R, 18);
-    r19 = LDC(R, 19);
-    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
-    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
-    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
-    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
+    r12 = LDP(R, 12);
+    r13 = LDP(R, 13);
+    r14 = LDP(R, 14);
+    r15 = LDP(R, 15);
+    r16 = LDP(R, 16);
+    r17 = LDP(R, 17);
+    r18 = LDP(R, 18);
+    r19 = LDP(R, 19);
+    y0 = LDP(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LDP(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LDP(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LDP(R, 3); KEEP(Y, R, 3); r3 = y3;
     r4 = splat(tt[0]);
     r21 = r4 - r7;
     r21 = r8 * r21;
@@ -601,24 +600,23 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r1 = y1 + H6 * (a1 + r3);
     r2 = y2 + H6 * (a2 + r24);
     r3 = y3 + H6 * (a3 + r25);
-    ST(R, 0, r0);
-    ST(R, 1, r1);
-    ST(R, 2, r2);
-    ST(R, 3, r3);
+    STP(R, 0, r0);
+    STP(R, 1, r1);
+    STP(R, 2, r2);
+    STP(R, 3, r3);
     /* the event functions at the step's end */
     r4 = splat(tt[3]);
-    r20 = LDC(R, 20);
+    r20 = LDP(R, 20);
     r21 = r4 - r7;
     r22 = r21 - r20;
-    ST(R, 21, r21);
-    ST(R, 22, r22);
     m k = (m){0};
     k |= (r5 == splat(0.0)) & (r21 >= splat(0.0));
     k |= (r5 == splat(1.0)) & (r22 >= splat(0.0));
     k |= (r6 == splat(0.0)) & (r21 >= splat(0.0));
     k |= (r6 == splat(1.0)) & (r22 >= splat(0.0));
-    hits |= lanebits(k) << (q * WV);
+    ks[q] = k; kor |= k;
   }
+  if (lanebits(kor)) for (long q = 0; q < NQ(nb); q++) hits |= lanebits(ks[q]) << (q * WV);
   if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
   for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
 }
@@ -833,24 +831,24 @@ void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26;
     (void)r0;
-    r0 = LD(R, 0);
-    r1 = LD(R, 1);
-    r2 = LD(R, 2);
-    r3 = LD(R, 3);
-    ST(R, 0, r0);
-    ST(R, 1, r1);
-    ST(R, 0, r0);
-    ST(R, 1, r1);
-    ST(R, 2, r2);
-    ST(R, 3, r3);
+    r0 = LDP(R, 0);
+    r1 = LDP(R, 1);
+    r2 = LDP(R, 2);
+    r3 = LDP(R, 3);
+    STP(R, 0, r0);
+    STP(R, 1, r1);
+    STP(R, 0, r0);
+    STP(R, 1, r1);
+    STP(R, 2, r2);
+    STP(R, 3, r3);
   }
 }
 void rig_measured(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26;
     (void)r0;
-    r0 = LD(R, 0);
-    ST(R, 0, r0);
+    r0 = LDP(R, 0);
+    STP(R, 0, r0);
   }
 }
 void rig_update(blk *restrict R, long nb, double t, const double *tab) {

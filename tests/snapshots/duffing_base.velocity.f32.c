@@ -162,14 +162,13 @@ F void split(v x, d *lo, d *hi) {
 }
 #define LD(A, i) join(((d *)&(A)[(i) * BLOCKS])[2 * q], ((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 #define ST(A, i, x) split((x), &((d *)&(A)[(i) * BLOCKS])[2 * q], &((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
-/* A per-run constant's row holds its lanes as f32, packed at its start. */
-#define LDC(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
-/* Row i of A copied into B as stored: the step's start kept for a redone
-   step, without rounding to f32 and back (a tenth of the step's work on
-   the tensile rig). The lanes read it as f32 all the same; a redone step
-   run in f64 starts from the row as it was stored. */
-#define KEEP(B, A, i) (((d *)&(B)[(i) * BLOCKS])[2 * q] = ((d *)&(A)[(i) * BLOCKS])[2 * q], \
-                       ((d *)&(B)[(i) * BLOCKS])[2 * q + 1] = ((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
+/* A per-run constant's row and a state's hold their lanes as f32, packed at
+   the row's start: read and written without rounding from f64 and back (a
+   fifth of the tensile rig's step where the states were f64 rows). */
+#define LDP(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
+#define STP(A, i, x) (((v *)&(A)[(i) * BLOCKS])[q] = (x))
+/* State row i of A copied into B: the step's start kept for a redone step. */
+#define KEEP(B, A, i) (((v *)&(B)[(i) * BLOCKS])[q] = ((v *)&(A)[(i) * BLOCKS])[q])
 F v fsplat(float x) { return (v){VALL(x)}; }
 /* ln, sin and cos in f64 on each half, rounded once. */
 F v vlog(v x) { d lo, hi; split(x, &lo, &hi); return join(dlog(lo), dlog(hi)); }
@@ -230,17 +229,18 @@ F unsigned long long lanebits(m k) {
 void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist, unsigned char *hit) {
   const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);
   unsigned long long hits = 0;
+  m kor = (m){0}, ks[(BLOCKS * 8 + WV - 1) / WV];
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11;
     (void)r0;
     v y0, a0, y1, a1;
-    r4 = LDC(R, 4);
-    r5 = LDC(R, 5);
-    r6 = LDC(R, 6);
-    r7 = LDC(R, 7);
-    r8 = LDC(R, 8);
-    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
-    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    r4 = LDP(R, 4);
+    r5 = LDP(R, 5);
+    r6 = LDP(R, 6);
+    r7 = LDP(R, 7);
+    r8 = LDP(R, 8);
+    y0 = LDP(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LDP(R, 1); KEEP(Y, R, 1); r1 = y1;
     r3 = splat(tab[0 + 0]);
     r9 = r4 - r0;
     r10 = r4 - r1;
@@ -293,9 +293,10 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r10 = r10 - r3;
     r0 = y0 + H6 * (a0 + r1);
     r1 = y1 + H6 * (a1 + r10);
-    ST(R, 0, r0);
-    ST(R, 1, r1);
+    STP(R, 0, r0);
+    STP(R, 1, r1);
   }
+  if (lanebits(kor)) for (long q = 0; q < NQ(nb); q++) hits |= lanebits(ks[q]) << (q * WV);
   if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
   for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
 }
@@ -346,12 +347,12 @@ void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11;
     (void)r0;
-    r4 = LDC(R, 4);
-    r0 = LD(R, 0);
-    r1 = LD(R, 1);
-    r5 = LDC(R, 5);
-    r6 = LDC(R, 6);
-    r7 = LDC(R, 7);
+    r4 = LDP(R, 4);
+    r0 = LDP(R, 0);
+    r1 = LDP(R, 1);
+    r5 = LDP(R, 5);
+    r6 = LDP(R, 6);
+    r7 = LDP(R, 7);
     r9 = r4 - r0;
     r10 = r4 - r1;
     r11 = r5 * r9;
@@ -360,18 +361,18 @@ void rig_report(blk *restrict R, long nb, double t, const double *tab) {
     r11 = r11 * r9;
     r10 = r7 * r10;
     r10 = r11 + r10;
-    ST(R, 0, r0);
+    STP(R, 0, r0);
     ST(R, 10, r10);
-    ST(R, 0, r0);
-    ST(R, 1, r1);
+    STP(R, 0, r0);
+    STP(R, 1, r1);
   }
 }
 void rig_measured(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11;
     (void)r0;
-    r0 = LD(R, 0);
-    ST(R, 0, r0);
+    r0 = LDP(R, 0);
+    STP(R, 0, r0);
   }
 }
 void rig_update(blk *restrict R, long nb, double t, const double *tab) {

@@ -149,7 +149,8 @@ typedef d v; typedef dm m; typedef du u;
 #define WV DW
 #define LD(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
 #define ST(A, i, x) (((v *)&(A)[(i) * BLOCKS])[q] = (x))
-#define LDC LD
+#define LDP LD
+#define STP ST
 #define KEEP(B, A, i) (((v *)&(B)[(i) * BLOCKS])[q] = ((v *)&(A)[(i) * BLOCKS])[q])
 F v vabs(v a) { return (v)((u)a & 0x7fffffffffffffffULL); }
 F v vexp(v x) { return dexp(x); }
@@ -181,23 +182,24 @@ F unsigned long long lanebits(m k) {
 void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist, unsigned char *hit) {
   const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);
   unsigned long long hits = 0;
+  m kor = (m){0}, ks[(BLOCKS * 8 + WV - 1) / WV];
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23;
     (void)r0;
     v y0, a0, y1, a1;
-    r7 = LDC(R, 7);
+    r7 = LDP(R, 7);
     r5 = LD(R, 5);
-    r8 = LDC(R, 8);
-    r9 = LDC(R, 9);
-    r10 = LDC(R, 10);
-    r11 = LDC(R, 11);
-    r12 = LDC(R, 12);
-    r13 = LDC(R, 13);
-    r14 = LDC(R, 14);
-    r15 = LDC(R, 15);
-    r16 = LDC(R, 16);
-    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
-    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    r8 = LDP(R, 8);
+    r9 = LDP(R, 9);
+    r10 = LDP(R, 10);
+    r11 = LDP(R, 11);
+    r12 = LDP(R, 12);
+    r13 = LDP(R, 13);
+    r14 = LDP(R, 14);
+    r15 = LDP(R, 15);
+    r16 = LDP(R, 16);
+    y0 = LDP(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LDP(R, 1); KEEP(Y, R, 1); r1 = y1;
     r20 = r7 * r5;
     r21 = r8 * r1;
     r22 = r1 / r9;
@@ -266,9 +268,10 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r21 = r21 * r16;
     r0 = y0 + H6 * (a0 + r1);
     r1 = y1 + H6 * (a1 + r21);
-    ST(R, 0, r0);
-    ST(R, 1, r1);
+    STP(R, 0, r0);
+    STP(R, 1, r1);
   }
+  if (lanebits(kor)) for (long q = 0; q < NQ(nb); q++) hits |= lanebits(ks[q]) << (q * WV);
   if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
   for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
 }
@@ -328,13 +331,13 @@ void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23;
     (void)r0;
-    r1 = LD(R, 1);
-    r9 = LDC(R, 9);
-    r10 = LDC(R, 10);
-    r11 = LDC(R, 11);
-    r12 = LDC(R, 12);
-    r13 = LDC(R, 13);
-    r0 = LD(R, 0);
+    r1 = LDP(R, 1);
+    r9 = LDP(R, 9);
+    r10 = LDP(R, 10);
+    r11 = LDP(R, 11);
+    r12 = LDP(R, 12);
+    r13 = LDP(R, 13);
+    r0 = LDP(R, 0);
     r5 = LD(R, 5);
     r20 = r1 / r9;
     r20 = r10 * r20;
@@ -344,20 +347,20 @@ void rig_report(blk *restrict R, long nb, double t, const double *tab) {
     r21 = r20 + r10;
     r21 = r20 / r21;
     r21 = r13 * r21;
-    ST(R, 0, r0);
-    ST(R, 1, r1);
+    STP(R, 0, r0);
+    STP(R, 1, r1);
     ST(R, 21, r21);
     ST(R, 5, r5);
-    ST(R, 0, r0);
-    ST(R, 1, r1);
+    STP(R, 0, r0);
+    STP(R, 1, r1);
   }
 }
 void rig_measured(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23;
     (void)r0;
-    r0 = LD(R, 0);
-    ST(R, 0, r0);
+    r0 = LDP(R, 0);
+    STP(R, 0, r0);
   }
 }
 void rig_update(blk *restrict R, long nb, double t, const double *tab) {
@@ -365,11 +368,11 @@ void rig_update(blk *restrict R, long nb, double t, const double *tab) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23;
     (void)r0;
     r6 = splat(tab[0]);
-    r0 = LD(R, 0);
-    r17 = LDC(R, 17);
+    r0 = LDP(R, 0);
+    r17 = LDP(R, 17);
     r4 = LD(R, 4);
-    r18 = LDC(R, 18);
-    r19 = LDC(R, 19);
+    r18 = LDP(R, 18);
+    r19 = LDP(R, 19);
     r3 = LD(R, 3);
     r20 = r6 - r0;
     r20 = r17 * r20;
@@ -377,7 +380,7 @@ void rig_update(blk *restrict R, long nb, double t, const double *tab) {
     r21 = r21 / r18;
     r21 = r20 - r21;
     r21 = r19 * r21;
-    ST(R, 0, r0);
+    STP(R, 0, r0);
     ST(R, 3, r3);
     ST(R, 21, r21);
   }

@@ -149,7 +149,8 @@ typedef d v; typedef dm m; typedef du u;
 #define WV DW
 #define LD(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
 #define ST(A, i, x) (((v *)&(A)[(i) * BLOCKS])[q] = (x))
-#define LDC LD
+#define LDP LD
+#define STP ST
 #define KEEP(B, A, i) (((v *)&(B)[(i) * BLOCKS])[q] = ((v *)&(A)[(i) * BLOCKS])[q])
 F v vabs(v a) { return (v)((u)a & 0x7fffffffffffffffULL); }
 F v vexp(v x) { return dexp(x); }
@@ -181,21 +182,22 @@ F unsigned long long lanebits(m k) {
 void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist, unsigned char *hit) {
   const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);
   unsigned long long hits = 0;
+  m kor = (m){0}, ks[(BLOCKS * 8 + WV - 1) / WV];
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14;
     (void)r0;
     v y0, a0, y1, a1;
-    r3 = LDC(R, 3);
-    r4 = LDC(R, 4);
-    r5 = LDC(R, 5);
-    r6 = LDC(R, 6);
-    r7 = LDC(R, 7);
-    r8 = LDC(R, 8);
-    r9 = LDC(R, 9);
-    r10 = LDC(R, 10);
-    r11 = LDC(R, 11);
-    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
-    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    r3 = LDP(R, 3);
+    r4 = LDP(R, 4);
+    r5 = LDP(R, 5);
+    r6 = LDP(R, 6);
+    r7 = LDP(R, 7);
+    r8 = LDP(R, 8);
+    r9 = LDP(R, 9);
+    r10 = LDP(R, 10);
+    r11 = LDP(R, 11);
+    y0 = LDP(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LDP(R, 1); KEEP(Y, R, 1); r1 = y1;
     r12 = r3 * r1;
     r13 = r1 / r4;
     r13 = r5 * r13;
@@ -256,9 +258,10 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r12 = r12 * r11;
     r0 = y0 + H6 * (a0 + r1);
     r1 = y1 + H6 * (a1 + r12);
-    ST(R, 0, r0);
-    ST(R, 1, r1);
+    STP(R, 0, r0);
+    STP(R, 1, r1);
   }
+  if (lanebits(kor)) for (long q = 0; q < NQ(nb); q++) hits |= lanebits(ks[q]) << (q * WV);
   if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
   for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
 }
@@ -314,14 +317,14 @@ void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14;
     (void)r0;
-    r1 = LD(R, 1);
-    r4 = LDC(R, 4);
-    r5 = LDC(R, 5);
-    r6 = LDC(R, 6);
-    r7 = LDC(R, 7);
-    r8 = LDC(R, 8);
-    r0 = LD(R, 0);
-    r9 = LDC(R, 9);
+    r1 = LDP(R, 1);
+    r4 = LDP(R, 4);
+    r5 = LDP(R, 5);
+    r6 = LDP(R, 6);
+    r7 = LDP(R, 7);
+    r8 = LDP(R, 8);
+    r0 = LDP(R, 0);
+    r9 = LDP(R, 9);
     r12 = r1 / r4;
     r12 = r5 * r12;
     r12 = vmin(r12, r6);
@@ -330,20 +333,20 @@ void rig_report(blk *restrict R, long nb, double t, const double *tab) {
     r13 = r12 + r5;
     r13 = r12 / r13;
     r13 = r8 * r13;
-    ST(R, 0, r0);
-    ST(R, 1, r1);
+    STP(R, 0, r0);
+    STP(R, 1, r1);
     ST(R, 13, r13);
-    ST(R, 9, r9);
-    ST(R, 0, r0);
-    ST(R, 1, r1);
+    STP(R, 9, r9);
+    STP(R, 0, r0);
+    STP(R, 1, r1);
   }
 }
 void rig_measured(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14;
     (void)r0;
-    r0 = LD(R, 0);
-    ST(R, 0, r0);
+    r0 = LDP(R, 0);
+    STP(R, 0, r0);
   }
 }
 void rig_update(blk *restrict R, long nb, double t, const double *tab) {

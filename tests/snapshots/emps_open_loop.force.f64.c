@@ -149,7 +149,8 @@ typedef d v; typedef dm m; typedef du u;
 #define WV DW
 #define LD(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
 #define ST(A, i, x) (((v *)&(A)[(i) * BLOCKS])[q] = (x))
-#define LDC LD
+#define LDP LD
+#define STP ST
 #define KEEP(B, A, i) (((v *)&(B)[(i) * BLOCKS])[q] = ((v *)&(A)[(i) * BLOCKS])[q])
 F v vabs(v a) { return (v)((u)a & 0x7fffffffffffffffULL); }
 F v vexp(v x) { return dexp(x); }
@@ -181,13 +182,14 @@ F unsigned long long lanebits(m k) {
 void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist, unsigned char *hit) {
   const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);
   unsigned long long hits = 0;
+  m kor = (m){0}, ks[(BLOCKS * 8 + WV - 1) / WV];
   if (hoist) {
   const long q = 0;
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22;
     (void)r0;
-    r6 = LDC(R, 6);
-    r7 = LDC(R, 7);
-    r8 = LDC(R, 8);
+    r6 = LDP(R, 6);
+    r7 = LDP(R, 7);
+    r8 = LDP(R, 8);
     r4 = splat(tt[0]);
     r5 = splat(tab[0 + 0]);
     r18 = r6 * r5;
@@ -216,21 +218,21 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22;
     (void)r0;
     v y0, a0, y1, a1, y2, a2, y3, a3;
-    r6 = LDC(R, 6);
-    r7 = LDC(R, 7);
-    r8 = LDC(R, 8);
-    r9 = LDC(R, 9);
-    r10 = LDC(R, 10);
-    r11 = LDC(R, 11);
-    r12 = LDC(R, 12);
-    r13 = LDC(R, 13);
-    r14 = LDC(R, 14);
-    r15 = LDC(R, 15);
-    r16 = LDC(R, 16);
-    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
-    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
-    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
-    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
+    r6 = LDP(R, 6);
+    r7 = LDP(R, 7);
+    r8 = LDP(R, 8);
+    r9 = LDP(R, 9);
+    r10 = LDP(R, 10);
+    r11 = LDP(R, 11);
+    r12 = LDP(R, 12);
+    r13 = LDP(R, 13);
+    r14 = LDP(R, 14);
+    r15 = LDP(R, 15);
+    r16 = LDP(R, 16);
+    y0 = LDP(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LDP(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LDP(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LDP(R, 3); KEEP(Y, R, 3); r3 = y3;
     r4 = splat(tt[0]);
     r5 = splat(tab[0 + 0]);
     r18 = u0_0;
@@ -327,11 +329,12 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r1 = y1 + H6 * (a1 + r7);
     r2 = y2 + H6 * (a2 + r20);
     r3 = y3 + H6 * (a3 + r7);
-    ST(R, 0, r0);
-    ST(R, 1, r1);
-    ST(R, 2, r2);
-    ST(R, 3, r3);
+    STP(R, 0, r0);
+    STP(R, 1, r1);
+    STP(R, 2, r2);
+    STP(R, 3, r3);
   }
+  if (lanebits(kor)) for (long q = 0; q < NQ(nb); q++) hits |= lanebits(ks[q]) << (q * WV);
   if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
   for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
   return;
@@ -340,21 +343,21 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22;
     (void)r0;
     v y0, a0, y1, a1, y2, a2, y3, a3;
-    r6 = LDC(R, 6);
-    r7 = LDC(R, 7);
-    r8 = LDC(R, 8);
-    r9 = LDC(R, 9);
-    r10 = LDC(R, 10);
-    r11 = LDC(R, 11);
-    r12 = LDC(R, 12);
-    r13 = LDC(R, 13);
-    r14 = LDC(R, 14);
-    r15 = LDC(R, 15);
-    r16 = LDC(R, 16);
-    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
-    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
-    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
-    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
+    r6 = LDP(R, 6);
+    r7 = LDP(R, 7);
+    r8 = LDP(R, 8);
+    r9 = LDP(R, 9);
+    r10 = LDP(R, 10);
+    r11 = LDP(R, 11);
+    r12 = LDP(R, 12);
+    r13 = LDP(R, 13);
+    r14 = LDP(R, 14);
+    r15 = LDP(R, 15);
+    r16 = LDP(R, 16);
+    y0 = LDP(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LDP(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LDP(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LDP(R, 3); KEEP(Y, R, 3); r3 = y3;
     r4 = splat(tt[0]);
     r5 = splat(tab[0 + 0]);
     r18 = r6 * r5;
@@ -451,11 +454,12 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r1 = y1 + H6 * (a1 + r7);
     r2 = y2 + H6 * (a2 + r20);
     r3 = y3 + H6 * (a3 + r7);
-    ST(R, 0, r0);
-    ST(R, 1, r1);
-    ST(R, 2, r2);
-    ST(R, 3, r3);
+    STP(R, 0, r0);
+    STP(R, 1, r1);
+    STP(R, 2, r2);
+    STP(R, 3, r3);
   }
+  if (lanebits(kor)) for (long q = 0; q < NQ(nb); q++) hits |= lanebits(ks[q]) << (q * WV);
   if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
   for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
 }
@@ -523,16 +527,16 @@ void rig_report(blk *restrict R, long nb, double t, const double *tab) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22;
     (void)r0;
     r4 = splat(t);
-    r7 = LDC(R, 7);
-    r8 = LDC(R, 8);
-    r2 = LD(R, 2);
-    r10 = LDC(R, 10);
-    r11 = LDC(R, 11);
-    r12 = LDC(R, 12);
-    r13 = LDC(R, 13);
-    r14 = LDC(R, 14);
-    r17 = LDC(R, 17);
-    r0 = LD(R, 0);
+    r7 = LDP(R, 7);
+    r8 = LDP(R, 8);
+    r2 = LDP(R, 2);
+    r10 = LDP(R, 10);
+    r11 = LDP(R, 11);
+    r12 = LDP(R, 12);
+    r13 = LDP(R, 13);
+    r14 = LDP(R, 14);
+    r17 = LDP(R, 17);
+    r0 = LDP(R, 0);
     r18 = vle(r4, r7);
     r19 = r8 * r4;
     r19 = vsel(r18, r7, r19);
@@ -553,9 +557,9 @@ void rig_report(blk *restrict R, long nb, double t, const double *tab) {
     ST(R, 20, r20);
     ST(R, 22, r22);
     ST(R, 21, r21);
-    ST(R, 0, r0);
+    STP(R, 0, r0);
     ST(R, 19, r19);
-    ST(R, 2, r2);
+    STP(R, 2, r2);
     ST(R, 18, r18);
   }
 }
@@ -564,10 +568,10 @@ void rig_measured(blk *restrict R, long nb, double t, const double *tab) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22;
     (void)r0;
     r4 = splat(t);
-    r7 = LDC(R, 7);
-    r8 = LDC(R, 8);
-    r17 = LDC(R, 17);
-    r0 = LD(R, 0);
+    r7 = LDP(R, 7);
+    r8 = LDP(R, 8);
+    r17 = LDP(R, 17);
+    r0 = LDP(R, 0);
     r18 = vle(r4, r7);
     r19 = r8 * r4;
     r19 = vsel(r18, r7, r19);

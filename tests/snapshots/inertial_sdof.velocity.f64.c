@@ -149,7 +149,8 @@ typedef d v; typedef dm m; typedef du u;
 #define WV DW
 #define LD(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
 #define ST(A, i, x) (((v *)&(A)[(i) * BLOCKS])[q] = (x))
-#define LDC LD
+#define LDP LD
+#define STP ST
 #define KEEP(B, A, i) (((v *)&(B)[(i) * BLOCKS])[q] = ((v *)&(A)[(i) * BLOCKS])[q])
 F v vabs(v a) { return (v)((u)a & 0x7fffffffffffffffULL); }
 F v vexp(v x) { return dexp(x); }
@@ -181,16 +182,17 @@ F unsigned long long lanebits(m k) {
 void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist, unsigned char *hit) {
   const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);
   unsigned long long hits = 0;
+  m kor = (m){0}, ks[(BLOCKS * 8 + WV - 1) / WV];
   if (hoist) {
   const long q = 0;
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25;
     (void)r0;
-    r3 = LDC(R, 3);
-    r4 = LDC(R, 4);
-    r5 = LDC(R, 5);
-    r6 = LDC(R, 6);
-    r7 = LDC(R, 7);
-    r8 = LDC(R, 8);
+    r3 = LDP(R, 3);
+    r4 = LDP(R, 4);
+    r5 = LDP(R, 5);
+    r6 = LDP(R, 6);
+    r7 = LDP(R, 7);
+    r8 = LDP(R, 8);
     r2 = splat(tt[0]);
     r19 = r3 * r2;
     v u0_0 = r19;
@@ -252,24 +254,24 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25;
     (void)r0;
     v y0, a0, y1, a1;
-    r3 = LDC(R, 3);
-    r4 = LDC(R, 4);
-    r5 = LDC(R, 5);
-    r6 = LDC(R, 6);
-    r7 = LDC(R, 7);
-    r8 = LDC(R, 8);
-    r9 = LDC(R, 9);
-    r10 = LDC(R, 10);
-    r11 = LDC(R, 11);
-    r12 = LDC(R, 12);
-    r13 = LDC(R, 13);
-    r14 = LDC(R, 14);
-    r15 = LDC(R, 15);
-    r16 = LDC(R, 16);
-    r17 = LDC(R, 17);
-    r18 = LDC(R, 18);
-    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
-    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    r3 = LDP(R, 3);
+    r4 = LDP(R, 4);
+    r5 = LDP(R, 5);
+    r6 = LDP(R, 6);
+    r7 = LDP(R, 7);
+    r8 = LDP(R, 8);
+    r9 = LDP(R, 9);
+    r10 = LDP(R, 10);
+    r11 = LDP(R, 11);
+    r12 = LDP(R, 12);
+    r13 = LDP(R, 13);
+    r14 = LDP(R, 14);
+    r15 = LDP(R, 15);
+    r16 = LDP(R, 16);
+    r17 = LDP(R, 17);
+    r18 = LDP(R, 18);
+    y0 = LDP(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LDP(R, 1); KEEP(Y, R, 1); r1 = y1;
     r2 = splat(tt[0]);
     r19 = u0_0;
     r19 = u0_1;
@@ -466,9 +468,10 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r21 = r21 - r19;
     r0 = y0 + H6 * (a0 + r1);
     r1 = y1 + H6 * (a1 + r21);
-    ST(R, 0, r0);
-    ST(R, 1, r1);
+    STP(R, 0, r0);
+    STP(R, 1, r1);
   }
+  if (lanebits(kor)) for (long q = 0; q < NQ(nb); q++) hits |= lanebits(ks[q]) << (q * WV);
   if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
   for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
   return;
@@ -477,24 +480,24 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25;
     (void)r0;
     v y0, a0, y1, a1;
-    r3 = LDC(R, 3);
-    r4 = LDC(R, 4);
-    r5 = LDC(R, 5);
-    r6 = LDC(R, 6);
-    r7 = LDC(R, 7);
-    r8 = LDC(R, 8);
-    r9 = LDC(R, 9);
-    r10 = LDC(R, 10);
-    r11 = LDC(R, 11);
-    r12 = LDC(R, 12);
-    r13 = LDC(R, 13);
-    r14 = LDC(R, 14);
-    r15 = LDC(R, 15);
-    r16 = LDC(R, 16);
-    r17 = LDC(R, 17);
-    r18 = LDC(R, 18);
-    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
-    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
+    r3 = LDP(R, 3);
+    r4 = LDP(R, 4);
+    r5 = LDP(R, 5);
+    r6 = LDP(R, 6);
+    r7 = LDP(R, 7);
+    r8 = LDP(R, 8);
+    r9 = LDP(R, 9);
+    r10 = LDP(R, 10);
+    r11 = LDP(R, 11);
+    r12 = LDP(R, 12);
+    r13 = LDP(R, 13);
+    r14 = LDP(R, 14);
+    r15 = LDP(R, 15);
+    r16 = LDP(R, 16);
+    r17 = LDP(R, 17);
+    r18 = LDP(R, 18);
+    y0 = LDP(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LDP(R, 1); KEEP(Y, R, 1); r1 = y1;
     r2 = splat(tt[0]);
     r19 = r3 * r2;
     r19 = r4 * r19;
@@ -691,9 +694,10 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r21 = r21 - r19;
     r0 = y0 + H6 * (a0 + r1);
     r1 = y1 + H6 * (a1 + r21);
-    ST(R, 0, r0);
-    ST(R, 1, r1);
+    STP(R, 0, r0);
+    STP(R, 1, r1);
   }
+  if (lanebits(kor)) for (long q = 0; q < NQ(nb); q++) hits |= lanebits(ks[q]) << (q * WV);
   if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
   for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
 }
@@ -791,25 +795,25 @@ void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25;
     (void)r0;
-    r3 = LDC(R, 3);
+    r3 = LDP(R, 3);
     r2 = splat(t);
-    r4 = LDC(R, 4);
-    r5 = LDC(R, 5);
-    r6 = LDC(R, 6);
-    r7 = LDC(R, 7);
-    r8 = LDC(R, 8);
-    r9 = LDC(R, 9);
-    r0 = LD(R, 0);
-    r10 = LDC(R, 10);
-    r11 = LDC(R, 11);
-    r1 = LD(R, 1);
-    r12 = LDC(R, 12);
-    r13 = LDC(R, 13);
-    r14 = LDC(R, 14);
-    r15 = LDC(R, 15);
-    r16 = LDC(R, 16);
-    r17 = LDC(R, 17);
-    r18 = LDC(R, 18);
+    r4 = LDP(R, 4);
+    r5 = LDP(R, 5);
+    r6 = LDP(R, 6);
+    r7 = LDP(R, 7);
+    r8 = LDP(R, 8);
+    r9 = LDP(R, 9);
+    r0 = LDP(R, 0);
+    r10 = LDP(R, 10);
+    r11 = LDP(R, 11);
+    r1 = LDP(R, 1);
+    r12 = LDP(R, 12);
+    r13 = LDP(R, 13);
+    r14 = LDP(R, 14);
+    r15 = LDP(R, 15);
+    r16 = LDP(R, 16);
+    r17 = LDP(R, 17);
+    r18 = LDP(R, 18);
     r19 = r3 * r2;
     r19 = r4 * r19;
     r19 = r5 + r19;
@@ -858,20 +862,20 @@ void rig_report(blk *restrict R, long nb, double t, const double *tab) {
     r22 = r22 - r19;
     r25 = r21 + r25;
     r25 = r25 + r23;
-    ST(R, 0, r0);
+    STP(R, 0, r0);
     ST(R, 25, r25);
-    ST(R, 1, r1);
+    STP(R, 1, r1);
     ST(R, 22, r22);
-    ST(R, 0, r0);
-    ST(R, 1, r1);
+    STP(R, 0, r0);
+    STP(R, 1, r1);
   }
 }
 void rig_measured(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25;
     (void)r0;
-    r0 = LD(R, 0);
-    ST(R, 0, r0);
+    r0 = LDP(R, 0);
+    STP(R, 0, r0);
   }
 }
 void rig_update(blk *restrict R, long nb, double t, const double *tab) {

@@ -162,14 +162,13 @@ F void split(v x, d *lo, d *hi) {
 }
 #define LD(A, i) join(((d *)&(A)[(i) * BLOCKS])[2 * q], ((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 #define ST(A, i, x) split((x), &((d *)&(A)[(i) * BLOCKS])[2 * q], &((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
-/* A per-run constant's row holds its lanes as f32, packed at its start. */
-#define LDC(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
-/* Row i of A copied into B as stored: the step's start kept for a redone
-   step, without rounding to f32 and back (a tenth of the step's work on
-   the tensile rig). The lanes read it as f32 all the same; a redone step
-   run in f64 starts from the row as it was stored. */
-#define KEEP(B, A, i) (((d *)&(B)[(i) * BLOCKS])[2 * q] = ((d *)&(A)[(i) * BLOCKS])[2 * q], \
-                       ((d *)&(B)[(i) * BLOCKS])[2 * q + 1] = ((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
+/* A per-run constant's row and a state's hold their lanes as f32, packed at
+   the row's start: read and written without rounding from f64 and back (a
+   fifth of the tensile rig's step where the states were f64 rows). */
+#define LDP(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
+#define STP(A, i, x) (((v *)&(A)[(i) * BLOCKS])[q] = (x))
+/* State row i of A copied into B: the step's start kept for a redone step. */
+#define KEEP(B, A, i) (((v *)&(B)[(i) * BLOCKS])[q] = ((v *)&(A)[(i) * BLOCKS])[q])
 F v fsplat(float x) { return (v){VALL(x)}; }
 /* ln, sin and cos in f64 on each half, rounded once. */
 F v vlog(v x) { d lo, hi; split(x, &lo, &hi); return join(dlog(lo), dlog(hi)); }
@@ -230,16 +229,17 @@ F unsigned long long lanebits(m k) {
 void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist, unsigned char *hit) {
   const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);
   unsigned long long hits = 0;
+  m kor = (m){0}, ks[(BLOCKS * 8 + WV - 1) / WV];
   if (hoist) {
   const long q = 0;
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43;
     (void)r0;
-    r10 = LDC(R, 10);
-    r11 = LDC(R, 11);
-    r12 = LDC(R, 12);
-    r13 = LDC(R, 13);
-    r14 = LDC(R, 14);
-    r15 = LDC(R, 15);
+    r10 = LDP(R, 10);
+    r11 = LDP(R, 11);
+    r12 = LDP(R, 12);
+    r13 = LDP(R, 13);
+    r14 = LDP(R, 14);
+    r15 = LDP(R, 15);
     r7 = splat(tt[0]);
     r33 = r10 * r7;
     v u0_0 = r33;
@@ -337,35 +337,35 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43;
     (void)r0;
     v y0, a0, y1, a1, y2, a2, y3, a3, y4, a4, y5, a5, y6, a6;
-    r10 = LDC(R, 10);
-    r11 = LDC(R, 11);
-    r12 = LDC(R, 12);
-    r13 = LDC(R, 13);
-    r14 = LDC(R, 14);
-    r15 = LDC(R, 15);
-    r16 = LDC(R, 16);
-    r17 = LDC(R, 17);
-    r18 = LDC(R, 18);
-    r19 = LDC(R, 19);
-    r20 = LDC(R, 20);
-    r21 = LDC(R, 21);
-    r22 = LDC(R, 22);
-    r23 = LDC(R, 23);
+    r10 = LDP(R, 10);
+    r11 = LDP(R, 11);
+    r12 = LDP(R, 12);
+    r13 = LDP(R, 13);
+    r14 = LDP(R, 14);
+    r15 = LDP(R, 15);
+    r16 = LDP(R, 16);
+    r17 = LDP(R, 17);
+    r18 = LDP(R, 18);
+    r19 = LDP(R, 19);
+    r20 = LDP(R, 20);
+    r21 = LDP(R, 21);
+    r22 = LDP(R, 22);
+    r23 = LDP(R, 23);
     r8 = LD(R, 8);
-    r24 = LDC(R, 24);
-    r25 = LDC(R, 25);
-    r26 = LDC(R, 26);
-    r27 = LDC(R, 27);
+    r24 = LDP(R, 24);
+    r25 = LDP(R, 25);
+    r26 = LDP(R, 26);
+    r27 = LDP(R, 27);
     r9 = LD(R, 9);
-    r28 = LDC(R, 28);
-    r29 = LDC(R, 29);
-    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
-    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
-    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
-    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
-    y4 = LD(R, 4); KEEP(Y, R, 4); r4 = y4;
-    y5 = LD(R, 5); KEEP(Y, R, 5); r5 = y5;
-    y6 = LD(R, 6); KEEP(Y, R, 6); r6 = y6;
+    r28 = LDP(R, 28);
+    r29 = LDP(R, 29);
+    y0 = LDP(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LDP(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LDP(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LDP(R, 3); KEEP(Y, R, 3); r3 = y3;
+    y4 = LDP(R, 4); KEEP(Y, R, 4); r4 = y4;
+    y5 = LDP(R, 5); KEEP(Y, R, 5); r5 = y5;
+    y6 = LDP(R, 6); KEEP(Y, R, 6); r6 = y6;
     r7 = splat(tt[0]);
     r33 = u0_0;
     r34 = u0_1;
@@ -610,15 +610,15 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r4 = y4 + H6 * (a4 + r34);
     r5 = y5 + H6 * (a5 + r41);
     r6 = y6 + H6 * (a6 + r39);
-    ST(R, 0, r0);
-    ST(R, 1, r1);
-    ST(R, 2, r2);
-    ST(R, 3, r3);
-    ST(R, 4, r4);
-    ST(R, 5, r5);
-    ST(R, 6, r6);
+    STP(R, 0, r0);
+    STP(R, 1, r1);
+    STP(R, 2, r2);
+    STP(R, 3, r3);
+    STP(R, 4, r4);
+    STP(R, 5, r5);
+    STP(R, 6, r6);
     /* the event functions at the step's end */
-    r30 = LDC(R, 30);
+    r30 = LDP(R, 30);
     r33 = r2 - r1;
     r34 = r5 - r4;
     r35 = r33 - r23;
@@ -626,11 +626,6 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r36 = r27 * r6;
     r37 = r36 - r30;
     r36 = r36 + r30;
-    ST(R, 35, r35);
-    ST(R, 33, r33);
-    ST(R, 37, r37);
-    ST(R, 36, r36);
-    ST(R, 34, r34);
     m k = (m){0};
     k |= (r8 == splat(0.0)) & (r35 >= splat(0.0));
     k |= (r8 == splat(1.0)) & (r35 <= splat(0.0));
@@ -640,8 +635,9 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     k |= (r9 == splat(0.0)) & (r36 <= splat(0.0));
     k |= (r9 == splat(1.0)) & (r34 <= splat(0.0));
     k |= (r9 == splat(2.0)) & (r34 >= splat(0.0));
-    hits |= lanebits(k) << (q * WV);
+    ks[q] = k; kor |= k;
   }
+  if (lanebits(kor)) for (long q = 0; q < NQ(nb); q++) hits |= lanebits(ks[q]) << (q * WV);
   if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
   for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
   return;
@@ -650,35 +646,35 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43;
     (void)r0;
     v y0, a0, y1, a1, y2, a2, y3, a3, y4, a4, y5, a5, y6, a6;
-    r10 = LDC(R, 10);
-    r11 = LDC(R, 11);
-    r12 = LDC(R, 12);
-    r13 = LDC(R, 13);
-    r14 = LDC(R, 14);
-    r15 = LDC(R, 15);
-    r16 = LDC(R, 16);
-    r17 = LDC(R, 17);
-    r18 = LDC(R, 18);
-    r19 = LDC(R, 19);
-    r20 = LDC(R, 20);
-    r21 = LDC(R, 21);
-    r22 = LDC(R, 22);
-    r23 = LDC(R, 23);
+    r10 = LDP(R, 10);
+    r11 = LDP(R, 11);
+    r12 = LDP(R, 12);
+    r13 = LDP(R, 13);
+    r14 = LDP(R, 14);
+    r15 = LDP(R, 15);
+    r16 = LDP(R, 16);
+    r17 = LDP(R, 17);
+    r18 = LDP(R, 18);
+    r19 = LDP(R, 19);
+    r20 = LDP(R, 20);
+    r21 = LDP(R, 21);
+    r22 = LDP(R, 22);
+    r23 = LDP(R, 23);
     r8 = LD(R, 8);
-    r24 = LDC(R, 24);
-    r25 = LDC(R, 25);
-    r26 = LDC(R, 26);
-    r27 = LDC(R, 27);
+    r24 = LDP(R, 24);
+    r25 = LDP(R, 25);
+    r26 = LDP(R, 26);
+    r27 = LDP(R, 27);
     r9 = LD(R, 9);
-    r28 = LDC(R, 28);
-    r29 = LDC(R, 29);
-    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
-    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
-    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
-    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
-    y4 = LD(R, 4); KEEP(Y, R, 4); r4 = y4;
-    y5 = LD(R, 5); KEEP(Y, R, 5); r5 = y5;
-    y6 = LD(R, 6); KEEP(Y, R, 6); r6 = y6;
+    r28 = LDP(R, 28);
+    r29 = LDP(R, 29);
+    y0 = LDP(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LDP(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LDP(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LDP(R, 3); KEEP(Y, R, 3); r3 = y3;
+    y4 = LDP(R, 4); KEEP(Y, R, 4); r4 = y4;
+    y5 = LDP(R, 5); KEEP(Y, R, 5); r5 = y5;
+    y6 = LDP(R, 6); KEEP(Y, R, 6); r6 = y6;
     r7 = splat(tt[0]);
     r33 = r10 * r7;
     r34 = r11 * r33;
@@ -923,15 +919,15 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r4 = y4 + H6 * (a4 + r34);
     r5 = y5 + H6 * (a5 + r41);
     r6 = y6 + H6 * (a6 + r39);
-    ST(R, 0, r0);
-    ST(R, 1, r1);
-    ST(R, 2, r2);
-    ST(R, 3, r3);
-    ST(R, 4, r4);
-    ST(R, 5, r5);
-    ST(R, 6, r6);
+    STP(R, 0, r0);
+    STP(R, 1, r1);
+    STP(R, 2, r2);
+    STP(R, 3, r3);
+    STP(R, 4, r4);
+    STP(R, 5, r5);
+    STP(R, 6, r6);
     /* the event functions at the step's end */
-    r30 = LDC(R, 30);
+    r30 = LDP(R, 30);
     r33 = r2 - r1;
     r34 = r5 - r4;
     r35 = r33 - r23;
@@ -939,11 +935,6 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r36 = r27 * r6;
     r37 = r36 - r30;
     r36 = r36 + r30;
-    ST(R, 35, r35);
-    ST(R, 33, r33);
-    ST(R, 37, r37);
-    ST(R, 36, r36);
-    ST(R, 34, r34);
     m k = (m){0};
     k |= (r8 == splat(0.0)) & (r35 >= splat(0.0));
     k |= (r8 == splat(1.0)) & (r35 <= splat(0.0));
@@ -953,8 +944,9 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     k |= (r9 == splat(0.0)) & (r36 <= splat(0.0));
     k |= (r9 == splat(1.0)) & (r34 <= splat(0.0));
     k |= (r9 == splat(2.0)) & (r34 >= splat(0.0));
-    hits |= lanebits(k) << (q * WV);
+    ks[q] = k; kor |= k;
   }
+  if (lanebits(kor)) for (long q = 0; q < NQ(nb); q++) hits |= lanebits(ks[q]) << (q * WV);
   if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
   for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
 }
@@ -1224,35 +1216,35 @@ void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43;
     (void)r0;
-    r10 = LDC(R, 10);
+    r10 = LDP(R, 10);
     r7 = splat(t);
-    r11 = LDC(R, 11);
-    r12 = LDC(R, 12);
-    r13 = LDC(R, 13);
-    r14 = LDC(R, 14);
-    r15 = LDC(R, 15);
-    r31 = LDC(R, 31);
-    r1 = LD(R, 1);
-    r4 = LD(R, 4);
-    r16 = LDC(R, 16);
-    r17 = LDC(R, 17);
-    r2 = LD(R, 2);
-    r5 = LD(R, 5);
-    r18 = LDC(R, 18);
-    r19 = LDC(R, 19);
-    r20 = LDC(R, 20);
-    r21 = LDC(R, 21);
-    r22 = LDC(R, 22);
-    r23 = LDC(R, 23);
+    r11 = LDP(R, 11);
+    r12 = LDP(R, 12);
+    r13 = LDP(R, 13);
+    r14 = LDP(R, 14);
+    r15 = LDP(R, 15);
+    r31 = LDP(R, 31);
+    r1 = LDP(R, 1);
+    r4 = LDP(R, 4);
+    r16 = LDP(R, 16);
+    r17 = LDP(R, 17);
+    r2 = LDP(R, 2);
+    r5 = LDP(R, 5);
+    r18 = LDP(R, 18);
+    r19 = LDP(R, 19);
+    r20 = LDP(R, 20);
+    r21 = LDP(R, 21);
+    r22 = LDP(R, 22);
+    r23 = LDP(R, 23);
     r8 = LD(R, 8);
-    r24 = LDC(R, 24);
-    r25 = LDC(R, 25);
-    r26 = LDC(R, 26);
-    r27 = LDC(R, 27);
-    r6 = LD(R, 6);
-    r28 = LDC(R, 28);
-    r29 = LDC(R, 29);
-    r32 = LDC(R, 32);
+    r24 = LDP(R, 24);
+    r25 = LDP(R, 25);
+    r26 = LDP(R, 26);
+    r27 = LDP(R, 27);
+    r6 = LDP(R, 6);
+    r28 = LDP(R, 28);
+    r29 = LDP(R, 29);
+    r32 = LDP(R, 32);
     r33 = r10 * r7;
     r34 = r11 * r33;
     r34 = r12 + r34;
@@ -1324,36 +1316,36 @@ void rig_report(blk *restrict R, long nb, double t, const double *tab) {
     ST(R, 43, r43);
     ST(R, 41, r41);
     ST(R, 37, r37);
-    ST(R, 1, r1);
-    ST(R, 2, r2);
+    STP(R, 1, r1);
+    STP(R, 2, r2);
     ST(R, 38, r38);
-    ST(R, 4, r4);
-    ST(R, 5, r5);
-    ST(R, 6, r6);
+    STP(R, 4, r4);
+    STP(R, 5, r5);
+    STP(R, 6, r6);
   }
 }
 void rig_measured(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43;
     (void)r0;
-    r2 = LD(R, 2);
-    r1 = LD(R, 1);
-    r5 = LD(R, 5);
-    r4 = LD(R, 4);
-    r18 = LDC(R, 18);
-    r19 = LDC(R, 19);
-    r20 = LDC(R, 20);
-    r21 = LDC(R, 21);
-    r22 = LDC(R, 22);
-    r14 = LDC(R, 14);
-    r23 = LDC(R, 23);
+    r2 = LDP(R, 2);
+    r1 = LDP(R, 1);
+    r5 = LDP(R, 5);
+    r4 = LDP(R, 4);
+    r18 = LDP(R, 18);
+    r19 = LDP(R, 19);
+    r20 = LDP(R, 20);
+    r21 = LDP(R, 21);
+    r22 = LDP(R, 22);
+    r14 = LDP(R, 14);
+    r23 = LDP(R, 23);
     r8 = LD(R, 8);
-    r24 = LDC(R, 24);
-    r25 = LDC(R, 25);
-    r26 = LDC(R, 26);
-    r27 = LDC(R, 27);
-    r6 = LD(R, 6);
-    r29 = LDC(R, 29);
+    r24 = LDP(R, 24);
+    r25 = LDP(R, 25);
+    r26 = LDP(R, 26);
+    r27 = LDP(R, 27);
+    r6 = LDP(R, 6);
+    r29 = LDP(R, 29);
     r33 = r2 - r1;
     r34 = r5 - r4;
     r35 = r18 * r33;

@@ -149,7 +149,8 @@ typedef d v; typedef dm m; typedef du u;
 #define WV DW
 #define LD(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
 #define ST(A, i, x) (((v *)&(A)[(i) * BLOCKS])[q] = (x))
-#define LDC LD
+#define LDP LD
+#define STP ST
 #define KEEP(B, A, i) (((v *)&(B)[(i) * BLOCKS])[q] = ((v *)&(A)[(i) * BLOCKS])[q])
 F v vabs(v a) { return (v)((u)a & 0x7fffffffffffffffULL); }
 F v vexp(v x) { return dexp(x); }
@@ -181,18 +182,19 @@ F unsigned long long lanebits(m k) {
 void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist, unsigned char *hit) {
   const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);
   unsigned long long hits = 0;
+  m kor = (m){0}, ks[(BLOCKS * 8 + WV - 1) / WV];
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13;
     (void)r0;
     v y0, a0, y1, a1, y2, a2;
-    r6 = LDC(R, 6);
-    r7 = LDC(R, 7);
+    r6 = LDP(R, 6);
+    r7 = LDP(R, 7);
     r4 = LD(R, 4);
-    r8 = LDC(R, 8);
-    r9 = LDC(R, 9);
-    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
-    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
-    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
+    r8 = LDP(R, 8);
+    r9 = LDP(R, 9);
+    y0 = LDP(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LDP(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LDP(R, 2); KEEP(Y, R, 2); r2 = y2;
     r5 = splat(tab[0 + 0]);
     r11 = r6 - r1;
     r12 = r7 * r2;
@@ -241,25 +243,23 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r0 = y0 + H6 * (a0 + r1);
     r1 = y1 + H6 * (a1 + r11);
     r2 = y2 + H6 * (a2 + r13);
-    ST(R, 0, r0);
-    ST(R, 1, r1);
-    ST(R, 2, r2);
+    STP(R, 0, r0);
+    STP(R, 1, r1);
+    STP(R, 2, r2);
     /* the event functions at the step's end */
-    r10 = LDC(R, 10);
+    r10 = LDP(R, 10);
     r11 = r6 - r1;
     r12 = r7 * r2;
     r13 = r12 - r10;
     r12 = r12 + r10;
-    ST(R, 13, r13);
-    ST(R, 12, r12);
-    ST(R, 11, r11);
     m k = (m){0};
     k |= (r4 == splat(0.0)) & (r13 >= splat(0.0));
     k |= (r4 == splat(0.0)) & (r12 <= splat(0.0));
     k |= (r4 == splat(1.0)) & (r11 <= splat(0.0));
     k |= (r4 == splat(2.0)) & (r11 >= splat(0.0));
-    hits |= lanebits(k) << (q * WV);
+    ks[q] = k; kor |= k;
   }
+  if (lanebits(kor)) for (long q = 0; q < NQ(nb); q++) hits |= lanebits(ks[q]) << (q * WV);
   if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
   for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
 }
@@ -322,24 +322,24 @@ void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13;
     (void)r0;
-    r7 = LDC(R, 7);
-    r2 = LD(R, 2);
-    r0 = LD(R, 0);
-    r1 = LD(R, 1);
+    r7 = LDP(R, 7);
+    r2 = LDP(R, 2);
+    r0 = LDP(R, 0);
+    r1 = LDP(R, 1);
     r11 = r7 * r2;
     ST(R, 11, r11);
-    ST(R, 0, r0);
-    ST(R, 0, r0);
-    ST(R, 1, r1);
-    ST(R, 2, r2);
+    STP(R, 0, r0);
+    STP(R, 0, r0);
+    STP(R, 1, r1);
+    STP(R, 2, r2);
   }
 }
 void rig_measured(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13;
     (void)r0;
-    r7 = LDC(R, 7);
-    r2 = LD(R, 2);
+    r7 = LDP(R, 7);
+    r2 = LDP(R, 2);
     r11 = r7 * r2;
     ST(R, 11, r11);
   }

@@ -149,7 +149,8 @@ typedef d v; typedef dm m; typedef du u;
 #define WV DW
 #define LD(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
 #define ST(A, i, x) (((v *)&(A)[(i) * BLOCKS])[q] = (x))
-#define LDC LD
+#define LDP LD
+#define STP ST
 #define KEEP(B, A, i) (((v *)&(B)[(i) * BLOCKS])[q] = ((v *)&(A)[(i) * BLOCKS])[q])
 F v vabs(v a) { return (v)((u)a & 0x7fffffffffffffffULL); }
 F v vexp(v x) { return dexp(x); }
@@ -181,48 +182,49 @@ F unsigned long long lanebits(m k) {
 void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist, unsigned char *hit) {
   const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);
   unsigned long long hits = 0;
+  m kor = (m){0}, ks[(BLOCKS * 8 + WV - 1) / WV];
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49;
     (void)r0;
     v y0, a0, y1, a1, y2, a2, y3, a3, y4, a4, y5, a5, y6, a6, y7, a7;
-    r13 = LDC(R, 13);
+    r13 = LDP(R, 13);
     r9 = LD(R, 9);
-    r14 = LDC(R, 14);
-    r15 = LDC(R, 15);
-    r16 = LDC(R, 16);
-    r17 = LDC(R, 17);
-    r18 = LDC(R, 18);
-    r19 = LDC(R, 19);
-    r20 = LDC(R, 20);
-    r21 = LDC(R, 21);
-    r22 = LDC(R, 22);
-    r23 = LDC(R, 23);
+    r14 = LDP(R, 14);
+    r15 = LDP(R, 15);
+    r16 = LDP(R, 16);
+    r17 = LDP(R, 17);
+    r18 = LDP(R, 18);
+    r19 = LDP(R, 19);
+    r20 = LDP(R, 20);
+    r21 = LDP(R, 21);
+    r22 = LDP(R, 22);
+    r23 = LDP(R, 23);
     r10 = LD(R, 10);
-    r24 = LDC(R, 24);
-    r25 = LDC(R, 25);
-    r26 = LDC(R, 26);
-    r27 = LDC(R, 27);
-    r28 = LDC(R, 28);
+    r24 = LDP(R, 24);
+    r25 = LDP(R, 25);
+    r26 = LDP(R, 26);
+    r27 = LDP(R, 27);
+    r28 = LDP(R, 28);
     r11 = LD(R, 11);
-    r29 = LDC(R, 29);
-    r30 = LDC(R, 30);
-    r31 = LDC(R, 31);
-    r32 = LDC(R, 32);
-    r33 = LDC(R, 33);
-    r34 = LDC(R, 34);
-    r35 = LDC(R, 35);
-    r36 = LDC(R, 36);
-    r37 = LDC(R, 37);
-    r38 = LDC(R, 38);
-    r39 = LDC(R, 39);
-    y0 = LD(R, 0); KEEP(Y, R, 0); r0 = y0;
-    y1 = LD(R, 1); KEEP(Y, R, 1); r1 = y1;
-    y2 = LD(R, 2); KEEP(Y, R, 2); r2 = y2;
-    y3 = LD(R, 3); KEEP(Y, R, 3); r3 = y3;
-    y4 = LD(R, 4); KEEP(Y, R, 4); r4 = y4;
-    y5 = LD(R, 5); KEEP(Y, R, 5); r5 = y5;
-    y6 = LD(R, 6); KEEP(Y, R, 6); r6 = y6;
-    y7 = LD(R, 7); KEEP(Y, R, 7); r7 = y7;
+    r29 = LDP(R, 29);
+    r30 = LDP(R, 30);
+    r31 = LDP(R, 31);
+    r32 = LDP(R, 32);
+    r33 = LDP(R, 33);
+    r34 = LDP(R, 34);
+    r35 = LDP(R, 35);
+    r36 = LDP(R, 36);
+    r37 = LDP(R, 37);
+    r38 = LDP(R, 38);
+    r39 = LDP(R, 39);
+    y0 = LDP(R, 0); KEEP(Y, R, 0); r0 = y0;
+    y1 = LDP(R, 1); KEEP(Y, R, 1); r1 = y1;
+    y2 = LDP(R, 2); KEEP(Y, R, 2); r2 = y2;
+    y3 = LDP(R, 3); KEEP(Y, R, 3); r3 = y3;
+    y4 = LDP(R, 4); KEEP(Y, R, 4); r4 = y4;
+    y5 = LDP(R, 5); KEEP(Y, R, 5); r5 = y5;
+    y6 = LDP(R, 6); KEEP(Y, R, 6); r6 = y6;
+    y7 = LDP(R, 7); KEEP(Y, R, 7); r7 = y7;
     r12 = splat(tab[0 + 0]);
     r42 = r13 * r0;
     r43 = veq(r9, r14);
@@ -471,33 +473,31 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
     r5 = y5 + H6 * (a5 + r45);
     r6 = y6 + H6 * (a6 + r47);
     r7 = y7 + H6 * (a7 + r42);
-    ST(R, 0, r0);
-    ST(R, 1, r1);
-    ST(R, 2, r2);
-    ST(R, 3, r3);
-    ST(R, 4, r4);
-    ST(R, 5, r5);
-    ST(R, 6, r6);
-    ST(R, 7, r7);
+    STP(R, 0, r0);
+    STP(R, 1, r1);
+    STP(R, 2, r2);
+    STP(R, 3, r3);
+    STP(R, 4, r4);
+    STP(R, 5, r5);
+    STP(R, 6, r6);
+    STP(R, 7, r7);
     /* the event functions at the step's end */
-    r40 = LDC(R, 40);
-    r41 = LDC(R, 41);
+    r40 = LDP(R, 40);
+    r41 = LDP(R, 41);
     r42 = r1 - r0;
     r43 = r42 - r40;
     r42 = r42 - r41;
     r44 = r3 - r2;
     r44 = r44 - r28;
-    ST(R, 43, r43);
-    ST(R, 42, r42);
-    ST(R, 44, r44);
     m k = (m){0};
     k |= (r10 == splat(0.0)) & (r43 >= splat(0.0));
     k |= (r10 == splat(1.0)) & (r43 <= splat(0.0));
     k |= (r9 == splat(0.0)) & (r42 >= splat(0.0));
     k |= (r11 == splat(0.0)) & (r44 >= splat(0.0));
     k |= (r11 == splat(1.0)) & (r44 <= splat(0.0));
-    hits |= lanebits(k) << (q * WV);
+    ks[q] = k; kor |= k;
   }
+  if (lanebits(kor)) for (long q = 0; q < NQ(nb); q++) hits |= lanebits(ks[q]) << (q * WV);
   if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
   for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
 }
@@ -645,29 +645,29 @@ void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49;
     (void)r0;
-    r13 = LDC(R, 13);
-    r0 = LD(R, 0);
+    r13 = LDP(R, 13);
+    r0 = LDP(R, 0);
     r9 = LD(R, 9);
-    r14 = LDC(R, 14);
-    r15 = LDC(R, 15);
-    r16 = LDC(R, 16);
-    r4 = LD(R, 4);
-    r1 = LD(R, 1);
-    r5 = LD(R, 5);
-    r17 = LDC(R, 17);
-    r18 = LDC(R, 18);
-    r19 = LDC(R, 19);
-    r20 = LDC(R, 20);
-    r21 = LDC(R, 21);
-    r22 = LDC(R, 22);
-    r23 = LDC(R, 23);
+    r14 = LDP(R, 14);
+    r15 = LDP(R, 15);
+    r16 = LDP(R, 16);
+    r4 = LDP(R, 4);
+    r1 = LDP(R, 1);
+    r5 = LDP(R, 5);
+    r17 = LDP(R, 17);
+    r18 = LDP(R, 18);
+    r19 = LDP(R, 19);
+    r20 = LDP(R, 20);
+    r21 = LDP(R, 21);
+    r22 = LDP(R, 22);
+    r23 = LDP(R, 23);
     r10 = LD(R, 10);
-    r24 = LDC(R, 24);
-    r25 = LDC(R, 25);
-    r2 = LD(R, 2);
-    r3 = LD(R, 3);
-    r6 = LD(R, 6);
-    r7 = LD(R, 7);
+    r24 = LDP(R, 24);
+    r25 = LDP(R, 25);
+    r2 = LDP(R, 2);
+    r3 = LDP(R, 3);
+    r6 = LDP(R, 6);
+    r7 = LDP(R, 7);
     r42 = r13 * r0;
     r43 = veq(r9, r14);
     r44 = vsel(r43, r15, r16);
@@ -693,27 +693,27 @@ void rig_report(blk *restrict R, long nb, double t, const double *tab) {
     r45 = vsel(r43, r25, r45);
     ST(R, 44, r44);
     ST(R, 45, r45);
-    ST(R, 0, r0);
-    ST(R, 1, r1);
-    ST(R, 2, r2);
-    ST(R, 3, r3);
-    ST(R, 4, r4);
-    ST(R, 5, r5);
-    ST(R, 6, r6);
-    ST(R, 7, r7);
+    STP(R, 0, r0);
+    STP(R, 1, r1);
+    STP(R, 2, r2);
+    STP(R, 3, r3);
+    STP(R, 4, r4);
+    STP(R, 5, r5);
+    STP(R, 6, r6);
+    STP(R, 7, r7);
   }
 }
 void rig_measured(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {
     v r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49;
     (void)r0;
-    r13 = LDC(R, 13);
-    r0 = LD(R, 0);
+    r13 = LDP(R, 13);
+    r0 = LDP(R, 0);
     r9 = LD(R, 9);
-    r14 = LDC(R, 14);
-    r15 = LDC(R, 15);
-    r16 = LDC(R, 16);
-    r4 = LD(R, 4);
+    r14 = LDP(R, 14);
+    r15 = LDP(R, 15);
+    r16 = LDP(R, 16);
+    r4 = LDP(R, 4);
     r42 = r13 * r0;
     r43 = veq(r9, r14);
     r43 = vsel(r43, r15, r16);

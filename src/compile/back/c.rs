@@ -335,7 +335,8 @@ const F64_LANES: &str = r#"typedef d v; typedef dm m; typedef du u;
 #define WV DW
 #define LD(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
 #define ST(A, i, x) (((v *)&(A)[(i) * BLOCKS])[q] = (x))
-#define LDC LD
+#define LDP LD
+#define STP ST
 #define KEEP(B, A, i) (((v *)&(B)[(i) * BLOCKS])[q] = ((v *)&(A)[(i) * BLOCKS])[q])
 F v vabs(v a) { return (v)((u)a & 0x7fffffffffffffffULL); }
 F v vexp(v x) { return dexp(x); }
@@ -362,14 +363,13 @@ F void split(v x, d *lo, d *hi) {
 }
 #define LD(A, i) join(((d *)&(A)[(i) * BLOCKS])[2 * q], ((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
 #define ST(A, i, x) split((x), &((d *)&(A)[(i) * BLOCKS])[2 * q], &((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
-/* A per-run constant's row holds its lanes as f32, packed at its start. */
-#define LDC(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
-/* Row i of A copied into B as stored: the step's start kept for a redone
-   step, without rounding to f32 and back (a tenth of the step's work on
-   the tensile rig). The lanes read it as f32 all the same; a redone step
-   run in f64 starts from the row as it was stored. */
-#define KEEP(B, A, i) (((d *)&(B)[(i) * BLOCKS])[2 * q] = ((d *)&(A)[(i) * BLOCKS])[2 * q], \
-                       ((d *)&(B)[(i) * BLOCKS])[2 * q + 1] = ((d *)&(A)[(i) * BLOCKS])[2 * q + 1])
+/* A per-run constant's row and a state's hold their lanes as f32, packed at
+   the row's start: read and written without rounding from f64 and back (a
+   fifth of the tensile rig's step where the states were f64 rows). */
+#define LDP(A, i) (((v *)&(A)[(i) * BLOCKS])[q])
+#define STP(A, i, x) (((v *)&(A)[(i) * BLOCKS])[q] = (x))
+/* State row i of A copied into B: the step's start kept for a redone step. */
+#define KEEP(B, A, i) (((v *)&(B)[(i) * BLOCKS])[q] = ((v *)&(A)[(i) * BLOCKS])[q])
 F v fsplat(float x) { return (v){VALL(x)}; }
 /* ln, sin and cos in f64 on each half, rounded once. */
 F v vlog(v x) { d lo, hi; split(x, &lo, &hi); return join(dlog(lo), dlog(hi)); }
@@ -500,12 +500,26 @@ fn load(
         format!("splat({time})")
     } else if let Some(t) = tables(reg) {
         format!("splat({t})")
-    } else if code.constants.iter().any(|&(_, r)| r == reg) {
-        format!("LDC(R, {reg})")
+    } else if packed(code, reg) {
+        format!("LDP(R, {reg})")
     } else {
         format!("LD(R, {reg})")
     };
     let _ = writeln!(out, "    r{reg} = {src};");
+}
+
+/// Whether register `reg`'s row holds its lanes packed (as f32, at the
+/// row's start, in [`Arith::F32`] code; as f64 rows otherwise): a state's or
+/// a per-run constant's ([`crate::compile::exec::lanes::LaneRunner`] packs
+/// them so).
+fn packed(code: &LaneCode, reg: Reg) -> bool {
+    (reg as usize) < code.slopes.len() || code.constants.iter().any(|&(_, r)| r == reg)
+}
+
+/// Stores register `reg` into its row.
+fn store(out: &mut String, code: &LaneCode, reg: Reg) {
+    let st = if packed(code, reg) { "STP" } else { "ST" };
+    let _ = writeln!(out, "    {st}(R, {reg}, r{reg});");
 }
 
 /// Table values per derivative in `rig_rk4`'s `tab` (one past the highest
@@ -652,7 +666,7 @@ fn rk4_loop(s: &mut String, code: &LaneCode, hoisted: Option<&Hoistable>) {
         }
     }
     for i in 0..n {
-        let _ = writeln!(s, "    y{i} = LD(R, {i}); KEEP(Y, R, {i}); r{i} = y{i};");
+        let _ = writeln!(s, "    y{i} = LDP(R, {i}); KEEP(Y, R, {i}); r{i} = y{i};");
     }
     for stage in 0..4 {
         stage_inputs(s, code, &code.deriv, stage);
@@ -676,17 +690,18 @@ fn rk4_loop(s: &mut String, code: &LaneCode, hoisted: Option<&Hoistable>) {
         }
     }
     for i in 0..n {
-        let _ = writeln!(s, "    ST(R, {i}, r{i});");
+        let _ = writeln!(s, "    STP(R, {i}, r{i});");
     }
     step_end_events(s, code, hoisted.map(|h| &h.events[..]));
     s.push_str("  }\n");
 }
 
 /// The event list at the step's end (`tt[3]`, table row 3), run in
-/// `rig_rk4`'s loop on the new state while it is still in registers: its
-/// roots stored where the interpreter leaves them, and the lanes past an
-/// armed switch added to `hits`. `hoisted`: which instructions were computed
-/// before the loop, into `e_{index}`.
+/// `rig_rk4`'s loop on the new state while it is still in registers, and
+/// the lanes past an armed switch marked in `ks[q]` (its roots are not
+/// stored: nothing after the step reads them, where the interpreter's hit
+/// test reads them from the register file). `hoisted`: which instructions
+/// were computed before the loop, into `e_{index}`.
 fn step_end_events(s: &mut String, code: &LaneCode, hoisted: Option<&[bool]>) {
     let list = &code.events;
     if list.code.is_empty() && code.armed.is_empty() {
@@ -705,13 +720,6 @@ fn step_end_events(s: &mut String, code: &LaneCode, hoisted: Option<&[bool]>) {
             let _ = writeln!(s, "    r{} = e_{j};", ins.dest);
         } else {
             s.push_str(&statement(ins.dest, &ins.op, 'v'));
-        }
-    }
-    let mut stored = Vec::new();
-    for &root in &list.roots {
-        if !stored.contains(&root) {
-            stored.push(root);
-            let _ = writeln!(s, "    ST(R, {root}, r{root});");
         }
     }
     hit_test(s, code);
@@ -777,12 +785,14 @@ fn hit_test(s: &mut String, code: &LaneCode) {
             "    k |= (r{mode} == splat({from:?})) & (r{g} {past} splat(0.0)){guard};"
         );
     }
-    s.push_str("    hits |= lanebits(k) << (q * WV);\n");
+    s.push_str("    ks[q] = k; kor |= k;\n");
 }
 
-/// Stores `hits` in `hit`: a byte per block, a bit per lane, none past block
-/// `nb`.
-const STORE_HITS: &str = "  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;\n  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);\n";
+/// Stores the lanes the hit test marked in `hit`: a byte per block, a bit
+/// per lane, none past block `nb`. The masks of the loop's vectors are
+/// turned into bits only where one lane of them is marked (a step with no
+/// switch, most of them, reduces one vector instead of one per vector).
+const STORE_HITS: &str = "  if (lanebits(kor)) for (long q = 0; q < NQ(nb); q++) hits |= lanebits(ks[q]) << (q * WV);\n  if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;\n  for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);\n";
 
 /// `a, a + 1, …, b − 1`, as a shuffle's indices.
 fn indices(a: usize, b: usize) -> String {
@@ -922,7 +932,7 @@ pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
     // step's end.
     let hoisted = hoistable(code);
     s.push_str(
-        "void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist, unsigned char *hit) {\n  const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);\n  unsigned long long hits = 0;\n",
+        "void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const double *tab, double ch, double h, double h6, long hoist, unsigned char *hit) {\n  const v CH = splat(ch), H = splat(h), H6 = splat(h6), TWO = splat(2.0);\n  unsigned long long hits = 0;\n  m kor = (m){0}, ks[(BLOCKS * 8 + WV - 1) / WV];\n",
     );
     if hoisted.deriv.contains(&true) || hoisted.events.contains(&true) {
         s.push_str("  if (hoist) {\n  const long q = 0;\n");
@@ -1006,7 +1016,7 @@ pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
             s.push_str(&statement(ins.dest, &ins.op, 'v'));
         }
         for &root in &list.roots {
-            let _ = writeln!(s, "    ST(R, {root}, r{root});");
+            store(&mut s, code, root);
         }
         s.push_str("  }\n}\n");
     }

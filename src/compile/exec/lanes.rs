@@ -74,6 +74,45 @@ impl Reg {
         Self([[v; W]; BLOCKS])
     }
 
+    /// Lane `l`'s value: from the row's f32 lanes packed at its start where
+    /// `packed` ([`LaneRunner::with_native`]'s f32 code), else its f64 lane.
+    #[inline(always)]
+    fn lane(&self, l: usize, packed: bool) -> f64 {
+        if packed {
+            f64::from(bytemuck::cast_slice::<Blk, f32>(&self.0)[l])
+        } else {
+            self[l / W][l % W]
+        }
+    }
+
+    /// Sets lane `l` to `v`, rounded to f32 where the row is `packed`.
+    #[inline(always)]
+    fn set_lane(&mut self, l: usize, v: f64, packed: bool) {
+        if packed {
+            bytemuck::cast_slice_mut::<Blk, f32>(&mut self.0)[l] = v as f32;
+        } else {
+            self[l / W][l % W] = v;
+        }
+    }
+
+    /// The row's lanes as f32, packed at its start.
+    fn pack(&mut self) {
+        let lanes: Vec<f32> = self.0.iter().flatten().map(|&x| x as f32).collect();
+        let packed: &mut [f32] = bytemuck::cast_slice_mut(&mut self.0[..]);
+        packed[..lanes.len()].copy_from_slice(&lanes);
+    }
+
+    /// The row with its lanes as f64 (`packed`: from its packed f32 lanes).
+    fn unpacked(&self, packed: bool) -> Self {
+        let mut r = *self;
+        if packed {
+            for l in 0..LANES {
+                r[l / W][l % W] = self.lane(l, true);
+            }
+        }
+        r
+    }
+
     /// Whether lanes `0..lanes` hold the same bits.
     fn agrees(&self, lanes: usize) -> bool {
         let v0 = self[0][0].to_bits();
@@ -116,6 +155,9 @@ pub struct LaneRunner<'p> {
     tab: Vec<f64>,
     /// Whether every active lane shares `native`'s `hoist_reads`.
     hoist: bool,
+    /// Per register, whether its row holds its lanes as f32 packed at its
+    /// start (the states and per-run constants of f32 native code).
+    packed: Vec<bool>,
     /// A bit per lane whose stepper found its run chattering (its outputs
     /// NaN from then on).
     chattered: u64,
@@ -200,6 +242,7 @@ impl<'p> LaneRunner<'p> {
             native: None,
             tab: vec![],
             hoist: false,
+            packed: vec![false; code.registers],
             chattered: 0,
             first: 0,
             clock: SampleClock::default(),
@@ -217,14 +260,13 @@ impl<'p> LaneRunner<'p> {
             .iter()
             .all(|&reg| self.regs[reg as usize].agrees(lanes));
         if native.arith == Arith::F32 {
-            // The f32 code reads each per-run constant as f32, its lanes
-            // packed at the start of its row, instead of rounding it at
-            // every step.
-            for &(_, reg) in &self.code.constants {
-                let row = &mut self.regs[reg as usize];
-                let lanes: Vec<f32> = row.0.iter().flatten().map(|&x| x as f32).collect();
-                let packed: &mut [f32] = bytemuck::cast_slice_mut(&mut row.0[..]);
-                packed[..lanes.len()].copy_from_slice(&lanes);
+            // The f32 code reads and writes each state and per-run constant
+            // as f32, its lanes packed at the start of its row, instead of
+            // rounding it from f64 and back at every step.
+            let constants = self.code.constants.iter().map(|&(_, r)| usize::from(r));
+            for reg in (0..self.y.len()).chain(constants) {
+                self.regs[reg].pack();
+                self.packed[reg] = true;
             }
         }
         for st in &mut self.steppers {
@@ -382,7 +424,7 @@ impl<'p> LaneRunner<'p> {
         let code = self.code;
         self.eval(&code.update, 4, t);
         for (u, &root) in self.updated.iter_mut().zip(&code.update.roots) {
-            *u = self.regs[root as usize];
+            *u = self.regs[root as usize].unpacked(self.packed[root as usize]);
         }
         for (u, &reg) in self.updated.iter().zip(&code.held) {
             self.regs[reg as usize] = *u;
@@ -416,24 +458,27 @@ impl<'p> LaneRunner<'p> {
         }
         let mut lane_y = std::mem::take(&mut self.lane_y);
         let mut lane_end = std::mem::take(&mut self.lane_end);
+        // The states' rows (and the step's start, kept alike) are packed or
+        // not together.
+        let packed = self.packed[0];
         for l in 0..self.steppers.len() {
             let (b, j) = (l / W, l % W);
             if self.hit[b] >> j & 1 == 0 || self.chattered >> l & 1 == 1 {
                 continue;
             }
             for (s, v) in lane_y.iter_mut().enumerate() {
-                *v = self.y[s][b][j];
+                *v = self.y[s].lane(l, packed);
             }
             for (s, v) in lane_end.iter_mut().enumerate() {
-                *v = self.regs[s][b][j];
+                *v = self.regs[s].lane(l, packed);
             }
             let st = &mut self.steppers[l];
             for (k, v) in st.held.iter_mut().enumerate() {
                 *v = self.regs[self.code.held[k] as usize][b][j];
             }
             st.step_ending_at(t, h, &mut lane_y, &lane_end);
-            for (s, v) in lane_y.iter().enumerate() {
-                self.regs[s][b][j] = *v;
+            for (s, &v) in lane_y.iter().enumerate() {
+                self.regs[s].set_lane(l, v, packed);
             }
             for (m, &v) in st.regimes.iter().enumerate() {
                 self.regs[self.code.regimes[m] as usize][b][j] = f64::from(v);
@@ -466,16 +511,17 @@ impl<'p> LaneRunner<'p> {
                 me.catch_up(t);
                 me.eval(&code.measured, 3, t);
                 // The lanes in order are the register's row as it lies; a
-                // copy only where a chattering lane must read NaN.
-                let row = &me.regs[out].0.as_flattened()[..lanes];
-                let values: &[f64] = if me.chattered == 0 {
-                    row
+                // copy only where a chattering lane must read NaN,
+                // or of an output packed as f32 (a state's own row).
+                let row = &me.regs[out];
+                let values: &[f64] = if me.chattered == 0 && !me.packed[out] {
+                    &row.0.as_flattened()[..lanes]
                 } else {
-                    for (l, (v, &x)) in values.iter_mut().zip(row).enumerate() {
+                    for (l, v) in values.iter_mut().enumerate() {
                         *v = if me.chattered >> l & 1 == 1 {
                             f64::NAN
                         } else {
-                            x
+                            row.lane(l, me.packed[out])
                         };
                     }
                     &values
@@ -531,17 +577,13 @@ impl<'p> LaneRunner<'p> {
                 while left != 0 {
                     let l = left.trailing_zeros() as usize;
                     left &= left - 1;
-                    let (b, j) = (l / W, l % W);
                     let chattered = me.chattered >> l & 1 == 1;
+                    let lane = |reg: u16| me.regs[reg as usize].lane(l, me.packed[reg as usize]);
                     for (o, &reg) in outs.iter_mut().zip(outputs) {
-                        *o = if chattered {
-                            f64::NAN
-                        } else {
-                            me.regs[reg as usize][b][j]
-                        };
+                        *o = if chattered { f64::NAN } else { lane(reg) };
                     }
                     for (o, &reg) in full.iter_mut().zip(state) {
-                        *o = me.regs[reg as usize][b][j];
+                        *o = lane(reg);
                     }
                     let s = Sample {
                         index: k,
