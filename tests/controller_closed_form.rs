@@ -312,3 +312,62 @@ fn every_lane_path_matches_the_reference_bit_for_bit_on_controlled_rigs() {
         }
     }
 }
+
+/// The f32 native lanes keep each state as f32 in its row: what reads those
+/// rows (the full report, output 0 for the fitness, a controller's update
+/// that samples a state) reads them as f32, and the held PD loop (whose
+/// output 0 is a state and whose update samples it) stays within the f32
+/// tolerance the GPU's f32 kernels are held to of its exact solution.
+#[test]
+fn native_f32_lanes_hold_a_sampled_loop_to_the_f32_tolerance() {
+    use rigfit::compile::{Arith, LaneCode, LaneRunner, Native, Tape};
+    let grid = SampleGrid {
+        t0: 0.0,
+        dt: 1e-3,
+        samples: 400,
+        substeps: 1,
+    };
+    let desc = rig_desc("held_pd.json");
+    let lowered = rigfit::compile::lower(&desc, "held_pd").unwrap();
+    let prog = lowered
+        .programs
+        .iter()
+        .find(|p| p.mode == "velocity")
+        .unwrap();
+    let tape = Tape::new(prog);
+    let code = LaneCode::new(prog, &tape);
+    // No C compiler here is a failure, not a skip.
+    let native = Native::build(&code, Arith::F32).expect("the C compiler builds the lane code");
+    let p = [M, KP, KD, X0];
+    let runs = [&p[..]; 3];
+    let times: Vec<f64> = (0..grid.samples).map(|k| grid.time(k)).collect();
+    let want = exact(1e-3, &times);
+    let mut full = vec![vec![]; runs.len()];
+    LaneRunner::new(prog, &tape, &code, &runs, None)
+        .with_native(&native)
+        .run(&grid, Report::Full, &mut |l, s| {
+            full[l].push((s.outputs[0], s.outputs[1]));
+            ControlFlow::Continue(())
+        });
+    let mut measured = vec![vec![]; runs.len()];
+    LaneRunner::new(prog, &tape, &code, &runs, None)
+        .with_native(&native)
+        .run_measured(&grid, &mut |s, _| {
+            for (l, &v) in s.values.iter().enumerate() {
+                measured[l].push((v, 0.0));
+            }
+        });
+    for l in 0..runs.len() {
+        let (ex, eu) = worst(&full[l], &want);
+        assert!(
+            ex <= 2e-4 && eu <= 2e-4,
+            "run {l}: position {ex:e}, command {eu:e}"
+        );
+        // f32 arithmetic, not f64 under another name.
+        assert!(ex > 1e-9, "run {l}: position {ex:e}");
+        let as_measured: Vec<(f64, f64)> = measured[l].iter().map(|&(x, _)| (x, 0.0)).collect();
+        let positions: Vec<(f64, f64)> = want.iter().map(|&(x, _)| (x, 0.0)).collect();
+        let (em, _) = worst(&as_measured, &positions);
+        assert!(em <= 2e-4, "run {l}: output 0 for the fitness {em:e}");
+    }
+}
