@@ -42,8 +42,9 @@ use crate::compile::program::Direction;
 pub enum Arith {
     /// f64, eight lanes to a vector: bit for bit the scalar reference.
     F64,
-    /// f32, sixteen lanes to a vector (two blocks of the f64 register file,
-    /// rounded on load): `eˣ` and `eˣ − 1` by the same reduction with an f32
+    /// f32, sixteen lanes to a vector (the states and per-run constants
+    /// packed as f32 in their rows, the other rows two blocks of the f64
+    /// register file rounded on load): `eˣ` and `eˣ − 1` by the same reduction with an f32
     /// polynomial, `ln` (the f64 vector form), `sin`, `cos` computed in f64
     /// and rounded once.
     F32,
