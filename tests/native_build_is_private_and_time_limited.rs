@@ -130,12 +130,17 @@ fn a_hung_compiler_is_stopped_and_the_job_interprets() {
     let tmp = dir.path().join("tmp");
     std::fs::create_dir(&tmp).unwrap();
     let pid_file = dir.path().join("sleeper.pid");
+    let starts = dir.path().join("starts");
     // A compiler that never ends, through a process of its own (as cc runs
-    // cc1), which must be stopped too.
+    // cc1), which must be stopped too; each start leaves a line.
     let cc = script(
         dir.path(),
         "hung-cc",
-        &format!("sleep 1000 &\necho $! > '{}'\nwait", pid_file.display()),
+        &format!(
+            "echo started >> '{}'\nsleep 1000 &\necho $! > '{}'\nwait",
+            starts.display(),
+            pid_file.display()
+        ),
     );
     let out = dir.path().join("out");
     let started = Instant::now();
@@ -145,6 +150,10 @@ fn a_hung_compiler_is_stopped_and_the_job_interprets() {
         &[
             ("RIGFIT_CC", cc.to_str().unwrap()),
             ("RIGFIT_CC_TIMEOUT", "1"),
+            (
+                "RIGFIT_CACHE_DIR",
+                dir.path().join("cache").to_str().unwrap(),
+            ),
         ],
     );
     let err = String::from_utf8_lossy(&o.stderr);
@@ -153,6 +162,14 @@ fn a_hung_compiler_is_stopped_and_the_job_interprets() {
     assert!(
         err.contains("did not finish within 1 s") && err.contains("interprets instead"),
         "{err}"
+    );
+    // Stopped once: asked what it builds for (the kept build's key), it hung,
+    // and no build was started to hang as long again.
+    let runs = std::fs::read_to_string(&starts).unwrap();
+    assert_eq!(
+        runs.lines().count(),
+        1,
+        "the hung compiler was started {runs:?}"
     );
     assert!(out.join("result.json").exists());
     let pid = std::fs::read_to_string(&pid_file).unwrap();

@@ -159,31 +159,32 @@ impl Native {
         let started = std::time::Instant::now();
         let scratch = scratch_dir()?;
         // A build kept by an earlier process (`native_cache`), else one
-        // compiled here and kept for the next.
-        let key = kept_key(&scratch, &src, arith, isa);
-        let kept = key
-            .as_deref()
-            .and_then(super::native_cache::find)
-            .and_then(|bytes| match load_kept(&scratch, &bytes, code, arith) {
-                Ok(n) => Some(n),
-                Err(e) => {
-                    log::info!("{e}; building again");
-                    None
+        // compiled here and kept for the next; none where the compiler hung
+        // when asked for the key (the build would hang as long).
+        let mut how = "built";
+        let result = kept_key(&scratch, &src, arith, isa).and_then(|key| {
+            let kept = key
+                .as_deref()
+                .and_then(super::native_cache::find)
+                .and_then(|bytes| match load_kept(&scratch, &bytes, code, arith) {
+                    Ok(n) => Some(n),
+                    Err(e) => {
+                        log::info!("{e}; building again");
+                        None
+                    }
+                });
+            match kept {
+                Some(n) => {
+                    how = "loaded as kept";
+                    Ok(n)
                 }
-            });
-        let how = if kept.is_some() {
-            "loaded as kept"
-        } else {
-            "built"
-        };
-        let result = match kept {
-            Some(n) => Ok(n),
-            None => compile_and_load(&scratch, &src, code, arith, isa).inspect(|_| {
-                if let Some(key) = &key {
-                    super::native_cache::keep(key, &scratch.path.join(LIB));
-                }
-            }),
-        };
+                None => compile_and_load(&scratch, &src, code, arith, isa).inspect(|_| {
+                    if let Some(key) = &key {
+                        super::native_cache::keep(key, &scratch.path.join(LIB));
+                    }
+                }),
+            }
+        });
         // Only the files written above are in it; the library stays mapped.
         let _ = std::fs::remove_dir_all(&scratch.path);
         let n = Arc::new(result?);
@@ -545,12 +546,21 @@ fn flags(arith: Arith, isa: Isa) -> Vec<&'static str> {
 /// compiler, its flags, what it predefines for this processor with them (its
 /// version and the instruction-set extensions `-march=native` enables), and
 /// the source. The compiler is asked once per process and flags; `None`
-/// where it will not say (a compiler that fails, or takes longer than a
-/// build may), and nothing is kept or taken.
-fn kept_key(scratch: &Scratch, src: &str, arith: Arith, isa: Isa) -> Option<String> {
-    type Asked = HashMap<(String, Vec<&'static str>), Option<String>>;
+/// where it will not say (a compiler that fails), and nothing is kept or
+/// taken. A compiler that takes longer than a build may is an error: the
+/// build would wait as long again, and so would every later one in the
+/// process.
+fn kept_key(
+    scratch: &Scratch,
+    src: &str,
+    arith: Arith,
+    isa: Isa,
+) -> Result<Option<String>, NativeError> {
+    type Asked = HashMap<(String, Vec<&'static str>), Result<Option<String>, String>>;
     static SAID: Mutex<Option<Asked>> = Mutex::new(None);
-    super::native_cache::folder()?;
+    if super::native_cache::folder().is_none() {
+        return Ok(None);
+    }
     let cc = compiler();
     let mut probe: Vec<&'static str> = flags(arith, isa);
     probe.retain(|f| *f != "-shared");
@@ -569,12 +579,20 @@ fn kept_key(scratch: &Scratch, src: &str, arith: Arith, isa: Isa) -> Option<Stri
                 compiler_timeout(),
             );
             match status {
-                Ok(s) if s.success() => std::fs::read_to_string(&out).ok(),
-                _ => None,
+                Ok(s) if s.success() => Ok(std::fs::read_to_string(&out).ok()),
+                Ok(_) => Ok(None),
+                Err(why) => Err(why),
             }
         })
-        .clone()?;
-    Some(format!("{cc}\n{:?}\n{target}\n{src}", flags(arith, isa)))
+        .clone();
+    match target {
+        Ok(Some(target)) => Ok(Some(format!(
+            "{cc}\n{:?}\n{target}\n{src}",
+            flags(arith, isa)
+        ))),
+        Ok(None) => Ok(None),
+        Err(why) => Err(NativeError::Compiler { cc, why }),
+    }
 }
 
 /// Loads a kept build's `bytes` as a library just built: written into
