@@ -94,18 +94,19 @@ pub fn temp_path_for(path: &Path) -> io::Result<PathBuf> {
 /// Whether `name` is a temporary name [`atomic_write`] gives `base` (or gave
 /// it in earlier versions: `.<base>.tmp-<pid>`), in any process.
 pub fn is_temp_name_of(name: &str, base: &str) -> bool {
-    let Some(rest) = name
-        .strip_prefix('.')
-        .and_then(|n| n.strip_prefix(base))
-        .and_then(|n| n.strip_prefix(".tmp-"))
-    else {
-        return false;
-    };
+    temp_name_parts(name).is_some_and(|(b, _)| b == base)
+}
+
+/// The file a temporary name of [`atomic_write`]'s stands for and the
+/// process id that wrote it (`.<base>.tmp-<pid>-<token>`, or
+/// `.<base>.tmp-<pid>` from earlier versions); `None` for any other name.
+pub fn temp_name_parts(name: &str) -> Option<(&str, &str)> {
+    let (base, rest) = name.strip_prefix('.')?.rsplit_once(".tmp-")?;
     let (pid, token) = rest.split_once('-').unwrap_or((rest, ""));
     let digits = !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit());
     let hex =
         token.is_empty() || (token.len() == 16 && token.bytes().all(|b| b.is_ascii_hexdigit()));
-    digits && hex
+    (digits && hex).then_some((base, pid))
 }
 
 /// Creates `path` for writing, failing when anything (a link included) is
@@ -292,6 +293,8 @@ mod tests {
         assert!(!is_temp_name_of(".v2.csv.tmp-17", "v2"));
         assert!(!is_temp_name_of(".v2.csv.tmp-x", "v2.csv"));
         assert!(!is_temp_name_of(".v2.csv.tmp-17-mine", "v2.csv"));
+        assert_eq!(temp_name_parts(".v2.csv.tmp-17"), Some(("v2.csv", "17")));
+        assert_eq!(temp_name_parts("v2.csv.tmp-17"), None);
     }
 
     #[test]

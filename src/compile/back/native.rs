@@ -562,7 +562,8 @@ fn kept_key(
         return Ok(None);
     }
     let cc = compiler();
-    let mut probe: Vec<&'static str> = flags(arith, isa);
+    let flags = flags(arith, isa);
+    let mut probe = flags.clone();
     probe.retain(|f| *f != "-shared");
     let mut said = SAID.lock().unwrap_or_else(|e| e.into_inner());
     let said = said.get_or_insert_with(HashMap::new);
@@ -586,10 +587,7 @@ fn kept_key(
         })
         .clone();
     match target {
-        Ok(Some(target)) => Ok(Some(format!(
-            "{cc}\n{:?}\n{target}\n{src}",
-            flags(arith, isa)
-        ))),
+        Ok(Some(target)) => Ok(Some(format!("{cc}\n{flags:?}\n{target}\n{src}"))),
         Ok(None) => Ok(None),
         Err(why) => Err(NativeError::Compiler { cc, why }),
     }

@@ -178,22 +178,12 @@ fn sweep_temporaries(dir: &Path) {
     for entry in entries.flatten() {
         let name = entry.file_name();
         let Some(name) = name.to_str() else { continue };
-        let Some(base) = name
-            .strip_prefix('.')
-            .and_then(|n| n.split_once(".tmp-"))
-            .map(|(b, _)| b)
-            .filter(|b| b.starts_with("lanes-") && b.ends_with(".so"))
+        let Some((_, pid)) = crate::base::fsutil::temp_name_parts(name)
+            .filter(|(base, _)| base.starts_with("lanes-") && base.ends_with(".so"))
         else {
             continue;
         };
-        if !crate::base::fsutil::is_temp_name_of(name, base) {
-            continue;
-        }
-        let pid = name
-            .rsplit(".tmp-")
-            .next()
-            .and_then(|r| r.split('-').next());
-        let alive = pid.is_some_and(|p| Path::new("/proc").join(p).exists());
+        let alive = Path::new("/proc").join(pid).exists();
         let path = entry.path();
         let ours = std::fs::symlink_metadata(&path)
             .is_ok_and(|m| m.is_file() && m.uid() == rustix::process::geteuid().as_raw());
