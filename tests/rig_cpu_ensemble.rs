@@ -415,6 +415,36 @@ fn native_trig_drive_lanes_match_the_scalar_reference_bit_for_bit() {
     }
 }
 
+#[test]
+fn native_lanes_redone_together_match_the_scalar_reference_bit_for_bit() {
+    // The native code redoes the lanes past a switch an f64 vector at a
+    // time, each with its own switch times and searches, a lane that is
+    // done held by a mask while the others take more switches in the same
+    // step. Seal friction's stick-slip beside the backlash, on steps long
+    // enough that a step often holds two switches in one lane and one in
+    // its neighbour, with the friction and the play different in every
+    // lane: every lane's bits are still its scalar run's.
+    let grid = SampleGrid {
+        t0: 0.0,
+        dt: 2.5e-3,
+        samples: 1600,
+        substeps: 1,
+    };
+    let truth = [
+        40.0, 350.0, 1.751e5, 1751.0, 3.0e4, 2500.0, 800.0, 0.01, 2.0e4, 3.0e-4, 10.0, 2.0e5, 2e-3,
+        1.0, 6.0,
+    ];
+    let ps = spread(&truth, LANES + 5, &[(9, 3.0e-4, 2.8e-4), (10, 10.0, 9.0)]);
+    let desc = rigfit::rig::shipped("quarter_car_friction").unwrap();
+    let r = CompiledRig::new(desc.clone(), "quarter_car_friction").unwrap();
+    let one = histories_one(&r, &ps, &Drive::Velocity, &grid);
+    assert_same_bits(
+        &histories_native(&desc, &ps, None, &grid, Report::Full),
+        &one,
+    );
+    assert!(one.iter().flatten().all(|&b| f64::from_bits(b).is_finite()));
+}
+
 /// The f32 tolerance the GPU's f32 kernels are held to (`tests/gpu_rig_parity.rs`):
 /// each output's and state's largest difference from the f64 reference, over
 /// that series' largest magnitude.

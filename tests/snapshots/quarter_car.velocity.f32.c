@@ -990,127 +990,255 @@ void rig_deriv1(const double *restrict R, double t, const double *tab, double *r
 void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) { events1_(R, t, tab, out); }
 #define NS 6
 #define NT 4
+#define NREG 40
 #define MAX_EVENTS 16
 #define LOCATE_ITER 200
 #define LOCATE_TOL 1e-12
 static const int DIR_UP[NT] = {1, 0, 0, 1};
 static const long MODE[NT] = {7, 7, 7, 7};
 static const double TO[NT] = {1.0, 0.0, 2.0, 0.0};
-/* Whether transition i is armed at R's regimes: its variable at its value, its guard held. */
-static int armed1(const double *R, int i) {
+/* The lanes of R where transition i is armed: its variable at its value, its guard held. */
+static dm armedw(const d *R, int i) {
   switch (i) {
-  case 0: return R[7] == 0.0;
-  case 1: return R[7] == 1.0;
-  case 2: return R[7] == 0.0;
-  case 3: return R[7] == 2.0;
+  case 0: return (R[7] == dsplat(0.0));
+  case 1: return (R[7] == dsplat(1.0));
+  case 2: return (R[7] == dsplat(0.0));
+  case 3: return (R[7] == dsplat(2.0));
   }
-  return 0;
+  return (dm){0};
 }
-/* rig_redo1: one run's step redone with its switches located, as
-   EventStepper::step_known (src/compile/exec/events.rs) redoes it, step for
-   step and in its order of operations, so its bits are the same: R the run's
-   scalar register file (its regimes and held states set; its state rows are
-   written here), y the step's start in and its end out, yend where the
-   lanes' plain step from y ended. Each fired switch's time and transition go
-   into ft and fi (at most MAX_EVENTS + 1); returns how many fired, with
-   *chat set where a step took more than MAX_EVENTS. */
-static void deriv_at(double *R, double t, const double *x, double *out) {
-  for (int i = 0; i < NS; i++) R[i] = x[i];
-  deriv1_(R, t, 0, out);
-}
-static void events_at(double *R, double t, const double *x, double *g) {
-  for (int i = 0; i < NS; i++) R[i] = x[i];
-  events1_(R, t, 0, g);
-}
+#define FIRED (MAX_EVENTS + 1)
+F d wsel(d c, d a, d b) { return dpick(c != dsplat(0.0), a, b); }
+F d wle(d a, d b) { return (d)((a <= b) & (dm)dsplat(1.0)); }
+F d weq(d a, d b) { return (d)((a == b) & (dm)dsplat(1.0)); }
+F d wmin(d a, d b) { d r = dpick(a < b, a, b); r = dpick(a != a, b, r); return dpick(b != b, a, r); }
+F d wmax(d a, d b) { d r = dpick(a > b, a, b); r = dpick(a != a, b, r); return dpick(b != b, a, r); }
+F d wabs(d a) { return (d)((du)a & 0x7fffffffffffffffULL); }
+F d wexp(d x) { return dexp(x); }
+F d wexpm1(d x) { return dexpm1(x); }
+F d wlog(d x) { return dlog(x); }
+F d wsin(d x) { return dsin(x); }
+F d wcos(d x) { return dcos(x); }
+F int anyw(dm k) { long long a = 0; for (int l = 0; l < DW; l++) a |= k[l]; return a != 0; }
 /* Transition i's event function oriented so that >= 0 is past its switch. */
-static double oriented1(int i, double g) { return DIR_UP[i] ? g : -g; }
+F d orientw(int i, d g) { return DIR_UP[i] ? g : -g; }
 /* Transition::fires: past the switch at the end, and on the armed side at
    the start or further past. */
-static int fires1(int i, double g0, double g1) {
-  double v0 = oriented1(i, g0), v1 = oriented1(i, g1);
-  return v1 >= 0.0 && (!(v0 >= 0.0) || v1 > v0);
+F dm firesw(int i, d g0, d g1) {
+  d v0 = orientw(i, g0), v1 = orientw(i, g1), zero = dsplat(0.0);
+  return (v1 >= zero) & (~(v0 >= zero) | (v1 > v0));
 }
-static void rk4_1(double *R, double t, double h, double *y, double *k0, int known) {
-  double k1[NS], k2[NS], k3[NS], tmp[NS];
-  if (!known) deriv_at(R, t, y, k0);
+static __attribute__((noinline)) void derivw(const d *restrict R, d t, const d *restrict x, d *restrict out) {
+    d r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39;
+    (void)r0; (void)t; (void)x;
+    r8 = R[8];
+    r6 = t;
+    r9 = R[9];
+    r10 = R[10];
+    r11 = R[11];
+    r12 = R[12];
+    r13 = R[13];
+    r1 = x[1];
+    r4 = x[4];
+    r14 = R[14];
+    r15 = R[15];
+    r2 = x[2];
+    r5 = x[5];
+    r16 = R[16];
+    r17 = R[17];
+    r18 = R[18];
+    r19 = R[19];
+    r20 = R[20];
+    r21 = R[21];
+    r7 = R[7];
+    r22 = R[22];
+    r23 = R[23];
+    r24 = R[24];
+    r25 = R[25];
+    r26 = R[26];
+    r29 = r8 * r6;
+    r30 = r9 * r29;
+    r30 = r10 + r30;
+    r30 = r30 * r6;
+    r30 = r11 * r30;
+    r29 = r10 + r29;
+    r29 = r11 * r29;
+    r31 = wle(r12, r6);
+    r32 = wsin(r30);
+    r30 = wcos(r30);
+    r32 = r13 * r32;
+    r30 = r30 * r29;
+    r30 = r13 * r30;
+    r32 = wsel(r31, r32, r12);
+    r30 = wsel(r31, r30, r12);
+    r32 = r1 - r32;
+    r30 = r4 - r30;
+    r32 = r14 * r32;
+    r30 = r15 * r30;
+    r30 = r32 + r30;
+    r32 = r2 - r1;
+    r31 = r5 - r4;
+    r29 = r16 * r32;
+    r33 = wabs(r31);
+    r34 = wle(r33, r17);
+    r35 = r18 * r31;
+    r33 = r33 - r17;
+    r33 = r19 * r33;
+    r33 = r20 + r33;
+    r31 = wle(r31, r12);
+    r36 = -r33;
+    r36 = wsel(r31, r36, r33);
+    r36 = wsel(r34, r35, r36);
+    r36 = r29 + r36;
+    r29 = r32 - r21;
+    r32 = r32 + r21;
+    r35 = weq(r7, r22);
+    r34 = weq(r7, r23);
+    r29 = r24 * r29;
+    r32 = r24 * r32;
+    r32 = wsel(r34, r32, r12);
+    r32 = wsel(r35, r29, r32);
+    r30 = r36 - r30;
+    r30 = r30 + r32;
+    r30 = r30 * r25;
+    r36 = r12 - r36;
+    r36 = r36 - r32;
+    r36 = r36 * r26;
+    out[0] = r12;
+    out[1] = r4;
+    out[2] = r5;
+    out[3] = r12;
+    out[4] = r30;
+    out[5] = r36;
+}
+static __attribute__((noinline)) void eventsw(const d *restrict R, d t, const d *restrict x, d *restrict out) {
+    d r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39;
+    (void)r0; (void)t; (void)x;
+    r2 = x[2];
+    r1 = x[1];
+    r21 = R[21];
+    r29 = r2 - r1;
+    r30 = r29 - r21;
+    r29 = r29 + r21;
+    out[0] = r30;
+    out[1] = r30;
+    out[2] = r29;
+    out[3] = r29;
+}
+/* rig_redo: the steps of the lanes in `act` (a bit per lane of a d vector)
+   redone with their switches located, as EventStepper::step_known
+   (src/compile/exec/events.rs) redoes each, step for step and in its order
+   of operations, so each lane's bits are the same: R the lanes' register
+   file (NREG rows of DW lanes; regimes and held states set, the regimes
+   each switch sets written there), y the steps' starts in and their ends
+   out (NS rows), yend where the lanes' plain steps ended. Each lane l's
+   fired switches' times and transitions go into ft and fi from
+   l * (MAX_EVENTS + 1), their count into nf[l], and chat[l] is set where
+   its step took more than MAX_EVENTS. */
+/* One RK4 step of the lanes in `act` (the others' y kept). */
+static void rk4w(const d *R, d t, d h, d *y, d *k0, int known, dm act) {
+  d k1[NS], k2[NS], k3[NS], tmp[NS];
+  if (!known) derivw(R, t, y, k0);
   for (int i = 0; i < NS; i++) tmp[i] = y[i] + 0.5 * h * k0[i];
-  deriv_at(R, t + 0.5 * h, tmp, k1);
+  derivw(R, t + 0.5 * h, tmp, k1);
   for (int i = 0; i < NS; i++) tmp[i] = y[i] + 0.5 * h * k1[i];
-  deriv_at(R, t + 0.5 * h, tmp, k2);
+  derivw(R, t + 0.5 * h, tmp, k2);
   for (int i = 0; i < NS; i++) tmp[i] = y[i] + h * k2[i];
-  deriv_at(R, t + h, tmp, k3);
-  for (int i = 0; i < NS; i++) y[i] += h / 6.0 * (k0[i] + 2.0 * k1[i] + 2.0 * k2[i] + k3[i]);
+  derivw(R, t + h, tmp, k3);
+  for (int i = 0; i < NS; i++)
+    y[i] = dpick(act, y[i] + h / 6.0 * (k0[i] + 2.0 * k1[i] + 2.0 * k2[i] + k3[i]), y[i]);
 }
-/* locate_crossing on the Hermite interpolant of the step [ta, ta + h]. */
-static double locate1(double *R, int tr, double ta, double h, const double *start,
-                      const double *f0, const double *y1, const double *fe, double v0, double v1) {
-  if (v0 >= 0.0 || v0 != v0) return 0.0;
-  double lo = 0.0, hi = 1.0, vlo = v0, vhi = v1, w0 = 2.0, w1 = 2.0, w2 = 2.0;
-  const double nudge = 0.5 * LOCATE_TOL;
-  int side = 0;
-  double x[NS], g[NT];
+/* locate_crossing on the Hermite interpolant of each lane's step [ta, ta + h],
+   for transition tr in the lanes of `act`. */
+static d locatew(const d *R, int tr, d ta, d h, const d *start, const d *f0, const d *y1,
+                 const d *fe, d v0, d v1, dm act) {
+  const d zero = dsplat(0.0), one = dsplat(1.0), half = dsplat(0.5);
+  /* Past at the start (or NaN): 0. */
+  dm go = act & ~((v0 >= zero) | (v0 != v0)), exact = (dm){0};
+  d lo = zero, hi = one, vlo = v0, vhi = v1, w0 = dsplat(2.0), w1 = w0, w2 = w0, at = zero;
+  dm up = (dm){0}, down = (dm){0};
+  const d tol = dsplat(LOCATE_TOL), nudge = dsplat(0.5 * LOCATE_TOL);
+  d x[NS], g[NT];
   for (int it = 0; it < LOCATE_ITER; it++) {
-    double w = hi - lo;
-    if (w <= LOCATE_TOL || w != w) break;
-    double secant = lo + w * (vlo / (vlo - vhi));
-    double m = (w > 0.5 * w0 || !(lo <= secant && secant <= hi)) ? lo + 0.5 * w : secant;
-    m = smin(smax(m, lo + nudge), hi - nudge);
-    w0 = w1; w1 = w2; w2 = w;
-    double s2 = m * m, s3 = s2 * m;
-    double h00 = 2.0 * s3 - 3.0 * s2 + 1.0, h10 = (s3 - 2.0 * s2 + m) * h;
-    double h01 = -2.0 * s3 + 3.0 * s2, h11 = (s3 - s2) * h;
+    d w = hi - lo;
+    go &= ~((w <= tol) | (w != w));
+    if (!anyw(go)) break;
+    d secant = lo + w * (vlo / (vlo - vhi));
+    d m = dpick((w > 0.5 * w0) | ~((lo <= secant) & (secant <= hi)), lo + 0.5 * w, secant);
+    m = wmin(wmax(m, lo + nudge), hi - nudge);
+    w0 = dpick(go, w1, w0); w1 = dpick(go, w2, w1); w2 = dpick(go, w, w2);
+    d s2 = m * m, s3 = s2 * m;
+    d h00 = 2.0 * s3 - 3.0 * s2 + 1.0, h10 = (s3 - 2.0 * s2 + m) * h;
+    d h01 = -2.0 * s3 + 3.0 * s2, h11 = (s3 - s2) * h;
     for (int i = 0; i < NS; i++) x[i] = h00 * start[i] + h10 * f0[i] + h01 * y1[i] + h11 * fe[i];
-    events_at(R, ta + m * h, x, g);
-    double vm = oriented1(tr, g[tr]);
-    if (vm == 0.0) return m;
-    if (vm > 0.0) {
-      if (side == 1) { double f = 1.0 - vm / vhi; vlo *= f > 0.0 ? f : 0.5; }
-      hi = m; vhi = vm; side = 1;
-    } else {
-      if (side == -1) { double f = 1.0 - vm / vlo; vhi *= f > 0.0 ? f : 0.5; }
-      lo = m; vlo = vm; side = -1;
-    }
+    eventsw(R, ta + m * h, x, g);
+    d vm = orientw(tr, g[tr]);
+    dm hit = go & (vm == zero);
+    at = dpick(hit, m, at); exact |= hit; go &= ~hit;
+    dm past = go & (vm > zero), short_ = go & ~(vm > zero);
+    d f = one - vm / dpick(past, vhi, vlo);
+    f = dpick(f > zero, f, half);
+    vlo = dpick(past & up, vlo * f, vlo);
+    hi = dpick(past, m, hi); vhi = dpick(past, vm, vhi);
+    vhi = dpick(short_ & down, vhi * f, vhi);
+    lo = dpick(short_, m, lo); vlo = dpick(short_, vm, vlo);
+    up = (up & ~short_) | past; down = (down & ~past) | short_;
   }
-  return hi;
+  dm searched = act & ~((v0 >= zero) | (v0 != v0));
+  return dpick(exact, at, dpick(searched, hi, zero));
 }
-long rig_redo1(double *restrict R, double *restrict y, const double *restrict yend, double t,
-               double h, double *ft, long *fi, long *chat) {
-  double start[NS], k0[NS], fe[NS], y1[NS], gs[NT], ge[NT];
-  double ta = t, rem = h;
-  long nf = 0;
-  for (int ev = 0; ev <= MAX_EVENTS; ev++) {
+void rig_redo(double *restrict Rio, double *restrict yio, const double *restrict yend, double t,
+              double h, long act, double *ft, long *fi, long *nf, long *chat) {
+  d R[NREG], y[NS], ye[NS], start[NS], k0[NS], fe[NS], y1[NS], gs[NT], ge[NT];
+  __builtin_memcpy(R, Rio, sizeof R);
+  __builtin_memcpy(y, yio, sizeof y);
+  __builtin_memcpy(ye, yend, sizeof ye);
+  dm live;
+  for (int l = 0; l < DW; l++) { live[l] = (act >> l & 1) ? -1 : 0; nf[l] = 0; chat[l] = 0; }
+  d ta = dsplat(t), rem = dsplat(h);
+  int ev;
+  for (ev = 0; ev <= MAX_EVENTS; ev++) {
     for (int i = 0; i < NS; i++) start[i] = y[i];
-    events_at(R, ta, y, gs);
+    eventsw(R, ta, y, gs);
     if (ev == 0) {
-      deriv_at(R, ta, y, k0);
-      for (int i = 0; i < NS; i++) y[i] = yend[i];
+      derivw(R, ta, y, k0);
+      for (int i = 0; i < NS; i++) y[i] = dpick(live, ye[i], y[i]);
     } else {
-      rk4_1(R, ta, rem, y, k0, 0);
+      rk4w(R, ta, rem, y, k0, 0, live);
     }
-    events_at(R, ta + rem, y, ge);
-    int hits[NT], any = 0;
-    for (int i = 0; i < NT; i++) any |= hits[i] = armed1(R, i) && fires1(i, gs[i], ge[i]);
-    if (!any) return nf;
-    deriv_at(R, ta + rem, y, fe);
+    eventsw(R, ta + rem, y, ge);
+    dm hits[NT], any = (dm){0};
+    for (int i = 0; i < NT; i++) any |= hits[i] = live & armedw(R, i) & firesw(i, gs[i], ge[i]);
+    live &= any;
+    if (!anyw(live)) break;
+    derivw(R, ta + rem, y, fe);
     for (int i = 0; i < NS; i++) y1[i] = y[i];
-    double best = 0.0;
-    int tr = -1;
+    d best = dsplat(0.0);
+    dm tr = ~(dm){0}, have = (dm){0};
     for (int i = 0; i < NT; i++) {
-      if (!hits[i]) continue;
-      double th = locate1(R, i, ta, rem, start, k0, y1, fe, oriented1(i, gs[i]), oriented1(i, ge[i]));
-      if (tr < 0 || th < best) { best = th; tr = i; }
+      if (!anyw(hits[i])) continue;
+      d th = locatew(R, i, ta, rem, start, k0, y1, fe, orientw(i, gs[i]), orientw(i, ge[i]), hits[i]);
+      dm take = hits[i] & (~have | (th < best));
+      best = dpick(take, th, best);
+      tr = (take & (dm){DALL(i)}) | (~take & tr);
+      have |= take;
     }
-    double s = best * rem;
-    for (int i = 0; i < NS; i++) y[i] = start[i];
-    rk4_1(R, ta, s, y, k0, 1);
-    R[MODE[tr]] = TO[tr];
-    ft[nf] = ta + s; fi[nf] = tr; nf++;
-    ta += s;
-    rem -= s;
-    if (rem <= 0.0) return nf;
+    d s = best * rem;
+    for (int i = 0; i < NS; i++) y[i] = dpick(live, start[i], y[i]);
+    rk4w(R, ta, s, y, k0, 1, live);
+    for (int i = 0; i < NT; i++) R[MODE[i]] = dpick(live & (tr == (dm){DALL(i)}), dsplat(TO[i]), R[MODE[i]]);
+    d tf = ta + s;
+    for (int l = 0; l < DW; l++)
+      if (live[l]) { ft[l * FIRED + nf[l]] = tf[l]; fi[l * FIRED + nf[l]] = tr[l]; nf[l]++; }
+    ta = dpick(live, tf, ta);
+    rem = dpick(live, rem - s, rem);
+    live &= rem > dsplat(0.0);
+    if (!anyw(live)) break;
   }
-  *chat = 1;
-  return nf;
+  if (ev > MAX_EVENTS)
+    for (int l = 0; l < DW; l++) chat[l] = live[l] != 0;
+  __builtin_memcpy(Rio, R, sizeof R);
+  __builtin_memcpy(yio, y, sizeof y);
 }
 void rig_report(blk *restrict R, long nb, double t, const double *tab) {
   for (long q = 0; q < NQ(nb); q++) {

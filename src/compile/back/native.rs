@@ -77,29 +77,43 @@ type Rk4Fn = unsafe extern "C" fn(
 );
 type ListFn = unsafe extern "C" fn(*mut Reg, c_long, f64, *const f64);
 type Deriv1Fn = unsafe extern "C" fn(*const f64, f64, *const f64, *mut f64);
-type Redo1Fn = unsafe extern "C" fn(
+type RedoFn = unsafe extern "C" fn(
     *mut f64,
     *mut f64,
     *const f64,
     f64,
     f64,
+    c_long,
     *mut f64,
     *mut c_long,
     *mut c_long,
-) -> c_long;
+    *mut c_long,
+);
 
 /// Most switches one redone step fires before its run is flagged as
 /// chattering, and one more.
 pub(crate) const REDO_FIRED: usize = crate::compile::exec::events::MAX_EVENTS_PER_STEP + 1;
 
-/// What [`Native::redo1`] did: the switches it fired (time, transition)
-/// into the caller's buffers, how many, and whether the run chattered.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Redone {
-    /// Switches fired, in time order.
-    pub fired: usize,
-    /// Whether the step took more than its switches allow.
-    pub chattered: bool,
+/// The buffers [`Native::redo`] reads and writes: the lanes' register file,
+/// states and step ends (a row of [`Native::redo_lanes`] lanes per register
+/// or state), and per lane the switches fired (time, transition; up to
+/// [`REDO_FIRED`]), how many, and whether it chattered.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct RedoLanes {
+    /// `registers` rows.
+    pub r: Vec<f64>,
+    /// `states` rows: the steps' starts in, their ends out.
+    pub y: Vec<f64>,
+    /// `states` rows: where the lanes' plain steps ended.
+    pub y_end: Vec<f64>,
+    /// [`REDO_FIRED`] per lane.
+    pub times: Vec<f64>,
+    /// [`REDO_FIRED`] per lane.
+    pub transitions: Vec<c_long>,
+    /// One per lane.
+    pub fired: Vec<c_long>,
+    /// One per lane.
+    pub chattered: Vec<c_long>,
 }
 
 /// A loaded build of one program's lane code.
@@ -108,9 +122,11 @@ pub struct Native {
     lists: [ListFn; 3],
     deriv1: Deriv1Fn,
     events1: Deriv1Fn,
-    /// `rig_redo1`, where the lane code has switches and no tables
+    /// `rig_redo`, where the lane code has switches and no tables
     /// ([`c::redoes`]).
-    redo1: Option<Redo1Fn>,
+    redo: Option<RedoFn>,
+    /// The lanes [`Self::redo`] takes at once: an f64 vector's.
+    pub(crate) redo_lanes: usize,
     /// The lane code's register count, state count and event-function
     /// count, which [`Self::deriv1`]'s and [`Self::events1`]'s slices hold.
     registers: usize,
@@ -163,16 +179,16 @@ impl Native {
         // when asked for the key (the build would hang as long).
         let mut how = "built";
         let result = kept_key(&scratch, &src, arith, isa).and_then(|key| {
-            let kept = key
-                .as_deref()
-                .and_then(super::native_cache::find)
-                .and_then(|bytes| match load_kept(&scratch, &bytes, code, arith) {
-                    Ok(n) => Some(n),
-                    Err(e) => {
-                        log::info!("{e}; building again");
-                        None
-                    }
-                });
+            let kept =
+                key.as_deref().and_then(super::native_cache::find).and_then(
+                    |bytes| match load_kept(&scratch, &bytes, code, arith, isa) {
+                        Ok(n) => Some(n),
+                        Err(e) => {
+                            log::info!("{e}; building again");
+                            None
+                        }
+                    },
+                );
             match kept {
                 Some(n) => {
                     how = "loaded as kept";
@@ -269,52 +285,65 @@ impl Native {
         self.one_run(self.events1, self.events, r, t, tab, out);
     }
 
-    /// Whether [`Self::redo1`] is built.
+    /// Whether [`Self::redo`] is built.
     pub(crate) fn redoes(&self) -> bool {
-        self.redo1.is_some()
+        self.redo.is_some()
     }
 
-    /// One run's step from `y` over `[t, t + h]` redone with its switches
-    /// located, bit for bit as the scalar reference's stepper redoes it
-    /// (`EventStepper::step_ending_at`), where [`Self::redoes`]: `r` the
-    /// run's scalar register file with its regimes and held states set (the
-    /// regimes it switches set there), `y_end` where the lanes' plain step
-    /// ended, `y` the start in and the end out; the switches it fires into
-    /// `times` and `transitions`.
-    #[expect(clippy::too_many_arguments, reason = "the C function's operands")]
+    /// Buffers for [`Self::redo`] of this build.
+    pub(crate) fn redo_buffers(&self) -> RedoLanes {
+        let l = self.redo_lanes;
+        RedoLanes {
+            r: vec![0.0; self.registers * l],
+            y: vec![0.0; self.states * l],
+            y_end: vec![0.0; self.states * l],
+            times: vec![0.0; REDO_FIRED * l],
+            transitions: vec![0; REDO_FIRED * l],
+            fired: vec![0; l],
+            chattered: vec![0; l],
+        }
+    }
+
+    /// The steps from `b.y` over `[t, t + h]` of the lanes whose bit is set
+    /// in `act` redone with their switches located, each bit for bit as the
+    /// scalar reference's stepper redoes it (`EventStepper::step_known`),
+    /// where [`Self::redoes`]: `b.r` their register files with their
+    /// regimes and held states set (the regimes they switch set there),
+    /// `b.y_end` where the lanes' plain steps ended, `b.y` the starts in and
+    /// the ends out; the switches each fires, how many, and whether it
+    /// chattered, into the rest of `b`.
     #[expect(unsafe_code, reason = "calls the compiled C")]
-    pub(crate) fn redo1(
-        &self,
-        r: &mut [f64],
-        y: &mut [f64],
-        y_end: &[f64],
-        t: f64,
-        h: f64,
-        times: &mut [f64; REDO_FIRED],
-        transitions: &mut [c_long; REDO_FIRED],
-    ) -> Option<Redone> {
-        let f = self.redo1?;
-        assert!(r.len() == self.registers && y.len() == self.states && y_end.len() == self.states);
-        let mut chattered: c_long = 0;
-        // SAFETY: `rig_redo1` of this library reads and writes registers
-        // below `registers` and `states` values of `y` and `y_end`, and
-        // writes at most MAX_EVENTS_PER_STEP + 1 switches.
-        let n = unsafe {
+    pub(crate) fn redo(&self, b: &mut RedoLanes, t: f64, h: f64, act: u64) {
+        let f = self.redo.expect("a build that redoes");
+        let l = self.redo_lanes;
+        assert!(
+            b.r.len() == self.registers * l
+                && b.y.len() == self.states * l
+                && b.y_end.len() == self.states * l
+                && b.times.len() == REDO_FIRED * l
+                && b.transitions.len() == REDO_FIRED * l
+                && b.fired.len() == l
+                && b.chattered.len() == l
+                && act >> l == 0
+        );
+        // SAFETY: `rig_redo` of this library reads and writes `registers`
+        // rows of `redo_lanes` values of `r`, `states` rows of `y` and
+        // `y_end`, and at most REDO_FIRED switches per lane and one count
+        // and flag per lane, as the buffers above hold.
+        unsafe {
             f(
-                r.as_mut_ptr(),
-                y.as_mut_ptr(),
-                y_end.as_ptr(),
+                b.r.as_mut_ptr(),
+                b.y.as_mut_ptr(),
+                b.y_end.as_ptr(),
                 t,
                 h,
-                times.as_mut_ptr(),
-                transitions.as_mut_ptr(),
-                &mut chattered,
-            )
-        };
-        Some(Redone {
-            fired: usize::try_from(n).expect("a count"),
-            chattered: chattered != 0,
-        })
+                act as c_long,
+                b.times.as_mut_ptr(),
+                b.transitions.as_mut_ptr(),
+                b.fired.as_mut_ptr(),
+                b.chattered.as_mut_ptr(),
+            );
+        }
     }
 
     /// Calls `f`, one of the one-run functions, which writes `n` values.
@@ -602,11 +631,12 @@ fn load_kept(
     bytes: &[u8],
     code: &LaneCode,
     arith: Arith,
+    isa: Isa,
 ) -> Result<Native, NativeError> {
     let lib = scratch.path.join("kept.so");
     write_new(&lib, bytes).map_err(io("writing", &lib))?;
     check_before_loading(scratch, &lib).map_err(io("checking", &lib))?;
-    load(&lib, code, arith)
+    load(&lib, code, arith, isa)
 }
 
 /// [`NativeError::Io`] of `what` was done to `path`, from its cause.
@@ -660,13 +690,13 @@ fn compile_and_load(
         });
     }
     check_before_loading(scratch, &lib).map_err(io("checking", &lib))?;
-    load(&lib, code, arith)
+    load(&lib, code, arith, isa)
 }
 
 /// Loads the functions of `lib`, the build of `code` in `arith` (checked by
 /// [`check_before_loading`]).
 #[expect(unsafe_code, reason = "loads the library built and its functions")]
-fn load(lib: &Path, code: &LaneCode, arith: Arith) -> Result<Native, NativeError> {
+fn load(lib: &Path, code: &LaneCode, arith: Arith, isa: Isa) -> Result<Native, NativeError> {
     let load_err = |source| NativeError::Load {
         path: lib.to_path_buf(),
         source,
@@ -686,8 +716,8 @@ fn load(lib: &Path, code: &LaneCode, arith: Arith) -> Result<Native, NativeError
         ];
         let deriv1: Deriv1Fn = *l.get::<Deriv1Fn>(b"rig_deriv1\0").map_err(load_err)?;
         let events1: Deriv1Fn = *l.get::<Deriv1Fn>(b"rig_events1\0").map_err(load_err)?;
-        let redo1 = if c::redoes(code) {
-            Some(*l.get::<Redo1Fn>(b"rig_redo1\0").map_err(load_err)?)
+        let redo = if c::redoes(code) {
+            Some(*l.get::<RedoFn>(b"rig_redo\0").map_err(load_err)?)
         } else {
             None
         };
@@ -696,7 +726,8 @@ fn load(lib: &Path, code: &LaneCode, arith: Arith) -> Result<Native, NativeError
             lists,
             deriv1,
             events1,
-            redo1,
+            redo,
+            redo_lanes: isa.vector_bytes() / 8,
             registers: code.registers,
             states: code.slopes.len(),
             events: code.events.roots.len(),

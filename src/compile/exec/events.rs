@@ -15,7 +15,7 @@
 //! ([`EventStepper::sample`]); switches are located inside each piece, so a
 //! switch and an instant in the same step are taken in time order.
 
-use crate::compile::back::native::{Native, REDO_FIRED};
+use crate::compile::back::native::Native;
 use crate::compile::exec::lane_code::LaneCode;
 use crate::compile::exec::sampling::SampleClock;
 use crate::compile::exec::tape::{Frame, Point, Tape, table_value};
@@ -281,41 +281,17 @@ impl<'p> EventStepper<'p> {
     /// One piece of a step ([`Self::step`] between sample instants) where
     /// the plain RK4 step from `(t, y)` over `h` is known to end at `y_end`
     /// (the lane ensemble took it): of that step only the first slope (which
-    /// locating a switch needs) is computed again.
-    ///
-    /// With native code that has it ([`Native::redo1`]), the whole step is
-    /// redone there: the same operations in the same order, so the same
-    /// bits and the same switches fired.
+    /// locating a switch needs) is computed again. (Native code that redoes
+    /// steps, [`Native::redo`], takes a runner's lanes together instead.)
     pub fn step_ending_at(&mut self, t: f64, h: f64, y: &mut [f64], y_end: &[f64]) {
-        if !self.chattered
-            && self.native.as_ref().is_some_and(|nd| nd.native.redoes())
-            && let Some(nd) = self.native_inputs(t, y)
-        {
-            let mut times = [0.0; REDO_FIRED];
-            let mut transitions = [0; REDO_FIRED];
-            let done = nd
-                .native
-                .redo1(&mut nd.r, y, y_end, t, h, &mut times, &mut transitions)
-                .expect("a build that redoes");
-            // The regimes it switched, read back from its register file.
-            let nd = self.native.as_ref().expect("native code");
-            for (&m, v) in nd.code.regimes.iter().zip(&mut self.regimes) {
-                *v = nd.r[m as usize] as u32;
-            }
-            self.fired.extend(
-                times
-                    .iter()
-                    .zip(&transitions)
-                    .take(done.fired)
-                    .map(|(&t, &tr)| Fired {
-                        t,
-                        transition: tr as usize,
-                    }),
-            );
-            self.chattered |= done.chattered;
-            return;
-        }
         self.step_known(t, h, y, Some(y_end));
+    }
+
+    /// The native code's register file of this run ([`Self::with_native_deriv`]):
+    /// its per-run constants at their registers (its states, regimes and
+    /// held states as last used).
+    pub(crate) fn native_registers(&self) -> Option<&[f64]> {
+        self.native.as_ref().map(|nd| &nd.r[..])
     }
 
     fn step_known(&mut self, t: f64, h: f64, y: &mut [f64], mut known_end: Option<&[f64]>) {

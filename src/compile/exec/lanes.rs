@@ -27,8 +27,8 @@ use std::ops::ControlFlow;
 use crate::base::{MeasuredSample, PiecewiseLinear, Report, Sample, lane_bits};
 use crate::base::{SampleGrid, walk_grid};
 use crate::compile::back::c::Arith;
-use crate::compile::back::native::{Native, NativeList};
-use crate::compile::exec::events::EventStepper;
+use crate::compile::back::native::{Native, NativeList, REDO_FIRED, RedoLanes};
+use crate::compile::exec::events::{EventStepper, Fired};
 use crate::compile::exec::interp::{Span, mark};
 use crate::compile::exec::lane_code::{LaneCode, List};
 use crate::compile::exec::sampling::SampleClock;
@@ -155,6 +155,10 @@ pub struct LaneRunner<'p> {
     tab: Vec<f64>,
     /// Whether every active lane shares `native`'s `hoist_reads`.
     hoist: bool,
+    /// Buffers for `native`'s redone steps ([`Native::redo`]), and each
+    /// lane's per-run constants for them (in `code.constants`' order).
+    redo: RedoLanes,
+    redo_constants: Vec<f64>,
     /// Per register, whether its row holds its lanes as f32 packed at its
     /// start (the states and per-run constants of f32 native code).
     packed: Vec<bool>,
@@ -242,6 +246,8 @@ impl<'p> LaneRunner<'p> {
             native: None,
             tab: vec![],
             hoist: false,
+            redo: RedoLanes::default(),
+            redo_constants: vec![],
             packed: vec![false; code.registers],
             chattered: 0,
             first: 0,
@@ -456,6 +462,10 @@ impl<'p> LaneRunner<'p> {
         if self.hit[..nb].iter().all(|&h| h == 0) {
             return;
         }
+        if let Some(native) = self.native.filter(|n| n.redoes()) {
+            self.redo(native, t, h);
+            return;
+        }
         let mut lane_y = std::mem::take(&mut self.lane_y);
         let mut lane_end = std::mem::take(&mut self.lane_end);
         // The states' rows (and the step's start, kept alike) are packed or
@@ -487,6 +497,76 @@ impl<'p> LaneRunner<'p> {
         }
         self.lane_y = lane_y;
         self.lane_end = lane_end;
+    }
+
+    /// The lanes past a switch at the piece's end redone by `native`, an
+    /// f64 vector of them at a time ([`Native::redo`]), as their steppers
+    /// would redo them one by one. They are gathered into as few vectors as
+    /// hold them (the lanes a rig's switch takes in one step are seldom
+    /// neighbours); a vector's slots past its last lane repeat its first.
+    fn redo(&mut self, native: &Native, t: f64, h: f64) {
+        let (code, dw, n) = (self.code, native.redo_lanes, self.y.len());
+        let packed = self.packed[0];
+        let lanes = self.steppers.len();
+        let mut b = std::mem::take(&mut self.redo);
+        let nc = code.constants.len();
+        if b.fired.len() != dw {
+            // Each lane's per-run constants, from its stepper's own f64
+            // register file (an f32 runner's rows hold them rounded).
+            b = native.redo_buffers();
+            self.redo_constants = Vec::with_capacity(nc * lanes);
+            for st in &self.steppers {
+                let r = st.native_registers().expect("native code");
+                self.redo_constants
+                    .extend(code.constants.iter().map(|&(_, reg)| r[usize::from(reg)]));
+            }
+        }
+        let mut todo = [0_usize; LANES];
+        let mut count = 0;
+        for l in 0..lanes {
+            if self.hit[l / W] >> (l % W) & 1 == 1 && self.chattered >> l & 1 == 0 {
+                todo[count] = l;
+                count += 1;
+            }
+        }
+        for group in todo[..count].chunks(dw) {
+            for k in 0..dw {
+                let l = group.get(k).copied().unwrap_or(group[0]);
+                let (bl, j) = (l / W, l % W);
+                for (&(_, reg), &v) in code.constants.iter().zip(&self.redo_constants[l * nc..]) {
+                    b.r[usize::from(reg) * dw + k] = v;
+                }
+                for &reg in code.regimes.iter().chain(&code.held) {
+                    b.r[usize::from(reg) * dw + k] = self.regs[usize::from(reg)][bl][j];
+                }
+                for s in 0..n {
+                    b.y[s * dw + k] = self.y[s].lane(l, packed);
+                    b.y_end[s * dw + k] = self.regs[s].lane(l, packed);
+                }
+            }
+            native.redo(&mut b, t, h, (1 << group.len()) - 1);
+            for (k, &l) in group.iter().enumerate() {
+                let (bl, j) = (l / W, l % W);
+                for s in 0..n {
+                    self.regs[s].set_lane(l, b.y[s * dw + k], packed);
+                }
+                let st = &mut self.steppers[l];
+                for (m, &reg) in code.regimes.iter().enumerate() {
+                    let v = b.r[usize::from(reg) * dw + k];
+                    st.regimes[m] = v as u32;
+                    self.regs[usize::from(reg)][bl][j] = v;
+                }
+                let fired = usize::try_from(b.fired[k]).expect("a count");
+                st.fired
+                    .extend((k * REDO_FIRED..).take(fired).map(|i| Fired {
+                        t: b.times[i],
+                        transition: usize::try_from(b.transitions[i]).expect("a transition"),
+                    }));
+                st.chattered |= b.chattered[k] != 0;
+                self.chattered |= u64::from(st.chattered) << l;
+            }
+        }
+        self.redo = b;
     }
 
     /// Runs every lane over `grid`, handing output 0 of every lane to
