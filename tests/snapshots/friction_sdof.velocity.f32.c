@@ -216,8 +216,8 @@ F v vmax(v a, v b) { v r = pick(a > b, a, b); r = pick(a != a, b, r); return pic
 /* The same of a uniform vector (every lane alike, as in the instructions
    hoisted out of rig_rk4's loop): one call, its value in every lane. */
 F v ulog(v a) { return splat(dlog1(a[0])); }
-F v usin(v a) { return splat(dsin1(a[0])); }
-F v ucos(v a) { return splat(dcos1(a[0])); }
+F v usin(v a) { return splat(dsin(dsplat(a[0]))[0]); }
+F v ucos(v a) { return splat(dcos(dsplat(a[0]))[0]); }
 F unsigned long long lanebits(m k) {
   k &= (m){1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096, 8192, 16384, 32768};
   k |= __builtin_shufflevector(k, k, 8, 9, 10, 11, 12, 13, 14, 15, 0, 1, 2, 3, 4, 5, 6, 7);
@@ -491,70 +491,6 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
   if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
   for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
 }
-/* e^x and e^x - 1 of one value: lane 0 of the vector forms (as cheap as
-   a scalar copy of them on a vector unit, and the same arithmetic). */
-F double sexp(double x) { return dexp(dsplat(x))[0]; }
-F double sexpm1(double x) { return dexpm1(dsplat(x))[0]; }
-F double ssel(double c, double a, double b) { return c != 0.0 ? a : b; }
-F double sle(double a, double b) { return a <= b ? 1.0 : 0.0; }
-F double seq(double a, double b) { return a == b ? 1.0 : 0.0; }
-F double smin(double a, double b) { return a != a ? b : b != b ? a : a < b ? a : b; }
-F double smax(double a, double b) { return a != a ? b : b != b ? a : a > b ? a : b; }
-F double sabs(double a) { return fabs(a); }
-F double slog(double a) { return dlog1(a); }
-F double ssin(double a) { return dsin1(a); }
-F double scos(double a) { return dcos1(a); }
-static __attribute__((noinline)) void deriv1_(const double *restrict R, double t, const double *tab, double *restrict out) {
-    double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17;
-    (void)r0; (void)t; (void)tab; (void)out;
-    r5 = R[5];
-    r3 = t;
-    r6 = R[6];
-    r7 = R[7];
-    r8 = R[8];
-    r0 = R[0];
-    r9 = R[9];
-    r1 = R[1];
-    r10 = R[10];
-    r2 = R[2];
-    r4 = R[4];
-    r11 = R[11];
-    r14 = r5 * r3;
-    r15 = sle(r6, r3);
-    r14 = ssin(r14);
-    r14 = r7 * r14;
-    r14 = ssel(r15, r14, r6);
-    r15 = r8 * r0;
-    r16 = r9 * r1;
-    r16 = r15 + r16;
-    r15 = r10 * r2;
-    r17 = seq(r4, r6);
-    r17 = ssel(r17, r1, r6);
-    r16 = r6 - r16;
-    r16 = r16 - r15;
-    r16 = r16 + r14;
-    r16 = r16 * r11;
-    out[0] = r1;
-    out[1] = r16;
-    out[2] = r17;
-}
-static __attribute__((noinline)) void events1_(const double *restrict R, double t, const double *tab, double *restrict out) {
-    double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17;
-    (void)r0; (void)t; (void)tab; (void)out;
-    r10 = R[10];
-    r2 = R[2];
-    r12 = R[12];
-    r1 = R[1];
-    r14 = r10 * r2;
-    r15 = r14 - r12;
-    r14 = r14 + r12;
-    out[0] = r15;
-    out[1] = r14;
-    out[2] = r1;
-    out[3] = r1;
-}
-void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) { deriv1_(R, t, tab, out); }
-void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) { events1_(R, t, tab, out); }
 #define NS 3
 #define NT 4
 #define NREG 18

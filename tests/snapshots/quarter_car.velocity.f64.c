@@ -170,8 +170,8 @@ F v vmax(v a, v b) { v r = pick(a > b, a, b); r = pick(a != a, b, r); return pic
 /* The same of a uniform vector (every lane alike, as in the instructions
    hoisted out of rig_rk4's loop): one call, its value in every lane. */
 F v ulog(v a) { return splat(dlog1(a[0])); }
-F v usin(v a) { return splat(dsin1(a[0])); }
-F v ucos(v a) { return splat(dcos1(a[0])); }
+F v usin(v a) { return splat(dsin(dsplat(a[0]))[0]); }
+F v ucos(v a) { return splat(dcos(dsplat(a[0]))[0]); }
 F unsigned long long lanebits(m k) {
   k &= (m){1, 2, 4, 8, 16, 32, 64, 128};
   k |= __builtin_shufflevector(k, k, 4, 5, 6, 7, 0, 1, 2, 3);
@@ -829,118 +829,6 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
   if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
   for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
 }
-/* e^x and e^x - 1 of one value: lane 0 of the vector forms (as cheap as
-   a scalar copy of them on a vector unit, and the same arithmetic). */
-F double sexp(double x) { return dexp(dsplat(x))[0]; }
-F double sexpm1(double x) { return dexpm1(dsplat(x))[0]; }
-F double ssel(double c, double a, double b) { return c != 0.0 ? a : b; }
-F double sle(double a, double b) { return a <= b ? 1.0 : 0.0; }
-F double seq(double a, double b) { return a == b ? 1.0 : 0.0; }
-F double smin(double a, double b) { return a != a ? b : b != b ? a : a < b ? a : b; }
-F double smax(double a, double b) { return a != a ? b : b != b ? a : a > b ? a : b; }
-F double sabs(double a) { return fabs(a); }
-F double slog(double a) { return dlog1(a); }
-F double ssin(double a) { return dsin1(a); }
-F double scos(double a) { return dcos1(a); }
-static __attribute__((noinline)) void deriv1_(const double *restrict R, double t, const double *tab, double *restrict out) {
-    double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39;
-    (void)r0; (void)t; (void)tab; (void)out;
-    r8 = R[8];
-    r6 = t;
-    r9 = R[9];
-    r10 = R[10];
-    r11 = R[11];
-    r12 = R[12];
-    r13 = R[13];
-    r1 = R[1];
-    r4 = R[4];
-    r14 = R[14];
-    r15 = R[15];
-    r2 = R[2];
-    r5 = R[5];
-    r16 = R[16];
-    r17 = R[17];
-    r18 = R[18];
-    r19 = R[19];
-    r20 = R[20];
-    r21 = R[21];
-    r7 = R[7];
-    r22 = R[22];
-    r23 = R[23];
-    r24 = R[24];
-    r25 = R[25];
-    r26 = R[26];
-    r29 = r8 * r6;
-    r30 = r9 * r29;
-    r30 = r10 + r30;
-    r30 = r30 * r6;
-    r30 = r11 * r30;
-    r29 = r10 + r29;
-    r29 = r11 * r29;
-    r31 = sle(r12, r6);
-    r32 = ssin(r30);
-    r30 = scos(r30);
-    r32 = r13 * r32;
-    r30 = r30 * r29;
-    r30 = r13 * r30;
-    r32 = ssel(r31, r32, r12);
-    r30 = ssel(r31, r30, r12);
-    r32 = r1 - r32;
-    r30 = r4 - r30;
-    r32 = r14 * r32;
-    r30 = r15 * r30;
-    r30 = r32 + r30;
-    r32 = r2 - r1;
-    r31 = r5 - r4;
-    r29 = r16 * r32;
-    r33 = sabs(r31);
-    r34 = sle(r33, r17);
-    r35 = r18 * r31;
-    r33 = r33 - r17;
-    r33 = r19 * r33;
-    r33 = r20 + r33;
-    r31 = sle(r31, r12);
-    r36 = -r33;
-    r36 = ssel(r31, r36, r33);
-    r36 = ssel(r34, r35, r36);
-    r36 = r29 + r36;
-    r29 = r32 - r21;
-    r32 = r32 + r21;
-    r35 = seq(r7, r22);
-    r34 = seq(r7, r23);
-    r29 = r24 * r29;
-    r32 = r24 * r32;
-    r32 = ssel(r34, r32, r12);
-    r32 = ssel(r35, r29, r32);
-    r30 = r36 - r30;
-    r30 = r30 + r32;
-    r30 = r30 * r25;
-    r36 = r12 - r36;
-    r36 = r36 - r32;
-    r36 = r36 * r26;
-    out[0] = r12;
-    out[1] = r4;
-    out[2] = r5;
-    out[3] = r12;
-    out[4] = r30;
-    out[5] = r36;
-}
-static __attribute__((noinline)) void events1_(const double *restrict R, double t, const double *tab, double *restrict out) {
-    double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39;
-    (void)r0; (void)t; (void)tab; (void)out;
-    r2 = R[2];
-    r1 = R[1];
-    r21 = R[21];
-    r29 = r2 - r1;
-    r30 = r29 - r21;
-    r29 = r29 + r21;
-    out[0] = r30;
-    out[1] = r30;
-    out[2] = r29;
-    out[3] = r29;
-}
-void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) { deriv1_(R, t, tab, out); }
-void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) { events1_(R, t, tab, out); }
 #define NS 6
 #define NT 4
 #define NREG 40

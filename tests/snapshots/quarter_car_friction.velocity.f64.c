@@ -170,8 +170,8 @@ F v vmax(v a, v b) { v r = pick(a > b, a, b); r = pick(a != a, b, r); return pic
 /* The same of a uniform vector (every lane alike, as in the instructions
    hoisted out of rig_rk4's loop): one call, its value in every lane. */
 F v ulog(v a) { return splat(dlog1(a[0])); }
-F v usin(v a) { return splat(dsin1(a[0])); }
-F v ucos(v a) { return splat(dcos1(a[0])); }
+F v usin(v a) { return splat(dsin(dsplat(a[0]))[0]); }
+F v ucos(v a) { return splat(dcos(dsplat(a[0]))[0]); }
 F unsigned long long lanebits(m k) {
   k &= (m){1, 2, 4, 8, 16, 32, 64, 128};
   k |= __builtin_shufflevector(k, k, 4, 5, 6, 7, 0, 1, 2, 3);
@@ -903,140 +903,6 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
   if (nb < BLOCKS) hits &= (1ULL << (nb * 8)) - 1;
   for (int i = 0; i < BLOCKS; i++) hit[i] = hits >> (8 * i);
 }
-/* e^x and e^x - 1 of one value: lane 0 of the vector forms (as cheap as
-   a scalar copy of them on a vector unit, and the same arithmetic). */
-F double sexp(double x) { return dexp(dsplat(x))[0]; }
-F double sexpm1(double x) { return dexpm1(dsplat(x))[0]; }
-F double ssel(double c, double a, double b) { return c != 0.0 ? a : b; }
-F double sle(double a, double b) { return a <= b ? 1.0 : 0.0; }
-F double seq(double a, double b) { return a == b ? 1.0 : 0.0; }
-F double smin(double a, double b) { return a != a ? b : b != b ? a : a < b ? a : b; }
-F double smax(double a, double b) { return a != a ? b : b != b ? a : a > b ? a : b; }
-F double sabs(double a) { return fabs(a); }
-F double slog(double a) { return dlog1(a); }
-F double ssin(double a) { return dsin1(a); }
-F double scos(double a) { return dcos1(a); }
-static __attribute__((noinline)) void deriv1_(const double *restrict R, double t, const double *tab, double *restrict out) {
-    double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43;
-    (void)r0; (void)t; (void)tab; (void)out;
-    r10 = R[10];
-    r7 = t;
-    r11 = R[11];
-    r12 = R[12];
-    r13 = R[13];
-    r14 = R[14];
-    r15 = R[15];
-    r1 = R[1];
-    r4 = R[4];
-    r16 = R[16];
-    r17 = R[17];
-    r2 = R[2];
-    r5 = R[5];
-    r18 = R[18];
-    r19 = R[19];
-    r20 = R[20];
-    r21 = R[21];
-    r22 = R[22];
-    r23 = R[23];
-    r8 = R[8];
-    r24 = R[24];
-    r25 = R[25];
-    r26 = R[26];
-    r27 = R[27];
-    r6 = R[6];
-    r9 = R[9];
-    r28 = R[28];
-    r29 = R[29];
-    r33 = r10 * r7;
-    r34 = r11 * r33;
-    r34 = r12 + r34;
-    r34 = r34 * r7;
-    r34 = r13 * r34;
-    r33 = r12 + r33;
-    r33 = r13 * r33;
-    r35 = sle(r14, r7);
-    r36 = ssin(r34);
-    r34 = scos(r34);
-    r36 = r15 * r36;
-    r34 = r34 * r33;
-    r34 = r15 * r34;
-    r36 = ssel(r35, r36, r14);
-    r34 = ssel(r35, r34, r14);
-    r36 = r1 - r36;
-    r34 = r4 - r34;
-    r36 = r16 * r36;
-    r34 = r17 * r34;
-    r34 = r36 + r34;
-    r36 = r2 - r1;
-    r35 = r5 - r4;
-    r33 = r18 * r36;
-    r37 = sabs(r35);
-    r38 = sle(r37, r19);
-    r39 = r20 * r35;
-    r37 = r37 - r19;
-    r37 = r21 * r37;
-    r37 = r22 + r37;
-    r40 = sle(r35, r14);
-    r41 = -r37;
-    r41 = ssel(r40, r41, r37);
-    r41 = ssel(r38, r39, r41);
-    r41 = r33 + r41;
-    r33 = r36 - r23;
-    r36 = r36 + r23;
-    r39 = seq(r8, r24);
-    r38 = seq(r8, r25);
-    r33 = r26 * r33;
-    r36 = r26 * r36;
-    r36 = ssel(r38, r36, r14);
-    r36 = ssel(r39, r33, r36);
-    r33 = r27 * r6;
-    r39 = seq(r9, r14);
-    r39 = ssel(r39, r35, r14);
-    r34 = r41 - r34;
-    r34 = r34 + r36;
-    r34 = r34 + r33;
-    r34 = r34 * r28;
-    r41 = r14 - r41;
-    r41 = r41 - r36;
-    r41 = r41 - r33;
-    r41 = r41 * r29;
-    out[0] = r14;
-    out[1] = r4;
-    out[2] = r5;
-    out[3] = r14;
-    out[4] = r34;
-    out[5] = r41;
-    out[6] = r39;
-}
-static __attribute__((noinline)) void events1_(const double *restrict R, double t, const double *tab, double *restrict out) {
-    double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43;
-    (void)r0; (void)t; (void)tab; (void)out;
-    r2 = R[2];
-    r1 = R[1];
-    r5 = R[5];
-    r4 = R[4];
-    r23 = R[23];
-    r27 = R[27];
-    r6 = R[6];
-    r30 = R[30];
-    r33 = r2 - r1;
-    r34 = r5 - r4;
-    r35 = r33 - r23;
-    r33 = r33 + r23;
-    r36 = r27 * r6;
-    r37 = r36 - r30;
-    r36 = r36 + r30;
-    out[0] = r35;
-    out[1] = r35;
-    out[2] = r33;
-    out[3] = r33;
-    out[4] = r37;
-    out[5] = r36;
-    out[6] = r34;
-    out[7] = r34;
-}
-void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) { deriv1_(R, t, tab, out); }
-void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) { events1_(R, t, tab, out); }
 #define NS 7
 #define NT 8
 #define NREG 44

@@ -170,8 +170,8 @@ F v vmax(v a, v b) { v r = pick(a > b, a, b); r = pick(a != a, b, r); return pic
 /* The same of a uniform vector (every lane alike, as in the instructions
    hoisted out of rig_rk4's loop): one call, its value in every lane. */
 F v ulog(v a) { return splat(dlog1(a[0])); }
-F v usin(v a) { return splat(dsin1(a[0])); }
-F v ucos(v a) { return splat(dcos1(a[0])); }
+F v usin(v a) { return splat(dsin(dsplat(a[0]))[0]); }
+F v ucos(v a) { return splat(dcos(dsplat(a[0]))[0]); }
 F unsigned long long lanebits(m k) {
   k &= (m){1, 2, 4, 8, 16, 32, 64, 128};
   k |= __builtin_shufflevector(k, k, 4, 5, 6, 7, 0, 1, 2, 3);

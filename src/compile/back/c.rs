@@ -460,8 +460,8 @@ F v vmax(v a, v b) { v r = pick(a > b, a, b); r = pick(a != a, b, r); return pic
 /* The same of a uniform vector (every lane alike, as in the instructions
    hoisted out of rig_rk4's loop): one call, its value in every lane. */
 F v ulog(v a) { return splat(dlog1(a[0])); }
-F v usin(v a) { return splat(dsin1(a[0])); }
-F v ucos(v a) { return splat(dcos1(a[0])); }
+F v usin(v a) { return splat(dsin(dsplat(a[0]))[0]); }
+F v ucos(v a) { return splat(dcos(dsplat(a[0]))[0]); }
 "#;
 
 /// One instruction as a C statement on the register locals `rN`, with the
@@ -1030,49 +1030,51 @@ pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
     s.push_str(STORE_HITS);
     s.push_str("}\n");
 
-    // rig_deriv1 and rig_events1: one run's derivative and event functions
-    // for the steps its stepper redoes; `R` its scalar register file
-    // (states, regimes, held states and per-run constants at their
-    // registers), `out` the slopes or the event functions' values.
-    s.push_str(SCALAR);
-    for (name, list) in [("deriv1_", &code.deriv), ("events1_", &code.events)] {
-        let _ = writeln!(
-            s,
-            "static __attribute__((noinline)) void {name}(const double *restrict R, double t, const double *tab, double *restrict out) {{"
-        );
-        let _ = writeln!(
-            s,
-            "    double {};",
-            (0..code.registers)
-                .map(|i| format!("r{i}"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
-        s.push_str("    (void)r0; (void)t; (void)tab; (void)out;\n");
-        for &reg in &inputs(list) {
-            let src = if reg == code.time {
-                "t".to_string()
-            } else if let Some(k) = table_of(reg) {
-                format!("tab[{k}]")
-            } else {
-                format!("R[{reg}]")
-            };
-            let _ = writeln!(s, "    r{reg} = {src};");
-        }
-        for ins in &list.code {
-            s.push_str(&statement(ins.dest, &ins.op, 's'));
-        }
-        for (i, &root) in list.roots.iter().enumerate() {
-            let _ = writeln!(s, "    out[{i}] = r{root};");
-        }
-        s.push_str("}\n");
-    }
-    s.push_str(
-        "void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) { deriv1_(R, t, tab, out); }\n\
-         void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) { events1_(R, t, tab, out); }\n",
-    );
+    // rig_deriv1 and rig_events1 where no rig_redo is built: one run's
+    // derivative and event functions for the steps its stepper redoes; `R`
+    // its scalar register file (states, regimes, held states and per-run
+    // constants at their registers), `out` the slopes or the event
+    // functions' values.
     if redoes(code) {
         redo(&mut s, code);
+    } else {
+        s.push_str(SCALAR);
+        for (name, list) in [("deriv1_", &code.deriv), ("events1_", &code.events)] {
+            let _ = writeln!(
+                s,
+                "static __attribute__((noinline)) void {name}(const double *restrict R, double t, const double *tab, double *restrict out) {{"
+            );
+            let _ = writeln!(
+                s,
+                "    double {};",
+                (0..code.registers)
+                    .map(|i| format!("r{i}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+            s.push_str("    (void)r0; (void)t; (void)tab; (void)out;\n");
+            for &reg in &inputs(list) {
+                let src = if reg == code.time {
+                    "t".to_string()
+                } else if let Some(k) = table_of(reg) {
+                    format!("tab[{k}]")
+                } else {
+                    format!("R[{reg}]")
+                };
+                let _ = writeln!(s, "    r{reg} = {src};");
+            }
+            for ins in &list.code {
+                s.push_str(&statement(ins.dest, &ins.op, 's'));
+            }
+            for (i, &root) in list.roots.iter().enumerate() {
+                let _ = writeln!(s, "    out[{i}] = r{root};");
+            }
+            s.push_str("}\n");
+        }
+        s.push_str(
+            "void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) { deriv1_(R, t, tab, out); }\n\
+             void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) { events1_(R, t, tab, out); }\n",
+        );
     }
 
     for (name, list) in [

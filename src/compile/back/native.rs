@@ -120,8 +120,8 @@ pub(crate) struct RedoLanes {
 pub struct Native {
     rk4: Rk4Fn,
     lists: [ListFn; 3],
-    deriv1: Deriv1Fn,
-    events1: Deriv1Fn,
+    /// `rig_deriv1` and `rig_events1`, where no `rig_redo` is built.
+    one_run: Option<[Deriv1Fn; 2]>,
     /// `rig_redo`, where the lane code has switches and no tables
     /// ([`c::redoes`]).
     redo: Option<RedoFn>,
@@ -275,14 +275,16 @@ impl Native {
     /// regimes, held states and per-run constants at their registers), time
     /// `t`, table values `tab`; the slopes into `out`.
     pub(crate) fn deriv1(&self, r: &[f64], t: f64, tab: &[f64], out: &mut [f64]) {
-        self.one_run(self.deriv1, self.states, r, t, tab, out);
+        let f = self.one_run.expect("a build without rig_redo")[0];
+        self.one_run(f, self.states, r, t, tab, out);
     }
 
     /// One run's event functions in f64, bit for bit the scalar
     /// reference's, as [`Self::deriv1`]: their values into `out`, one per
     /// transition.
     pub(crate) fn events1(&self, r: &[f64], t: f64, tab: &[f64], out: &mut [f64]) {
-        self.one_run(self.events1, self.events, r, t, tab, out);
+        let f = self.one_run.expect("a build without rig_redo")[1];
+        self.one_run(f, self.events, r, t, tab, out);
     }
 
     /// Whether [`Self::redo`] is built.
@@ -714,18 +716,19 @@ fn load(lib: &Path, code: &LaneCode, arith: Arith, isa: Isa) -> Result<Native, N
             list(b"rig_measured\0")?,
             list(b"rig_update\0")?,
         ];
-        let deriv1: Deriv1Fn = *l.get::<Deriv1Fn>(b"rig_deriv1\0").map_err(load_err)?;
-        let events1: Deriv1Fn = *l.get::<Deriv1Fn>(b"rig_events1\0").map_err(load_err)?;
-        let redo = if c::redoes(code) {
-            Some(*l.get::<RedoFn>(b"rig_redo\0").map_err(load_err)?)
+        let one = |name: &[u8]| l.get::<Deriv1Fn>(name).map(|f| *f).map_err(load_err);
+        let (redo, one_run) = if c::redoes(code) {
+            (
+                Some(*l.get::<RedoFn>(b"rig_redo\0").map_err(load_err)?),
+                None,
+            )
         } else {
-            None
+            (None, Some([one(b"rig_deriv1\0")?, one(b"rig_events1\0")?]))
         };
         Ok(Native {
             rk4,
             lists,
-            deriv1,
-            events1,
+            one_run,
             redo,
             redo_lanes: isa.vector_bytes() / 8,
             registers: code.registers,

@@ -122,7 +122,8 @@ impl<'p> EventStepper<'p> {
 
     /// Takes the derivative from `native`, the build of `code` (this
     /// stepper's program's lane code), instead of the tape: the same bits,
-    /// several times faster.
+    /// several times faster. Only a build without `rig_redo` has it
+    /// ([`Native::redoes`]: one with it redoes the steps itself).
     pub fn with_native_deriv(&mut self, code: &'p LaneCode, native: &'p Native) {
         let mut r = vec![0.0; code.registers];
         for &(id, reg) in &code.constants {
@@ -285,13 +286,6 @@ impl<'p> EventStepper<'p> {
     /// steps, [`Native::redo`], takes a runner's lanes together instead.)
     pub fn step_ending_at(&mut self, t: f64, h: f64, y: &mut [f64], y_end: &[f64]) {
         self.step_known(t, h, y, Some(y_end));
-    }
-
-    /// The native code's register file of this run ([`Self::with_native_deriv`]):
-    /// its per-run constants at their registers (its states, regimes and
-    /// held states as last used).
-    pub(crate) fn native_registers(&self) -> Option<&[f64]> {
-        self.native.as_ref().map(|nd| &nd.r[..])
     }
 
     fn step_known(&mut self, t: f64, h: f64, y: &mut [f64], mut known_end: Option<&[f64]>) {

@@ -275,8 +275,11 @@ impl<'p> LaneRunner<'p> {
                 self.packed[reg] = true;
             }
         }
-        for st in &mut self.steppers {
-            st.with_native_deriv(self.code, native);
+        // A build that redoes steps itself has no one-run derivative.
+        if !native.redoes() {
+            for st in &mut self.steppers {
+                st.with_native_deriv(self.code, native);
+            }
         }
         self.native = Some(native);
         self
@@ -511,14 +514,13 @@ impl<'p> LaneRunner<'p> {
         let mut b = std::mem::take(&mut self.redo);
         let nc = code.constants.len();
         if b.fired.len() != dw {
-            // Each lane's per-run constants, from its stepper's own f64
-            // register file (an f32 runner's rows hold them rounded).
+            // Each lane's per-run constants in f64, from its stepper's
+            // frame (an f32 runner's rows hold them rounded).
             b = native.redo_buffers();
             self.redo_constants = Vec::with_capacity(nc * lanes);
             for st in &self.steppers {
-                let r = st.native_registers().expect("native code");
                 self.redo_constants
-                    .extend(code.constants.iter().map(|&(_, reg)| r[usize::from(reg)]));
+                    .extend(code.constants.iter().map(|&(id, _)| st.frame.get(id)));
             }
         }
         let mut todo = [0_usize; LANES];
