@@ -27,7 +27,7 @@ fn observe(
         return true;
     }
     if k >= ex.win_start && k < ex.win_end {
-        let r = f - measured(ex.data_offset + k);
+        let r = f - datum(ex.data_offset + k);
         *acc += r * r;
     }
     return false;

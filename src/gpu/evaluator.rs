@@ -45,9 +45,9 @@ pub struct GpuOptions {
     /// (`None`: the device's limits alone). Tests set a small value so that
     /// the split path runs on any adapter.
     pub max_runs_per_pass: Option<usize>,
-    /// Let the compiled rigs' fitness kernel read the measured values from a
-    /// uniform-buffer copy of them where they fit the device's uniform
-    /// binding (see [`super::shaders::record_fn`]); `false` reads them from
+    /// Let the compiled rigs' fitness kernel read the measured values and the
+    /// tables from a uniform-buffer copy of them where they fit the device's uniform
+    /// binding (see [`super::shaders::datum_fn`]); `false` reads them from
     /// the storage buffer, as a longer record does. The same bits either way.
     pub uniform_record: bool,
 }

@@ -107,7 +107,7 @@ pub struct ProblemShape {
     pub force_drive: bool,
     /// The compiled rigs' fitness kernel: `Some(n)` reads the measured values
     /// from `record`, a uniform-buffer copy of `data` in `n` vec4s (see
-    /// [`record_fn`]); `None` reads them from `data`.
+    /// [`datum_fn`]); `None` reads them from `data`.
     pub record_vec4s: Option<u32>,
     /// Whether every table the kernel reads (the rig file's own and each
     /// experiment's drive table) lies on an exactly uniform grid
@@ -123,25 +123,24 @@ pub struct ProblemShape {
 /// `shared/bindings.wgsl`'s six and `fitness`).
 pub const RECORD_BINDING: u32 = 7;
 
-/// `fn measured(i)`, value `i` of `data`, for the compiled rigs' fitness
-/// kernel: from `record`, a uniform-buffer copy of `data` in `vec4s` vec4s,
-/// where it fits; else from `data` itself. A CPU driver (lavapipe) reads a
+/// `fn datum(i)`, value `i` of `data`, for the compiled rigs' kernels (the
+/// fitness kernel's measured values, every kernel's tables): from `record`, a
+/// uniform-buffer copy of `data` in `vec4s` vec4s, where the fitness kernel
+/// has one (it fits); else from `data` itself. A CPU driver (lavapipe) reads a
 /// storage buffer at a per-lane index one lane at a time in a loop with a
 /// bounds test and a branch per lane, and a uniform buffer with one gather:
 /// on the shipped example that loop, taken at every sample, was 15 % of the
 /// compiled kernel's time.
-pub fn record_fn(vec4s: Option<u32>) -> String {
+pub fn datum_fn(vec4s: Option<u32>) -> String {
     match vec4s {
         Some(n) => format!(
             "@group(0) @binding({RECORD_BINDING}) var<uniform> record: array<vec4<real>, {n}>;\n\n\
-             // Value i of `data`, from its uniform copy (src/gpu/shaders.rs, record_fn).\n\
-             fn measured(i: u32) -> real {{\n    return record[i >> 2u][i & 3u];\n}}\n"
+             // Value i of `data`, from its uniform copy (src/gpu/shaders.rs, datum_fn).\n\
+             fn datum(i: u32) -> real {{\n    return record[i >> 2u][i & 3u];\n}}\n"
         ),
-        None => {
-            "// Value i of `data` (src/gpu/shaders.rs, record_fn: too long for a uniform copy).\n\
-                 fn measured(i: u32) -> real {\n    return data[i];\n}\n"
-                .to_string()
-        }
+        None => "// Value i of `data` (src/gpu/shaders.rs, datum_fn: no uniform copy).\n\
+                 fn datum(i: u32) -> real {\n    return data[i];\n}\n"
+            .to_string(),
     }
 }
 
@@ -268,9 +267,11 @@ pub fn source(
                 parts.push(SHARED_NO_CONTROLLERS.to_string());
             }
             parts.push(param_fn(baked, precision));
-            if kernel == Kernel::Fitness {
-                parts.push(record_fn(shape.record_vec4s));
-            }
+            parts.push(datum_fn(if kernel == Kernel::Fitness {
+                shape.record_vec4s
+            } else {
+                None
+            }));
             parts.push(
                 match kernel {
                     Kernel::Fitness => KERNEL_FITNESS,
