@@ -952,15 +952,16 @@ void rig_rk4(blk *restrict R, blk *restrict Y, long nb, const double *tt, const 
 }
 #define NS 7
 #define NT 8
-#define NREG 44
 #define MAX_EVENTS 16
 #define LOCATE_ITER 200
 #define LOCATE_TOL 1e-12
 static const int DIR_UP[NT] = {1, 0, 0, 1, 1, 0, 0, 1};
 static const long MODE[NT] = {8, 8, 8, 8, 9, 9, 9, 9};
 static const double TO[NT] = {1.0, 0.0, 2.0, 0.0, 1.0, 2.0, 0.0, 0.0};
+/* A row of the caller's register file: DW lanes, only 8-byte aligned. */
+typedef double dr __attribute__((vector_size(VBYTES), aligned(8)));
 /* The lanes of R where transition i is armed: its variable at its value, its guard held. */
-static dm armedw(const d *R, int i) {
+static dm armedw(const dr *R, int i) {
   switch (i) {
   case 0: return (R[8] == dsplat(0.0));
   case 1: return (R[8] == dsplat(1.0));
@@ -994,7 +995,7 @@ F dm firesw(int i, d g0, d g1) {
   d v0 = orientw(i, g0), v1 = orientw(i, g1), zero = dsplat(0.0);
   return (v1 >= zero) & (~(v0 >= zero) | (v1 > v0));
 }
-static __attribute__((noinline)) void derivw(const d *restrict R, d t, const d *restrict x, d *restrict out) {
+static __attribute__((noinline)) void derivw(const dr *restrict R, d t, const d *restrict x, d *restrict out) {
     d r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43;
     (void)r0; (void)t; (void)x;
     r10 = R[10];
@@ -1086,7 +1087,7 @@ static __attribute__((noinline)) void derivw(const d *restrict R, d t, const d *
     out[5] = r41;
     out[6] = r39;
 }
-static __attribute__((noinline)) void eventsw(const d *restrict R, d t, const d *restrict x, d *restrict out) {
+static __attribute__((noinline)) void eventsw(const dr *restrict R, d t, const d *restrict x, d *restrict out) {
     d r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43;
     (void)r0; (void)t; (void)x;
     r2 = x[2];
@@ -1117,14 +1118,14 @@ static __attribute__((noinline)) void eventsw(const d *restrict R, d t, const d 
    redone with their switches located, as EventStepper::step_known
    (src/compile/exec/events.rs) redoes each, step for step and in its order
    of operations, so each lane's bits are the same: R the lanes' register
-   file (NREG rows of DW lanes; regimes and held states set, the regimes
+   file (a row of DW lanes per register; regimes and held states set, the regimes
    each switch sets written there), y the steps' starts in and their ends
    out (NS rows), yend where the lanes' plain steps ended. Each lane l's
    fired switches' times and transitions go into ft and fi from
    l * (MAX_EVENTS + 1), their count into nf[l], and chat[l] is set where
    its step took more than MAX_EVENTS. */
 /* One RK4 step of the lanes in `act` (the others' y kept). */
-static void rk4w(const d *R, d t, d h, d *y, d *k0, int known, dm act) {
+static void rk4w(const dr *R, d t, d h, d *y, d *k0, int known, dm act) {
   d k1[NS], k2[NS], k3[NS], tmp[NS];
   if (!known) derivw(R, t, y, k0);
   for (int i = 0; i < NS; i++) tmp[i] = y[i] + 0.5 * h * k0[i];
@@ -1138,7 +1139,7 @@ static void rk4w(const d *R, d t, d h, d *y, d *k0, int known, dm act) {
 }
 /* locate_crossing on the Hermite interpolant of each lane's step [ta, ta + h],
    for transition tr in the lanes of `act`. */
-static d locatew(const d *R, int tr, d ta, d h, const d *start, const d *f0, const d *y1,
+static d locatew(const dr *R, int tr, d ta, d h, const d *start, const d *f0, const d *y1,
                  const d *fe, d v0, d v1, dm act) {
   const d zero = dsplat(0.0), one = dsplat(1.0), half = dsplat(0.5);
   /* Past at the start (or NaN): 0. */
@@ -1177,8 +1178,8 @@ static d locatew(const d *R, int tr, d ta, d h, const d *start, const d *f0, con
 }
 void rig_redo(double *restrict Rio, double *restrict yio, const double *restrict yend, double t,
               double h, long act, double *ft, long *fi, long *nf, long *chat) {
-  d R[NREG], y[NS], ye[NS], start[NS], k0[NS], fe[NS], y1[NS], gs[NT], ge[NT];
-  __builtin_memcpy(R, Rio, sizeof R);
+  dr *R = (dr *)Rio;
+  d y[NS], ye[NS], start[NS], k0[NS], fe[NS], y1[NS], gs[NT], ge[NT];
   __builtin_memcpy(y, yio, sizeof y);
   __builtin_memcpy(ye, yend, sizeof ye);
   dm live;
@@ -1225,7 +1226,6 @@ void rig_redo(double *restrict Rio, double *restrict yio, const double *restrict
   }
   if (ev > MAX_EVENTS)
     for (int l = 0; l < DW; l++) chat[l] = live[l] != 0;
-  __builtin_memcpy(Rio, R, sizeof R);
   __builtin_memcpy(yio, y, sizeof y);
 }
 void rig_report(blk *restrict R, long nb, double t, const double *tab) {

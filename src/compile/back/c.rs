@@ -254,14 +254,14 @@ const REDO: &str = r#"/* rig_redo: the steps of the lanes in `act` (a bit per la
    redone with their switches located, as EventStepper::step_known
    (src/compile/exec/events.rs) redoes each, step for step and in its order
    of operations, so each lane's bits are the same: R the lanes' register
-   file (NREG rows of DW lanes; regimes and held states set, the regimes
+   file (a row of DW lanes per register; regimes and held states set, the regimes
    each switch sets written there), y the steps' starts in and their ends
    out (NS rows), yend where the lanes' plain steps ended. Each lane l's
    fired switches' times and transitions go into ft and fi from
    l * (MAX_EVENTS + 1), their count into nf[l], and chat[l] is set where
    its step took more than MAX_EVENTS. */
 /* One RK4 step of the lanes in `act` (the others' y kept). */
-static void rk4w(const d *R, d t, d h, d *y, d *k0, int known, dm act) {
+static void rk4w(const dr *R, d t, d h, d *y, d *k0, int known, dm act) {
   d k1[NS], k2[NS], k3[NS], tmp[NS];
   if (!known) derivw(R, t, y, k0);
   for (int i = 0; i < NS; i++) tmp[i] = y[i] + 0.5 * h * k0[i];
@@ -275,7 +275,7 @@ static void rk4w(const d *R, d t, d h, d *y, d *k0, int known, dm act) {
 }
 /* locate_crossing on the Hermite interpolant of each lane's step [ta, ta + h],
    for transition tr in the lanes of `act`. */
-static d locatew(const d *R, int tr, d ta, d h, const d *start, const d *f0, const d *y1,
+static d locatew(const dr *R, int tr, d ta, d h, const d *start, const d *f0, const d *y1,
                  const d *fe, d v0, d v1, dm act) {
   const d zero = dsplat(0.0), one = dsplat(1.0), half = dsplat(0.5);
   /* Past at the start (or NaN): 0. */
@@ -314,8 +314,8 @@ static d locatew(const d *R, int tr, d ta, d h, const d *start, const d *f0, con
 }
 void rig_redo(double *restrict Rio, double *restrict yio, const double *restrict yend, double t,
               double h, long act, double *ft, long *fi, long *nf, long *chat) {
-  d R[NREG], y[NS], ye[NS], start[NS], k0[NS], fe[NS], y1[NS], gs[NT], ge[NT];
-  __builtin_memcpy(R, Rio, sizeof R);
+  dr *R = (dr *)Rio;
+  d y[NS], ye[NS], start[NS], k0[NS], fe[NS], y1[NS], gs[NT], ge[NT];
   __builtin_memcpy(y, yio, sizeof y);
   __builtin_memcpy(ye, yend, sizeof ye);
   dm live;
@@ -362,7 +362,6 @@ void rig_redo(double *restrict Rio, double *restrict yio, const double *restrict
   }
   if (ev > MAX_EVENTS)
     for (int l = 0; l < DW; l++) chat[l] = live[l] != 0;
-  __builtin_memcpy(Rio, R, sizeof R);
   __builtin_memcpy(yio, y, sizeof y);
 }
 "#;
@@ -878,10 +877,9 @@ fn redo(s: &mut String, code: &LaneCode) {
     let list = |v: Vec<String>| v.join(", ");
     let _ = writeln!(
         s,
-        "#define NS {}\n#define NT {}\n#define NREG {}\n#define MAX_EVENTS {MAX_EVENTS_PER_STEP}\n#define LOCATE_ITER {LOCATE_ITERATIONS}\n#define LOCATE_TOL {LOCATE_TOLERANCE:?}",
+        "#define NS {}\n#define NT {}\n#define MAX_EVENTS {MAX_EVENTS_PER_STEP}\n#define LOCATE_ITER {LOCATE_ITERATIONS}\n#define LOCATE_TOL {LOCATE_TOLERANCE:?}",
         code.slopes.len(),
-        code.events.roots.len(),
-        code.registers
+        code.events.roots.len()
     );
     let _ = writeln!(
         s,
@@ -895,7 +893,7 @@ fn redo(s: &mut String, code: &LaneCode) {
         list(code.armed.iter().map(|a| a.0.to_string()).collect()),
         list(code.sets.iter().map(|v| format!("{v:?}")).collect())
     );
-    s.push_str("/* The lanes of R where transition i is armed: its variable at its value, its guard held. */\nstatic dm armedw(const d *R, int i) {\n  switch (i) {\n");
+    s.push_str("/* A row of the caller's register file: DW lanes, only 8-byte aligned. */\ntypedef double dr __attribute__((vector_size(VBYTES), aligned(8)));\n/* The lanes of R where transition i is armed: its variable at its value, its guard held. */\nstatic dm armedw(const dr *R, int i) {\n  switch (i) {\n");
     for (i, (&(mode, from, _), guard)) in code.armed.iter().zip(&code.guards).enumerate() {
         let guard: String = guard
             .iter()
@@ -912,7 +910,7 @@ fn redo(s: &mut String, code: &LaneCode) {
     for (name, list) in [("derivw", &code.deriv), ("eventsw", &code.events)] {
         let _ = writeln!(
             s,
-            "static __attribute__((noinline)) void {name}(const d *restrict R, d t, const d *restrict x, d *restrict out) {{"
+            "static __attribute__((noinline)) void {name}(const dr *restrict R, d t, const d *restrict x, d *restrict out) {{"
         );
         let _ = writeln!(
             s,

@@ -506,7 +506,8 @@ impl<'p> LaneRunner<'p> {
     /// f64 vector of them at a time ([`Native::redo`]), as their steppers
     /// would redo them one by one. They are gathered into as few vectors as
     /// hold them (the lanes a rig's switch takes in one step are seldom
-    /// neighbours); a vector's slots past its last lane repeat its first.
+    /// neighbours); a vector's slots past its last lane keep what they held
+    /// (masked off, never read).
     fn redo(&mut self, native: &Native, t: f64, h: f64) {
         let (code, dw, n) = (self.code, native.redo_lanes, self.y.len());
         let packed = self.packed[0];
@@ -532,8 +533,7 @@ impl<'p> LaneRunner<'p> {
             }
         }
         for group in todo[..count].chunks(dw) {
-            for k in 0..dw {
-                let l = group.get(k).copied().unwrap_or(group[0]);
+            for (k, &l) in group.iter().enumerate() {
                 let (bl, j) = (l / W, l % W);
                 for (&(_, reg), &v) in code.constants.iter().zip(&self.redo_constants[l * nc..]) {
                     b.r[usize::from(reg) * dw + k] = v;
