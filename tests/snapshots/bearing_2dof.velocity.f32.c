@@ -662,8 +662,9 @@ F dm firesw(int i, d g0, d g1) {
   return (v1 >= zero) & (~(v0 >= zero) | (v1 > v0));
 }
 static __attribute__((noinline)) void derivw(const dr *restrict R, d t, const d *restrict x, d *restrict out) {
+    (void)t; (void)x;
     d r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26;
-    (void)r0; (void)t; (void)x;
+    (void)r0;
     r4 = t;
     r7 = R[7];
     r8 = R[8];
@@ -717,8 +718,9 @@ static __attribute__((noinline)) void derivw(const dr *restrict R, d t, const d 
     out[3] = r25;
 }
 static __attribute__((noinline)) void eventsw(const dr *restrict R, d t, const d *restrict x, d *restrict out) {
+    (void)t; (void)x;
     d r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26;
-    (void)r0; (void)t; (void)x;
+    (void)r0;
     r4 = t;
     r7 = R[7];
     r20 = R[20];

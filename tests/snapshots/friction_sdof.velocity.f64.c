@@ -486,8 +486,9 @@ F dm firesw(int i, d g0, d g1) {
   return (v1 >= zero) & (~(v0 >= zero) | (v1 > v0));
 }
 static __attribute__((noinline)) void derivw(const dr *restrict R, d t, const d *restrict x, d *restrict out) {
+    (void)t; (void)x;
     d r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17;
-    (void)r0; (void)t; (void)x;
+    (void)r0;
     r5 = R[5];
     r3 = t;
     r6 = R[6];
@@ -520,8 +521,9 @@ static __attribute__((noinline)) void derivw(const dr *restrict R, d t, const d 
     out[2] = r17;
 }
 static __attribute__((noinline)) void eventsw(const dr *restrict R, d t, const d *restrict x, d *restrict out) {
+    (void)t; (void)x;
     d r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17;
-    (void)r0; (void)t; (void)x;
+    (void)r0;
     r10 = R[10];
     r2 = x[2];
     r12 = R[12];

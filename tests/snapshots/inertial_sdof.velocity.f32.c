@@ -762,8 +762,9 @@ F double slog(double a) { return dlog1(a); }
 F double ssin(double a) { return dsin1(a); }
 F double scos(double a) { return dcos1(a); }
 static __attribute__((noinline)) void deriv1_(const double *restrict R, double t, const double *tab, double *restrict out) {
+    (void)t; (void)tab;
     double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25;
-    (void)r0; (void)t; (void)tab; (void)out;
+    (void)r0;
     r3 = R[3];
     r2 = t;
     r4 = R[4];
@@ -833,8 +834,9 @@ static __attribute__((noinline)) void deriv1_(const double *restrict R, double t
     out[1] = r21;
 }
 static __attribute__((noinline)) void events1_(const double *restrict R, double t, const double *tab, double *restrict out) {
+    (void)t; (void)tab;
     double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25;
-    (void)r0; (void)t; (void)tab; (void)out;
+    (void)r0;
 }
 void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) { deriv1_(R, t, tab, out); }
 void rig_events1(const double *restrict R, double t, const double *tab, double *restrict out) { events1_(R, t, tab, out); }

@@ -996,8 +996,9 @@ F dm firesw(int i, d g0, d g1) {
   return (v1 >= zero) & (~(v0 >= zero) | (v1 > v0));
 }
 static __attribute__((noinline)) void derivw(const dr *restrict R, d t, const d *restrict x, d *restrict out) {
+    (void)t; (void)x;
     d r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43;
-    (void)r0; (void)t; (void)x;
+    (void)r0;
     r10 = R[10];
     r7 = t;
     r11 = R[11];
@@ -1088,8 +1089,9 @@ static __attribute__((noinline)) void derivw(const dr *restrict R, d t, const d 
     out[6] = r39;
 }
 static __attribute__((noinline)) void eventsw(const dr *restrict R, d t, const d *restrict x, d *restrict out) {
+    (void)t; (void)x;
     d r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43;
-    (void)r0; (void)t; (void)x;
+    (void)r0;
     r2 = x[2];
     r1 = x[1];
     r5 = x[5];

@@ -277,8 +277,9 @@ F double slog(double a) { return dlog1(a); }
 F double ssin(double a) { return dsin1(a); }
 F double scos(double a) { return dcos1(a); }
 static __attribute__((noinline)) void deriv1_(const double *restrict R, double t, const double *tab, double *restrict out) {
+    (void)t; (void)tab;
     double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13;
-    (void)r0; (void)t; (void)tab; (void)out;
+    (void)r0;
     r6 = R[6];
     r1 = R[1];
     r7 = R[7];
@@ -300,8 +301,9 @@ static __attribute__((noinline)) void deriv1_(const double *restrict R, double t
     out[2] = r13;
 }
 static __attribute__((noinline)) void events1_(const double *restrict R, double t, const double *tab, double *restrict out) {
+    (void)t; (void)tab;
     double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13;
-    (void)r0; (void)t; (void)tab; (void)out;
+    (void)r0;
     r6 = R[6];
     r1 = R[1];
     r7 = R[7];

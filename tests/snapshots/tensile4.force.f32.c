@@ -562,8 +562,9 @@ F double slog(double a) { return dlog1(a); }
 F double ssin(double a) { return dsin1(a); }
 F double scos(double a) { return dcos1(a); }
 static __attribute__((noinline)) void deriv1_(const double *restrict R, double t, const double *tab, double *restrict out) {
+    (void)t; (void)tab;
     double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49;
-    (void)r0; (void)t; (void)tab; (void)out;
+    (void)r0;
     r13 = R[13];
     r0 = R[0];
     r9 = R[9];
@@ -666,8 +667,9 @@ static __attribute__((noinline)) void deriv1_(const double *restrict R, double t
     out[7] = r42;
 }
 static __attribute__((noinline)) void events1_(const double *restrict R, double t, const double *tab, double *restrict out) {
+    (void)t; (void)tab;
     double r0, r1, r2, r3, r4, r5, r6, r7, r8, r9, r10, r11, r12, r13, r14, r15, r16, r17, r18, r19, r20, r21, r22, r23, r24, r25, r26, r27, r28, r29, r30, r31, r32, r33, r34, r35, r36, r37, r38, r39, r40, r41, r42, r43, r44, r45, r46, r47, r48, r49;
-    (void)r0; (void)t; (void)tab; (void)out;
+    (void)r0;
     r1 = R[1];
     r0 = R[0];
     r40 = R[40];

@@ -868,6 +868,40 @@ pub fn redoes(code: &LaneCode) -> bool {
     !code.events.roots.is_empty() && code.deriv.tables.is_empty() && code.events.tables.is_empty()
 }
 
+/// `list` as a C function of one run or one vector of runs: `head` (its
+/// signature and opening), a local of type `ty.0` per register, each input
+/// from `input`, the instructions with the helpers of prefix `ty.1`
+/// ([`statement`]), and the roots into `out`.
+fn list_fn(
+    s: &mut String,
+    code: &LaneCode,
+    list: &List,
+    head: &str,
+    ty: (&str, char),
+    input: &dyn Fn(Reg) -> String,
+) {
+    let _ = writeln!(s, "{head}");
+    let _ = writeln!(
+        s,
+        "    {} {};\n    (void)r0;",
+        ty.0,
+        (0..code.registers)
+            .map(|i| format!("r{i}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    for &reg in &inputs(list) {
+        let _ = writeln!(s, "    r{reg} = {};", input(reg));
+    }
+    for ins in &list.code {
+        s.push_str(&statement(ins.dest, &ins.op, ty.1));
+    }
+    for (i, &root) in list.roots.iter().enumerate() {
+        let _ = writeln!(s, "    out[{i}] = r{root};");
+    }
+    s.push_str("}\n");
+}
+
 /// `rig_redo` ([`REDO`]) for `code`, with its switches' tables (what arms
 /// each, `armedw`; which way it fires, the regime register it sets and the
 /// value), and its derivative and event functions on f64 vectors (`derivw`,
@@ -908,36 +942,18 @@ fn redo(s: &mut String, code: &LaneCode) {
     s.push_str(REDO_OPS);
     let states = code.slopes.len();
     for (name, list) in [("derivw", &code.deriv), ("eventsw", &code.events)] {
-        let _ = writeln!(
-            s,
-            "static __attribute__((noinline)) void {name}(const dr *restrict R, d t, const d *restrict x, d *restrict out) {{"
+        let head = format!(
+            "static __attribute__((noinline)) void {name}(const dr *restrict R, d t, const d *restrict x, d *restrict out) {{\n    (void)t; (void)x;"
         );
-        let _ = writeln!(
-            s,
-            "    d {};",
-            (0..code.registers)
-                .map(|i| format!("r{i}"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
-        s.push_str("    (void)r0; (void)t; (void)x;\n");
-        for &reg in &inputs(list) {
-            let src = if reg == code.time {
+        list_fn(s, code, list, &head, ("d", 'w'), &|reg| {
+            if reg == code.time {
                 "t".to_string()
             } else if (reg as usize) < states {
                 format!("x[{reg}]")
             } else {
                 format!("R[{reg}]")
-            };
-            let _ = writeln!(s, "    r{reg} = {src};");
-        }
-        for ins in &list.code {
-            s.push_str(&statement(ins.dest, &ins.op, 'w'));
-        }
-        for (i, &root) in list.roots.iter().enumerate() {
-            let _ = writeln!(s, "    out[{i}] = r{root};");
-        }
-        s.push_str("}\n");
+            }
+        });
     }
     s.push_str(REDO);
 }
@@ -1038,36 +1054,18 @@ pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
     } else {
         s.push_str(SCALAR);
         for (name, list) in [("deriv1_", &code.deriv), ("events1_", &code.events)] {
-            let _ = writeln!(
-                s,
-                "static __attribute__((noinline)) void {name}(const double *restrict R, double t, const double *tab, double *restrict out) {{"
+            let head = format!(
+                "static __attribute__((noinline)) void {name}(const double *restrict R, double t, const double *tab, double *restrict out) {{\n    (void)t; (void)tab;"
             );
-            let _ = writeln!(
-                s,
-                "    double {};",
-                (0..code.registers)
-                    .map(|i| format!("r{i}"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            );
-            s.push_str("    (void)r0; (void)t; (void)tab; (void)out;\n");
-            for &reg in &inputs(list) {
-                let src = if reg == code.time {
+            list_fn(&mut s, code, list, &head, ("double", 's'), &|reg| {
+                if reg == code.time {
                     "t".to_string()
                 } else if let Some(k) = table_of(reg) {
                     format!("tab[{k}]")
                 } else {
                     format!("R[{reg}]")
-                };
-                let _ = writeln!(s, "    r{reg} = {src};");
-            }
-            for ins in &list.code {
-                s.push_str(&statement(ins.dest, &ins.op, 's'));
-            }
-            for (i, &root) in list.roots.iter().enumerate() {
-                let _ = writeln!(s, "    out[{i}] = r{root};");
-            }
-            s.push_str("}\n");
+                }
+            });
         }
         s.push_str(
             "void rig_deriv1(const double *restrict R, double t, const double *tab, double *restrict out) { deriv1_(R, t, tab, out); }\n\
