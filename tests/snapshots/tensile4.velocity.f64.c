@@ -1267,7 +1267,8 @@ static d locatew(const dr *R, int tr, d ta, d h, const d *start, const d *f0, co
                  const d *fe, d v0, d v1, dm act) {
   const d zero = dsplat(0.0), one = dsplat(1.0), half = dsplat(0.5);
   /* Past at the start (or NaN): 0. */
-  dm go = act & ~((v0 >= zero) | (v0 != v0)), exact = (dm){0};
+  const dm searched = act & ~((v0 >= zero) | (v0 != v0));
+  dm go = searched, exact = (dm){0};
   d lo = zero, hi = one, vlo = v0, vhi = v1, w0 = dsplat(2.0), w1 = w0, w2 = w0, at = zero;
   dm up = (dm){0}, down = (dm){0};
   const d tol = dsplat(LOCATE_TOL), nudge = dsplat(0.5 * LOCATE_TOL);
@@ -1297,7 +1298,6 @@ static d locatew(const dr *R, int tr, d ta, d h, const d *start, const d *f0, co
     lo = dpick(short_, m, lo); vlo = dpick(short_, vm, vlo);
     up = (up & ~short_) | past; down = (down & ~past) | short_;
   }
-  dm searched = act & ~((v0 >= zero) | (v0 != v0));
   return dpick(exact, at, dpick(searched, hi, zero));
 }
 void rig_redo(double *restrict Rio, double *restrict yio, const double *restrict yend, double t,

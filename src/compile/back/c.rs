@@ -279,7 +279,8 @@ static d locatew(const dr *R, int tr, d ta, d h, const d *start, const d *f0, co
                  const d *fe, d v0, d v1, dm act) {
   const d zero = dsplat(0.0), one = dsplat(1.0), half = dsplat(0.5);
   /* Past at the start (or NaN): 0. */
-  dm go = act & ~((v0 >= zero) | (v0 != v0)), exact = (dm){0};
+  const dm searched = act & ~((v0 >= zero) | (v0 != v0));
+  dm go = searched, exact = (dm){0};
   d lo = zero, hi = one, vlo = v0, vhi = v1, w0 = dsplat(2.0), w1 = w0, w2 = w0, at = zero;
   dm up = (dm){0}, down = (dm){0};
   const d tol = dsplat(LOCATE_TOL), nudge = dsplat(0.5 * LOCATE_TOL);
@@ -309,7 +310,6 @@ static d locatew(const dr *R, int tr, d ta, d h, const d *start, const d *f0, co
     lo = dpick(short_, m, lo); vlo = dpick(short_, vm, vlo);
     up = (up & ~short_) | past; down = (down & ~past) | short_;
   }
-  dm searched = act & ~((v0 >= zero) | (v0 != v0));
   return dpick(exact, at, dpick(searched, hi, zero));
 }
 void rig_redo(double *restrict Rio, double *restrict yio, const double *restrict yend, double t,
@@ -510,11 +510,11 @@ fn inputs(list: &List) -> Vec<Reg> {
     read
 }
 
-/// Declares every register local the code uses.
-fn declare(out: &mut String, code: &LaneCode) {
+/// Declares every register local the code uses, of type `ty`.
+fn declare(out: &mut String, code: &LaneCode, ty: &str) {
     let _ = writeln!(
         out,
-        "    v {};",
+        "    {ty} {};",
         (0..code.registers)
             .map(|i| format!("r{i}"))
             .collect::<Vec<_>>()
@@ -688,7 +688,7 @@ fn hoisted_stage(stage: usize) -> usize {
 fn rk4_loop(s: &mut String, code: &LaneCode, hoisted: Option<&Hoistable>) {
     let n = code.slopes.len();
     s.push_str("  for (long q = 0; q < NQ(nb); q++) {\n");
-    declare(s, code);
+    declare(s, code, "v");
     let _ = writeln!(
         s,
         "    v {};",
@@ -881,15 +881,7 @@ fn list_fn(
     input: &dyn Fn(Reg) -> String,
 ) {
     let _ = writeln!(s, "{head}");
-    let _ = writeln!(
-        s,
-        "    {} {};\n    (void)r0;",
-        ty.0,
-        (0..code.registers)
-            .map(|i| format!("r{i}"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    );
+    declare(s, code, ty.0);
     for &reg in &inputs(list) {
         let _ = writeln!(s, "    r{reg} = {};", input(reg));
     }
@@ -1027,7 +1019,7 @@ pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
     );
     if hoisted.deriv.contains(&true) || hoisted.events.contains(&true) {
         s.push_str("  if (hoist) {\n  const long q = 0;\n");
-        declare(&mut s, code);
+        declare(&mut s, code, "v");
         for &reg in &hoisted.reads {
             load(&mut s, reg, "", code, &|_| None);
         }
@@ -1082,7 +1074,7 @@ pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
             s,
             "void {name}(blk *restrict R, long nb, double t, const double *tab) {{\n  for (long q = 0; q < NQ(nb); q++) {{"
         );
-        declare(&mut s, code);
+        declare(&mut s, code, "v");
         let tabs = |reg: Reg| table_of(reg).map(|k| format!("tab[{k}]"));
         for &reg in &inputs(list) {
             load(&mut s, reg, "t", code, &tabs);

@@ -156,7 +156,8 @@ pub struct LaneRunner<'p> {
     /// Whether every active lane shares `native`'s `hoist_reads`.
     hoist: bool,
     /// Buffers for `native`'s redone steps ([`Native::redo`]), and each
-    /// lane's per-run constants for them (in `code.constants`' order).
+    /// lane's per-run constants for them (in `code.constants`' order): set
+    /// by [`Self::with_native`] where it redoes steps.
     redo: RedoLanes,
     redo_constants: Vec<f64>,
     /// Per register, whether its row holds its lanes as f32 packed at its
@@ -275,8 +276,17 @@ impl<'p> LaneRunner<'p> {
                 self.packed[reg] = true;
             }
         }
-        // A build that redoes steps itself has no one-run derivative.
-        if !native.redoes() {
+        if native.redoes() {
+            // Each lane's per-run constants in f64 for the redone steps, from
+            // its stepper's frame (an f32 runner's rows hold them rounded).
+            self.redo = native.redo_buffers();
+            self.redo_constants = self
+                .steppers
+                .iter()
+                .flat_map(|st| self.code.constants.iter().map(|&(id, _)| st.frame.get(id)))
+                .collect();
+        } else {
+            // A build that redoes steps itself has no one-run derivative.
             for st in &mut self.steppers {
                 st.with_native_deriv(self.code, native);
             }
@@ -514,16 +524,6 @@ impl<'p> LaneRunner<'p> {
         let lanes = self.steppers.len();
         let mut b = std::mem::take(&mut self.redo);
         let nc = code.constants.len();
-        if b.fired.len() != dw {
-            // Each lane's per-run constants in f64, from its stepper's
-            // frame (an f32 runner's rows hold them rounded).
-            b = native.redo_buffers();
-            self.redo_constants = Vec::with_capacity(nc * lanes);
-            for st in &self.steppers {
-                self.redo_constants
-                    .extend(code.constants.iter().map(|&(id, _)| st.frame.get(id)));
-            }
-        }
         let mut todo = [0_usize; LANES];
         let mut count = 0;
         for l in 0..lanes {
