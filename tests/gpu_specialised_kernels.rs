@@ -168,7 +168,7 @@ fn small_batches_use_the_generic_kernel() {
 }
 
 /// A trial's warm-up builds the kernel that scores the batch and runs its
-/// first chunk only: the batch scored after it has the bits of a batch
+/// first chunk only (and a trial's part of a pass its first chunks): the batch scored after it has the bits of a batch
 /// scored by an evaluator that never warmed up (the runs start again from
 /// their initial state), and the specialised kernel it built is the one
 /// that scores the batch.
@@ -193,5 +193,10 @@ fn a_warm_up_readies_the_batch_and_leaves_its_scores_alone() {
         assert_eq!(warmed.specialised_constants(), baked, "{p:?}");
         assert_eq!(bits(&got.values), bits(&expected.values), "{p:?}");
         assert_eq!(got.diverged, expected.diverged, "{p:?}");
+        // A trial's part of a pass (130 steps: three whole chunks) says how
+        // far the runs went and leaves the next pass's bits alone too.
+        assert_eq!(warmed.fitness_part(&b, 130).unwrap(), Some(192), "{p:?}");
+        let again = warmed.fitness(&b).unwrap();
+        assert_eq!(bits(&again.values), bits(&expected.values), "{p:?}");
     }
 }

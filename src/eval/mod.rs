@@ -246,6 +246,16 @@ pub trait Evaluator: Send {
         self.fitness(batch).map(|_| ())
     }
 
+    /// Runs the fitness pass of `batch` for its first `steps` steps or so
+    /// (whole chunks), its scores never read, and returns the most steps a
+    /// run advanced: what `auto`'s trial times a long record's path on
+    /// before it knows whether it keeps it. `None` (by default) where the
+    /// evaluator cannot stop a pass partway: the trial then times a whole
+    /// pass.
+    fn fitness_part(&mut self, _batch: &Batch, _steps: usize) -> Result<Option<usize>, EvalError> {
+        Ok(None)
+    }
+
     /// Makes ready now what the evaluator would make ready once it pays (the
     /// CPU lanes' native build), so that a timed trial measures the path
     /// the job runs. Nothing by default.

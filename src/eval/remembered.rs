@@ -84,6 +84,10 @@ impl Evaluator for Remembered {
         self.inner.warm_up(batch)
     }
 
+    fn fitness_part(&mut self, batch: &Batch, steps: usize) -> Result<Option<usize>, EvalError> {
+        self.inner.fitness_part(batch, steps)
+    }
+
     fn prepare(&mut self) {
         self.inner.prepare();
     }

@@ -221,6 +221,17 @@ impl Evaluator for GpuByDrive {
             .collect()
     }
 
+    fn fitness_part(&mut self, batch: &Batch, steps: usize) -> Result<Option<usize>, EvalError> {
+        self.problem.check_batch(batch)?;
+        // Every group's part, the most steps of any; `None` where any group
+        // cannot stop partway.
+        let mut most = Some(0);
+        for part in self.each_group(batch, |ev, sub| ev.fitness_part(sub, steps)) {
+            most = most.zip(part?).map(|(a, b)| a.max(b));
+        }
+        Ok(most)
+    }
+
     fn checked_histories(
         &mut self,
         batch: &Batch,

@@ -286,7 +286,16 @@ impl Evaluator for GpuEvaluator {
 
     fn warm_up(&mut self, batch: &Batch) -> Result<(), EvalError> {
         self.problem.check_batch(batch)?;
-        self.warm_fitness(batch).map_err(device_error)
+        self.part_fitness(batch, 1)
+            .map(|_| ())
+            .map_err(device_error)
+    }
+
+    fn fitness_part(&mut self, batch: &Batch, steps: usize) -> Result<Option<usize>, EvalError> {
+        self.problem.check_batch(batch)?;
+        self.part_fitness(batch, steps)
+            .map(Some)
+            .map_err(device_error)
     }
 
     fn checked_histories(

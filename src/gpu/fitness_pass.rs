@@ -93,14 +93,19 @@ impl GpuEvaluator {
         })
     }
 
-    /// The first chunk of the batch's fitness pass, its values never read:
-    /// the kernel that scores the batch built, its buffers sized and the
-    /// kernel run once on them (a driver that compiles a pipeline's machine
-    /// code at its first dispatch, as lavapipe does, compiles it here), at
-    /// the cost of one chunk instead of a whole pass.
-    pub(super) fn warm_fitness(&mut self, batch: &Batch) -> Result<(), GpuError> {
-        self.dispatch_fitness(batch, Some(1))?;
-        self.wait(None)
+    /// The first chunks of the batch's fitness pass, enough for `steps`
+    /// steps, run and waited for, their values never read; returns the most
+    /// steps a run advanced. With one step it is the batch's warm-up: the
+    /// kernel that scores the batch built, its buffers sized and the kernel
+    /// run once on them (a driver that compiles a pipeline's machine code at
+    /// its first dispatch, as lavapipe does, compiles it here), at the cost
+    /// of one chunk instead of a whole pass.
+    pub(super) fn part_fitness(&mut self, batch: &Batch, steps: usize) -> Result<usize, GpuError> {
+        let chunk = self.chunk_steps() as usize;
+        let chunks = steps.div_ceil(chunk).max(1);
+        self.dispatch_fitness(batch, Some(u32::try_from(chunks).unwrap_or(u32::MAX)))?;
+        self.wait(None)?;
+        Ok(chunks * chunk)
     }
 
     /// Uploads the batch, builds the kernel that scores it (specialised

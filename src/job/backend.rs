@@ -117,6 +117,10 @@ pub struct BackendTrial {
     pub cpu_rate: f64,
     /// Candidates in the timed batch.
     pub candidates: usize,
+    /// Steps of each run the GPU was timed over, where a long record was
+    /// timed over its first part ([`trial_part`]); `None` for whole passes.
+    #[serde(default)]
+    pub gpu_steps_timed: Option<usize>,
     /// Wall time the trial took (s), warm-up batches included; 0 when the
     /// choice came from the cache.
     pub trial_s: f64,
@@ -150,8 +154,12 @@ impl BackendTrial {
             }
             _ => String::new(),
         };
+        let part = match self.gpu_steps_timed {
+            Some(steps) => format!(" over each run's first {steps} steps"),
+            None => String::new(),
+        };
         format!(
-            "backend auto chose the {}: GPU {:.2e}{kernels}, CPU {:.2e} candidate-steps/s ({how})",
+            "backend auto chose the {}: GPU {:.2e}{kernels}{part}, CPU {:.2e} candidate-steps/s ({how})",
             self.chosen.to_uppercase(),
             self.gpu_rate,
             self.cpu_rate
@@ -505,22 +513,100 @@ fn rate(
     Ok((candidate_steps / s, scores))
 }
 
+/// What a timed GPU batch gave besides its rate.
+enum GpuTimed {
+    /// A whole pass: the batch's scores.
+    Whole(Scores),
+    /// The pass's first part: the most steps a run advanced.
+    Part(usize),
+}
+
+/// The GPU's rate on `batch` (made ready): over its first `part` steps
+/// where given and the evaluator can stop a pass partway, else over a
+/// whole pass, with its scores.
+fn time_gpu(
+    campaign: &Campaign,
+    gpu: &mut dyn Evaluator,
+    batch: &crate::eval::Batch,
+    part: Option<usize>,
+) -> Result<(f64, GpuTimed), TrialError> {
+    let path = "gpu";
+    if let Some(steps) = part {
+        let start = Instant::now();
+        let advanced = gpu
+            .fitness_part(batch, steps)
+            .map_err(|source| TrialError::Eval { path, source })?;
+        if let Some(advanced) = advanced {
+            let s = start.elapsed().as_secs_f64().max(1e-9);
+            let per_candidate: f64 = campaign
+                .run_length()
+                .experiments
+                .iter()
+                .map(|x| x.steps.min(advanced as f64))
+                .sum();
+            let rate = batch.candidates as f64 * per_candidate / s;
+            return Ok((rate, GpuTimed::Part(advanced)));
+        }
+    }
+    rate(campaign, gpu, batch, path).map(|(r, scores)| (r, GpuTimed::Whole(scores)))
+}
+
+/// Steps of a record from which `auto`'s trial times the GPU over a part of
+/// it ([`trial_part`]); below it, over whole passes.
+pub const TRIAL_PART_FROM_STEPS: f64 = 32_768.0;
+
+/// Share of a long record the GPU's kernel variants are timed over.
+pub const TRIAL_PART: f64 = 0.25;
+
+/// The steps `auto`'s trial times the GPU over: a quarter
+/// ([`TRIAL_PART`]) of the longest record where it has at least
+/// [`TRIAL_PART_FROM_STEPS`] steps, else none (whole passes). A GPU pass's
+/// rate is the same from its first chunks to its last (every run steps
+/// through its record at once), and a path the trial does not keep scores
+/// nothing the job uses: on the EMPS closed loop (two records of 49 680 steps, 128
+/// candidates) lavapipe's two kernel variants took 0.17 to 0.24 s each of a
+/// 1.0 to 1.25 s trial, on a job the CPU runs faster.
+pub fn trial_part(campaign: &Campaign) -> Option<usize> {
+    let longest = campaign
+        .run_length()
+        .experiments
+        .iter()
+        .map(|x| x.steps)
+        .fold(0.0, f64::max);
+    (longest >= TRIAL_PART_FROM_STEPS).then(|| (longest * TRIAL_PART).ceil() as usize)
+}
+
 /// Scores the trial batch on both paths and returns the faster evaluator
 /// with what was measured; `population` is the job's.
 ///
 /// Every path is made ready before any is timed: the GPU's kernels build
 /// while the CPU's native code may still be building
-/// ([`Evaluator::prepare_soon`]), and nothing builds while a batch is timed
-/// (the CPU needs no warm-up batch once its builds are done). The batch is
-/// the search's first generation, or its first candidates: the evaluator
-/// returned remembers what it scored ([`Remembered`]), so where the trial
-/// scored the whole generation the job does not score it again. `gpu` comes
-/// with the instant it was asked for, from which its start-up is timed.
+/// ([`CpuEvaluator::start_early_builds`]), and nothing builds while a batch
+/// is timed (the CPU needs no warm-up batch once its builds are done). The
+/// batch is the search's first generation, or its first candidates: the
+/// evaluator returned remembers what it scored ([`Remembered`]), so where the
+/// trial scored the whole generation the job does not score it again. On a
+/// long record ([`trial_part`]) the GPU's kernel variants are timed over
+/// the record's first part, and the GPU scores the batch whole only once it
+/// is chosen. `gpu` comes with the instant it was asked for, from which its
+/// start-up is timed.
 pub fn race(
+    campaign: &Campaign,
+    population: usize,
+    gpu: (Box<dyn Evaluator>, Instant),
+    cpu: Box<dyn Evaluator>,
+) -> Result<(Box<dyn Evaluator>, BackendTrial), TrialError> {
+    race_over(campaign, population, gpu, cpu, trial_part(campaign))
+}
+
+/// [`race`], the GPU timed over the first `part` steps of each run where
+/// given.
+fn race_over(
     campaign: &Campaign,
     population: usize,
     (mut gpu, asked): (Box<dyn Evaluator>, Instant),
     mut cpu: Box<dyn Evaluator>,
+    part: Option<usize>,
 ) -> Result<(Box<dyn Evaluator>, BackendTrial), TrialError> {
     let start = Instant::now();
     let n = trial_candidates(
@@ -544,52 +630,65 @@ pub fn race(
     let batch = campaign.batch(&genomes);
     // Each kernel variant of the GPU, the fastest kept.
     let mut gpu_kernel_rates = BTreeMap::new();
-    let mut best: Option<(&str, f64, Scores)> = None;
+    let mut best: Option<(&str, f64, GpuTimed)> = None;
     for &variant in variants {
         gpu.use_kernel_variant(variant);
-        let (r, scores) = rate(campaign, gpu.as_mut(), &batch, "gpu")?;
+        let (r, timed) = time_gpu(campaign, gpu.as_mut(), &batch, part)?;
         gpu_kernel_rates.insert(variant.to_string(), r);
         if best.as_ref().is_none_or(|(_, b, _)| r > *b) {
-            best = Some((variant, r, scores));
+            best = Some((variant, r, timed));
         }
     }
-    let (mut gpu_rate, gpu_scores) = match best.as_ref() {
-        Some((variant, r, scores)) => {
+    let (gpu_kernel, (mut gpu_rate, gpu_timed)) = match best {
+        Some((variant, r, timed)) => {
             gpu.use_kernel_variant(variant);
-            (*r, scores.clone())
+            (Some(variant), (r, timed))
         }
-        None => rate(campaign, gpu.as_mut(), &batch, "gpu")?,
+        None => (None, time_gpu(campaign, gpu.as_mut(), &batch, part)?),
     };
     let (mut cpu_rate, cpu_scores) = rate(campaign, cpu.as_mut(), &batch, "cpu")?;
     // A close call is timed once more on each path (the CPU first, its
     // threads undisturbed by the GPU's), the faster of each path's two kept.
     if gpu_rate.max(cpu_rate) < CLOSE_CALL * gpu_rate.min(cpu_rate) {
         cpu_rate = cpu_rate.max(rate(campaign, cpu.as_mut(), &batch, "cpu")?.0);
-        let again = rate(campaign, gpu.as_mut(), &batch, "gpu")?.0;
-        if let Some((variant, _, _)) = &best {
+        let again = time_gpu(campaign, gpu.as_mut(), &batch, part)?.0;
+        if let Some(variant) = gpu_kernel {
             let r = gpu_kernel_rates
-                .get_mut(*variant)
+                .get_mut(variant)
                 .expect("the kept variant's rate");
             *r = r.max(again);
         }
         gpu_rate = gpu_rate.max(again);
     }
     let gpu_wins = gpu_rate >= cpu_rate;
+    let gpu_steps_timed = match gpu_timed {
+        GpuTimed::Part(steps) => Some(steps),
+        GpuTimed::Whole(_) => None,
+    };
+    let (chosen, scores) = match (gpu_wins, gpu_timed) {
+        (true, GpuTimed::Whole(scores)) => (gpu, scores),
+        // Timed over a part, the GPU scores the batch whole now: the
+        // generation the job would score next.
+        (true, GpuTimed::Part(_)) => {
+            let scores = gpu.fitness(&batch).map_err(|source| TrialError::Eval {
+                path: "gpu",
+                source,
+            })?;
+            (gpu, scores)
+        }
+        (false, _) => (cpu, cpu_scores),
+    };
     let trial = BackendTrial {
         chosen: if gpu_wins { "gpu" } else { "cpu" }.into(),
         gpu_rate,
-        gpu_kernel: best.map(|(v, _, _)| v.to_string()),
+        gpu_kernel: gpu_kernel.map(str::to_string),
         gpu_kernel_rates,
         cpu_rate,
         candidates: n,
+        gpu_steps_timed,
         trial_s: start.elapsed().as_secs_f64(),
         cached: false,
         gpu_startup_s,
-    };
-    let (chosen, scores) = if gpu_wins {
-        (gpu, gpu_scores)
-    } else {
-        (cpu, cpu_scores)
     };
     Ok((Box::new(Remembered::new(chosen, batch, scores)), trial))
 }
@@ -860,7 +959,171 @@ pub fn remember_observed(
 
 #[cfg(test)]
 mod tests {
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+
     use super::*;
+    use crate::eval::{Batch, EvaluatorInfo, History, Precision, Problem};
+
+    /// Takes `per_candidate` seconds per candidate of a whole pass, and
+    /// where `parts`, the share of that a pass's first steps take; scores
+    /// every run `score`. Counts the whole passes and the parts it runs.
+    struct Paced {
+        problem: Problem,
+        per_candidate: f64,
+        parts: bool,
+        score: f64,
+        whole: Arc<AtomicUsize>,
+        parted: Arc<AtomicUsize>,
+    }
+
+    impl Paced {
+        fn new(problem: &Problem, per_candidate: f64, parts: bool, score: f64) -> Self {
+            Self {
+                problem: problem.clone(),
+                per_candidate,
+                parts,
+                score,
+                whole: Arc::default(),
+                parted: Arc::default(),
+            }
+        }
+
+        fn sleep(&self, batch: &Batch, share: f64) {
+            let s = self.per_candidate * batch.candidates as f64 * share;
+            std::thread::sleep(std::time::Duration::from_secs_f64(s));
+        }
+    }
+
+    impl Evaluator for Paced {
+        fn info(&self) -> EvaluatorInfo {
+            EvaluatorInfo {
+                backend: if self.parts { "gpu" } else { "cpu" }.into(),
+                device: "test".into(),
+                precision: Precision::F64,
+            }
+        }
+        fn problem(&self) -> &Problem {
+            &self.problem
+        }
+        fn fitness(&mut self, batch: &Batch) -> Result<Scores, EvalError> {
+            self.whole.fetch_add(1, Ordering::Relaxed);
+            self.sleep(batch, 1.0);
+            let ne = self.problem.experiments.len();
+            Ok(Scores {
+                experiments: ne,
+                values: vec![self.score; batch.candidates * ne],
+                diverged: 0,
+            })
+        }
+        fn fitness_part(
+            &mut self,
+            batch: &Batch,
+            steps: usize,
+        ) -> Result<Option<usize>, EvalError> {
+            if !self.parts {
+                return Ok(None);
+            }
+            self.parted.fetch_add(1, Ordering::Relaxed);
+            let samples = (self.problem.experiments.iter())
+                .map(|x| x.window.end)
+                .max()
+                .unwrap_or(1);
+            let longest = samples * self.problem.substeps;
+            self.sleep(batch, (steps as f64 / longest as f64).min(1.0));
+            Ok(Some(steps))
+        }
+        fn warm_up(&mut self, _batch: &Batch) -> Result<(), EvalError> {
+            Ok(())
+        }
+        fn kernel_variants(&self) -> &'static [&'static str] {
+            if self.parts {
+                crate::eval::KERNEL_VARIANTS
+            } else {
+                &[]
+            }
+        }
+        fn checked_histories(
+            &mut self,
+            _batch: &Batch,
+            _which: &[usize],
+        ) -> Result<Vec<Vec<History>>, EvalError> {
+            Ok(vec![])
+        }
+    }
+
+    #[test]
+    fn a_long_record_times_the_gpu_over_its_first_part_and_scores_whole_what_it_keeps() {
+        let path = std::path::Path::new("campaigns/friction_sdof_synthetic.json");
+        let mut campaign = Campaign::load(path).expect("a shipped campaign");
+        campaign.search.population = 64;
+        let problem = campaign.problem.clone();
+        let longest = campaign
+            .run_length()
+            .experiments
+            .iter()
+            .map(|x| x.steps)
+            .fold(0.0, f64::max) as usize;
+        let part = longest / 4;
+        let batch = campaign.batch(&trial_genomes(&campaign, 64));
+        for gpu_faster in [true, false] {
+            // Four times faster or slower than the CPU: no close call.
+            let (g, c) = if gpu_faster {
+                (5e-4, 2e-3)
+            } else {
+                (2e-3, 5e-4)
+            };
+            let gpu = Paced::new(&problem, g, true, 0.25);
+            let cpu = Paced::new(&problem, c, false, 0.75);
+            let (g_whole, g_parted, c_whole) =
+                (gpu.whole.clone(), gpu.parted.clone(), cpu.whole.clone());
+            let asked = Instant::now();
+            let (mut chosen, t) = race_over(
+                &campaign,
+                64,
+                (Box::new(gpu), asked),
+                Box::new(cpu),
+                Some(part),
+            )
+            .unwrap();
+            assert_eq!(t.chosen, if gpu_faster { "gpu" } else { "cpu" }, "{t:?}");
+            assert_eq!(t.gpu_steps_timed, Some(part), "{t:?}");
+            assert!(
+                t.line().contains(&format!("first {part} steps")),
+                "{}",
+                t.line()
+            );
+            // Each kernel variant timed over the part, never whole, but
+            // where the GPU is kept: then it scored the batch whole once.
+            assert_eq!(g_parted.load(Ordering::Relaxed), 2);
+            assert_eq!(g_whole.load(Ordering::Relaxed), usize::from(gpu_faster));
+            assert_eq!(c_whole.load(Ordering::Relaxed), 1);
+            // The kept path's own scores of the batch, from memory.
+            let scores = chosen.fitness(&batch).unwrap();
+            let own = if gpu_faster { 0.25 } else { 0.75 };
+            assert!(scores.values.iter().all(|&v| v == own), "{scores:?}");
+            assert_eq!(g_whole.load(Ordering::Relaxed), usize::from(gpu_faster));
+            assert_eq!(c_whole.load(Ordering::Relaxed), 1);
+        }
+        // A record timed whole: each variant scores the batch whole, and
+        // the one kept answers from memory.
+        let gpu = Paced::new(&problem, 5e-4, true, 0.25);
+        let cpu = Paced::new(&problem, 2e-3, false, 0.75);
+        let (g_whole, g_parted) = (gpu.whole.clone(), gpu.parted.clone());
+        let (mut chosen, t) = race_over(
+            &campaign,
+            64,
+            (Box::new(gpu), Instant::now()),
+            Box::new(cpu),
+            None,
+        )
+        .unwrap();
+        assert_eq!((t.chosen.as_str(), t.gpu_steps_timed), ("gpu", None));
+        assert_eq!(g_parted.load(Ordering::Relaxed), 0);
+        assert_eq!(g_whole.load(Ordering::Relaxed), 2);
+        chosen.fitness(&batch).unwrap();
+        assert_eq!(g_whole.load(Ordering::Relaxed), 2);
+    }
 
     #[test]
     fn the_trial_scores_the_population_unless_it_is_long() {
@@ -885,6 +1148,7 @@ mod tests {
             gpu_kernel_rates: [("generic".into(), 1e7), ("specialised".into(), 5e6)].into(),
             cpu_rate: 1e8,
             candidates: 128,
+            gpu_steps_timed: None,
             trial_s: 0.25,
             cached: false,
             gpu_startup_s: Some(0.3),
