@@ -207,17 +207,18 @@ F v vexpm1(v x) {
 #define NQ(nb) (((nb) * 8 + WV - 1) / WV)
 F v splat(double x) { return (v){VALL(x)}; }
 F v pick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
+/* log, sin and cos of a uniform vector (every lane alike, as in the
+   instructions hoisted out of rig_rk4's loop): one call, its value in every
+   lane. */
+F v ulog(v a) { return splat(dlog1(a[0])); }
+F v usin(v a) { return splat(dsin(dsplat(a[0]))[0]); }
+F v ucos(v a) { return splat(dcos(dsplat(a[0]))[0]); }
 F v vsel(v c, v a, v b) { return pick(c != splat(0.0), a, b); }
 F v vle(v a, v b) { return (v)((a <= b) & (m)splat(1.0)); }
 F v veq(v a, v b) { return (v)((a == b) & (m)splat(1.0)); }
 /* Rust's f64::min / f64::max: a NaN operand gives the other. */
 F v vmin(v a, v b) { v r = pick(a < b, a, b); r = pick(a != a, b, r); return pick(b != b, a, r); }
 F v vmax(v a, v b) { v r = pick(a > b, a, b); r = pick(a != a, b, r); return pick(b != b, a, r); }
-/* The same of a uniform vector (every lane alike, as in the instructions
-   hoisted out of rig_rk4's loop): one call, its value in every lane. */
-F v ulog(v a) { return splat(dlog1(a[0])); }
-F v usin(v a) { return splat(dsin(dsplat(a[0]))[0]); }
-F v ucos(v a) { return splat(dcos(dsplat(a[0]))[0]); }
 F unsigned long long lanebits(m k) {
   k &= (m){1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096, 8192, 16384, 32768};
   k |= __builtin_shufflevector(k, k, 8, 9, 10, 11, 12, 13, 14, 15, 0, 1, 2, 3, 4, 5, 6, 7);
@@ -511,12 +512,13 @@ static dm armedw(const dr *R, int i) {
   }
   return (dm){0};
 }
-#define FIRED (MAX_EVENTS + 1)
 F d wsel(d c, d a, d b) { return dpick(c != dsplat(0.0), a, b); }
 F d wle(d a, d b) { return (d)((a <= b) & (dm)dsplat(1.0)); }
 F d weq(d a, d b) { return (d)((a == b) & (dm)dsplat(1.0)); }
+/* Rust's f64::min / f64::max: a NaN operand gives the other. */
 F d wmin(d a, d b) { d r = dpick(a < b, a, b); r = dpick(a != a, b, r); return dpick(b != b, a, r); }
 F d wmax(d a, d b) { d r = dpick(a > b, a, b); r = dpick(a != a, b, r); return dpick(b != b, a, r); }
+#define FIRED (MAX_EVENTS + 1)
 F d wabs(d a) { return (d)((du)a & 0x7fffffffffffffffULL); }
 F d wexp(d x) { return dexp(x); }
 F d wexpm1(d x) { return dexpm1(x); }

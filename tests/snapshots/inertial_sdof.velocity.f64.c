@@ -161,17 +161,18 @@ F v vcos(v x) { return dcos(x); }
 #define NQ(nb) (((nb) * 8 + WV - 1) / WV)
 F v splat(double x) { return (v){VALL(x)}; }
 F v pick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
+/* log, sin and cos of a uniform vector (every lane alike, as in the
+   instructions hoisted out of rig_rk4's loop): one call, its value in every
+   lane. */
+F v ulog(v a) { return splat(dlog1(a[0])); }
+F v usin(v a) { return splat(dsin(dsplat(a[0]))[0]); }
+F v ucos(v a) { return splat(dcos(dsplat(a[0]))[0]); }
 F v vsel(v c, v a, v b) { return pick(c != splat(0.0), a, b); }
 F v vle(v a, v b) { return (v)((a <= b) & (m)splat(1.0)); }
 F v veq(v a, v b) { return (v)((a == b) & (m)splat(1.0)); }
 /* Rust's f64::min / f64::max: a NaN operand gives the other. */
 F v vmin(v a, v b) { v r = pick(a < b, a, b); r = pick(a != a, b, r); return pick(b != b, a, r); }
 F v vmax(v a, v b) { v r = pick(a > b, a, b); r = pick(a != a, b, r); return pick(b != b, a, r); }
-/* The same of a uniform vector (every lane alike, as in the instructions
-   hoisted out of rig_rk4's loop): one call, its value in every lane. */
-F v ulog(v a) { return splat(dlog1(a[0])); }
-F v usin(v a) { return splat(dsin(dsplat(a[0]))[0]); }
-F v ucos(v a) { return splat(dcos(dsplat(a[0]))[0]); }
 F unsigned long long lanebits(m k) {
   k &= (m){1, 2, 4, 8, 16, 32, 64, 128};
   k |= __builtin_shufflevector(k, k, 4, 5, 6, 7, 0, 1, 2, 3);

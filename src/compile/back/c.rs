@@ -214,14 +214,25 @@ F double ssin(double a) { return dsin1(a); }
 F double scos(double a) { return dcos1(a); }
 "#;
 
+/// Rust's select, `<=`, `==` (1 or 0), `min` and `max` (a NaN operand gives
+/// the other) on vectors of type `ty` with masks of type `mask`, as
+/// `{p}sel`, `{p}le`, … built on the vectors' `splat` and `pick`: the lanes'
+/// (`v…` on `v`) and the redo's (`w…` on the f64 `d`) from one text.
+fn vector_ops(p: char, ty: &str, mask: &str, splat: &str, pick: &str) -> String {
+    format!(
+        "F {ty} {p}sel({ty} c, {ty} a, {ty} b) {{ return {pick}(c != {splat}(0.0), a, b); }}
+F {ty} {p}le({ty} a, {ty} b) {{ return ({ty})((a <= b) & ({mask}){splat}(1.0)); }}
+F {ty} {p}eq({ty} a, {ty} b) {{ return ({ty})((a == b) & ({mask}){splat}(1.0)); }}
+/* Rust's f64::min / f64::max: a NaN operand gives the other. */
+F {ty} {p}min({ty} a, {ty} b) {{ {ty} r = {pick}(a < b, a, b); r = {pick}(a != a, b, r); return {pick}(b != b, a, r); }}
+F {ty} {p}max({ty} a, {ty} b) {{ {ty} r = {pick}(a > b, a, b); r = {pick}(a != a, b, r); return {pick}(b != b, a, r); }}
+"
+    )
+}
+
 /// The f64 vector arithmetic of [`REDO`] (its derivative and event functions
 /// call it as `w…`, whatever the lanes' arithmetic), and its switches' tests.
 const REDO_OPS: &str = r#"#define FIRED (MAX_EVENTS + 1)
-F d wsel(d c, d a, d b) { return dpick(c != dsplat(0.0), a, b); }
-F d wle(d a, d b) { return (d)((a <= b) & (dm)dsplat(1.0)); }
-F d weq(d a, d b) { return (d)((a == b) & (dm)dsplat(1.0)); }
-F d wmin(d a, d b) { d r = dpick(a < b, a, b); r = dpick(a != a, b, r); return dpick(b != b, a, r); }
-F d wmax(d a, d b) { d r = dpick(a > b, a, b); r = dpick(a != a, b, r); return dpick(b != b, a, r); }
 F d wabs(d a) { return (d)((du)a & 0x7fffffffffffffffULL); }
 F d wexp(d x) { return dexp(x); }
 F d wexpm1(d x) { return dexpm1(x); }
@@ -450,14 +461,9 @@ F v vexpm1(v x) {
 const LANE_OPS: &str = r#"#define NQ(nb) (((nb) * 8 + WV - 1) / WV)
 F v splat(double x) { return (v){VALL(x)}; }
 F v pick(m k, v a, v b) { return (v)((k & (m)a) | (~k & (m)b)); }
-F v vsel(v c, v a, v b) { return pick(c != splat(0.0), a, b); }
-F v vle(v a, v b) { return (v)((a <= b) & (m)splat(1.0)); }
-F v veq(v a, v b) { return (v)((a == b) & (m)splat(1.0)); }
-/* Rust's f64::min / f64::max: a NaN operand gives the other. */
-F v vmin(v a, v b) { v r = pick(a < b, a, b); r = pick(a != a, b, r); return pick(b != b, a, r); }
-F v vmax(v a, v b) { v r = pick(a > b, a, b); r = pick(a != a, b, r); return pick(b != b, a, r); }
-/* The same of a uniform vector (every lane alike, as in the instructions
-   hoisted out of rig_rk4's loop): one call, its value in every lane. */
+/* log, sin and cos of a uniform vector (every lane alike, as in the
+   instructions hoisted out of rig_rk4's loop): one call, its value in every
+   lane. */
 F v ulog(v a) { return splat(dlog1(a[0])); }
 F v usin(v a) { return splat(dsin(dsplat(a[0]))[0]); }
 F v ucos(v a) { return splat(dcos(dsplat(a[0]))[0]); }
@@ -931,6 +937,7 @@ fn redo(s: &mut String, code: &LaneCode) {
         );
     }
     s.push_str("  }\n  return (dm){0};\n}\n");
+    s.push_str(&vector_ops('w', "d", "dm", "dsplat", "dpick"));
     s.push_str(REDO_OPS);
     let states = code.slopes.len();
     for (name, list) in [("derivw", &code.deriv), ("eventsw", &code.events)] {
@@ -995,6 +1002,7 @@ pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
         }
     }
     s.push_str(LANE_OPS);
+    s.push_str(&vector_ops('v', "v", "m", "splat", "pick"));
     s.push_str(&lane_bits(lanes));
     let table_regs: Vec<(u32, Reg)> = [
         &code.deriv,
