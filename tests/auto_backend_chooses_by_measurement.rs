@@ -105,6 +105,22 @@ fn auto_runs_on_the_path_it_measured_faster_and_remembers_it() {
     assert_eq!(t["cached"], false);
     assert!(t["trial_s"].as_f64().unwrap() > 0.0);
     assert!(cache.join("backend-trials.json").is_file());
+    // `rigfit devices` lists the choice kept, with its rates and campaign.
+    let o = Command::new(env!("CARGO_BIN_EXE_rigfit"))
+        .args(["devices", "--json"])
+        .env("RIGFIT_CACHE_DIR", &cache)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let devices: Value = serde_json::from_slice(&o.stdout).unwrap();
+    let kept = devices["auto_choices"].as_array().unwrap();
+    assert_eq!(kept.len(), 1, "{devices}");
+    assert_eq!(kept[0]["population"], 64, "{devices}");
+    assert_eq!(kept[0]["trial"]["chosen"], t["chosen"], "{devices}");
+    assert_eq!(kept[0]["trial"]["gpu_rate"], t["gpu_rate"], "{devices}");
+    assert_eq!(kept[0]["trial"]["cpu_rate"], t["cpu_rate"], "{devices}");
+    let named = kept[0]["trial"]["campaign"].as_str().unwrap_or_default();
+    assert!(named.contains("small.json"), "{devices}");
 
     let (second, said) = run_trial(&campaign, &dir.path().join("b"), &cache, "auto", "always");
     assert!(!said.contains("answered from memory"), "{said}");

@@ -4,11 +4,15 @@ use anyhow::Result;
 
 use super::output::Output;
 use rigfit::gpu::list_adapters;
+use rigfit::job::backend::{self, KeptChoice};
 
-/// Lists every adapter wgpu can see, with its f64 support, and whether the
-/// CPU's lane ensemble runs native code here.
+/// Lists every adapter wgpu can see, with its f64 support, whether the
+/// CPU's lane ensemble runs native code here, and the choices `--backend
+/// auto` measured and keeps for this processor and these adapters.
 pub fn devices(out: &Output) -> Result<()> {
     let adapters = list_adapters();
+    let choices = backend::kept_choices(&backend::adapters_key(&adapters));
+    let choices_text = choices_text(&choices);
     let cores = rigfit::eval::all_cores();
     let native = rigfit::compile::back::native::check_native_lanes();
     let cpu_line = match &native {
@@ -37,13 +41,14 @@ pub fn devices(out: &Output) -> Result<()> {
             "compiler_version": native.as_ref().ok().map(|(_, v)| v),
             "why_not": native.as_ref().err(),
         },
+        "auto_choices": choices,
     }))?;
     out.say(|| {
         if adapters.is_empty() {
             return format!(
                 "no GPU adapter found. Install a Vulkan driver: on Debian \
                  `apt-get install mesa-vulkan-drivers` gives the software adapter lavapipe; \
-                 on NVIDIA/AMD machines install the vendor's Vulkan driver.\n{cpu_line}"
+                 on NVIDIA/AMD machines install the vendor's Vulkan driver.\n{cpu_line}\n{choices_text}"
             );
         }
         let mut s =
@@ -66,7 +71,34 @@ pub fn devices(out: &Output) -> Result<()> {
         s += "pick one with `rigfit run --adapter I` (index, PCI bus id or a piece of the name) \
               or RIGFIT_ADAPTER\n";
         s += &cpu_line;
+        s += "\n";
+        s += &choices_text;
         s
     });
     Ok(())
+}
+
+/// What `--backend auto` chose for each job it measured here, as kept in
+/// its cache, or how to get a choice measured.
+fn choices_text(choices: &[KeptChoice]) -> String {
+    if choices.is_empty() {
+        return "backend auto keeps no measured choice for these adapters yet: a run with \
+                --backend auto long enough for a trial, or `rigfit check`, measures one"
+            .into();
+    }
+    let file = backend::cache_file()
+        .map(|f| f.display().to_string())
+        .unwrap_or_default();
+    let mut s = format!("backend auto's measured choices on this machine ({file}):");
+    for c in choices {
+        let campaign =
+            (c.trial.campaign.clone()).unwrap_or_else(|| format!("campaign {}", c.digest));
+        s += &format!(
+            "\n  {campaign}, precision {}, population {}: {}",
+            c.precision,
+            c.population,
+            c.trial.line().trim_start_matches("backend auto ")
+        );
+    }
+    s
 }

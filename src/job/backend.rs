@@ -23,7 +23,9 @@
 //! other; about 0.9 s on a long record, the EMPS closed loop). Only the
 //! search's build is waited for: the polish's starts once the CPU is chosen
 //! (on the aa2024 campaign the trial took 0.72 to 0.77 s where it took 1.0
-//! to 1.3 s waiting for both). A close call
+//! to 1.3 s waiting for both). On a long record the GPU's kernel variants
+//! are timed over its first quarter ([`trial_part`]), and the GPU scores the
+//! batch whole only once it is chosen. A close call
 //! ([`CLOSE_CALL`]) is timed once more on each path. Its batch is the search's
 //! first generation, which the path kept then answers from memory
 //! ([`Remembered`]). The same early build serves a job that runs on the CPU
@@ -117,6 +119,11 @@ pub struct BackendTrial {
     pub cpu_rate: f64,
     /// Candidates in the timed batch.
     pub candidates: usize,
+    /// The campaign measured: its name and file, as `rigfit devices` lists
+    /// the choices kept on this machine; `None` in a cache written before
+    /// it was kept.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub campaign: Option<String>,
     /// Steps of each run the GPU was timed over, where a long record was
     /// timed over its first part ([`trial_part`]); `None` for whole passes.
     #[serde(default)]
@@ -685,6 +692,7 @@ fn race_over(
         gpu_kernel_rates,
         cpu_rate,
         candidates: n,
+        campaign: Some(format!("{} ({})", campaign.name, campaign.path.display())),
         gpu_steps_timed,
         trial_s: start.elapsed().as_secs_f64(),
         cached: false,
@@ -808,12 +816,60 @@ pub fn cache_key(
 /// The cache key of `campaign` run with `--backend auto` at `precision`
 /// (`"auto"`, `"f32"` or `"f64"`, as asked) on this machine's adapters.
 pub fn auto_key(campaign: &Campaign, precision: &str) -> String {
-    let adapters = crate::gpu::list_adapters()
+    let adapters = adapters_key(&crate::gpu::list_adapters());
+    cache_key(campaign, &adapters, precision, campaign.search.population)
+}
+
+/// The adapters as a cache key names them.
+pub fn adapters_key(adapters: &[crate::gpu::AdapterSummary]) -> String {
+    adapters
         .iter()
         .map(|a| format!("{} ({}, {})", a.name, a.backend, a.driver))
         .collect::<Vec<_>>()
-        .join(", ");
-    cache_key(campaign, &adapters, precision, campaign.search.population)
+        .join(", ")
+}
+
+/// A choice `auto` keeps in the cache ([`cache_file`]), as `rigfit devices`
+/// lists it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct KeptChoice {
+    /// The campaign's digest (its file and records), as the key has it.
+    pub digest: String,
+    /// The precision asked for (`"auto"`, `"f32"`, `"f64"`).
+    pub precision: String,
+    /// The job's population.
+    pub population: usize,
+    /// What was measured and chosen.
+    pub trial: BackendTrial,
+}
+
+/// Every choice kept for this processor and `adapters` ([`adapters_key`]),
+/// in the cache's order.
+pub fn kept_choices(adapters: &str) -> Vec<KeptChoice> {
+    cache_file().map_or_else(Vec::new, |file| {
+        kept_choices_in(&file, &processor(), adapters)
+    })
+}
+
+fn kept_choices_in(file: &Path, processor: &str, adapters: &str) -> Vec<KeptChoice> {
+    let head = format!("{processor} | {adapters} | campaign ");
+    read_cache::<BackendTrial>(file)
+        .into_iter()
+        .filter_map(|(key, trial)| {
+            // "<head><digest> | <precision> | population <n>"
+            let rest = key.strip_prefix(&head)?;
+            let mut parts = rest.split(" | ");
+            let digest = parts.next()?.to_string();
+            let precision = parts.next()?.to_string();
+            let population = parts.next()?.strip_prefix("population ")?.parse().ok()?;
+            parts.next().is_none().then_some(KeptChoice {
+                digest,
+                precision,
+                population,
+                trial,
+            })
+        })
+        .collect()
 }
 
 /// [`auto_key`], where `always` or where the cache holds a choice for this
@@ -1148,6 +1204,7 @@ mod tests {
             gpu_kernel_rates: [("generic".into(), 1e7), ("specialised".into(), 5e6)].into(),
             cpu_rate: 1e8,
             candidates: 128,
+            campaign: None,
             gpu_steps_timed: None,
             trial_s: 0.25,
             cached: false,
@@ -1163,6 +1220,30 @@ mod tests {
         assert_eq!(back.gpu_startup_s, Some(0.3));
         assert_eq!(back.gpu_kernel_rates, t.gpu_kernel_rates);
         assert_eq!(cached_in(&file, "other"), None);
+        // `rigfit devices` lists the choices of this processor and these
+        // adapters alone, each with what its key says.
+        let key = |p: &str, a: &str, n: usize| {
+            format!("{p} | {a} | campaign 00ff | f64 | population {n}")
+        };
+        keep_in(&file, &key("EPYC", "lavapipe (Vulkan, 22)", 256), t.clone()).unwrap();
+        keep_in(&file, &key("EPYC", "other (Vulkan, 1)", 512), t.clone()).unwrap();
+        keep_in(
+            &file,
+            &key("Xeon", "lavapipe (Vulkan, 22)", 1024),
+            t.clone(),
+        )
+        .unwrap();
+        let kept = kept_choices_in(&file, "EPYC", "lavapipe (Vulkan, 22)");
+        assert_eq!(kept.len(), 1, "{kept:?}");
+        assert_eq!(
+            (
+                kept[0].digest.as_str(),
+                kept[0].precision.as_str(),
+                kept[0].population
+            ),
+            ("00ff", "f64", 256)
+        );
+        assert_eq!(kept[0].trial, t);
         assert!(
             back.line().contains("as measured before"),
             "{}",
