@@ -214,11 +214,10 @@ impl Evaluator for GpuByDrive {
         })
     }
 
+    /// Each group's first chunk alone ([`Evaluator::fitness_part`] of one
+    /// step).
     fn warm_up(&mut self, batch: &Batch) -> Result<(), EvalError> {
-        self.problem.check_batch(batch)?;
-        self.each_group(batch, |ev, sub| ev.warm_up(sub))
-            .into_iter()
-            .collect()
+        self.fitness_part(batch, 1).map(|_| ())
     }
 
     fn fitness_part(&mut self, batch: &Batch, steps: usize) -> Result<Option<usize>, EvalError> {

@@ -284,11 +284,9 @@ impl Evaluator for GpuEvaluator {
         self.scores(raw)
     }
 
+    /// The batch's first chunk alone ([`Evaluator::fitness_part`] of one step).
     fn warm_up(&mut self, batch: &Batch) -> Result<(), EvalError> {
-        self.problem.check_batch(batch)?;
-        self.part_fitness(batch, 1)
-            .map(|_| ())
-            .map_err(device_error)
+        self.fitness_part(batch, 1).map(|_| ())
     }
 
     fn fitness_part(&mut self, batch: &Batch, steps: usize) -> Result<Option<usize>, EvalError> {

@@ -574,13 +574,18 @@ pub const TRIAL_PART: f64 = 0.25;
 /// candidates) lavapipe's two kernel variants took 0.17 to 0.24 s each of a
 /// 1.0 to 1.25 s trial, on a job the CPU runs faster.
 pub fn trial_part(campaign: &Campaign) -> Option<usize> {
-    let longest = campaign
+    let longest = longest_record_steps(campaign);
+    (longest >= TRIAL_PART_FROM_STEPS).then(|| (longest * TRIAL_PART).ceil() as usize)
+}
+
+/// Steps of the campaign's longest record, its prologue included.
+fn longest_record_steps(campaign: &Campaign) -> f64 {
+    campaign
         .run_length()
         .experiments
         .iter()
         .map(|x| x.steps)
-        .fold(0.0, f64::max);
-    (longest >= TRIAL_PART_FROM_STEPS).then(|| (longest * TRIAL_PART).ceil() as usize)
+        .fold(0.0, f64::max)
 }
 
 /// Scores the trial batch on both paths and returns the faster evaluator
@@ -1114,13 +1119,7 @@ mod tests {
         let mut campaign = Campaign::load(path).expect("a shipped campaign");
         campaign.search.population = 64;
         let problem = campaign.problem.clone();
-        let longest = campaign
-            .run_length()
-            .experiments
-            .iter()
-            .map(|x| x.steps)
-            .fold(0.0, f64::max) as usize;
-        let part = longest / 4;
+        let part = longest_record_steps(&campaign) as usize / 4;
         let batch = campaign.batch(&trial_genomes(&campaign, 64));
         for gpu_faster in [true, false] {
             // Four times faster or slower than the CPU: no close call.
