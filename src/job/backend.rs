@@ -803,26 +803,81 @@ pub fn cache_file() -> Option<PathBuf> {
     Some(crate::base::fsutil::cache_dir()?.join("backend-trials.json"))
 }
 
-/// The cache key of a job: processor, adapters, campaign digest, precision,
-/// population.
-pub fn cache_key(
-    campaign: &Campaign,
-    adapters: &str,
-    precision: &str,
-    population: usize,
-) -> String {
-    format!(
-        "{} | {adapters} | campaign {:016x} | {precision} | population {population}",
-        processor(),
-        campaign.digest
-    )
+/// Where `auto` keeps a choice in the cache ([`cache_file`]): the machine
+/// (processor and adapters) and the job (the campaign's digest, the
+/// precision asked for, the population). Written as one line
+/// (`"<processor> | <adapters> | campaign <digest> | <precision> | population
+/// <n>"`) and read back by [`TrialKey::parse`], so that what writes a key and
+/// what lists the keys kept (`rigfit devices`) cannot drift apart.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct TrialKey {
+    /// The processor's model name ([`processor`]).
+    pub processor: String,
+    /// The adapters ([`adapters_key`]).
+    pub adapters: String,
+    /// The campaign's digest (its file and records), in hex.
+    pub digest: String,
+    /// The precision asked for (`"auto"`, `"f32"`, `"f64"`).
+    pub precision: String,
+    /// The job's population.
+    pub population: usize,
+}
+
+impl TrialKey {
+    /// The key of `campaign` at `precision` on this processor and `adapters`.
+    pub fn of(campaign: &Campaign, adapters: &str, precision: &str) -> Self {
+        Self {
+            processor: processor(),
+            adapters: adapters.to_string(),
+            digest: format!("{:016x}", campaign.digest),
+            precision: precision.to_string(),
+            population: campaign.search.population,
+        }
+    }
+
+    /// The key a line of the cache names, `None` where it is not one.
+    pub fn parse(key: &str) -> Option<Self> {
+        // From the right: the processor's name and the adapters' may hold
+        // anything but the separator before them.
+        let mut right = key.rsplitn(4, " | ");
+        let population = right.next()?.strip_prefix("population ")?.parse().ok()?;
+        let precision = right.next()?.to_string();
+        let digest = right.next()?.strip_prefix("campaign ")?.to_string();
+        let (processor, adapters) = right.next()?.split_once(" | ")?;
+        Some(Self {
+            processor: processor.to_string(),
+            adapters: adapters.to_string(),
+            digest,
+            precision,
+            population,
+        })
+    }
+
+    /// Whether `other` is this key on any adapters.
+    fn on_any_adapters(&self, other: &Self) -> bool {
+        *self
+            == Self {
+                adapters: self.adapters.clone(),
+                ..other.clone()
+            }
+    }
+}
+
+impl std::fmt::Display for TrialKey {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} | {} | campaign {} | {} | population {}",
+            self.processor, self.adapters, self.digest, self.precision, self.population
+        )
+    }
 }
 
 /// The cache key of `campaign` run with `--backend auto` at `precision`
 /// (`"auto"`, `"f32"` or `"f64"`, as asked) on this machine's adapters.
 pub fn auto_key(campaign: &Campaign, precision: &str) -> String {
     let adapters = adapters_key(&crate::gpu::list_adapters());
-    cache_key(campaign, &adapters, precision, campaign.search.population)
+    TrialKey::of(campaign, &adapters, precision).to_string()
 }
 
 /// The adapters as a cache key names them.
@@ -857,20 +912,14 @@ pub fn kept_choices(adapters: &str) -> Vec<KeptChoice> {
 }
 
 fn kept_choices_in(file: &Path, processor: &str, adapters: &str) -> Vec<KeptChoice> {
-    let head = format!("{processor} | {adapters} | campaign ");
     read_cache::<BackendTrial>(file)
         .into_iter()
         .filter_map(|(key, trial)| {
-            // "<head><digest> | <precision> | population <n>"
-            let rest = key.strip_prefix(&head)?;
-            let mut parts = rest.split(" | ");
-            let digest = parts.next()?.to_string();
-            let precision = parts.next()?.to_string();
-            let population = parts.next()?.strip_prefix("population ")?.parse().ok()?;
-            parts.next().is_none().then_some(KeptChoice {
-                digest,
-                precision,
-                population,
+            let key = TrialKey::parse(&key)?;
+            (key.processor == processor && key.adapters == adapters).then_some(KeptChoice {
+                digest: key.digest,
+                precision: key.precision,
+                population: key.population,
                 trial,
             })
         })
@@ -883,17 +932,12 @@ fn kept_choices_in(file: &Path, processor: &str, adapters: &str) -> Vec<KeptChoi
 /// job lists them only where a choice may be waiting for it).
 fn auto_key_if(campaign: &Campaign, precision: &str, always: bool) -> Option<String> {
     let may_be_cached = || {
-        // The key with a marker where the adapters go: what comes before
-        // and after it must match.
-        const MARK: &str = "\u{1}";
-        let probe = cache_key(campaign, MARK, precision, campaign.search.population);
-        let Some((head, tail)) = probe.split_once(MARK) else {
-            return false;
-        };
+        let wanted = TrialKey::of(campaign, "", precision);
         cache_file().is_some_and(|file| {
-            read_cache::<serde_json::Value>(&file).keys().any(|k| {
-                k.len() >= head.len() + tail.len() && k.starts_with(head) && k.ends_with(tail)
-            })
+            read_cache::<serde_json::Value>(&file)
+                .keys()
+                .filter_map(|k| TrialKey::parse(k))
+                .any(|k| wanted.on_any_adapters(&k))
         })
     };
     (always || may_be_cached()).then(|| auto_key(campaign, precision))
@@ -1193,6 +1237,40 @@ mod tests {
     }
 
     #[test]
+    fn a_key_reads_back_as_it_was_written_whatever_the_adapters() {
+        let key = |adapters: &str| TrialKey {
+            processor: "AMD EPYC 9R14 96-Core Processor".into(),
+            adapters: adapters.into(),
+            digest: "0123456789abcdef".into(),
+            precision: "auto".into(),
+            population: 4096,
+        };
+        for adapters in [
+            "",
+            "llvmpipe (LLVM 15.0.6, 256 bits) (Vulkan, Mesa 22.3.6)",
+            "a (Vulkan, 1), b | c (Vulkan, 2)",
+        ] {
+            let k = key(adapters);
+            assert_eq!(TrialKey::parse(&k.to_string()), Some(k.clone()), "{k}");
+            assert!(k.on_any_adapters(&key("other (Vulkan, 3)")));
+        }
+        let other_job = TrialKey {
+            population: 2048,
+            ..key("")
+        };
+        assert!(!key("").on_any_adapters(&other_job));
+        for not_a_key in [
+            "",
+            "EPYC | x | campaign 00 | f64",
+            "EPYC | x | 00 | f64 | population 1",
+            "EPYC | x | campaign 00 | f64 | population many",
+            "EPYC campaign 00 | f64 | population 1",
+        ] {
+            assert_eq!(TrialKey::parse(not_a_key), None, "{not_a_key}");
+        }
+    }
+
+    #[test]
     fn a_cached_choice_reads_back_marked_as_cached() {
         let dir = tempfile::tempdir().unwrap();
         let file = dir.path().join("cache").join("backend-trials.json");
@@ -1222,7 +1300,10 @@ mod tests {
         // `rigfit devices` lists the choices of this processor and these
         // adapters alone, each with what its key says.
         let key = |p: &str, a: &str, n: usize| {
-            format!("{p} | {a} | campaign 00ff | f64 | population {n}")
+            let key = format!("{p} | {a} | campaign 00ff | f64 | population {n}");
+            let parsed = TrialKey::parse(&key).expect("a key reads back");
+            assert_eq!(parsed.to_string(), key);
+            key
         };
         keep_in(&file, &key("EPYC", "lavapipe (Vulkan, 22)", 256), t.clone()).unwrap();
         keep_in(&file, &key("EPYC", "other (Vulkan, 1)", 512), t.clone()).unwrap();
