@@ -25,6 +25,10 @@
 //! measured column, say);
 //! `RIGFIT_BENCH_CPU_TIME=1` adds candidate-steps per CPU-second of the process
 //! (its CPU-time clock, all threads, lavapipe's included).
+//! `RIGFIT_LANES_ISA=avx2 GALLIUM_OVERRIDE_CPU_CAPS=avx` runs both paths as on
+//! a processor with AVX2 alone: the lanes in 32-byte vectors, and lavapipe's
+//! JIT without AVX-512 (whose 32 vector registers it otherwise uses at
+//! 256 bits, where the lanes built for AVX2 have 16).
 //!
 //! Rates per wall second drop by half or more while other work shares the
 //! cores, or when lavapipe gets one core instead of two; the rate per
