@@ -28,7 +28,7 @@ if [ -z "${XDG_RUNTIME_DIR:-}" ]; then
     XDG_RUNTIME_DIR="$(mktemp -d)"
     export XDG_RUNTIME_DIR
 fi
-# `--backend auto` caches what it measured (src/job/backend.rs): in a folder of
+# `--backend auto` caches what it measured (src/job/backend/): in a folder of
 # the run's own, not the user's cache.
 RIGFIT_CACHE_DIR="$(mktemp -d)"
 export RIGFIT_CACHE_DIR

@@ -1,5 +1,5 @@
 //! `--backend auto` scores a trial batch on the GPU and on the CPU and runs
-//! the job on the faster path (src/job/backend.rs): result.json's
+//! the job on the faster path (src/job/backend/): result.json's
 //! `backend_trial` gives both measured rates and the choice, the job ran on
 //! the path with the higher rate, and a second run of the same job reads the
 //! choice back from the cache instead of measuring again. The trial scores

@@ -11,7 +11,7 @@ use std::process::Command;
 use serde_json::{Value, json};
 
 fn check(c: &Path, json: bool) -> String {
-    // No measurement of an earlier run (src/job/backend.rs), none by
+    // No measurement of an earlier run (src/job/backend/), none by
     // `check` itself: the assumed rates.
     let cache = tempfile::tempdir().unwrap();
     check_with(c, json, cache.path(), &["--no-measure"])

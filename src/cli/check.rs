@@ -36,7 +36,7 @@ pub struct CheckArgs {
 /// every core and at [`GPU_STEPS_PER_S_ASSUMED`] on the GPU, then the polish's
 /// ([`memory::TimeEstimate`]).
 /// Where `run --backend auto` has measured this job on this machine before
-/// (src/job/backend.rs), its measured rates take the assumed ones' place;
+/// (src/job/backend/), its measured rates take the assumed ones' place;
 /// where a run of it searched on every CPU core here, the rate that search
 /// ran at takes the CPU's, and the GPU's start-up the trial timed takes
 /// [`memory::STARTUP_SECONDS`]'s place. Where `auto` has measured nothing and `measure`

@@ -173,7 +173,7 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     // cannot run (threads the system will not start, an adapter selector that
     // names none, a rig the GPU kernels cannot hold when the GPU was asked
     // for); a GPU that is required and missing leaves no folder behind.
-    // `auto` chooses as src/job/backend.rs says: a named adapter is that GPU,
+    // `auto` chooses as src/job/backend/ says: a named adapter is that GPU,
     // else the choice cached for this job on this machine, else a race.
     let opened = job::backend::open_job_evaluator(
         &c,
