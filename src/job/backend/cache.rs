@@ -147,16 +147,20 @@ fn kept_choices_in(file: &Path, processor: &str, adapters: &str) -> Vec<KeptChoi
 /// without listing the adapters, which takes tens of milliseconds: a short
 /// job lists them only where a choice may be waiting for it).
 pub(super) fn auto_key_if(campaign: &Campaign, precision: &str, always: bool) -> Option<String> {
+    let mut key = TrialKey::of(campaign, "", precision);
     let may_be_cached = || {
-        let wanted = TrialKey::of(campaign, "", precision);
         cache_file().is_some_and(|file| {
             read_cache::<serde_json::Value>(&file)
                 .keys()
                 .filter_map(|k| TrialKey::parse(k))
-                .any(|k| wanted.on_any_adapters(&k))
+                .any(|k| key.on_any_adapters(&k))
         })
     };
-    (always || may_be_cached()).then(|| auto_key(campaign, precision))
+    if !(always || may_be_cached()) {
+        return None;
+    }
+    key.adapters = adapters_key(&crate::gpu::list_adapters());
+    Some(key.to_string())
 }
 
 /// The processor's model name (Linux's /proc/cpuinfo), else the architecture.
