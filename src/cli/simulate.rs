@@ -17,9 +17,12 @@ use super::options::{RunLengthArgs, memory_limit, memory_size};
 use super::output::{Output, check_out_files, write_file};
 use rigfit::base::data::Column;
 use rigfit::base::noise::gaussian;
+use rigfit::base::text::steps_per_sample;
 use rigfit::base::text::{echo, number};
 use rigfit::campaign::raw::{RawCampaign, RawData, RawDrive};
-use rigfit::campaign::{Campaign, SimulationGrid};
+use rigfit::campaign::{
+    Campaign, MAX_AUTO_SUBSTEPS, STABILITY_LIMIT, SimulationGrid, SimulationStep,
+};
 use rigfit::eval::{History, Problem, simulate_history};
 use rigfit::job::memory::human_bytes;
 
@@ -71,6 +74,12 @@ pub struct SimulateArgs {
     /// now (MemAvailable in /proc/meminfo).
     #[arg(long, value_parser = memory_size)]
     pub max_memory: Option<f64>,
+    /// RK4 steps per sample interval (at least the stability rule's count).
+    /// Default: what a fit of the record written takes on this grid, and with
+    /// --noise a finer step whose integration error is at most 0.2 % of the
+    /// noise and a tenth of σ/√N, and at least twice a fit's steps.
+    #[arg(long)]
+    pub substeps: Option<usize>,
     #[command(flatten)]
     pub run_length: RunLengthArgs,
 }
@@ -156,9 +165,15 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
         ))
         .into());
     }
-    let substeps = substeps(&c);
+    let step = substeps(args, &c, &channels)?;
+    let substeps = step.substeps;
     let n = c.problem.experiments[e].window.end;
+    let mut c = c;
+    c.problem.substeps = substeps;
     c.check_run_length(args.run_length.max_steps)?;
+    if let Some(w) = &step.warning {
+        eprintln!("rigfit: warning: {w}");
+    }
     let drives = usize::from(drive_column.is_some());
     check_memory(
         args,
@@ -222,6 +237,7 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
                 c.model.id(),
                 args.seed
             );
+            let _ = writeln!(s, "# {}", step_line(&step, &measured));
             let channels: Vec<Channel> = channels
                 .iter()
                 .zip(sigmas)
@@ -268,6 +284,7 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
     out.json(&serde_json::json!({
         "out": args.out, "experiment": exp.name, "samples": h.t.len(),
         "dt": exp.dt, "substeps": substeps, "record_read": grid.reads_records(),
+        "step": step_json(&step, &measured),
         "noise": noise_json,
         "drive_column": drive.as_ref().map(|d| column_label(d.0)),
         "peak": {"output": out_name, "unit": unit, "abs_max": peak},
@@ -286,24 +303,113 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
             })
             .unwrap_or_default();
         format!(
-            "simulated {} ({} samples at dt = {:e} s, {}{noise}): largest |{out_name}| {peak:.4e} {unit} → {}",
+            "simulated {} ({} samples at dt = {:e} s{noise}): largest |{out_name}| {peak:.4e} {unit} → {}\n  {}",
             x.name,
             h.t.len(),
             exp.dt,
-            rigfit::base::text::steps_per_sample(substeps),
-            args.out.display()
+            args.out.display(),
+            step_line(&step, &measured)
         )
     });
     Ok(())
 }
 
-/// RK4 steps per sample interval for the simulation. The campaign's step rule
-/// chose them for this grid when it was loaded: the stability bound over the
-/// free parameters' ranges, or the campaign's own count. Without a record
-/// there is no noise to hold the integration error against, so an accuracy
-/// rule for a simulation takes a tolerance instead, and goes here.
-fn substeps(c: &Campaign) -> usize {
-    c.problem.substeps
+/// RK4 steps per sample interval for the simulation: `--substeps` (held to
+/// the stability rule's count), else the campaign's step rule as a fit of the
+/// record written would apply it on this grid, finer still for a synthetic
+/// record (see [`Campaign::simulation_step`]).
+fn substeps(args: &SimulateArgs, c: &Campaign, channels: &[usize]) -> Result<SimulationStep> {
+    let sigmas: Vec<(usize, f64)> = channels
+        .iter()
+        .enumerate()
+        .map(|(j, &i)| (i, args.noise.as_ref().map_or(0.0, |s| s[j])))
+        .collect();
+    if let Some(n) = args.substeps {
+        let stable = channels
+            .iter()
+            .map(|&i| c.stable_substeps(i))
+            .max()
+            .unwrap_or(1);
+        if n == 0 {
+            return Err(BadInput(
+                "--substeps 0: expected a count ≥ 1 of RK4 steps per sample".into(),
+            )
+            .into());
+        }
+        if n < stable {
+            return Err(BadInput(format!(
+                "--substeps {n}: expected at least {stable} RK4 steps per sample, the count the \
+                 stability rule (h·ω ≤ {STABILITY_LIMIT} over the free parameters' ranges) \
+                 takes on this grid; a coarser step can diverge"
+            ))
+            .into());
+        }
+        if n > MAX_AUTO_SUBSTEPS {
+            return Err(BadInput(format!(
+                "--substeps {n}: expected at most {MAX_AUTO_SUBSTEPS} RK4 steps per sample"
+            ))
+            .into());
+        }
+    }
+    Ok(c.simulation_step(&sigmas, args.substeps, args.run_length.max_steps))
+}
+
+/// The step in words, for the console and the record's comment lines:
+/// `4 RK4 steps per sample (stability alone needs 1, a fit takes 2);
+/// integration error ≈ 1.2e-10 m on x, 0.06 % of σ (aimed ≤ 0.20 %)`.
+fn step_line(step: &SimulationStep, measured: &[(String, String)]) -> String {
+    let how = match step.chosen_by {
+        "requested" => "as --substeps asks",
+        "synthetic" => "a synthetic record: at least twice a fit's, finer where the noise asks",
+        _ => "a fit's step rule",
+    };
+    let errors: Vec<String> = step
+        .channels
+        .iter()
+        .zip(measured)
+        .map(
+            |(ch, (name, unit))| match (ch.estimate, ch.fraction_of_noise) {
+                (Some(e), Some(f)) => format!(
+                    "{e:.2e} {unit} on {name}, {:.3} % of σ{}",
+                    100.0 * f,
+                    ch.allowed_fraction
+                        .map(|a| format!(" (aimed ≤ {:.3} %)", 100.0 * a))
+                        .unwrap_or_default()
+                ),
+                (Some(e), None) => format!("{e:.2e} {unit} on {name}"),
+                (None, _) => format!("not estimated on {name}"),
+            },
+        )
+        .collect();
+    format!(
+        "{} ({how}; stability alone needs {}, a fit of this record takes {}); RK4 integration \
+         error by step doubling ≈ {}",
+        steps_per_sample(step.substeps),
+        step.stable,
+        step.fit,
+        errors.join(", ")
+    )
+}
+
+/// The step for `--json`.
+fn step_json(step: &SimulationStep, measured: &[(String, String)]) -> serde_json::Value {
+    let channels: Vec<serde_json::Value> = step
+        .channels
+        .iter()
+        .zip(measured)
+        .map(|(ch, (name, unit))| {
+            serde_json::json!({
+                "output": name, "unit": unit, "sigma": ch.sigma,
+                "integration_error": ch.estimate, "observed_order": ch.observed_order,
+                "fraction_of_noise": ch.fraction_of_noise,
+                "allowed_fraction": ch.allowed_fraction,
+            })
+        })
+        .collect();
+    serde_json::json!({
+        "substeps": step.substeps, "chosen_by": step.chosen_by, "stable": step.stable,
+        "fit": step.fit, "channels": channels, "warning": step.warning,
+    })
 }
 
 /// The grid the options ask for; the record is read unless `--dt` is given.

@@ -79,6 +79,11 @@ pub struct Mode {
     pub damping: f64,
     /// Phase of `1/(2i·ω_d·r)` (rad): 0 for a real (proportionally damped) mode.
     pub complexity_rad: f64,
+    /// Whether the natural frequency lies inside the fitted band. A pole
+    /// outside it is tested by no line near it: its frequency, damping and
+    /// modal values rest on extrapolation (often the band's residual of
+    /// modes beyond it), and [`ModalFit::warnings`] says so.
+    pub in_band: bool,
 }
 
 /// The fit.
@@ -96,6 +101,8 @@ pub struct ModalFit {
     pub numerator: Vec<f64>,
     /// Denominator coefficients in `s`, monic (last = 1).
     pub denominator: Vec<f64>,
+    /// What the fit cannot vouch for: each mode outside the fitted band.
+    pub warnings: Vec<String>,
 }
 
 fn poly(c: &[f64], s: Complex64) -> Complex64 {
@@ -256,6 +263,7 @@ pub fn fit(
                 stiffness: m * wn * wn,
                 damping: 2.0 * zeta * m * wn,
                 complexity_rad: mc.arg(),
+                in_band: (opts.f_min..=opts.f_max).contains(&(wn / (2.0 * PI))),
             }
         })
         .collect();
@@ -269,6 +277,7 @@ pub fn fit(
         });
     }
     modes.sort_by(|a, b| a.natural_frequency_hz.total_cmp(&b.natural_frequency_hz));
+    let warnings = out_of_band(&modes, opts);
     let mut out = ModalFit {
         modes,
         lines: lines.len(),
@@ -276,6 +285,7 @@ pub fn fit(
         omega_ref,
         numerator: num,
         denominator: den,
+        warnings,
     };
     let (mut e2, mut h2) = (0.0, 0.0);
     for (f, hk, _) in &lines {
@@ -284,6 +294,31 @@ pub fn fit(
     }
     out.relative_error = (e2 / h2).sqrt();
     Ok(out)
+}
+
+/// One warning per mode whose natural frequency lies outside the band the
+/// lines were taken from: the fit places such a pole to shape the band's
+/// response, and no line near it tests its frequency, damping or mass.
+fn out_of_band(modes: &[Mode], opts: &ModalOptions) -> Vec<String> {
+    modes
+        .iter()
+        .enumerate()
+        .filter(|(_, m)| !m.in_band)
+        .map(|(i, m)| {
+            let f = m.natural_frequency_hz;
+            let side = if f < opts.f_min { "below" } else { "above" };
+            format!(
+                "mode {}: f_n = {f:.4} Hz lies {side} the fitted band {} … {} Hz; no line of the \
+                 band is near it, so its frequency, damping and modal mass, stiffness and damping \
+                 rest on extrapolation (with noise, or modes beyond the band, often the band's \
+                 residual rather than a resonance): widen the band to take in the resonance, or \
+                 fit fewer modes",
+                i + 1,
+                opts.f_min,
+                opts.f_max
+            )
+        })
+        .collect()
 }
 
 impl ModalFit {

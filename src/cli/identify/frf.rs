@@ -110,6 +110,7 @@ pub fn frf(a: &FrfArgs, out: &Output) -> Result<()> {
         report: serde_json::json!({
             "welch": est.settings, "modal": fit,
             "assumes": fit.as_ref().map(|_| frf::FORCE_INPUT),
+            "warnings": fit.as_ref().map_or(&[][..], |m| &m.warnings[..]),
         }),
         fragment: match &fit {
             Some(m) => m.to_campaign_fragment(&a.names, a.common.fixed),
@@ -177,6 +178,9 @@ fn report(a: &FrfArgs, est: &Frf, fit: Option<&ModalFit>, n: usize, fs: f64) -> 
             m.relative_error,
             frf::FORCE_INPUT
         );
+        for w in &m.warnings {
+            s += &format!("  warning: {w}\n");
+        }
     }
     s
 }
