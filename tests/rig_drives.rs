@@ -28,8 +28,8 @@ fn oscillator(drive: Value) -> CompiledRig {
                       "spring": {"law": "linear", "k": "k"}, "damper": {"law": "viscous", "c": "c"}}],
         "drives": [drive],
         "outputs": [
-            {"name": "x", "unit": "m", "sum": [{"displacement": "mass"}]},
-            {"name": "v", "unit": "m/s", "sum": [{"velocity": "mass"}]}
+            {"name": "x", "unit": "m", "sum": [{"displacement": "mass", "frame": "relative"}]},
+            {"name": "v", "unit": "m/s", "sum": [{"velocity": "mass", "frame": "relative"}]}
         ]
     }))
 }

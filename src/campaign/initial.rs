@@ -57,7 +57,7 @@ pub(crate) fn declare(
         }
         desc.params.push(ParamDesc {
             name,
-            unit: if state.starts_with("v_") { "m/s" } else { "m" }.into(),
+            unit: if is_velocity(state) { "m/s" } else { "m" }.into(),
             doc: format!("initial value of state {state} (the experiment's \"initial\")"),
             scope: ParamScope::Experiment,
             default: Some(0.0),
@@ -99,7 +99,7 @@ pub(crate) fn as_params(
                 }
             }
             RawInitial::Data(d) => {
-                RawParam::Fixed(from_data(file, dir, &path, x, d, state.starts_with("v_"))?)
+                RawParam::Fixed(from_data(file, dir, &path, x, d, is_velocity(state))?)
             }
         };
         params.insert(name, value);
@@ -144,6 +144,12 @@ pub(crate) fn check_prescribed(
 }
 
 /// The initial value from the data file (see [`RawInitialData`]).
+/// Whether `state` is a velocity (`v_<node>`, or the base's velocity under
+/// base acceleration), not a displacement.
+fn is_velocity(state: &str) -> bool {
+    state.starts_with("v_") || state == "base_velocity"
+}
+
 fn from_data(
     file: &Path,
     dir: &Path,

@@ -43,10 +43,27 @@ impl CompiledRig {
             &vec![0.0; n],
             &regimes,
         );
+        // An internal state whose rate is a fixed mix of node velocities
+        // (a stuck slider's tangential stretch: ṡ = v_b − v_a) moves with the
+        // nodes, s = Σ_j (∂ṡ/∂v_j)·x_j + const, so its force is a stiffness
+        // between them: its column folds into the node columns through that
+        // mix. A state that stands still in the chosen regime (a backlash
+        // play taken up, a slipping slider) has a zero mix and adds nothing.
+        let follows = |s: usize| {
+            (0..n)
+                .filter(|&j| !(nodes..2 * nodes).contains(&j))
+                .all(|j| jac[s * n + j] == 0.0)
+        };
+        let carried: Vec<usize> = (2 * nodes..n).filter(|&s| follows(s)).collect();
         let mut kmat = vec![0.0; d * d];
         for (i, &ki) in free.iter().enumerate() {
+            let row = (nodes + ki) * n;
             for (j, &kj) in free.iter().enumerate() {
-                kmat[i * d + j] = -mass[i] * jac[(nodes + ki) * n + kj];
+                let through: f64 = carried
+                    .iter()
+                    .map(|&s| jac[row + s] * jac[s * n + nodes + kj])
+                    .sum();
+                kmat[i * d + j] = -mass[i] * (jac[row + kj] + through);
             }
         }
         Linearised {

@@ -506,10 +506,29 @@ pub struct TermDesc {
     /// A controller's held command (in its own unit, V for a voltage).
     #[serde(default)]
     pub controller: Option<String>,
+    /// The frame a displacement, velocity or acceleration is measured in:
+    /// required on those terms in a rig whose base moves (a base-acceleration
+    /// drive in any drive mode), optional elsewhere (both frames are then the
+    /// same), refused on the other terms.
+    #[serde(default)]
+    pub frame: Option<Frame>,
     /// Factor (default 1; −1 makes a difference): a number, or a
     /// parameter's name (a sensor's sensitivity, fitted or fixed).
     #[serde(default = "unit_gain")]
     pub gain: Coef,
+}
+
+/// The frame of a node's motion in an output term.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Frame {
+    /// Relative to the fixed ground: what an accelerometer or a laser
+    /// vibrometer on the node reads (the node's motion relative to the base
+    /// plus the base's own).
+    Absolute,
+    /// Relative to the moving base: what a sensor between the base and the
+    /// node reads (the rig's states under base acceleration).
+    Relative,
 }
 
 fn unit_gain() -> Coef {

@@ -8,8 +8,14 @@ use crate::compile::ir::{Graph, Id, Input};
 use crate::compile::program::RegimeVar;
 use crate::rig::RigError;
 use crate::rig::desc::{
-    BacklashDesc, Coef, DamperLaw, DriveLaw, ElementDesc, GapKind, RigDesc, SpringLaw,
+    BacklashDesc, Coef, DamperLaw, DriveLaw, ElementDesc, Frame, GapKind, RigDesc, SpringLaw,
 };
+
+/// State names of the base's velocity and displacement (see
+/// [`Layout::base_states`]); no node's or element's state name starts
+/// with `base_`.
+pub(super) const BASE_VELOCITY: &str = "base_velocity";
+pub(super) const BASE_DISPLACEMENT: &str = "base_displacement";
 
 /// Rig-wide facts every drive mode shares.
 pub(super) struct Layout<'a> {
@@ -29,6 +35,10 @@ pub(super) struct Layout<'a> {
     pub(super) drive_var: Vec<Option<u32>>,
     pub(super) regimes: Vec<RegimeVar>,
     pub(super) states: Vec<String>,
+    /// Slots of the base's velocity and displacement, integrated from its
+    /// acceleration where an output reads a node's absolute velocity or
+    /// displacement under base acceleration.
+    pub(super) base_states: Option<(u32, u32)>,
 }
 
 impl<'a> Layout<'a> {
@@ -56,6 +66,7 @@ impl<'a> Layout<'a> {
             drive_var: vec![],
             regimes: vec![],
             states: vec![],
+            base_states: None,
         };
         if !ident(&desc.id) {
             return Err(me.err(
@@ -225,6 +236,19 @@ impl<'a> Layout<'a> {
             };
             me.backlash_var.push(p);
         }
+        let base_moves = desc
+            .drives
+            .iter()
+            .any(|d| super::drive::moves_the_base(&d.law));
+        let absolute_motion = desc.outputs.iter().flat_map(|o| &o.sum).any(|t| {
+            t.frame == Some(Frame::Absolute) && (t.displacement.is_some() || t.velocity.is_some())
+        });
+        if base_moves && absolute_motion {
+            me.states.push(BASE_VELOCITY.into());
+            me.states.push(BASE_DISPLACEMENT.into());
+            let v = me.states.len() as u32 - 2;
+            me.base_states = Some((v, v + 1));
+        }
         for (i, d) in desc.drives.iter().enumerate() {
             let v = if matches!(d.law, DriveLaw::HalfSine { .. }) {
                 me.regimes.push(RegimeVar {
@@ -288,6 +312,7 @@ impl<'a> Layout<'a> {
                 ));
             }
         }
+        self.check_frames()?;
         if let Some(r) = desc.reach {
             for (what, v, unit) in [("elongation", r.elongation, "m"), ("rate", r.rate, "m/s")] {
                 if !(v.is_finite() && v > 0.0) {
@@ -296,6 +321,68 @@ impl<'a> Layout<'a> {
                         format!("a finite number > 0 ({unit})"),
                         v.to_string(),
                     ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Every node-motion term of a rig whose base moves says its frame
+    /// (absolute: what an accelerometer on the node reads; relative: what a
+    /// sensor between base and node reads); no other term has one.
+    fn check_frames(&self) -> Result<(), RigError> {
+        let desc = self.desc;
+        let base = desc
+            .drives
+            .iter()
+            .position(|d| super::drive::moves_the_base(&d.law));
+        for (o, out) in desc.outputs.iter().enumerate() {
+            for (j, t) in out.sum.iter().enumerate() {
+                let motion = [
+                    (t.displacement.is_some(), "displacement"),
+                    (t.velocity.is_some(), "velocity"),
+                    (t.acceleration.is_some(), "acceleration"),
+                ];
+                let other = [
+                    (t.force.is_some(), "force"),
+                    (t.controller.is_some(), "controller"),
+                ];
+                let picked: Vec<&str> = motion
+                    .iter()
+                    .chain(&other)
+                    .filter(|(on, _)| *on)
+                    .map(|(_, w)| *w)
+                    .collect();
+                let path = format!("outputs[{o}].sum[{j}].frame");
+                match (picked.as_slice(), t.frame) {
+                    // Several quantities: the lowering names that.
+                    ([_, _, ..], _) => {}
+                    ([], Some(_)) => {
+                        return Err(self.err(
+                            path,
+                            "no frame on a constant term (a frame belongs to a displacement, velocity or acceleration term)",
+                            "a frame",
+                        ));
+                    }
+                    ([w @ ("force" | "controller")], Some(_)) => {
+                        return Err(self.err(
+                            path,
+                            "no frame on a force or controller term (a frame belongs to a displacement, velocity or acceleration term)",
+                            format!("a frame on a {w} term"),
+                        ));
+                    }
+                    ([w], None) if *w != "force" && *w != "controller" => {
+                        if let Some(d) = base {
+                            return Err(self.err(
+                                path,
+                                format!(
+                                    "\"absolute\" (what an accelerometer or vibrometer on the node reads) or \"relative\" (to the moving base: what a sensor between the base and the node reads), for a term reading a node's {w} in a rig whose base moves (drives[{d}] accelerates it)"
+                                ),
+                                "no frame",
+                            ));
+                        }
+                    }
+                    _ => {}
                 }
             }
         }

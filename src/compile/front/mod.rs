@@ -5,7 +5,13 @@
 //! State layout: node displacements in node order, then node velocities, then
 //! the elements' internal states (the stretch of each friction element's
 //! tangential spring, the play position of each backlash element) in element
-//! order.
+//! order, then, where an output reads a node's absolute velocity or
+//! displacement under base acceleration, the base's velocity and displacement
+//! (`base_velocity`, `base_displacement`: integrated from the base's
+//! acceleration, from rest unless a campaign's `"initial"` gives them).
+//!
+//! Under base acceleration the node states are relative to the base; an
+//! output term's `"frame": "absolute"` adds the base's own motion back.
 
 mod controller;
 mod drive;
@@ -18,7 +24,7 @@ use super::program::{Program, RegimeVar, Transition};
 use crate::base::PiecewiseLinear;
 use crate::compile::ir::{Graph, Id, Input};
 use crate::rig::RigError;
-use crate::rig::desc::{DriveLaw, Quantity, RigDesc};
+use crate::rig::desc::{DriveLaw, Frame, Quantity, RigDesc};
 use drive::{moves_the_base, signal, table_drive};
 use element::element_force;
 use layout::Layout;
@@ -283,6 +289,26 @@ fn lower_mode(lay: &Layout, mode: &str) -> Result<Program, RigError> {
     for (slot, dz) in internal {
         deriv[slot as usize] = dz;
     }
+    // The base's own acceleration, what an absolute reading adds back to the
+    // states' motion relative to the base (0 in a mode that does not move it).
+    // Built only where read, so a rig without absolute terms lowers as before.
+    let reads_base = desc
+        .outputs
+        .iter()
+        .flat_map(|o| &o.sum)
+        .any(|t| t.frame == Some(Frame::Absolute));
+    let mut base_a = zero;
+    if reads_base {
+        for &ab in &base_accel {
+            base_a = g.add(base_a, ab);
+        }
+    }
+    let base_vx = lay.base_states.map(|(v, x)| {
+        deriv[v as usize] = base_a;
+        let bv = g.input(Input::State(v));
+        deriv[x as usize] = bv;
+        (bv, g.input(Input::State(x)))
+    });
     let mut full_state: Vec<Id> = (0..lay.states.len())
         .map(|s| g.input(Input::State(s as u32)))
         .collect();
@@ -360,10 +386,15 @@ fn lower_mode(lay: &Layout, mode: &str) -> Result<Program, RigError> {
                         format!("{name:?}"),
                     ));
                 };
-                match what {
-                    "displacement" => motion[k].x,
-                    "velocity" => motion[k].v,
-                    _ => accel[k],
+                let absolute = term.frame == Some(Frame::Absolute);
+                let (bv, bx) = base_vx.unwrap_or((zero, zero));
+                match (what, absolute) {
+                    ("displacement", false) => motion[k].x,
+                    ("velocity", false) => motion[k].v,
+                    (_, false) => accel[k],
+                    ("displacement", true) => g.add(motion[k].x, bx),
+                    ("velocity", true) => g.add(motion[k].v, bv),
+                    (_, true) => g.add(accel[k], base_a),
                 }
             };
             let v = g.mul(gain, v);
