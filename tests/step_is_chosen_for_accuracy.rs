@@ -5,7 +5,7 @@
 //! measured output at the step `"auto"` picks, checked against a run at 64
 //! steps per sample, is at most 1 % of the noise the record was made with;
 //! the step-doubling estimates (the campaign's before the search, and the one
-//! a finished job reports in `result.json` and its first summary line) are
+//! a finished job reports in `result.json` and the summary line after its verdict) are
 //! within 3× of that error; a tolerance picks the fewest steps that meet it,
 //! and a cap that holds the error above its target is warned of.
 
@@ -206,7 +206,7 @@ fn a_simulation_can_ask_for_a_tolerance_after_loading() {
 }
 
 /// A finished job reports the integration error at its fitted values in
-/// `result.json` and in its first summary line, within 3× of the true error,
+/// `result.json` and in the summary line after its verdict, within 3× of the true error,
 /// and as a fraction of the residual's RMS.
 #[test]
 fn a_finished_job_reports_its_integration_error_next_to_the_residual() {
@@ -260,10 +260,11 @@ fn a_finished_job_reports_its_integration_error_next_to_the_residual() {
     let truth = true_error(&c, 0, &p, c.base_offsets[0], c.solver.substeps);
     assert!(within_3x(estimate, truth), "{estimate} against {truth}");
 
-    let first = stdout
-        .lines()
-        .find(|l| !l.trim().is_empty())
-        .unwrap_or_default();
+    // The summary opens with its one-line verdict; the fit's line follows.
+    let mut lines = stdout.lines().filter(|l| !l.trim().is_empty());
+    let verdict = lines.next().unwrap_or_default();
+    assert!(verdict.starts_with("verdict: "), "{verdict}");
+    let first = lines.next().unwrap_or_default();
     assert!(
         first.contains(&format!("RK4 integration error ≈ {estimate:.2e} m/s²")),
         "{first}"

@@ -6,7 +6,7 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use super::stability::{NOISE_FRACTION, choose};
+use super::stability::{MAX_AUTO_SUBSTEPS, NOISE_FRACTION, choose};
 use super::{Campaign, CampaignError};
 use crate::base::text::{echo_bare, steps_per_sample};
 use crate::campaign::raw::RawSubsteps;
@@ -34,6 +34,16 @@ pub struct IntegrationError {
     pub tolerance: Option<f64>,
 }
 
+/// Most times the job's steps the integration-error warning advises; a
+/// count beyond it is no advice (a run of the record would cost as much
+/// times more, and a response that needs it is not predictable).
+pub const MAX_ADVISED_FACTOR: usize = 64;
+
+/// Observed order of convergence below which the runs at 1, 2 and 4 times
+/// the steps do not converge like RK4 (even an output that jumps at events
+/// shows about 1): the step-doubling estimate gives no step to advise.
+pub const MIN_ADVISED_ORDER: f64 = 0.5;
+
 impl IntegrationError {
     /// The warning when the error is more than [`Self::allowed_fraction`] of
     /// the residual's RMS (and above the tolerance, where one is given), with
@@ -45,6 +55,25 @@ impl IntegrationError {
         }
         let order = self.observed_order.unwrap_or(4.0);
         let need = (self.substeps as f64 * (frac / self.allowed_fraction).powf(1.0 / order)).ceil();
+        // Beyond this the step is not what is wrong: a response that parts
+        // from itself at every step (chaotic) or runs that do not converge
+        // at RK4's order. No count is advised.
+        if !(need <= (MAX_ADVISED_FACTOR * self.substeps) as f64
+            && need <= MAX_AUTO_SUBSTEPS as f64)
+            || order < MIN_ADVISED_ORDER
+        {
+            return Some(format!(
+                "{}: the estimated RK4 integration error ({est:.3e} {unit} at {}, observed order \
+                 {order:.2}) is {:.2} % of the residual's RMS, and no step brings it to {:.0} % \
+                 within {MAX_ADVISED_FACTOR} times the steps: the record is not predictable at any \
+                 practical step (a response sensitive to tiny changes, see the sensitivity check \
+                 in result.json); fit a shorter window rather than a finer step",
+                echo_bare(experiment),
+                steps_per_sample(self.substeps),
+                100.0 * frac,
+                100.0 * self.allowed_fraction,
+            ));
+        }
         Some(format!(
             "{}: the estimated RK4 integration error ({est:.3e} {unit} at {}) is {:.2} % of the \
              residual's RMS, more than {:.0} %: the step, not only the rig and the noise, shapes \
@@ -156,5 +185,287 @@ impl Campaign {
         self.solver = step.settings(self.solver.backend, self.solver.precision);
         self.problem.substeps = step.substeps;
         Ok(())
+    }
+}
+
+/// A synthetic record's integration error is held to at most this fraction
+/// of the noise it carries (`rigfit simulate --noise`), five times tighter
+/// than a fit's own rule ([`NOISE_FRACTION`] aimed at half of it), so that
+/// the record is made at a finer step than the fit uses.
+pub const SYNTHETIC_NOISE_FRACTION: f64 = 0.002;
+
+/// ... and to at most this share of `σ/√N` (`N` the samples scored): a
+/// systematic error `ε` over `N` samples can shift a fitted parameter by up
+/// to about `ε·√N/σ` of its standard error, so this keeps that shift within a
+/// tenth of one however long the record is.
+pub const SYNTHETIC_BIAS_SHARE: f64 = 0.1;
+
+/// A synthetic record takes at most this many times the substeps stability
+/// needs (and at most [`super::stability::MAX_AUTO_SUBSTEPS`], and never more
+/// than the run length allows): one run, so a finer cap than a search's.
+pub const SYNTHETIC_CAP_FACTOR: usize = 64;
+
+/// One measured channel of a simulation and its integration error at the
+/// chosen step.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ChannelStep {
+    /// The channel's experiment (an index into the problem's experiments).
+    pub experiment: usize,
+    /// The noise added to it (its output's unit); 0 without noise.
+    pub sigma: f64,
+    /// RMS over the samples of the integration error of the channel's output
+    /// at the chosen step, by step doubling as a fit estimates it; `None`
+    /// where a reference run is not finite or would be too long.
+    pub estimate: Option<f64>,
+    /// The order of convergence the estimate assumed.
+    pub observed_order: Option<f64>,
+    /// `estimate / sigma`.
+    pub fraction_of_noise: Option<f64>,
+    /// The fraction of `sigma` the default step aims at: the smaller of
+    /// [`SYNTHETIC_NOISE_FRACTION`] and [`SYNTHETIC_BIAS_SHARE`]`/√N`.
+    pub allowed_fraction: Option<f64>,
+}
+
+/// The RK4 step of a simulation (`rigfit simulate`) and how it was chosen.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SimulationStep {
+    /// RK4 steps per sample interval the simulation takes.
+    pub substeps: usize,
+    /// Steps per sample stability alone needs over the free parameters'
+    /// ranges on this grid.
+    pub stable: usize,
+    /// Steps per sample a fit of the record written takes on this grid: the
+    /// campaign's count, or `"auto"`'s rule (stability, then the integration
+    /// error held to [`NOISE_FRACTION`] of the record's noise or to the
+    /// campaign's tolerance) at the simulated values.
+    pub fit: usize,
+    /// `requested` (`--substeps`), `synthetic` (with noise: at least twice
+    /// a fit's steps, finer where the noise asks), or `fit_rule` (no noise:
+    /// the fit's own rule).
+    pub chosen_by: &'static str,
+    /// Each measured channel's integration error at `substeps`.
+    pub channels: Vec<ChannelStep>,
+    /// Said to the user: the cap or the run length held the error above its
+    /// aim.
+    pub warning: Option<String>,
+}
+
+impl Campaign {
+    /// The RK4 steps per sample for simulating the channels `channels`
+    /// (experiment index and the noise σ added to it, in its output's unit)
+    /// with the campaign's current values: `requested` where given (the
+    /// caller has held it to [`Campaign::stable_substeps`] and
+    /// [`super::stability::MAX_AUTO_SUBSTEPS`]), else at least what a fit of
+    /// the record written takes on this grid, and with noise at least twice
+    /// that and finer still until every channel's integration error is at most
+    /// [`SYNTHETIC_NOISE_FRACTION`] of its σ and [`SYNTHETIC_BIAS_SHARE`]
+    /// of `σ/√N`, up to [`SYNTHETIC_CAP_FACTOR`] times the stable count and
+    /// within `max_steps` RK4 steps per run of the campaign.
+    pub fn simulation_step(
+        &self,
+        channels: &[(usize, f64)],
+        requested: Option<usize>,
+        max_steps: f64,
+    ) -> SimulationStep {
+        let stable = channels
+            .iter()
+            .map(|&(e, _)| self.stable_substeps(e))
+            .max()
+            .unwrap_or(1);
+        let loaded = self.problem.substeps.max(stable);
+        // Per campaign run and substep, to keep a default within max_steps.
+        let per = self.run_length().steps_per_candidate / self.problem.substeps as f64;
+        let slack = self.problem.experiments.len() as f64;
+        let by_length = ((max_steps - slack) / per).floor().max(1.0) as usize;
+        let cap = stable
+            .saturating_mul(SYNTHETIC_CAP_FACTOR)
+            .min(super::stability::MAX_AUTO_SUBSTEPS)
+            .min(by_length)
+            .max(loaded);
+        let models: Vec<_> = channels
+            .iter()
+            .map(|&(e, _)| self.problem.scoring_model(e))
+            .collect();
+        let mut runs: Vec<StepDoubling<'_>> = channels
+            .iter()
+            .zip(&models)
+            .map(|(&(e, _), m)| {
+                let x = &self.problem.experiments[e];
+                StepDoubling::new(
+                    m,
+                    &self.base[e],
+                    &x.drive,
+                    x.grid(self.base_offsets[e], loaded),
+                    x.window.clone(),
+                )
+            })
+            .collect();
+        let fit = if self.solver.auto {
+            let fit_cap = stable
+                .saturating_mul(super::stability::ACCURACY_CAP_FACTOR)
+                .min(super::stability::MAX_AUTO_SUBSTEPS)
+                .max(loaded);
+            let mut n = loaded;
+            for (&(e, sigma), run) in channels.iter().zip(&mut runs) {
+                if let Some(t) = self.fit_target(e, sigma, loaded) {
+                    let c = run.choose(
+                        loaded,
+                        fit_cap,
+                        super::stability::ACCURACY_MARGIN * t,
+                        super::stability::ESTIMATE_MAX_RUN_STEPS,
+                    );
+                    n = n.max(c.substeps);
+                }
+            }
+            n
+        } else {
+            loaded
+        };
+        let aim = |e: usize, sigma: f64| {
+            (sigma > 0.0).then(|| {
+                let samples = self.problem.experiments[e].window.len().max(1) as f64;
+                SYNTHETIC_NOISE_FRACTION.min(SYNTHETIC_BIAS_SHARE / samples.sqrt())
+            })
+        };
+        let noisy = channels.iter().any(|&(_, s)| s > 0.0);
+        let (substeps, chosen_by) = match requested {
+            Some(n) => (n, "requested"),
+            None if noisy => {
+                // Twice a fit's steps at least: a fit whose model shares the
+                // record's discretisation would see no integration error at
+                // the truth, however large it is.
+                let mut n = fit.saturating_mul(2).min(cap).max(loaded);
+                for (&(e, sigma), run) in channels.iter().zip(&mut runs) {
+                    if let Some(f) = aim(e, sigma) {
+                        let c =
+                            run.choose(n, cap, f * sigma, super::stability::ESTIMATE_MAX_RUN_STEPS);
+                        n = n.max(c.substeps);
+                    }
+                }
+                (n.max(fit), "synthetic")
+            }
+            None => (fit, "fit_rule"),
+        };
+        let channels: Vec<ChannelStep> = channels
+            .iter()
+            .zip(&mut runs)
+            .map(|(&(e, sigma), run)| {
+                let found = (run.steps_of(4 * substeps)
+                    <= super::stability::ESTIMATE_MAX_RUN_STEPS)
+                    .then(|| run.error_and_order(substeps))
+                    .flatten();
+                let estimate = found.map(|f| f.0);
+                ChannelStep {
+                    experiment: e,
+                    sigma,
+                    estimate,
+                    observed_order: found.map(|f| f.1),
+                    fraction_of_noise: estimate.filter(|_| sigma > 0.0).map(|x| x / sigma),
+                    allowed_fraction: aim(e, sigma),
+                }
+            })
+            .collect();
+        let warning = channels.iter().find_map(|ch| {
+            let (frac, allowed) = (ch.fraction_of_noise?, ch.allowed_fraction?);
+            (frac > allowed).then(|| {
+                format!(
+                    "experiment '{}': at {} the synthetic record's integration error is still \
+                     ≈ {:.2} % of its noise, above the {:.2} % aimed at ({}); a fit of it may \
+                     feel the step: give --substeps a larger count or shorten the record",
+                    echo_bare(&self.problem.experiments[ch.experiment].name),
+                    steps_per_sample(substeps),
+                    100.0 * frac,
+                    100.0 * allowed,
+                    if requested.is_some() {
+                        "--substeps as given".to_string()
+                    } else if substeps >= by_length {
+                        format!("the run length limit {max_steps:e} RK4 steps holds the step")
+                    } else {
+                        format!("at most {SYNTHETIC_CAP_FACTOR}× the {stable} stability needs")
+                    }
+                )
+            })
+        });
+        SimulationStep {
+            substeps,
+            stable,
+            fit,
+            chosen_by,
+            channels,
+            warning,
+        }
+    }
+
+    /// Steps per sample stability needs in experiment `e` over the free
+    /// parameters' ranges (the first half of the step rule).
+    pub fn stable_substeps(&self, e: usize) -> usize {
+        let x = &self.problem.experiments[e];
+        let (lo, hi) = self.bounds(e);
+        let offset = super::build::latest_offset(self.base_offsets[e], &self.genes, e);
+        let t_end = x.t_first + x.window.end.saturating_sub(1) as f64 * x.dt + offset;
+        let (omega, _) = self.model.omega_bound_in_run(&lo, &hi, &x.drive, t_end);
+        let need = (omega * x.dt / super::stability::STABILITY_LIMIT).ceil();
+        if need.is_finite() {
+            need.clamp(1.0, usize::MAX as f64) as usize
+        } else {
+            usize::MAX
+        }
+    }
+
+    /// The integration error a fit of experiment `e`'s record allows (its
+    /// output's unit): the campaign's tolerance, else the noise rule on the
+    /// record simulate writes, with noise `sigma` or, without noise, the
+    /// simulated output itself at `substeps` as the record.
+    fn fit_target(&self, e: usize, sigma: f64, substeps: usize) -> Option<f64> {
+        if let Some(t) = self.solver.tolerance {
+            return Some(t);
+        }
+        if sigma > 0.0 {
+            return Some(NOISE_FRACTION * sigma);
+        }
+        let x = &self.problem.experiments[e];
+        let model = self.problem.scoring_model(e);
+        let y = crate::model::step_error::output_0(
+            &model,
+            &self.base[e],
+            &x.drive,
+            &x.grid(self.base_offsets[e], substeps),
+            &x.window,
+        )?;
+        let mut record = x.clone();
+        record.force[x.window.clone()].copy_from_slice(&y);
+        super::stability::target(&record, None, "").map(|t| t.0)
+    }
+}
+
+#[cfg(test)]
+mod advice {
+    use super::*;
+
+    fn error(substeps: usize, frac: f64, order: f64) -> IntegrationError {
+        IntegrationError {
+            substeps,
+            estimate: Some(frac),
+            observed_order: Some(order),
+            fraction_of_residual_rms: Some(frac),
+            allowed_fraction: NOISE_FRACTION,
+            tolerance: None,
+        }
+    }
+
+    #[test]
+    fn a_step_within_reach_is_advised_and_an_absurd_one_is_not() {
+        // 16 × the allowed fraction at order 4: twice the steps.
+        let w = error(3, 16.0 * NOISE_FRACTION, 4.0)
+            .warning("x", "N")
+            .unwrap();
+        assert!(w.contains("\"substeps\": 6"), "{w}");
+        // A response whose error does not fall with the step (a chaotic
+        // record: order 0.1, 20× the residual) gets no count.
+        for e in [error(3, 20.0, 0.1), error(3, 1e12 * NOISE_FRACTION, 4.0)] {
+            let w = e.warning("x", "N").unwrap();
+            assert!(!w.contains("\"substeps\""), "{w}");
+            assert!(w.contains("not predictable at any practical step"), "{w}");
+        }
     }
 }

@@ -49,7 +49,10 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 pub use error::CampaignError;
-pub use integration_error::IntegrationError;
+pub use integration_error::{
+    ChannelStep, IntegrationError, SYNTHETIC_BIAS_SHARE, SYNTHETIC_CAP_FACTOR,
+    SYNTHETIC_NOISE_FRACTION, SimulationStep,
+};
 pub use names::{MAX_NAME_CHARS, file_stem};
 pub use run_length::{
     CPU_STEPS_PER_S_PER_CORE, DEFAULT_MAX_STEPS, ExperimentRun, RunLength, human_duration,

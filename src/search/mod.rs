@@ -62,4 +62,4 @@ pub use settings::{
     CrossoverSettings, GaSettings, InitKind, MutationSettings, PolishSettings, SettingsError,
 };
 pub use state::SearchState;
-pub use uncertainty::{AtBound, GeneUncertainty, ResidualBlock, Uncertainty};
+pub use uncertainty::{AtBound, GeneUncertainty, ResidualBlock, Uncertainty, Z95};

@@ -77,13 +77,36 @@ pub enum PolishStop {
     NoStart,
 }
 
+impl PolishStop {
+    /// Whether the polish stopped short of convergence: its result may not
+    /// be the optimum the intervals assume.
+    pub fn short(self) -> bool {
+        self != Self::Converged
+    }
+}
+
+impl std::fmt::Display for PolishStop {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Self::Converged => "converged",
+            Self::MaxIterations => "stopped at its iteration limit",
+            Self::Interrupted => "interrupted",
+            Self::NoStart => "every start blew up",
+        })
+    }
+}
+
 /// One start's cost before and after.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct StartReport {
     /// Cost at the GA candidate.
     pub initial: f64,
     /// Cost where the polish left it.
     pub polished: f64,
+    /// Where the polish left it (values); empty for a start that blew up.
+    /// Not in `result.json`: the checks of the starts' agreement read it.
+    #[serde(skip)]
+    pub genome: Vec<f64>,
 }
 
 /// One polish iteration, as the executor's observers see it.
@@ -120,6 +143,11 @@ pub struct PolishOutcome {
     pub wall_time_s: f64,
     /// Why it stopped.
     pub stop: PolishStop,
+    /// Starts that had not converged when it stopped (0 when
+    /// [`PolishStop::Converged`]).
+    pub unconverged_starts: usize,
+    /// Whether the start that gave the result had converged.
+    pub best_converged: bool,
     /// One entry per iteration.
     pub history: Vec<PolishIteration>,
     /// Standard errors at the best genome; `None` if every start blew up.
@@ -299,8 +327,12 @@ impl Polish {
         let report = |i: usize| StartReport {
             initial: initial[i],
             polished: runs[i].as_ref().map_or(f64::INFINITY, |r| r.lin.cost),
+            genome: runs[i]
+                .as_ref()
+                .map_or_else(Vec::new, |r| genome_values(&self.genes, &r.x)),
         };
         let starts_report = (0..runs.len()).map(report).collect();
+        let unconverged_starts = runs.iter().flatten().filter(|r| !r.done).count();
         let wall_time_s = started.elapsed().as_secs_f64();
         Ok(match best {
             Some((i, run)) => PolishOutcome {
@@ -312,6 +344,8 @@ impl Polish {
                 evaluations,
                 wall_time_s,
                 stop,
+                unconverged_starts,
+                best_converged: run.done,
                 history,
                 uncertainty: Some(Uncertainty::at_blocks(&self.genes, &run.x, &run.lin.blocks)),
             },
@@ -324,6 +358,8 @@ impl Polish {
                 evaluations,
                 wall_time_s,
                 stop: PolishStop::NoStart,
+                unconverged_starts,
+                best_converged: false,
                 history,
                 uncertainty: None,
             },

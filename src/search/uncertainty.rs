@@ -71,7 +71,7 @@ pub struct GeneUncertainty {
     /// 95 % interval in the gene's unit: `x ± 1.96 σ` in scale space mapped
     /// back (log genes: asymmetric about the value). Not clipped to the bounds.
     /// At a bound, one-sided: `x ∓ 1.645 σ` on the side away from the bound
-    /// and open (infinite; 0 for a log gene's lower end) on the bound's side.
+    /// and open (infinite, `null` in JSON, for every scale) on the bound's side.
     pub interval_95: Option<[f64; 2]>,
     /// False where the data do not determine the gene: it sits at a bound,
     /// its 95 % interval is wider (in scale space) than its bounds, or `JᵀJ`
@@ -231,8 +231,11 @@ impl Uncertainty {
                             Some(AtBound::Upper) => {
                                 [back(x[i] - Z95_ONE_SIDED * s), f64::INFINITY]
                             }
+                            // Open below, whatever the scale: a log gene's
+                            // value is never 0, and `null` in result.json
+                            // says "no bound from the data" as on the upper side.
                             Some(AtBound::Lower) => {
-                                [back(f64::NEG_INFINITY), back(x[i] + Z95_ONE_SIDED * s)]
+                                [f64::NEG_INFINITY, back(x[i] + Z95_ONE_SIDED * s)]
                             }
                         }
                     }),
@@ -421,6 +424,40 @@ mod tests {
         // A log gene's interval is symmetric in ln about the value.
         let [lo, hi] = u.genes[2].interval_95.unwrap();
         assert!(((lo * hi).sqrt() / 1.0f64.exp() - 1.0).abs() < 1e-12);
+    }
+
+    /// A gene at either bound has an interval open on that side, in every
+    /// scale: infinite here, `null` in JSON (a log gene's lower end is not 0).
+    #[test]
+    fn an_interval_at_either_bound_is_open_on_that_side() {
+        let jtj = DMatrix::from_row_slice(2, 2, &[4.0, 0.0, 0.0, 4.0]);
+        let genes = vec![
+            GeneSpec::new("k", 1.0, 100.0, Scale::Log),
+            GeneSpec::new("c", -1.0, 1.0, Scale::Linear),
+        ];
+        for (x, side) in [
+            ([0.0, -1.0], AtBound::Lower),
+            ([100f64.ln(), 1.0], AtBound::Upper),
+        ] {
+            let u = Uncertainty::at(&genes, &x, &jtj, 1.0, 1001);
+            for g in &u.genes {
+                assert_eq!(g.at_bound, Some(side), "{}", g.name);
+                let [lo, hi] = g.interval_95.unwrap();
+                let (open, closed) = match side {
+                    AtBound::Lower => (lo, hi),
+                    AtBound::Upper => (hi, lo),
+                };
+                assert!(
+                    open.is_infinite() && closed.is_finite(),
+                    "{}: {lo} {hi}",
+                    g.name
+                );
+                let json = serde_json::to_value(g).unwrap();
+                let k = usize::from(side == AtBound::Upper);
+                assert!(json["interval_95"][k].is_null(), "{json}");
+                assert!(json["interval_95"][1 - k].is_number(), "{json}");
+            }
+        }
     }
 
     #[test]

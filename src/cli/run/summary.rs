@@ -9,9 +9,10 @@ use rigfit::job::JobSummary;
 pub fn summary_text(s: &JobSummary, dir: &Path, steps: f64) -> String {
     let mut t = String::new();
     let rate = s.evaluations as f64 * steps / s.wall_time_s.max(1e-9);
+    let _ = writeln!(t, "\nverdict: {}", s.verdict.line);
     let _ = writeln!(
         t,
-        "\n{} — {}{}",
+        "{} — {}{}",
         s.campaign,
         s.stop_reason,
         integration_error(s)
@@ -43,8 +44,17 @@ pub fn summary_text(s: &JobSummary, dir: &Path, steps: f64) -> String {
     if let Some(p) = &s.polish {
         let _ = writeln!(
             t,
-            "  polish: 1 − R² {:.4e} (GA) → {:.4e} in {} iterations, {} evaluations, {:.1} s",
-            p.ga_fitness, s.fitness, p.iterations, p.evaluations, p.wall_time_s
+            "  polish: 1 − R² {:.4e} (GA) → {:.4e} in {} iterations, {} evaluations, {:.1} s{}",
+            p.ga_fitness,
+            s.fitness,
+            p.iterations,
+            p.evaluations,
+            p.wall_time_s,
+            if p.stop.short() {
+                format!(" — {} (see the warnings)", p.stop)
+            } else {
+                String::new()
+            }
         );
     }
     let _ = writeln!(
@@ -62,8 +72,15 @@ pub fn summary_text(s: &JobSummary, dir: &Path, steps: f64) -> String {
             .bounds
             .map(|[lo, hi]| format!("[{lo:.3e}, {hi:.3e}]"))
             .unwrap_or_default();
+        // A response sensitive to tiny changes: the covariance's interval
+        // (often ±0.000 %) says nothing.
+        let sensitive = p
+            .uncertainty_note
+            .as_deref()
+            .is_some_and(|n| n.contains("sensitive to tiny changes"));
         let interval = p
             .interval_95
+            .filter(|_| !sensitive)
             .map(|[lo, hi]| {
                 // Relative to the value: a log-scale interval is asymmetric;
                 // a gene at a bound has a one-sided interval, open there.
@@ -78,7 +95,9 @@ pub fn summary_text(s: &JobSummary, dir: &Path, steps: f64) -> String {
                 format!("{} / {}", rel(lo), rel(hi))
             })
             .unwrap_or_else(|| {
-                if p.determined.is_some() {
+                if sensitive {
+                    "not meaningful".into()
+                } else if p.determined.is_some() {
                     "—".into()
                 } else {
                     String::new()
@@ -93,7 +112,13 @@ pub fn summary_text(s: &JobSummary, dir: &Path, steps: f64) -> String {
             Some(b) => {
                 let _ = write!(flags, "  at its {} bound", format!("{b:?}").to_lowercase());
             }
-            None if p.determined == Some(false) => flags += "  not determined by the data",
+            None if p.determined == Some(false) => {
+                flags += if sensitive {
+                    "  not determined: the response is sensitive to tiny changes"
+                } else {
+                    "  not determined by the data"
+                }
+            }
             None => {}
         }
         if !p.correlated_with.is_empty() {

@@ -1,0 +1,277 @@
+//! The one-line verdict at the top of a job's summary, and the warnings of
+//! a polish that did not give the intervals what they assume: one that
+//! stopped short of convergence, and starts that ended apart beyond the
+//! intervals at the same cost.
+
+use serde::Serialize;
+
+use super::outputs::{ExperimentFit, ParamSummary, SYSTEMATIC_MISFIT};
+use crate::search::{AtBound, PolishOutcome, PolishStop, Uncertainty, Z95};
+
+/// The fit's cost over the noise floor up to which it is at the floor (the
+/// record's noise estimate is good to a few per cent).
+pub const AT_FLOOR: f64 = 1.1;
+
+/// The verdict in `result.json`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Verdict {
+    /// The line the summary starts with: `"at the noise floor (1.01×); 5 of 6
+    /// parameters determined; flagged: …"`.
+    pub line: String,
+    /// The joint fitness over the noise floor the records' noise implies
+    /// (about 1 at the floor); `null` where a record's noise is unknown.
+    pub cost_over_noise_floor: Option<f64>,
+    /// Whether that is at most [`AT_FLOOR`].
+    pub at_noise_floor: Option<bool>,
+    /// Free parameters the data determine (after the polish; 0 without one).
+    pub determined: usize,
+    /// Free parameters.
+    pub free: usize,
+    /// What the job flags, briefly (the warnings say why and what to do).
+    pub flags: Vec<String>,
+}
+
+impl Verdict {
+    /// The verdict of a job whose joint fitness is `ratio` times the noise
+    /// floor, with `parameters`, the polish (where one ran) and `flags`.
+    pub fn new(
+        ratio: Option<f64>,
+        parameters: &[ParamSummary],
+        polished: bool,
+        flags: Vec<String>,
+    ) -> Self {
+        let free = parameters.iter().filter(|p| p.free).count();
+        let determined = parameters
+            .iter()
+            .filter(|p| p.free && p.determined == Some(true))
+            .count();
+        let floor = match ratio {
+            Some(k) if k <= AT_FLOOR => format!("at the noise floor ({k:.2}×)"),
+            Some(k) if k <= SYSTEMATIC_MISFIT => format!("above the noise floor ({k:.2}×)"),
+            Some(k) => {
+                format!("far above the noise floor ({k:.3}×): the misfit is more than noise")
+            }
+            None => "noise floor unknown (a record too short to estimate its noise)".into(),
+        };
+        let counted = if polished {
+            format!("{determined} of {free} parameters determined")
+        } else {
+            format!("{free} parameters fitted, none checked (no polish, no intervals)")
+        };
+        let flagged = if flags.is_empty() {
+            "nothing flagged".to_string()
+        } else {
+            format!("flagged: {}", flags.join("; "))
+        };
+        Self {
+            line: format!("{floor}; {counted}; {flagged}"),
+            cost_over_noise_floor: ratio,
+            at_noise_floor: ratio.map(|k| k <= AT_FLOOR),
+            determined,
+            free,
+            flags,
+        }
+    }
+}
+
+/// The short flags of a job: the polish's stop, parameters at a bound,
+/// experiments whose residual is not noise, and `more` (the checks'
+/// own, already short).
+pub fn flags(
+    polish: Option<&PolishOutcome>,
+    parameters: &[ParamSummary],
+    experiments: &[ExperimentFit],
+    more: impl IntoIterator<Item = String>,
+) -> Vec<String> {
+    let mut out = Vec::new();
+    if let Some(p) = polish.filter(|p| p.stop.short()) {
+        out.push(format!("polish {}", p.stop));
+    }
+    out.extend(more);
+    for p in parameters.iter().filter(|p| p.free) {
+        if let Some(b) = p.at_bound {
+            let side = match b {
+                AtBound::Lower => "lower",
+                AtBound::Upper => "upper",
+            };
+            out.push(format!("{} at its {side} bound", p.name));
+        }
+    }
+    for e in experiments {
+        if e.residual_autocorrelation
+            .is_some_and(|r| r > super::outputs::NOT_WHITE)
+        {
+            out.push(format!("{}: residual not white", e.name));
+        }
+        if e.integration_error
+            .fraction_of_residual_rms
+            .is_some_and(|f| f > e.integration_error.allowed_fraction)
+            && e.integration_error
+                .tolerance
+                .is_none_or(|t| e.integration_error.estimate.is_some_and(|x| x > t))
+        {
+            out.push(format!("{}: integration error", e.name));
+        }
+    }
+    out
+}
+
+/// The warning of a polish that stopped short of convergence, with what to
+/// do; `max_iterations` is the campaign's `search.polish.max_iterations`.
+pub fn polish_stop_warning(p: &PolishOutcome, max_iterations: usize) -> Option<String> {
+    let assumes = "the intervals assume the optimum was reached, and they can be far too narrow \
+                   or off-centre where it was not";
+    Some(match p.stop {
+        PolishStop::Converged => return None,
+        PolishStop::MaxIterations if max_iterations == 0 => format!(
+            "the polish ran no iteration (\"search\": {{\"polish\": {{\"max_iterations\": 0}}}}): \
+             the result is the GA's best, and {assumes}; allow the polish iterations (default 30) \
+             and run again"
+        ),
+        PolishStop::MaxIterations => {
+            let best = if p.best_converged {
+                "the best start had converged, but a start still moving may have ended lower"
+            } else {
+                "the start that gave the result had not converged"
+            };
+            format!(
+                "the polish stopped at its iteration limit ({max_iterations}) with {} of {} \
+                 starts still moving ({best}): {assumes}; raise \"search\": {{\"polish\": \
+                 {{\"max_iterations\": {}}}}} and run again",
+                p.unconverged_starts,
+                p.starts.len(),
+                (2 * max_iterations).max(60)
+            )
+        }
+        PolishStop::Interrupted => format!(
+            "the polish was interrupted after {} iterations: the result is where it stopped, and \
+             {assumes}; run the job again (or --resume) to let it finish",
+            p.iterations
+        ),
+        PolishStop::NoStart => "every start of the polish blew up: the result is the GA's \
+                                best and has no intervals"
+            .to_string(),
+    })
+}
+
+/// The warning where a polished start other than the best ended outside the
+/// best's 95 % interval in some parameter at a cost within what a point on
+/// that interval's edge costs (`Z95² s²` above the best): the cost is not
+/// the one quadratic bowl the intervals assume (several minima as good as
+/// each other, or a flat valley), so they are too narrow.
+pub fn starts_beyond_intervals(p: &PolishOutcome, u: &Uncertainty) -> Option<String> {
+    let edge = Z95 * Z95 * u.residual_variance;
+    let mut outside: Vec<String> = Vec::new();
+    for (i, s) in p.starts.iter().enumerate() {
+        if i == p.best_start
+            || s.genome.len() != u.genes.len()
+            || !(s.polished.is_finite() && s.polished - p.best_cost <= edge)
+        {
+            continue;
+        }
+        for (g, &v) in u.genes.iter().zip(&s.genome) {
+            if let Some([lo, hi]) = g.interval_95
+                && (v < lo || v > hi)
+            {
+                outside.push(format!(
+                    "start {i} ended at {} = {v:.6e}, outside [{lo:.6e}, {hi:.6e}]",
+                    g.name
+                ));
+                break;
+            }
+        }
+    }
+    if outside.is_empty() {
+        return None;
+    }
+    Some(format!(
+        "the polish's starts disagree beyond their intervals at the same cost ({}): the cost has \
+         several equally good minima or a flat valley, and the 95 % intervals, which assume one \
+         quadratic bowl, are too narrow",
+        outside.join("; ")
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::search::{GeneSpec, StartReport};
+    use nalgebra::DMatrix;
+
+    fn outcome(stop: PolishStop, starts: Vec<StartReport>) -> PolishOutcome {
+        PolishOutcome {
+            best_genome: vec![1.0, 2.0],
+            best_cost: 1.0,
+            best_start: 0,
+            starts,
+            iterations: 5,
+            evaluations: 50,
+            wall_time_s: 0.1,
+            stop,
+            unconverged_starts: 1,
+            best_converged: false,
+            history: Vec::new(),
+            uncertainty: None,
+        }
+    }
+
+    fn start(polished: f64, genome: [f64; 2]) -> StartReport {
+        StartReport {
+            initial: 2.0,
+            polished,
+            genome: genome.to_vec(),
+        }
+    }
+
+    #[test]
+    fn every_stop_short_of_convergence_is_said_with_what_to_do() {
+        let starts = vec![start(1.0, [1.0, 2.0])];
+        let p = outcome(PolishStop::Converged, starts.clone());
+        assert_eq!(polish_stop_warning(&p, 30), None);
+        let p = outcome(PolishStop::MaxIterations, starts.clone());
+        let w = polish_stop_warning(&p, 30).unwrap();
+        assert!(w.starts_with("the polish stopped at its iteration limit (30) with 1 of 1"));
+        assert!(w.contains("\"max_iterations\": 60"), "{w}");
+        let w = polish_stop_warning(&p, 0).unwrap();
+        assert!(w.contains("ran no iteration"), "{w}");
+        for stop in [PolishStop::Interrupted, PolishStop::NoStart] {
+            assert!(stop.short());
+            assert!(polish_stop_warning(&outcome(stop, starts.clone()), 30).is_some());
+        }
+    }
+
+    #[test]
+    fn starts_apart_beyond_the_intervals_at_the_same_cost_are_said() {
+        let genes = [
+            GeneSpec::new("a", -10.0, 10.0, crate::base::Scale::Linear),
+            GeneSpec::new("b", -10.0, 10.0, crate::base::Scale::Linear),
+        ];
+        // Standard errors 0.01 (s² = 1e-4 over 1001 residuals, JᵀJ = I).
+        let u = Uncertainty::at(
+            &genes,
+            &[1.0, 2.0],
+            &DMatrix::identity(2, 2),
+            1e-4 * 999.0,
+            1001,
+        );
+        let edge = Z95 * Z95 * u.residual_variance;
+        // Inside the intervals, or outside at a higher cost: nothing.
+        let near = outcome(
+            PolishStop::Converged,
+            vec![start(1.0, [1.0, 2.0]), start(1.0, [1.01, 2.0])],
+        );
+        assert_eq!(starts_beyond_intervals(&near, &u), None);
+        let worse = outcome(
+            PolishStop::Converged,
+            vec![start(1.0, [1.0, 2.0]), start(1.0 + 2.0 * edge, [1.5, 2.0])],
+        );
+        assert_eq!(starts_beyond_intervals(&worse, &u), None);
+        // Outside at the same cost: said, naming the start and the gene.
+        let apart = outcome(
+            PolishStop::Converged,
+            vec![start(1.0, [1.0, 2.0]), start(1.0 + 0.5 * edge, [1.0, 2.5])],
+        );
+        let w = starts_beyond_intervals(&apart, &u).unwrap();
+        assert!(w.contains("start 1 ended at b = 2.5"), "{w}");
+    }
+}
