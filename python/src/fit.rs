@@ -225,9 +225,15 @@ pub fn run_job<'py>(
         let d = PyDict::new(py);
         d.set_item("notes", opened.notes)?;
         match outcome {
-            Err(JobError::Search(SearchError::Eval(EvalError::Cancelled))) => {
+            // Stopped before the first generation was complete (no
+            // checkpoint), within the polish (the search's last checkpoint
+            // stands) or while the outputs were written (kept as well).
+            Err(
+                JobError::Search(SearchError::Eval(EvalError::Cancelled))
+                | JobError::OutputsInterrupted { .. },
+            ) => {
                 d.set_item("interrupted", true)?;
-                d.set_item("checkpoint", false)?;
+                d.set_item("checkpoint", out.join(job::CHECKPOINT_FILE).exists())?;
             }
             Err(e) => return Err(search_error(&e)),
             Ok(summary) => {

@@ -151,6 +151,69 @@ pub fn load_csv(path: &Path, spec: &CsvSpec) -> Result<Series, DataError> {
     parse_csv(&String::from_utf8_lossy(&bytes), path, spec)
 }
 
+/// Steps per sample at or above which a record's sample interval reads as far
+/// slower than the rig moves ([`slow_sampling_hint`]): 200 RK4 steps between
+/// two samples of a record (every shipped campaign takes 1 to 3; a record in
+/// milliseconds read as seconds takes a thousand times its own).
+pub const SLOW_SAMPLING_STEPS: usize = 200;
+
+/// Whether a time column's name says milliseconds: `t_ms`, `time_ms`,
+/// `ms`, `time (ms)`, `Time [ms]`, `t_msec`, `millis`, … (any case).
+pub fn names_milliseconds(column: &str) -> bool {
+    let lower = column.trim().to_lowercase();
+    let words: Vec<&str> = lower
+        .split(|c: char| !c.is_ascii_alphanumeric())
+        .filter(|w| !w.is_empty())
+        .collect();
+    words.iter().any(|w| {
+        matches!(
+            *w,
+            "ms" | "msec" | "msecs" | "millis" | "millisecond" | "milliseconds"
+        ) || w.ends_with("millis")
+    }) || lower.ends_with("ms") && lower.len() > 2 && lower.starts_with('t') && {
+        // `tms`, `timems`: a time word glued to `ms`.
+        let head = &lower[..lower.len() - 2];
+        matches!(head, "t" | "time")
+    }
+}
+
+/// A hint for a time column whose name says milliseconds read at
+/// `time_scale` 1 (seconds): its sample interval `dt` is then a thousand
+/// times what the record means.
+pub fn millisecond_column_hint(column: &str, time_scale: f64, dt: f64) -> Option<String> {
+    (time_scale == 1.0 && names_milliseconds(column)).then(|| {
+        format!(
+            "the time column '{}' is named as milliseconds but read as seconds (a sample \
+             interval of {dt:e} s); if it holds milliseconds, set \"time_scale\": 1e-3 in the \
+             experiment's data",
+            echo_bare(column)
+        )
+    })
+}
+
+/// A hint for a record whose sample interval `dt` (s) needs
+/// `steps_per_sample` RK4 steps, at least [`SLOW_SAMPLING_STEPS`]: a record
+/// sampled far slower than the rig moves, as one whose time column holds
+/// milliseconds read as seconds is.
+pub fn slow_sampling_hint(dt: f64, steps_per_sample: usize, time_scale: f64) -> Option<String> {
+    (steps_per_sample >= SLOW_SAMPLING_STEPS).then(|| {
+        let scale = if time_scale == 1.0 {
+            "if its time column holds milliseconds, set \"time_scale\": 1e-3 in the experiment's \
+             data"
+                .to_string()
+        } else {
+            format!(
+                "check its time column's scale (\"time_scale\": {time_scale:e}): 1e-3 reads \
+                 milliseconds"
+            )
+        };
+        format!(
+            "the record's sample interval, {dt:e} s, takes {steps_per_sample} RK4 steps of the \
+             rig: it is sampled far slower than the rig moves; {scale}"
+        )
+    })
+}
+
 /// The lines of CSV text that hold a header or data: each line neither blank
 /// nor starting with `#` (after leading blanks), trimmed, with its 1-based line
 /// number. A spreadsheet's "CSV UTF-8" starts with a byte-order mark; it is
@@ -392,6 +455,47 @@ fn uniform(t: Vec<f64>, force: Vec<f64>, file: &Path) -> Result<Series, DataErro
         dt: median,
         warning: Some(warning),
     })
+}
+
+#[cfg(test)]
+mod ms_tests {
+    use super::*;
+
+    #[test]
+    fn a_time_column_named_in_milliseconds_gets_a_hint_unless_scaled() {
+        for name in [
+            "t_ms",
+            "time_ms",
+            "ms",
+            "Time (ms)",
+            "time [ms]",
+            "t_msec",
+            "tms",
+            "TimeMS",
+        ] {
+            assert!(names_milliseconds(name), "{name}");
+            let hint = millisecond_column_hint(name, 1.0, 0.25).expect(name);
+            assert!(hint.contains("\"time_scale\": 1e-3"), "{hint}");
+        }
+        for name in [
+            "t_s", "time", "t", "seconds", "items", "terms", "systems", "t_us",
+        ] {
+            assert!(!names_milliseconds(name), "{name}");
+        }
+        assert_eq!(millisecond_column_hint("t_ms", 1e-3, 2.5e-4), None);
+    }
+
+    #[test]
+    fn a_record_sampled_far_slower_than_the_rig_moves_gets_a_hint() {
+        assert_eq!(slow_sampling_hint(1e-4, 12, 1.0), None);
+        let hint = slow_sampling_hint(0.25, 2400, 1.0).unwrap();
+        assert!(
+            hint.contains("2400 RK4 steps") && hint.contains("1e-3"),
+            "{hint}"
+        );
+        let scaled = slow_sampling_hint(0.25, 2400, 1e-3).unwrap();
+        assert!(scaled.contains("\"time_scale\": 1e-3"), "{scaled}");
+    }
 }
 
 #[cfg(test)]

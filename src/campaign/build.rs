@@ -147,6 +147,22 @@ pub(crate) fn build(
         message,
     })?;
     r.warnings.extend(step.warning.clone());
+    // A record sampled far slower than the rig moves: a time column in
+    // milliseconds read as seconds, most often.
+    let slowest =
+        (0..experiments.len()).max_by(|&a, &b| experiments[a].dt.total_cmp(&experiments[b].dt));
+    if let Some(e) = slowest.filter(|_| step.auto) {
+        let x = &experiments[e];
+        let scale = raw.experiments[owners[e]].data.time_scale;
+        if let Some(h) = crate::base::data::slow_sampling_hint(x.dt, step.substeps, scale) {
+            r.warnings.push(format!(
+                "{}: experiments[{}] ('{}'): {h}",
+                file.display(),
+                owners[e],
+                crate::base::text::echo_bare(&x.name)
+            ));
+        }
+    }
     let substeps = step.substeps;
     let output = lexical_clean(&match &raw.output {
         Some(o) => dir.join(o),
@@ -402,6 +418,10 @@ fn experiment(
         None => parse_csv(&text, &data_file, &spec).map_err(|s| data_err(data_at.clone(), s))?,
     };
     warnings.extend(series.warning.clone());
+    if let crate::base::data::Column::Name(column) = &spec.time {
+        let hint = crate::base::data::millisecond_column_hint(column, d.time_scale, series.dt);
+        warnings.extend(hint.map(|h| format!("{}: {data_at}.time_column: {h}", file.display())));
+    }
     let drive = match &x.drive {
         RawDrive::Velocity => Drive::Velocity,
         RawDrive::Force(table) => {

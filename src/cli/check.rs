@@ -74,6 +74,8 @@ fn search_estimate(c: &Campaign, steps_per_candidate: f64, measure: bool) -> ser
         );
         match opened {
             Ok(je) => match je.trial {
+                // Too long a job for even a shortened race: nothing measured.
+                Some(t) if t.skipped => gpu_skipped = Some(t.line()),
                 Some(t) => {
                     raced = (!t.cached).then(|| t.clone());
                     measured = Some(t);

@@ -14,7 +14,14 @@ pub struct CampaignCost<'a> {
     fallback: Option<String>,
     chunk: usize,
     history_chunk: usize,
+    interrupt: Option<std::sync::Arc<std::sync::atomic::AtomicBool>>,
 }
+
+/// RK4 steps per CPU core a chunk of the polish's residuals takes at most
+/// (at the assumed rate, about a quarter of a second), where the chunk can
+/// be smaller than the memory allows: between two chunks an interrupt is
+/// honoured, and the evaluators do not stop a run of residuals partway.
+const RESIDUAL_STEPS_PER_CORE: f64 = 0.25 * crate::campaign::CPU_STEPS_PER_S_PER_CORE;
 
 impl<'a> CampaignCost<'a> {
     /// A cost over `campaign` scored by `evaluator`.
@@ -35,7 +42,21 @@ impl<'a> CampaignCost<'a> {
             fallback: None,
             chunk: super::memory::chunk_candidates(campaign),
             history_chunk: super::memory::history_chunk(campaign, gpu_real),
+            interrupt: None,
         }
+    }
+
+    /// Stops the residuals between two chunks once `flag` is raised
+    /// ([`EvalError::Cancelled`]), each chunk at most about a quarter of a
+    /// second's work ([`RESIDUAL_STEPS_PER_CORE`]) but a pair of runs for
+    /// each core.
+    pub fn with_interrupt(mut self, flag: std::sync::Arc<std::sync::atomic::AtomicBool>) -> Self {
+        let cores = crate::eval::all_cores();
+        let steps = super::steps_per_candidate(self.campaign).max(1.0);
+        let quick = ((RESIDUAL_STEPS_PER_CORE * cores as f64 / steps) as usize).max(2 * cores);
+        self.history_chunk = self.history_chunk.min(quick).max(1);
+        self.interrupt = Some(flag);
+        self
     }
 
     /// Evaluates at most `fitness` candidates and `histories` histories per
@@ -127,6 +148,13 @@ impl ResidualCost for CampaignCost<'_> {
         // Records are the size of the record: a chunk at a time, each turned
         // into residuals (the fit windows only) before the next.
         for part in genomes.chunks(self.history_chunk) {
+            if self
+                .interrupt
+                .as_ref()
+                .is_some_and(|f| f.load(std::sync::atomic::Ordering::SeqCst))
+            {
+                return Err(EvalError::Cancelled.into());
+            }
             let batch = campaign.batch(part);
             let which: Vec<usize> = (0..part.len()).collect();
             let scored = self.with_fallback(|ev| ev.scored_outputs(&batch, &which))?;

@@ -9,14 +9,19 @@ mod cost;
 mod folder;
 pub mod memory;
 mod outputs;
+pub mod sensitivity;
+mod verdict;
 
 use std::path::PathBuf;
 use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 pub use cost::CampaignCost;
 pub use folder::{FolderMode, LOCK_FILE, MANIFEST_FILE, OutputFolder, output_files};
-pub use outputs::{ExperimentFit, JobSummary, ParamSummary, PolishSummary, write_outputs};
+pub use outputs::{
+    ExperimentFit, JobSummary, ParamSummary, PolishSummary, write_outputs, write_outputs_watched,
+};
+pub use verdict::Verdict;
 
 use crate::campaign::Campaign;
 use crate::eval::Evaluator;
@@ -136,6 +141,22 @@ pub enum JobError {
     /// Drawing a plot failed.
     #[error(transparent)]
     Plot(#[from] crate::report::plots::PlotError),
+    /// The interrupt flag was raised while the outputs were written; the
+    /// checkpoint is kept.
+    #[error("interrupted while writing the outputs; {}", written_before(.written))]
+    OutputsInterrupted {
+        /// The files written before it, in order.
+        written: Vec<String>,
+    },
+}
+
+/// The files an interrupted output writing had written, as its message says.
+fn written_before(written: &[String]) -> String {
+    if written.is_empty() {
+        "no file was written".to_string()
+    } else {
+        format!("written before the interrupt: {}", written.join(", "))
+    }
 }
 
 impl JobError {
@@ -245,7 +266,8 @@ pub fn run_observed(
     })?;
     let genes = gene_specs(campaign);
     let ga = GeneticAlgorithm::new(campaign.search.clone(), genes.clone())?;
-    let mut cost = CampaignCost::new(campaign, evaluator, opts.require_gpu, opts.threads);
+    let mut cost = CampaignCost::new(campaign, evaluator, opts.require_gpu, opts.threads)
+        .with_interrupt(opts.interrupt.clone());
     let polish = campaign
         .search
         .polish
@@ -265,6 +287,9 @@ pub fn run_observed(
         );
     for o in observers {
         exec = exec.observe(o, ObserverMode::Always);
+    }
+    if !opts.quiet {
+        exec = exec.observe(InterimNotice, ObserverMode::Never);
     }
     if let Some(polish) = polish {
         exec = exec.then_polish(polish, campaign.search.polish.starts);
@@ -287,7 +312,14 @@ pub fn run_observed(
     }
     let fallback = cost.fallback_note();
     let mut evaluator = cost.into_evaluator();
-    let summary = write_outputs(
+    // An interrupted search's interim outputs are written with the flag
+    // lowered, so that a second interrupt stops them in turn; it is raised
+    // again after them. A complete search's outputs stop at the first.
+    let interrupted = outcome.termination == TerminationReason::Interrupted;
+    if interrupted {
+        opts.interrupt.store(false, Ordering::SeqCst);
+    }
+    let written = write_outputs_watched(
         campaign,
         evaluator.as_mut(),
         &outcome,
@@ -295,13 +327,41 @@ pub fn run_observed(
         &opts.out,
         fallback,
         backend_trial,
-    )?;
+        &opts.interrupt,
+    );
+    if interrupted {
+        opts.interrupt.store(true, Ordering::SeqCst);
+    }
+    let summary = written?;
     if outcome.termination != TerminationReason::Interrupted {
         // The results are complete: the checkpoint has served its purpose.
         let _ = std::fs::remove_file(&checkpoint);
         observe_cpu_rate(campaign, &summary, opts);
     }
     Ok(summary)
+}
+
+/// Says, once an interrupted search has stopped, that its interim results
+/// are written next and that a second interrupt stops them (on a record of
+/// millions of samples they take seconds).
+struct InterimNotice;
+
+impl Observer for InterimNotice {
+    fn observe(&mut self, _: &crate::search::GenerationReport) -> Result<(), SearchError> {
+        Ok(())
+    }
+
+    fn finish(&mut self, outcome: &crate::search::SearchOutcome) -> Result<(), SearchError> {
+        if outcome.termination == TerminationReason::Interrupted {
+            use std::io::Write as _;
+            let _ = writeln!(
+                std::io::stderr(),
+                "rigfit: the search stopped; writing its interim results (Ctrl-C again stops \
+                 them; the checkpoint is kept either way)"
+            );
+        }
+        Ok(())
+    }
 }
 
 /// Keeps the rate a whole search ran at on every CPU core, for `check`'s

@@ -138,6 +138,9 @@ pub struct PolishSummary {
 pub struct JobSummary {
     /// rigfit version that wrote the file.
     pub rigfit_version: String,
+    /// The verdict in one line: at the noise floor or not, parameters
+    /// determined, what is flagged.
+    pub verdict: super::Verdict,
     /// Campaign name.
     pub campaign: String,
     /// Campaign file.
@@ -183,6 +186,10 @@ pub struct JobSummary {
     pub parameters: Vec<ParamSummary>,
     /// Runs that blew up over the whole search.
     pub diverged_runs: usize,
+    /// Whether the record is predictable at the fitted values (after a
+    /// polish): see [`super::sensitivity`].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sensitivity: Option<super::sensitivity::Sensitivity>,
     /// Notes: search warnings, CPU fallback.
     pub warnings: Vec<String>,
     /// Peak resident memory of the process up to writing this file (MiB),
@@ -203,10 +210,52 @@ pub fn write_outputs(
     fallback: Option<String>,
     backend_trial: Option<super::backend::BackendTrial>,
 ) -> Result<JobSummary, JobError> {
+    let never = std::sync::atomic::AtomicBool::new(false);
+    write_outputs_watched(
+        campaign,
+        evaluator,
+        outcome,
+        genes,
+        out,
+        fallback,
+        backend_trial,
+        &never,
+    )
+}
+
+/// [`write_outputs`], stopped by `stop` (Ctrl-C) between two files or
+/// stages, and within the best candidate's histories where the evaluator
+/// can stop a batch partway: [`JobError::OutputsInterrupted`], naming the
+/// files written before it. result.json is written last.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "write_outputs' arguments and the flag that stops it"
+)]
+pub fn write_outputs_watched(
+    campaign: &Campaign,
+    evaluator: &mut dyn Evaluator,
+    outcome: &SearchOutcome,
+    genes: &[GeneSpec],
+    out: &Path,
+    fallback: Option<String>,
+    backend_trial: Option<super::backend::BackendTrial>,
+    stop: &std::sync::atomic::AtomicBool,
+) -> Result<JobSummary, JobError> {
     let polish = outcome.polish.as_ref();
+    let written = std::cell::RefCell::new(Vec::<String>::new());
     let write = |name: &str, bytes: &[u8]| -> Result<(), JobError> {
         let path = out.join(name);
-        atomic_write(&path, bytes).map_err(|source| JobError::Write { path, source })
+        atomic_write(&path, bytes).map_err(|source| JobError::Write { path, source })?;
+        written.borrow_mut().push(name.to_string());
+        Ok(())
+    };
+    let check = || -> Result<(), JobError> {
+        if stop.load(std::sync::atomic::Ordering::SeqCst) {
+            return Err(JobError::OutputsInterrupted {
+                written: written.borrow().clone(),
+            });
+        }
+        Ok(())
     };
     let info = evaluator.info();
     // The polish starts from the GA's best, so its result is never worse
@@ -218,7 +267,14 @@ pub fn write_outputs(
         None => (&outcome.best_genome, outcome.best_cost),
     };
     let batch: Batch = campaign.batch(std::slice::from_ref(best));
-    let histories = evaluator.histories(&batch, &[0])?.remove(0);
+    check()?;
+    let histories = match evaluator.histories(&batch, &[0]) {
+        Err(crate::eval::EvalError::Cancelled) => {
+            check()?;
+            return Err(crate::eval::EvalError::Cancelled.into());
+        }
+        other => other?.remove(0),
+    };
     let full = campaign.full_params(best);
     let outputs = campaign.model.output_names();
 
@@ -230,6 +286,7 @@ pub fn write_outputs(
         .zip(&histories)
         .enumerate()
     {
+        check()?;
         let (params, offset) = &full[e];
         let r2 = r_squared(exp, hist);
         let (reference, _) = score_one(&campaign.problem, e, params, *offset);
@@ -237,7 +294,14 @@ pub fn write_outputs(
         let csv = format!("{stem}.csv");
         let plot = format!("fit_{stem}.svg");
         let rows = ExperimentRows::of(exp, hist, *offset);
-        write(&csv, experiment_csv(exp, &rows, outputs).as_bytes())?;
+        check()?;
+        let Some(text) = experiment_csv(exp, &rows, outputs, stop) else {
+            return Err(JobError::OutputsInterrupted {
+                written: written.borrow().clone(),
+            });
+        };
+        write(&csv, text.as_bytes())?;
+        check()?;
         let n = hist.t.len().min(exp.force.len());
         let t_rec: Vec<f64> = (0..n).map(|k| exp.t_first + k as f64 * exp.dt).collect();
         let title = format!("{}: {} — R² = {:.5}", campaign.name, exp.name, r2);
@@ -257,6 +321,7 @@ pub fn write_outputs(
         }
         let svg = plots::fit_svg(&title, &t_rec, &exp.force[..n], &series)?;
         write(&plot, svg.as_bytes())?;
+        check()?;
         let residuals = crate::eval::window_residuals(exp, hist).filter(|r| r.len() > 1);
         let residual_rms = residuals
             .as_ref()
@@ -279,7 +344,17 @@ pub fn write_outputs(
             noise_estimate,
             cost_over_noise_floor,
             residual_autocorrelation,
-            integration_error: campaign.integration_error(e, params, *offset, residual_rms),
+            integration_error: watched_integration_error(
+                campaign,
+                e,
+                params,
+                *offset,
+                residual_rms,
+                stop,
+            )
+            .ok_or_else(|| JobError::OutputsInterrupted {
+                written: written.borrow().clone(),
+            })?,
             weight: exp.weight,
             csv,
             plot,
@@ -287,8 +362,10 @@ pub fn write_outputs(
         });
     }
 
+    check()?;
     let history_path = out.join("history.csv");
     write_history_csv(&history_path, &outcome.history, genes)?;
+    written.borrow_mut().push("history.csv".into());
     let best_curve: Vec<f64> = outcome.history.iter().map(|r| r.best_cost).collect();
     let median_curve: Vec<f64> = outcome.history.iter().map(|r| r.median_cost).collect();
     let polish_curve: Vec<f64> = polish.map_or_else(Vec::new, |p| {
@@ -304,17 +381,56 @@ pub fn write_outputs(
     write("fitness.svg", svg.as_bytes())?;
 
     let uncertainty = polish.and_then(|p| p.uncertainty.as_ref());
-    let (params, parameters) = parameter_tables(campaign, outcome, best, uncertainty);
+    let (params, mut parameters) = parameter_tables(campaign, outcome, best, uncertainty);
+    // The intervals mean something only where the record is predictable.
+    let sensitivity = uncertainty.map(|_| super::sensitivity::check(campaign, genes, best));
+    let sensitive = sensitivity.as_ref().and_then(|s| s.warning());
+    if let Some(s) = sensitivity.as_ref().filter(|s| s.sensitive) {
+        not_determined_where_sensitive(&mut parameters, s);
+    }
     let mut warnings = campaign.warnings.clone();
     warnings.extend(outcome.warnings.iter().cloned());
+    let stop = polish.and_then(|p| {
+        super::verdict::polish_stop_warning(p, campaign.search.polish.max_iterations)
+    });
+    warnings.extend(stop);
+    warnings.extend(sensitive.clone());
     warnings.extend(at_bound_warnings(campaign, uncertainty));
     warnings.extend(search_warnings(outcome, polish));
+    let apart = polish
+        .zip(uncertainty)
+        .and_then(|(p, u)| super::verdict::starts_beyond_intervals(p, u));
+    warnings.extend(apart.clone());
     warnings.extend(misfit_warnings(&experiments));
     let step = |x: &ExperimentFit| x.integration_error.warning(&x.name, &x.unit);
     warnings.extend(experiments.iter().filter_map(step));
     warnings.extend(fallback);
+    let mut more: Vec<String> = sensitivity.iter().filter_map(|s| s.flag()).collect();
+    if apart.is_some() {
+        more.push("polish starts disagree beyond their intervals".into());
+    }
+    if warnings
+        .iter()
+        .any(|w| w.starts_with("the search was still improving"))
+    {
+        more.push("search still improving when it stopped".into());
+    }
+    if warnings
+        .iter()
+        .any(|w| w.starts_with("the polish's ") && w.contains("different costs"))
+    {
+        more.push("polish starts ended at different costs".into());
+    }
+    let flags = super::verdict::flags(polish, &parameters, &experiments, more);
+    let ratio = campaign
+        .problem
+        .noise_floor()
+        .map(|floor| fitness / floor)
+        .filter(|k| k.is_finite());
+    let verdict = super::Verdict::new(ratio, &parameters, uncertainty.is_some(), flags);
     let summary = JobSummary {
         rigfit_version: env!("CARGO_PKG_VERSION").into(),
+        verdict,
         campaign: campaign.name.clone(),
         campaign_file: campaign.path.display().to_string(),
         rig: campaign.model.id().into(),
@@ -335,11 +451,13 @@ pub fn write_outputs(
         params,
         parameters,
         diverged_runs: outcome.history.iter().map(|r| r.diverged_runs).sum(),
+        sensitivity,
         warnings,
         peak_memory_mib: super::memory::peak_resident_memory()
             .map(|b| (b / super::memory::MIB * 10.0).round() / 10.0),
     };
     let json = serde_json::to_string_pretty(&summary).expect("summary serialises");
+    check()?;
     write("result.json", json.as_bytes())?;
     Ok(summary)
 }
@@ -406,13 +524,55 @@ impl ExperimentRows {
     }
 }
 
+/// Records at least this long have their integration error estimated on a
+/// thread of its own, so that an interrupt is honoured while it runs (its
+/// step doubling runs the record three times, at up to four times the steps:
+/// about ten seconds on a 2-million-sample record).
+const WATCHED_ERROR_FROM_SAMPLES: usize = 100_000;
+
+/// [`Campaign::integration_error`], `None` once `stop` is raised while it
+/// runs on a long record (the estimate is then left to finish unread).
+fn watched_integration_error(
+    campaign: &Campaign,
+    e: usize,
+    params: &[f64],
+    offset: f64,
+    residual_rms: Option<f64>,
+    stop: &std::sync::atomic::AtomicBool,
+) -> Option<crate::campaign::IntegrationError> {
+    use std::sync::atomic::Ordering;
+    if campaign.problem.experiments[e].window.end < WATCHED_ERROR_FROM_SAMPLES {
+        return Some(campaign.integration_error(e, params, offset, residual_rms));
+    }
+    let (own, params) = (campaign.clone(), params.to_vec());
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(own.integration_error(e, &params, offset, residual_rms));
+    });
+    loop {
+        match rx.recv_timeout(std::time::Duration::from_millis(50)) {
+            Ok(v) => return Some(v),
+            Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
+                // The estimate panicked: as the caller's own call would.
+                panic!("the integration error's estimate failed");
+            }
+            Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {
+                if stop.load(Ordering::SeqCst) {
+                    return None;
+                }
+            }
+        }
+    }
+}
+
 /// The experiment's CSV ([`ExperimentRows`]), the model outputs named
 /// `model_<name>_<unit>` from the rig.
 fn experiment_csv(
     exp: &crate::eval::ExperimentData,
     rows: &ExperimentRows,
     outputs: &[(String, String)],
-) -> String {
+    stop: &std::sync::atomic::AtomicBool,
+) -> Option<String> {
     let (name0, unit0) = &outputs[exp.output];
     let mut s = format!("t_record_s,t_model_s,measured_{name0}_{unit0}");
     for (name, unit) in outputs {
@@ -420,6 +580,11 @@ fn experiment_csv(
     }
     let _ = writeln!(s, ",residual_{unit0},in_fit_window");
     for k in 0..rows.t_record.len() {
+        // A record of millions of rows takes seconds: an interrupt is
+        // honoured every 65 536 of them.
+        if k % 65_536 == 0 && stop.load(std::sync::atomic::Ordering::SeqCst) {
+            return None;
+        }
         let _ = write!(
             s,
             "{:.9e},{:.9e},{:.6e}",
@@ -436,7 +601,7 @@ fn experiment_csv(
             u8::from(rows.in_fit_window[k]),
         );
     }
-    s
+    Some(s)
 }
 
 fn polish_summary(p: &PolishOutcome, ga_fitness: f64) -> PolishSummary {
@@ -517,6 +682,25 @@ fn parameter_tables(
         row(format!("{name}.offset"), "s", full[e].1);
     }
     (params, rows)
+}
+
+/// Every free parameter not determined, with the sensitivity as the reason
+/// (the intervals stay, as the covariance gives them, for the record).
+fn not_determined_where_sensitive(
+    parameters: &mut [ParamSummary],
+    s: &super::sensitivity::Sensitivity,
+) {
+    let Some(note) = s.note() else {
+        return;
+    };
+    for p in parameters.iter_mut().filter(|p| p.determined.is_some()) {
+        p.determined = Some(false);
+        let note = note.clone();
+        p.uncertainty_note = Some(match p.uncertainty_note.take() {
+            Some(n) => format!("{n}; {note}"),
+            None => note,
+        });
+    }
 }
 
 /// One warning per gene the polish left at a bound, naming the bound to widen.

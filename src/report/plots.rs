@@ -42,6 +42,51 @@ fn range(series: &[&[f64]]) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
+/// Most points a series of [`fit_svg`] is drawn with: two per pixel column
+/// of the plot (its least and its largest value there), so a figure of a
+/// record of millions of samples is a few hundred kilobytes and draws in a
+/// fraction of a second, and a peak one sample wide still shows. The
+/// experiment's CSV keeps every sample.
+pub const FIT_POINTS_PER_SERIES: usize = 2 * FIT_WIDTH as usize;
+
+/// The points of `(t, y)` drawn on `columns` pixel columns: every point
+/// where there are at most `2 × columns`, else, in each of `columns` runs of
+/// consecutive samples, the least and the largest finite value in the order
+/// they occur (the envelope a line drawn through every sample fills).
+pub fn envelope(t: &[f64], y: &[f64], columns: usize) -> Vec<(f64, f64)> {
+    let n = t.len().min(y.len());
+    if n <= 2 * columns.max(1) {
+        return t.iter().zip(y).map(|(t, y)| (*t, *y)).collect();
+    }
+    let columns = columns.max(1);
+    let mut points = Vec::with_capacity(2 * columns);
+    for c in 0..columns {
+        let (a, b) = (c * n / columns, (c + 1) * n / columns);
+        let (mut lo, mut hi): (Option<usize>, Option<usize>) = (None, None);
+        for k in a..b {
+            if !y[k].is_finite() {
+                continue;
+            }
+            if lo.is_none_or(|i| y[k] < y[i]) {
+                lo = Some(k);
+            }
+            if hi.is_none_or(|i| y[k] > y[i]) {
+                hi = Some(k);
+            }
+        }
+        match (lo, hi) {
+            (Some(i), Some(j)) if i == j => points.push((t[i], y[i])),
+            (Some(i), Some(j)) => {
+                let (first, second) = if i < j { (i, j) } else { (j, i) };
+                points.push((t[first], y[first]));
+                points.push((t[second], y[second]));
+            }
+            _ => {}
+        }
+    }
+    points
+}
+
 /// One model output for [`fit_svg`]: the rig's name and unit and its values.
 #[derive(Debug, Clone, Copy)]
 pub struct Series<'a> {
@@ -218,7 +263,9 @@ pub fn fit_svg(
             .draw()
             .map_err(|e| err(here, e))?;
         for (_, ys, color, width) in &series {
-            let points = t.iter().zip(*ys).map(|(t, v)| (*t, v * scale));
+            let points = envelope(&t, ys, FIT_POINTS_PER_SERIES / 2)
+                .into_iter()
+                .map(|(t, v)| (t, v * scale));
             chart
                 .draw_series(LineSeries::new(points, color.stroke_width(*width)))
                 .map_err(|e| err(here, e))?;
@@ -233,7 +280,9 @@ pub fn fit_svg(
             .draw()
             .map_err(|e| err(here, e))?;
         let residual_color = RGBColor(214, 39, 40);
-        let points = t.iter().zip(&residual).map(|(t, r)| (*t, r * r_scale));
+        let points = envelope(&t, &residual, FIT_POINTS_PER_SERIES / 2)
+            .into_iter()
+            .map(|(t, r)| (t, r * r_scale));
         residual_chart
             .draw_series(LineSeries::new(points, residual_color.stroke_width(1)))
             .map_err(|e| err(here, e))?;
@@ -422,6 +471,32 @@ mod tests {
         let short: Vec<f64> = t.iter().map(|t| t * 1e-3).collect();
         let svg = fit_svg("fit", &short, &measured, &outputs).unwrap();
         assert!(svg.contains("time (ms)"));
+    }
+
+    #[test]
+    fn a_long_record_is_drawn_with_its_envelope_and_keeps_a_one_sample_peak() {
+        let n = 2_000_000;
+        let t: Vec<f64> = (0..n).map(|k| k as f64 * 1e-4).collect();
+        let mut model: Vec<f64> = t.iter().map(|t| (3.0 * t).sin()).collect();
+        // One sample far above the rest: a decimation that kept every k-th
+        // sample would lose it.
+        model[1_234_567] = 40.0;
+        let measured = model.clone();
+        let outputs = [Series {
+            name: "load_cell",
+            unit: "N",
+            values: &model,
+        }];
+        let svg = fit_svg("fit", &t, &measured, &outputs).unwrap();
+        assert!(svg.len() < 2_000_000, "{} bytes", svg.len());
+        // The peak sets the axis (40 N, padded) and is drawn: a point of
+        // the model's line lies at the top of the upper panel's range.
+        let e = envelope(&t, &model, FIT_POINTS_PER_SERIES / 2);
+        assert!(e.len() <= FIT_POINTS_PER_SERIES, "{}", e.len());
+        assert!(e.contains(&(t[1_234_567], 40.0)), "the peak was dropped");
+        assert!(e.windows(2).all(|w| w[0].0 < w[1].0), "not in time order");
+        // A short series is drawn whole.
+        assert_eq!(envelope(&t[..100], &model[..100], 800).len(), 100);
     }
 
     #[test]

@@ -17,7 +17,7 @@ use super::options::{RunLengthArgs, memory_size};
 use super::output::Output;
 use rigfit::campaign::Campaign;
 use rigfit::eval::{Backend, EvalError, PrecisionChoice};
-use rigfit::job::backend::{OpenError, OpenNote};
+use rigfit::job::backend::{OpenError, OpenNote, TrialWatch};
 use rigfit::job::memory::human_bytes;
 use rigfit::job::{self, FolderMode, JobError, JobOptions, OutputFolder};
 use rigfit::search::SearchError;
@@ -100,7 +100,18 @@ const GPU_HINT: &str = "for the GPU path install a Vulkan driver (Debian: \
 
 /// Loads, validates, runs and reports one calibration job.
 pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
-    let mut c = Campaign::load(&a.campaign)?;
+    let reading = (!out.quiet).then(|| {
+        SlowNotice::after(
+            std::time::Duration::from_secs(2),
+            format!(
+                "rigfit: reading {} and its records, choosing the step…",
+                a.campaign.display()
+            ),
+        )
+    });
+    let c = Campaign::load(&a.campaign);
+    drop(reading);
+    let mut c = c?;
     c.require_search()?;
     if let Some(n) = a.population {
         c.search.population = n;
@@ -158,6 +169,13 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         backend,
         precision,
     )?;
+    // Ctrl-C (and SIGTERM) from here on: the first stops whatever runs
+    // (the trial, the search, the polish, the outputs) at its next check,
+    // within a second or two, and the job winds down as its hint says; a
+    // third ends the process at once.
+    let interrupt = Arc::new(AtomicBool::new(false));
+    install_interrupt_handler(&interrupt);
+    out.note(&first_line(&c, a));
     for w in &c.warnings {
         out.note(&format!("warning: {w}"));
     }
@@ -174,16 +192,33 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     // names none, a rig the GPU kernels cannot hold when the GPU was asked
     // for); a GPU that is required and missing leaves no folder behind.
     // `auto` chooses as src/job/backend/ says: a named adapter is that GPU,
-    // else the choice cached for this job on this machine, else a race.
-    let opened = job::backend::open_job_evaluator(
+    // else the choice cached for this job on this machine, else a race,
+    // bounded to a share of the job and said stage by stage.
+    let progress = |line: &str| out.note(line);
+    let watch = TrialWatch {
+        progress: &progress,
+        cancel: Some(&interrupt),
+    };
+    let opened = job::backend::open_job_evaluator_watched(
         &c,
         backend,
         precision,
         a.adapter.as_deref(),
         a.threads,
         job::backend::AutoPick::Measure,
-    )
-    .map_err(|e| open_error(e, a))?;
+        watch,
+    );
+    let opened = match opened {
+        Err(OpenError::Trial(e)) if e.is_cancelled() => {
+            out.note(&format!(
+                "interrupted during auto's backend trial, before any output: nothing was \
+                 written; start it again with: {}",
+                this_command(false)
+            ));
+            return Ok(ExitCode::from(EXIT_INTERRUPTED));
+        }
+        other => other.map_err(|e| open_error(e, a))?,
+    };
     for note in &opened.notes {
         out.note(&match note {
             OpenNote::CpuF32 { reason } => {
@@ -205,6 +240,13 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     let (mut evaluator, backend_trial) = (opened.evaluator, opened.trial);
     if let Some(t) = &backend_trial {
         out.note(&format!("note: {}", t.line()));
+    }
+    if interrupt.load(Ordering::SeqCst) {
+        out.note(&format!(
+            "interrupted before the search began: nothing was written; start it again with: {}",
+            this_command(false)
+        ));
+        return Ok(ExitCode::from(EXIT_INTERRUPTED));
     }
     if a.out.is_none() {
         limits::check_output_inside(&c, &a.campaign)?;
@@ -243,19 +285,6 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         memory.1
     ));
 
-    let interrupt = Arc::new(AtomicBool::new(false));
-    {
-        let flag = interrupt.clone();
-        // A second signal while the job is winding down ends the process.
-        let _ = ctrlc::set_handler(move || {
-            if flag.swap(true, Ordering::SeqCst) {
-                std::process::exit(i32::from(EXIT_INTERRUPTED));
-            }
-            eprintln!(
-                "\nrigfit: interrupted; stopping the evaluation and keeping the last checkpoint"
-            );
-        });
-    }
     evaluator.set_cancel(interrupt.clone());
     let opts = JobOptions {
         out: dir.clone(),
@@ -266,6 +295,15 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         threads: a.threads,
     };
     let summary = match job::run_chosen(&c, evaluator, &opts, backend_trial) {
+        Err(JobError::Search(SearchError::Eval(EvalError::Cancelled)))
+            if dir.join(job::CHECKPOINT_FILE).exists() =>
+        {
+            // Stopped within the polish's residuals: the search's last
+            // checkpoint stands, and a resume polishes again from it.
+            out.note("interrupted during the polish: no interim result");
+            out.note(&interrupted_hint(&dir, "continue"));
+            return Ok(ExitCode::from(EXIT_INTERRUPTED));
+        }
         Err(JobError::Search(SearchError::Eval(EvalError::Cancelled))) => {
             out.note(&format!(
                 "interrupted before the first generation was complete: nothing to keep; \
@@ -274,19 +312,130 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
             ));
             return Ok(ExitCode::from(EXIT_INTERRUPTED));
         }
+        Err(e @ JobError::OutputsInterrupted { .. }) => {
+            out.note(&format!("{e}"));
+            out.note(&interrupted_hint(&dir, "continue"));
+            return Ok(ExitCode::from(EXIT_INTERRUPTED));
+        }
         other => other?,
     };
     out.json(&summary)?;
     out.say(|| summary::summary_text(&summary, &dir, job::steps_per_candidate(&c)));
     if interrupt.load(Ordering::SeqCst) {
-        out.note(&format!(
-            "checkpoint kept in {}; continue with: {}",
-            dir.display(),
-            this_command(true)
-        ));
+        if !dir.join(job::CHECKPOINT_FILE).exists() {
+            // The signal came once the job had written its last file.
+            out.note(&format!(
+                "interrupted as the job ended: its outputs in {} are complete",
+                dir.display()
+            ));
+            return Ok(ExitCode::SUCCESS);
+        }
+        out.note(&interrupted_hint(&dir, "continue"));
         return Ok(ExitCode::from(EXIT_INTERRUPTED));
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// What to type after an interrupt that kept the checkpoint: `--resume`,
+/// which continues from it (a checkpoint of a finished search polishes again
+/// from the search's end, then writes the outputs).
+fn interrupted_hint(dir: &std::path::Path, what: &str) -> String {
+    format!(
+        "checkpoint kept in {}; {what} with: {}",
+        dir.display(),
+        this_command(true)
+    )
+}
+
+/// Sends Ctrl-C and SIGTERM to `flag`: the first two raise it (the job
+/// stops what runs and winds down; a second stops the interim outputs an
+/// interrupted search writes, [`job::run_observed`]), a third ends the
+/// process at once (the folder's lock is released with it; the lock file is
+/// left, unlocked). Messages go to stderr, never failing on a closed one.
+fn install_interrupt_handler(flag: &Arc<AtomicBool>) {
+    use std::io::Write as _;
+    use std::sync::atomic::AtomicUsize;
+    let flag = flag.clone();
+    let count = AtomicUsize::new(0);
+    let _ = ctrlc::set_handler(move || {
+        let n = count.fetch_add(1, Ordering::SeqCst) + 1;
+        if n >= 3 {
+            std::process::exit(i32::from(EXIT_INTERRUPTED));
+        }
+        flag.store(true, Ordering::SeqCst);
+        let _ = writeln!(
+            std::io::stderr(),
+            "\nrigfit: interrupted; stopping at the next check (within a second or two){}",
+            if n == 1 {
+                ""
+            } else {
+                "; once more ends at once"
+            }
+        );
+    });
+}
+
+/// A line printed on stderr once `after` has passed, unless dropped before:
+/// what a slow step says while a user would otherwise see nothing.
+struct SlowNotice {
+    done: Option<std::sync::mpsc::Sender<()>>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl SlowNotice {
+    fn after(after: std::time::Duration, line: String) -> Self {
+        let (done, wait) = std::sync::mpsc::channel::<()>();
+        let thread = std::thread::spawn(move || {
+            if let Err(std::sync::mpsc::RecvTimeoutError::Timeout) = wait.recv_timeout(after) {
+                use std::io::Write as _;
+                let _ = writeln!(std::io::stderr(), "{line}");
+            }
+        });
+        Self {
+            done: Some(done),
+            thread: Some(thread),
+        }
+    }
+}
+
+impl Drop for SlowNotice {
+    fn drop(&mut self) {
+        drop(self.done.take());
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
+    }
+}
+
+/// The job's first line, before any work: the campaign, its rig, its
+/// records and the search's size.
+fn first_line(c: &Campaign, a: &RunArgs) -> String {
+    let experiments = &c.problem.experiments;
+    let samples: usize = experiments.iter().map(|x| x.window.end).sum();
+    let longest = experiments
+        .iter()
+        .max_by_key(|x| x.window.end)
+        .map(|x| {
+            format!(
+                "longest {} with {} samples over {:.4} s at {:.3e} s",
+                rigfit::base::text::echo_bare(&x.name),
+                x.window.end,
+                x.window.end.saturating_sub(1) as f64 * x.dt,
+                x.dt
+            )
+        })
+        .unwrap_or_default();
+    format!(
+        "{} ({}): rig {}, {} record{} of {} samples ({longest}), {} candidates × {} generations",
+        rigfit::base::text::echo_bare(&c.name),
+        a.campaign.display(),
+        c.model.id(),
+        experiments.len(),
+        if experiments.len() == 1 { "" } else { "s" },
+        samples,
+        c.search.population,
+        c.search.generations
+    )
 }
 
 /// A refusal of the job's evaluator as the CLI words it: the flag (or the

@@ -31,6 +31,14 @@
 //! ([`Remembered`]). The same early build serves a job that runs on the CPU
 //! from the start: its lanes interpret while the compiler works.
 //!
+//! The trial is bounded to a share of the job ([`TRIAL_SHARE`] of its
+//! estimated candidate-steps, [`trial_plan`]): a trial over whole runs that
+//! would cost more, or any run longer than [`TRIAL_LONG_RECORD_STEPS`], is
+//! timed over each run's first steps on both paths (the CPU on the runs cut
+//! short); one that cannot afford even [`TRIAL_PREFIX_MIN_STEPS`] is skipped,
+//! the CPU taken. Each stage is said as it starts ([`TrialWatch`]), and an
+//! interrupt stops the trial between stages or within a batch.
+//!
 //! A job too short for a trial to pay back ([`SHORT_JOB_SECONDS`] on its
 //! faster path, as `check` estimates it at the assumed rates) runs on the
 //! CPU unmeasured: opening lavapipe alone takes 0.1 to 0.3 s on a 2-core
@@ -48,6 +56,8 @@
 //! Python package's `rigfit.fit` both open their evaluator.
 
 use std::collections::BTreeMap;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use rand::{Rng, SeedableRng};
@@ -135,6 +145,19 @@ pub struct BackendTrial {
     /// timed over its first part ([`trial_part`]); `None` for whole passes.
     #[serde(default)]
     pub gpu_steps_timed: Option<usize>,
+    /// Steps of each run both paths were timed over where the trial was
+    /// shortened ([`TrialPlan`]: a very long record, or whole runs that
+    /// would have cost more than [`TRIAL_SHARE`] of the job); `None` where
+    /// the CPU was timed over whole runs.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub steps_timed: Option<usize>,
+    /// Why the trial was shortened or skipped, where it was.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shortened: Option<String>,
+    /// Whether the trial was skipped (`shortened` says why): the CPU was
+    /// taken unmeasured and the rates are 0. Never cached.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub skipped: bool,
     /// Wall time the trial took (s), warm-up batches included; 0 when the
     /// choice came from the cache.
     pub trial_s: f64,
@@ -151,6 +174,12 @@ pub struct BackendTrial {
 impl BackendTrial {
     /// One line for the job's start: the choice and the rates behind it.
     pub fn line(&self) -> String {
+        if self.skipped {
+            return format!(
+                "backend auto chose the CPU without a trial: {}",
+                self.shortened.as_deref().unwrap_or("no trial")
+            );
+        }
         let how = if self.cached {
             "as measured before on this machine".to_string()
         } else {
@@ -168,12 +197,20 @@ impl BackendTrial {
             }
             _ => String::new(),
         };
-        let part = match self.gpu_steps_timed {
-            Some(steps) => format!(" over each run's first {steps} steps"),
-            None => String::new(),
+        let part = match (self.steps_timed, self.gpu_steps_timed) {
+            (Some(_), _) => String::new(),
+            (None, Some(steps)) => format!(" over each run's first {steps} steps"),
+            (None, None) => String::new(),
+        };
+        let both = match (self.steps_timed, &self.shortened) {
+            (Some(steps), Some(why)) => {
+                format!(", both over each run's first {steps} steps ({why})")
+            }
+            (Some(steps), None) => format!(", both over each run's first {steps} steps"),
+            (None, _) => String::new(),
         };
         format!(
-            "backend auto chose the {}: GPU {:.2e}{kernels}{part}, CPU {:.2e} candidate-steps/s ({how})",
+            "backend auto chose the {}: GPU {:.2e}{kernels}{part}, CPU {:.2e} candidate-steps/s{both} ({how})",
             self.chosen.to_uppercase(),
             self.gpu_rate,
             self.cpu_rate
@@ -192,6 +229,61 @@ pub enum TrialError {
         /// What failed.
         source: EvalError,
     },
+    /// The interrupt flag ([`TrialWatch::cancel`]) was raised during the
+    /// trial: nothing was chosen, cached or written.
+    #[error("interrupted during auto's backend trial")]
+    Cancelled,
+}
+
+impl TrialError {
+    /// Whether the trial stopped because it was interrupted.
+    pub fn is_cancelled(&self) -> bool {
+        matches!(
+            self,
+            Self::Cancelled
+                | Self::Eval {
+                    source: EvalError::Cancelled,
+                    ..
+                }
+        )
+    }
+}
+
+/// What watches `auto`'s trial: a line for each of its stages (what it
+/// builds or times, and how far it is), and a flag that, once raised
+/// (Ctrl-C), stops it between two stages or, where the evaluator can stop
+/// a batch partway, within one ([`Evaluator::set_cancel`]).
+#[derive(Clone, Copy)]
+pub struct TrialWatch<'a> {
+    /// Called with one line per stage.
+    pub progress: &'a dyn Fn(&str),
+    /// Raised to stop the trial.
+    pub cancel: Option<&'a Arc<AtomicBool>>,
+}
+
+impl TrialWatch<'_> {
+    /// Nothing said, never cancelled.
+    pub const SILENT: TrialWatch<'static> = TrialWatch {
+        progress: &|_| {},
+        cancel: None,
+    };
+
+    fn say(&self, line: &str) {
+        (self.progress)(line);
+    }
+
+    fn check(&self) -> Result<(), TrialError> {
+        match self.cancel {
+            Some(flag) if flag.load(Ordering::SeqCst) => Err(TrialError::Cancelled),
+            _ => Ok(()),
+        }
+    }
+
+    fn arm(&self, evaluator: &mut dyn Evaluator) {
+        if let Some(flag) = self.cancel {
+            evaluator.set_cancel(flag.clone());
+        }
+    }
 }
 
 /// How `auto` picks between the two paths when both are there.
@@ -316,6 +408,28 @@ pub fn open_job_evaluator(
     threads: usize,
     pick: AutoPick,
 ) -> Result<JobEvaluator, OpenError> {
+    open_job_evaluator_watched(
+        campaign,
+        backend,
+        precision,
+        adapter,
+        threads,
+        pick,
+        TrialWatch::SILENT,
+    )
+}
+
+/// [`open_job_evaluator`], its trial watched: a line for each stage, and a
+/// flag that stops it ([`TrialError::Cancelled`]).
+pub fn open_job_evaluator_watched(
+    campaign: &Campaign,
+    backend: Backend,
+    precision: PrecisionChoice,
+    adapter: Option<&str>,
+    threads: usize,
+    pick: AutoPick,
+    watch: TrialWatch<'_>,
+) -> Result<JobEvaluator, OpenError> {
     let mut notes = Vec::new();
     let mut cpu = CpuEvaluator::try_new(campaign.problem.clone(), threads)
         .map_err(|source| OpenError::Threads { threads, source })?;
@@ -388,6 +502,43 @@ pub fn open_job_evaluator(
     if let Some(t) = cached.clone().filter(|t| t.chosen == "cpu") {
         return Ok(on_cpu(cpu, notes, Some(t)));
     }
+    // The trial's bound: a share of the job (or `check`'s second or two).
+    let mut plan = match pick {
+        AutoPick::Race => trial_plan(
+            campaign,
+            campaign.search.population,
+            check_trial_budget(campaign),
+        ),
+        AutoPick::Measure | AutoPick::Gpu => trial_plan(
+            campaign,
+            campaign.search.population,
+            job_trial_budget(campaign),
+        ),
+    };
+    if plan.skip && always {
+        // Measured whatever it costs: over the fewest steps a trial times.
+        plan.skip = false;
+        plan.prefix = Some(TRIAL_PREFIX_MIN_STEPS);
+    }
+    if trial_key.is_some() && cached.is_none() && plan.skip {
+        let t = BackendTrial {
+            chosen: "cpu".into(),
+            gpu_rate: 0.0,
+            gpu_kernel: None,
+            gpu_kernel_rates: BTreeMap::new(),
+            cpu_rate: 0.0,
+            candidates: 0,
+            campaign: Some(format!("{} ({})", campaign.name, campaign.path.display())),
+            gpu_steps_timed: None,
+            steps_timed: None,
+            shortened: plan.why.clone(),
+            skipped: true,
+            trial_s: 0.0,
+            cached: false,
+            gpu_startup_s: None,
+        };
+        return Ok(on_cpu(cpu, notes, Some(t)));
+    }
     if trial_key.is_some() && cached.is_none() {
         // The search's builds alone before the race: the CPU is timed as
         // soon as they are done; the polish's start once the CPU is chosen.
@@ -412,12 +563,26 @@ pub fn open_job_evaluator(
             (evaluator, Some(t))
         }
         (Some(key), None) => {
-            let population = campaign.search.population;
+            let cpu_prefix = match plan.prefix {
+                Some(p) => {
+                    let mut e =
+                        CpuEvaluator::try_new(prefix_campaign(campaign, p).problem, threads)
+                            .map_err(|source| OpenError::Threads { threads, source })?;
+                    if precision == PrecisionChoice::F32 {
+                        // As the job's own evaluator: f32 where the rig has it.
+                        let _ = e.use_f32();
+                    }
+                    Some(Box::new(e) as Box<dyn Evaluator>)
+                }
+                None => None,
+            };
             let (mut chosen, t) = race(
                 campaign,
-                population,
+                &plan,
                 (opened.evaluator, asked),
                 Box::new(cpu),
+                cpu_prefix,
+                watch,
             )?;
             if t.chosen == "cpu" {
                 notes.extend(f32_refused);
@@ -595,6 +760,155 @@ fn longest_record_steps(campaign: &Campaign) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// Share of a job's estimated candidate-steps (its GA and the polish's
+/// expected steps, [`crate::job::memory::TimeEstimate`]) `auto`'s trial may
+/// spend, where that is more than [`TRIAL_STEPS_FLOOR`]: a trial over whole
+/// runs that would cost more is timed over each run's first steps.
+pub const TRIAL_SHARE: f64 = 0.05;
+
+/// Candidate-steps a trial may always spend, however short the job (a job
+/// estimated under [`SHORT_JOB_SECONDS`] takes no trial at all).
+pub const TRIAL_STEPS_FLOOR: f64 = TRIAL_STEPS;
+
+/// Passes over the trial batch a trial costs at most, on both paths
+/// together: the CPU's warm-up and timed batch, the GPU's kernel variants,
+/// and a close call timed once more on each.
+const TRIAL_PASSES: f64 = 5.0;
+
+/// Steps of a run from which `auto`'s trial times both paths over each
+/// run's first [`TRIAL_PREFIX_STEPS`] steps only, whatever the job's length:
+/// a path's rate is the same from a run's first steps to its last, and a
+/// record of millions of samples timed whole on each path took minutes.
+pub const TRIAL_LONG_RECORD_STEPS: f64 = 131_072.0;
+
+/// Most steps of each run a shortened trial times.
+pub const TRIAL_PREFIX_STEPS: usize = 32_768;
+
+/// Fewest steps of each run a shortened trial times: a trial that cannot
+/// afford them is skipped, the CPU taken unmeasured.
+pub const TRIAL_PREFIX_MIN_STEPS: usize = 2_048;
+
+/// How `auto`'s trial measures a job ([`trial_plan`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrialPlan {
+    /// Candidates in the timed batch.
+    pub candidates: usize,
+    /// Steps of each run both paths are timed over, where the trial is
+    /// shortened; `None`: whole runs (the GPU over [`trial_part`]).
+    pub prefix: Option<usize>,
+    /// Why the trial is shortened or skipped.
+    pub why: Option<String>,
+    /// Whether it is skipped (the CPU taken unmeasured).
+    pub skip: bool,
+    /// Candidate-steps the trial may spend.
+    pub budget: f64,
+}
+
+/// The job's estimated candidate-steps: its GA and the polish's expected
+/// steps.
+fn job_candidate_steps(campaign: &Campaign) -> f64 {
+    let e = crate::job::memory::TimeEstimate::of(
+        campaign,
+        super::steps_per_candidate(campaign),
+        crate::eval::all_cores(),
+        crate::job::memory::GPU_STEPS_PER_S_ASSUMED,
+    );
+    e.steps + e.polish_steps_expected
+}
+
+/// How `auto`'s trial measures `campaign` at `population` within `budget`
+/// candidate-steps: over whole runs where that costs at most the budget
+/// and no run is longer than [`TRIAL_LONG_RECORD_STEPS`]; else over each
+/// run's first steps (at most [`TRIAL_PREFIX_STEPS`], as many as the
+/// budget allows); skipped where even [`TRIAL_PREFIX_MIN_STEPS`] would cost
+/// more.
+pub fn trial_plan(campaign: &Campaign, population: usize, budget: f64) -> TrialPlan {
+    let steps = super::steps_per_candidate(campaign);
+    let n = trial_candidates(population, steps, TRIAL_STEPS);
+    let longest = longest_record_steps(campaign);
+    let runs = campaign.problem.experiments.len().max(1) as f64;
+    let whole = TRIAL_PASSES * n as f64 * steps;
+    let mut plan = TrialPlan {
+        candidates: n,
+        prefix: None,
+        why: None,
+        skip: false,
+        budget,
+    };
+    if longest < TRIAL_LONG_RECORD_STEPS && whole <= budget {
+        return plan;
+    }
+    let affordable = (budget / (TRIAL_PASSES * n as f64 * runs)).floor();
+    let prefix = (TRIAL_PREFIX_STEPS as f64)
+        .min(affordable)
+        .min(longest.ceil());
+    let reason = if longest >= TRIAL_LONG_RECORD_STEPS {
+        format!(
+            "the longest run is {longest:.3e} steps, over {TRIAL_LONG_RECORD_STEPS:.0}: \
+             timed over its first part only"
+        )
+    } else {
+        format!(
+            "whole runs would take {:.0} % of the job's estimated {:.2e} candidate-steps, \
+             over {:.0} %",
+            100.0 * whole / job_candidate_steps(campaign).max(1.0),
+            job_candidate_steps(campaign),
+            100.0 * TRIAL_SHARE
+        )
+    };
+    if prefix < TRIAL_PREFIX_MIN_STEPS as f64 {
+        plan.skip = true;
+        plan.why = Some(format!(
+            "{n} candidates over each run's first {TRIAL_PREFIX_MIN_STEPS} steps on both paths \
+             would take more than the trial's share of the job ({:.0} % of its estimated \
+             {:.2e} candidate-steps); --backend gpu runs it on the GPU",
+            100.0 * TRIAL_SHARE,
+            job_candidate_steps(campaign)
+        ));
+        return plan;
+    }
+    plan.prefix = Some(prefix as usize);
+    plan.why = Some(reason);
+    plan
+}
+
+/// The budget of a job's trial: [`TRIAL_SHARE`] of its estimated
+/// candidate-steps, at least [`TRIAL_STEPS_FLOOR`].
+pub fn job_trial_budget(campaign: &Campaign) -> f64 {
+    (TRIAL_SHARE * job_candidate_steps(campaign)).max(TRIAL_STEPS_FLOOR)
+}
+
+/// The budget of `check`'s race: [`CHECK_RACE_STEPS`], or the job's own
+/// where smaller, so that `check` takes a second or two.
+pub fn check_trial_budget(campaign: &Campaign) -> f64 {
+    job_trial_budget(campaign).min(CHECK_RACE_STEPS)
+}
+
+/// Most candidate-steps `check`'s race spends on both paths together.
+pub const CHECK_RACE_STEPS: f64 = 4.0 * CHECK_TRIAL_STEPS;
+
+/// `campaign` with every run cut to its first `steps` steps (at least two
+/// samples each): what a shortened trial times the CPU on.
+fn prefix_campaign(campaign: &Campaign, steps: usize) -> Campaign {
+    let mut c = campaign.clone();
+    let lengths = campaign.run_length();
+    let substeps = c.problem.substeps.max(1);
+    for (x, run) in c.problem.experiments.iter_mut().zip(&lengths.experiments) {
+        let prologue =
+            (run.steps - x.window.end.saturating_sub(1) as f64 * substeps as f64).max(0.0) as usize;
+        let samples = steps.saturating_sub(prologue) / substeps + 1;
+        let end = x.window.end.min(samples.max(2));
+        let start = if x.window.start + 1 < end {
+            x.window.start
+        } else {
+            0
+        };
+        x.window = start..end;
+        x.force.truncate(end);
+    }
+    c
+}
+
 /// Scores the trial batch on both paths and returns the faster evaluator
 /// with what was measured; `population` is the job's.
 ///
@@ -607,36 +921,73 @@ fn longest_record_steps(campaign: &Campaign) -> f64 {
 /// trial scored the whole generation the job does not score it again. On a
 /// long record ([`trial_part`]) the GPU's kernel variants are timed over
 /// the record's first part, and the GPU scores the batch whole only once it
-/// is chosen. `gpu` comes with the instant it was asked for, from which its
-/// start-up is timed.
+/// is chosen. Where `plan` shortens the trial, both paths are timed over
+/// each run's first steps (the CPU on `cpu_prefix`, an evaluator of the
+/// runs cut short) and neither scores the batch whole: the job scores its
+/// first generation itself. `gpu` comes with the instant it was asked for,
+/// from which its start-up is timed.
 pub fn race(
     campaign: &Campaign,
-    population: usize,
+    plan: &TrialPlan,
     gpu: (Box<dyn Evaluator>, Instant),
     cpu: Box<dyn Evaluator>,
+    cpu_prefix: Option<Box<dyn Evaluator>>,
+    watch: TrialWatch<'_>,
 ) -> Result<(Box<dyn Evaluator>, BackendTrial), TrialError> {
-    race_over(campaign, population, gpu, cpu, trial_part(campaign))
+    let part = match plan.prefix {
+        Some(p) => Some(p),
+        None => trial_part(campaign),
+    };
+    race_over(campaign, plan, gpu, cpu, cpu_prefix, part, watch)
 }
 
 /// [`race`], the GPU timed over the first `part` steps of each run where
 /// given.
+#[expect(
+    clippy::too_many_lines,
+    reason = "one race, its stages in the order they run"
+)]
 fn race_over(
     campaign: &Campaign,
-    population: usize,
+    plan: &TrialPlan,
     (mut gpu, asked): (Box<dyn Evaluator>, Instant),
     mut cpu: Box<dyn Evaluator>,
+    cpu_prefix: Option<Box<dyn Evaluator>>,
     part: Option<usize>,
+    watch: TrialWatch<'_>,
 ) -> Result<(Box<dyn Evaluator>, BackendTrial), TrialError> {
     let start = Instant::now();
-    let n = trial_candidates(
-        population,
-        super::steps_per_candidate(campaign),
-        TRIAL_STEPS,
-    );
+    let n = plan.candidates;
     let genomes = trial_genomes(campaign, n);
+    watch.arm(gpu.as_mut());
+    watch.arm(cpu.as_mut());
+    let over = match plan.prefix.or(part) {
+        Some(p) => format!(
+            "over each run's first {p} of {:.0} steps",
+            longest_record_steps(campaign)
+        ),
+        None => format!(
+            "over whole runs ({:.3e} steps each candidate)",
+            super::steps_per_candidate(campaign)
+        ),
+    };
     let variants = gpu.kernel_variants();
+    let stages = variants.len().max(1) + 1;
+    let mut stage = 0;
+    let mut next = |what: &str| {
+        stage += 1;
+        watch.say(&format!(
+            "auto's trial {stage}/{stages}: {what}, {n} candidates {over} ({:.1} s so far)",
+            start.elapsed().as_secs_f64()
+        ));
+    };
+    watch.say(&format!(
+        "auto's trial: making both paths ready (the GPU's kernels, the CPU lanes' code) to time \
+         {n} candidates {over} on each"
+    ));
     let mut gpu_startup_s = None;
     for &variant in variants {
+        watch.check()?;
         gpu.use_kernel_variant(variant);
         make_ready(campaign, gpu.as_mut(), &genomes, "gpu")?;
         gpu_startup_s.get_or_insert(asked.elapsed().as_secs_f64());
@@ -645,14 +996,33 @@ fn race_over(
         make_ready(campaign, gpu.as_mut(), &genomes, "gpu")?;
         gpu_startup_s = Some(asked.elapsed().as_secs_f64());
     }
-    make_ready(campaign, cpu.as_mut(), &genomes, "cpu")?;
+    watch.check()?;
+    // Shortened, the CPU is timed on the runs cut short; the job's own
+    // evaluator only makes its native code ready.
+    let (prefix_campaign_, mut timed_cpu) = match (plan.prefix, cpu_prefix) {
+        (Some(p), Some(mut e)) => {
+            watch.arm(e.as_mut());
+            cpu.prepare();
+            (Some(prefix_campaign(campaign, p)), Some(e))
+        }
+        _ => (None, None),
+    };
+    let cpu_campaign = prefix_campaign_.as_ref().unwrap_or(campaign);
+    let cpu_timed: &mut dyn Evaluator = match timed_cpu.as_mut() {
+        Some(e) => e.as_mut(),
+        None => cpu.as_mut(),
+    };
+    make_ready(cpu_campaign, cpu_timed, &genomes, "cpu")?;
+    watch.check()?;
     let batch = campaign.batch(&genomes);
     // Each kernel variant of the GPU, the fastest kept.
     let mut gpu_kernel_rates = BTreeMap::new();
     let mut best: Option<(&str, f64, GpuTimed)> = None;
     for &variant in variants {
+        next(&format!("timing the GPU's {variant} kernels"));
         gpu.use_kernel_variant(variant);
         let (r, timed) = time_gpu(campaign, gpu.as_mut(), &batch, part)?;
+        watch.check()?;
         gpu_kernel_rates.insert(variant.to_string(), r);
         if best.as_ref().is_none_or(|(_, b, _)| r > *b) {
             best = Some((variant, r, timed));
@@ -663,13 +1033,24 @@ fn race_over(
             gpu.use_kernel_variant(variant);
             (Some(variant), (r, timed))
         }
-        None => (None, time_gpu(campaign, gpu.as_mut(), &batch, part)?),
+        None => {
+            next("timing the GPU");
+            (None, time_gpu(campaign, gpu.as_mut(), &batch, part)?)
+        }
     };
-    let (mut cpu_rate, cpu_scores) = rate(campaign, cpu.as_mut(), &batch, "cpu")?;
+    watch.check()?;
+    next("timing the CPU");
+    let (mut cpu_rate, cpu_scores) = rate(cpu_campaign, cpu_timed, &batch, "cpu")?;
+    watch.check()?;
     // A close call is timed once more on each path (the CPU first, its
     // threads undisturbed by the GPU's), the faster of each path's two kept.
     if gpu_rate.max(cpu_rate) < CLOSE_CALL * gpu_rate.min(cpu_rate) {
-        cpu_rate = cpu_rate.max(rate(campaign, cpu.as_mut(), &batch, "cpu")?.0);
+        watch.say(&format!(
+            "auto's trial: a close call (GPU {gpu_rate:.2e}, CPU {cpu_rate:.2e} \
+             candidate-steps/s): timing each once more"
+        ));
+        cpu_rate = cpu_rate.max(rate(cpu_campaign, cpu_timed, &batch, "cpu")?.0);
+        watch.check()?;
         let again = time_gpu(campaign, gpu.as_mut(), &batch, part)?.0;
         if let Some(variant) = gpu_kernel {
             let r = gpu_kernel_rates
@@ -678,24 +1059,33 @@ fn race_over(
             *r = r.max(again);
         }
         gpu_rate = gpu_rate.max(again);
+        watch.check()?;
     }
     let gpu_wins = gpu_rate >= cpu_rate;
     let gpu_steps_timed = match gpu_timed {
         GpuTimed::Part(steps) => Some(steps),
         GpuTimed::Whole(_) => None,
     };
-    let (chosen, scores) = match (gpu_wins, gpu_timed) {
-        (true, GpuTimed::Whole(scores)) => (gpu, scores),
+    let shortened = plan.prefix.is_some() && timed_cpu.is_some();
+    let chosen: Box<dyn Evaluator> = match (gpu_wins, gpu_timed, shortened) {
+        // Timed over the runs' first steps: the job scores its first
+        // generation itself.
+        (true, _, true) => gpu,
+        (false, _, true) => cpu,
+        (true, GpuTimed::Whole(scores), false) => Box::new(Remembered::new(gpu, batch, scores)),
         // Timed over a part, the GPU scores the batch whole now: the
         // generation the job would score next.
-        (true, GpuTimed::Part(_)) => {
+        (true, GpuTimed::Part(_), false) => {
+            watch.say(&format!(
+                "auto's trial: the GPU is faster; scoring the search's first {n} candidates on it"
+            ));
             let scores = gpu.fitness(&batch).map_err(|source| TrialError::Eval {
                 path: "gpu",
                 source,
             })?;
-            (gpu, scores)
+            Box::new(Remembered::new(gpu, batch, scores))
         }
-        (false, _) => (cpu, cpu_scores),
+        (false, _, false) => Box::new(Remembered::new(cpu, batch, cpu_scores)),
     };
     let trial = BackendTrial {
         chosen: if gpu_wins { "gpu" } else { "cpu" }.into(),
@@ -706,11 +1096,14 @@ fn race_over(
         candidates: n,
         campaign: Some(format!("{} ({})", campaign.name, campaign.path.display())),
         gpu_steps_timed,
+        steps_timed: plan.prefix.filter(|_| shortened),
+        shortened: plan.why.clone().filter(|_| shortened),
+        skipped: false,
         trial_s: start.elapsed().as_secs_f64(),
         cached: false,
         gpu_startup_s,
     };
-    Ok((Box::new(Remembered::new(chosen, batch, scores)), trial))
+    Ok((chosen, trial))
 }
 
 /// Most candidate-steps `check` times the CPU lanes on where nothing was
@@ -726,6 +1119,10 @@ pub struct CpuTrial {
     pub rate: f64,
     /// Candidates in the timed batch.
     pub candidates: usize,
+    /// Steps of each run timed, where the runs were too long to time whole
+    /// within [`CHECK_TRIAL_STEPS`]; `None`: whole runs.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub steps_timed: Option<usize>,
     /// `"f64"` or `"f32"`: the arithmetic timed.
     pub precision: &'static str,
     /// Wall time the measurement took (s), the native build and the
@@ -761,20 +1158,31 @@ pub enum CpuTrialError {
 /// has measured it. Its batch is the population or fewer, at most
 /// [`CHECK_TRIAL_STEPS`] candidate-steps but at least
 /// [`TRIAL_MIN_CANDIDATES`] (a group of lanes for each of two threads);
-/// where that batch would take more than four times [`CHECK_TRIAL_STEPS`],
-/// nothing is timed.
+/// where whole runs would take more, over each run's first steps (as many
+/// as [`CHECK_TRIAL_STEPS`] allows, [`TRIAL_PREFIX_MIN_STEPS`] to
+/// [`TRIAL_PREFIX_STEPS`]); where even that would take more than four times
+/// [`CHECK_TRIAL_STEPS`], nothing is timed.
 pub fn cpu_trial(campaign: &Campaign, f32: bool) -> Result<CpuTrial, CpuTrialError> {
     let start = Instant::now();
     let steps = super::steps_per_candidate(campaign);
     let n = trial_candidates(campaign.search.population, steps, CHECK_TRIAL_STEPS);
-    if n as f64 * steps > 4.0 * CHECK_TRIAL_STEPS {
+    // Longer than the budget, the CPU is timed over each run's first steps.
+    let runs = campaign.problem.experiments.len().max(1) as f64;
+    let prefix = (n as f64 * steps > CHECK_TRIAL_STEPS).then(|| {
+        let fit = (CHECK_TRIAL_STEPS / (n as f64 * runs)) as usize;
+        fit.clamp(TRIAL_PREFIX_MIN_STEPS, TRIAL_PREFIX_STEPS)
+    });
+    let timed = prefix.map(|p| prefix_campaign(campaign, p));
+    let timed = timed.as_ref().unwrap_or(campaign);
+    let timed_steps = super::steps_per_candidate(timed);
+    if n as f64 * timed_steps > 4.0 * CHECK_TRIAL_STEPS {
         return Err(CpuTrialError::TooLong {
             candidates: n,
-            steps,
+            steps: timed_steps,
             limit: 4.0 * CHECK_TRIAL_STEPS,
         });
     }
-    let mut cpu = CpuEvaluator::try_new(campaign.problem.clone(), crate::eval::all_cores())?;
+    let mut cpu = CpuEvaluator::try_new(timed.problem.clone(), crate::eval::all_cores())?;
     let precision = if f32 && cpu.use_f32().is_ok() {
         "f32"
     } else {
@@ -782,14 +1190,17 @@ pub fn cpu_trial(campaign: &Campaign, f32: bool) -> Result<CpuTrial, CpuTrialErr
     };
     let genomes = trial_genomes(campaign, n);
     let path = "cpu";
-    make_ready(campaign, &mut cpu, &genomes, path)
-        .map_err(|TrialError::Eval { source, .. }| source)?;
+    let source = |e: TrialError| match e {
+        TrialError::Eval { source, .. } => source,
+        TrialError::Cancelled => EvalError::Cancelled,
+    };
+    make_ready(timed, &mut cpu, &genomes, path).map_err(source)?;
     let batch = campaign.batch(&genomes);
-    let (rate, _) =
-        rate(campaign, &mut cpu, &batch, path).map_err(|TrialError::Eval { source, .. }| source)?;
+    let (rate, _) = rate(timed, &mut cpu, &batch, path).map_err(source)?;
     Ok(CpuTrial {
         rate,
         candidates: n,
+        steps_timed: prefix,
         precision,
         trial_s: start.elapsed().as_secs_f64(),
     })
@@ -805,8 +1216,7 @@ fn trial_candidates(population: usize, steps_per_candidate: f64, budget: f64) ->
 
 #[cfg(test)]
 mod tests {
-    use std::sync::Arc;
-    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::atomic::AtomicUsize;
 
     use super::*;
     use crate::eval::{Batch, EvaluatorInfo, History, Precision, Problem};
@@ -920,10 +1330,12 @@ mod tests {
             let asked = Instant::now();
             let (mut chosen, t) = race_over(
                 &campaign,
-                64,
+                &whole(64),
                 (Box::new(gpu), asked),
                 Box::new(cpu),
+                None,
                 Some(part),
+                TrialWatch::SILENT,
             )
             .unwrap();
             assert_eq!(t.chosen, if gpu_faster { "gpu" } else { "cpu" }, "{t:?}");
@@ -952,10 +1364,12 @@ mod tests {
         let (g_whole, g_parted) = (gpu.whole.clone(), gpu.parted.clone());
         let (mut chosen, t) = race_over(
             &campaign,
-            64,
+            &whole(64),
             (Box::new(gpu), Instant::now()),
             Box::new(cpu),
             None,
+            None,
+            TrialWatch::SILENT,
         )
         .unwrap();
         assert_eq!((t.chosen.as_str(), t.gpu_steps_timed), ("gpu", None));
@@ -963,6 +1377,149 @@ mod tests {
         assert_eq!(g_whole.load(Ordering::Relaxed), 2);
         chosen.fitness(&batch).unwrap();
         assert_eq!(g_whole.load(Ordering::Relaxed), 2);
+    }
+
+    /// A trial over whole runs of `n` candidates.
+    fn whole(n: usize) -> TrialPlan {
+        TrialPlan {
+            candidates: n,
+            prefix: None,
+            why: None,
+            skip: false,
+            budget: f64::INFINITY,
+        }
+    }
+
+    #[test]
+    fn a_shortened_trial_times_both_paths_over_a_prefix_and_scores_nothing_whole() {
+        let path = std::path::Path::new("campaigns/friction_sdof_synthetic.json");
+        let mut campaign = Campaign::load(path).expect("a shipped campaign");
+        campaign.search.population = 64;
+        let problem = campaign.problem.clone();
+        let prefix = 1000;
+        let cut = prefix_campaign(&campaign, prefix);
+        let steps = crate::job::steps_per_candidate(&cut);
+        assert!(
+            (steps - prefix as f64).abs() <= 1.0,
+            "{steps} steps for a prefix of {prefix}"
+        );
+        assert!(crate::job::steps_per_candidate(&campaign) > 4.0 * prefix as f64);
+        for gpu_faster in [true, false] {
+            let (g, c) = if gpu_faster {
+                (5e-4, 2e-3)
+            } else {
+                (2e-3, 5e-4)
+            };
+            let gpu = Paced::new(&problem, g, true, 0.25);
+            let cpu = Paced::new(&problem, c, false, 0.75);
+            // The cut runs take their share of a whole run's time.
+            let share = steps / crate::job::steps_per_candidate(&campaign);
+            let timed = Paced::new(&cut.problem, c * share, false, 0.5);
+            let (g_whole, c_whole, t_whole) =
+                (gpu.whole.clone(), cpu.whole.clone(), timed.whole.clone());
+            let plan = TrialPlan {
+                prefix: Some(prefix),
+                why: Some("a test".into()),
+                ..whole(64)
+            };
+            let lines = std::cell::RefCell::new(Vec::<String>::new());
+            let say = |l: &str| lines.borrow_mut().push(l.to_string());
+            let watch = TrialWatch {
+                progress: &say,
+                cancel: None,
+            };
+            let (_, t) = race(
+                &campaign,
+                &plan,
+                (Box::new(gpu), Instant::now()),
+                Box::new(cpu),
+                Some(Box::new(timed)),
+                watch,
+            )
+            .unwrap();
+            assert_eq!(t.chosen, if gpu_faster { "gpu" } else { "cpu" }, "{t:?}");
+            assert_eq!(t.steps_timed, Some(prefix), "{t:?}");
+            assert!(
+                t.line()
+                    .contains("both over each run's first 1000 steps (a test)")
+            );
+            // Neither path scored a whole run; the CPU was timed on the cut
+            // runs.
+            assert_eq!(g_whole.load(Ordering::Relaxed), 0);
+            assert_eq!(c_whole.load(Ordering::Relaxed), 0);
+            assert_eq!(t_whole.load(Ordering::Relaxed), 1);
+            // Each stage said, with how far.
+            let lines = lines.borrow();
+            assert!(
+                lines.iter().any(|l| l.contains("timing the CPU")),
+                "{lines:?}"
+            );
+            assert!(
+                lines.iter().any(|l| l.contains("first 1000 of")),
+                "{lines:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn an_interrupt_stops_the_trial() {
+        let path = std::path::Path::new("campaigns/friction_sdof_synthetic.json");
+        let mut campaign = Campaign::load(path).expect("a shipped campaign");
+        campaign.search.population = 64;
+        let problem = campaign.problem.clone();
+        let flag = Arc::new(AtomicBool::new(true));
+        let watch = TrialWatch {
+            progress: &|_| {},
+            cancel: Some(&flag),
+        };
+        let gpu = Paced::new(&problem, 1e-4, true, 0.25);
+        let cpu = Paced::new(&problem, 1e-4, false, 0.75);
+        let (g_whole, c_whole) = (gpu.whole.clone(), cpu.whole.clone());
+        let e = race(
+            &campaign,
+            &whole(64),
+            (Box::new(gpu), Instant::now()),
+            Box::new(cpu),
+            None,
+            watch,
+        )
+        .err()
+        .expect("an interrupted trial");
+        assert!(e.is_cancelled(), "{e}");
+        assert_eq!(g_whole.load(Ordering::Relaxed), 0);
+        assert_eq!(c_whole.load(Ordering::Relaxed), 0);
+    }
+
+    #[test]
+    fn a_long_record_or_a_costly_trial_is_shortened_and_an_unaffordable_one_skipped() {
+        let path = std::path::Path::new("campaigns/friction_sdof_synthetic.json");
+        let mut campaign = Campaign::load(path).expect("a shipped campaign");
+        campaign.search.population = 64;
+        // The shipped record (5 000 steps) within a generous budget: whole.
+        let plan = trial_plan(&campaign, 64, 1e12);
+        assert_eq!((plan.prefix, plan.skip), (None, false), "{plan:?}");
+        // A budget whole runs exceed: each run's first steps.
+        let steps = crate::job::steps_per_candidate(&campaign);
+        let budget = TRIAL_PASSES * 64.0 * steps / 2.0;
+        let plan = trial_plan(&campaign, 64, budget);
+        let p = plan.prefix.expect("a shortened trial");
+        assert!(
+            p < steps as usize && p >= TRIAL_PREFIX_MIN_STEPS,
+            "{plan:?}"
+        );
+        assert!(plan.why.is_some_and(|w| w.contains("% of the job")));
+        // A budget that cannot afford the fewest steps: skipped.
+        let plan = trial_plan(&campaign, 64, 1e3);
+        assert!(plan.skip && plan.prefix.is_none(), "{plan:?}");
+        // A record far longer than TRIAL_LONG_RECORD_STEPS: a prefix,
+        // whatever the budget.
+        let x = &mut campaign.problem.experiments[0];
+        let n = 300_000;
+        x.force = (0..n).map(|k| x.force[k % x.force.len()]).collect();
+        x.window = 0..n;
+        let plan = trial_plan(&campaign, 64, 1e15);
+        assert_eq!(plan.prefix, Some(TRIAL_PREFIX_STEPS), "{plan:?}");
+        assert!(plan.why.is_some_and(|w| w.contains("longest run")));
     }
 
     #[test]
