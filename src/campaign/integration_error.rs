@@ -1,6 +1,7 @@
 //! The integration error a fit carries, estimated again at the fitted
-//! parameters, and the step chosen for a tolerance given after loading
-//! (`rigfit simulate --tolerance`).
+//! parameters; the step chosen for a tolerance given after loading (a
+//! library call); and the step a simulation takes (`rigfit simulate`: at
+//! least a fit's, finer for a synthetic record, [`SimulationStep`]).
 
 use std::path::Path;
 
