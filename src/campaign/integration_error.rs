@@ -46,14 +46,26 @@ pub const MAX_ADVISED_FACTOR: usize = 64;
 pub const MIN_ADVISED_ORDER: f64 = 0.5;
 
 impl IntegrationError {
+    /// Whether the error is more than [`Self::allowed_fraction`] of the
+    /// residual's RMS and above the tolerance, where one is given: what
+    /// [`Self::warning`] warns of.
+    pub fn above_allowed(&self) -> bool {
+        match (self.estimate, self.fraction_of_residual_rms) {
+            (Some(est), Some(frac)) => {
+                frac > self.allowed_fraction && self.tolerance.is_none_or(|t| est > t)
+            }
+            _ => false,
+        }
+    }
+
     /// The warning when the error is more than [`Self::allowed_fraction`] of
     /// the residual's RMS (and above the tolerance, where one is given), with
     /// the substeps that would bring it there.
     pub fn warning(&self, experiment: &str, unit: &str) -> Option<String> {
-        let (est, frac) = (self.estimate?, self.fraction_of_residual_rms?);
-        if frac <= self.allowed_fraction || self.tolerance.is_some_and(|t| est <= t) {
+        if !self.above_allowed() {
             return None;
         }
+        let (est, frac) = (self.estimate?, self.fraction_of_residual_rms?);
         let order = self.observed_order.unwrap_or(4.0);
         let need = (self.substeps as f64 * (frac / self.allowed_fraction).powf(1.0 / order)).ceil();
         // Beyond this the step is not what is wrong: a response that parts
@@ -400,12 +412,15 @@ impl Campaign {
     /// Steps per sample stability needs in experiment `e` over the free
     /// parameters' ranges (the first half of the step rule).
     pub fn stable_substeps(&self, e: usize) -> usize {
-        let x = &self.problem.experiments[e];
         let (lo, hi) = self.bounds(e);
         let offset = super::build::latest_offset(self.base_offsets[e], &self.genes, e);
-        let t_end = x.t_first + x.window.end.saturating_sub(1) as f64 * x.dt + offset;
-        let (omega, _) = self.model.omega_bound_in_run(&lo, &hi, &x.drive, t_end);
-        let need = (omega * x.dt / super::stability::STABILITY_LIMIT).ceil();
+        let (_, _, need) = super::stability::stability_need(
+            &self.model,
+            &self.problem.experiments[e],
+            &lo,
+            &hi,
+            offset,
+        );
         if need.is_finite() {
             need.clamp(1.0, usize::MAX as f64) as usize
         } else {

@@ -115,6 +115,28 @@ struct Worst {
     lightest: String,
 }
 
+/// The run's last model time with clock offset `offset` (s): what the drive
+/// can reach bounds what the model must stay stable for.
+fn run_end(x: &ExperimentData, offset: f64) -> f64 {
+    x.t_first + x.window.end.saturating_sub(1) as f64 * x.dt + offset
+}
+
+/// The stability rule for one run of `x` over the parameters `lo..hi` with
+/// clock offset `offset` (s): the run's frequency bound ω (rad/s), the law
+/// that limits it, and the RK4 steps per sample `h·ω ≤` [`STABILITY_LIMIT`]
+/// needs, rounded up but not yet held to a count (infinite or huge where
+/// nothing can step it).
+pub(crate) fn stability_need(
+    model: &CompiledRig,
+    x: &ExperimentData,
+    lo: &[f64],
+    hi: &[f64],
+    offset: f64,
+) -> (f64, String, f64) {
+    let (omega, name) = model.omega_bound_in_run(lo, hi, &x.drive, run_end(x, offset));
+    (omega, name, (omega * x.dt / STABILITY_LIMIT).ceil())
+}
+
 /// Substeps for `requested`, or the one-line reason it cannot work.
 /// `bounds(e)` gives experiment `e`'s lower and upper parameter vectors,
 /// `offset(e)` its latest clock offset (s), `initial(e)` the parameters and
@@ -137,11 +159,9 @@ pub(crate) fn choose(
     let mut worst: Option<Worst> = None;
     for (e, x) in exps.iter().enumerate() {
         let (lo, hi) = bounds(e);
-        // The run's last model time: what the drive can reach bounds what the
-        // model must stay stable for.
-        let t_end = x.t_first + x.window.end.saturating_sub(1) as f64 * x.dt + offset(e);
-        let (omega, name) = model.omega_bound_in_run(&lo, &hi, &x.drive, t_end);
-        let need_f = (omega * x.dt / STABILITY_LIMIT).ceil();
+        let off = offset(e);
+        let (omega, name, need_f) = stability_need(model, x, &lo, &hi, off);
+        let t_end = run_end(x, off);
         if !omega.is_finite() || need_f > MAX_AUTO_SUBSTEPS as f64 {
             // A mass at or below zero, or one so light that nothing can step
             // it, is the cause whatever stiffness the bound names.

@@ -249,11 +249,12 @@ pub fn write_outputs_watched(
         written.borrow_mut().push(name.to_string());
         Ok(())
     };
+    let interrupted = || JobError::OutputsInterrupted {
+        written: written.borrow().clone(),
+    };
     let check = || -> Result<(), JobError> {
         if stop.load(std::sync::atomic::Ordering::SeqCst) {
-            return Err(JobError::OutputsInterrupted {
-                written: written.borrow().clone(),
-            });
+            return Err(interrupted());
         }
         Ok(())
     };
@@ -296,9 +297,7 @@ pub fn write_outputs_watched(
         let rows = ExperimentRows::of(exp, hist, *offset);
         check()?;
         let Some(text) = experiment_csv(exp, &rows, outputs, stop) else {
-            return Err(JobError::OutputsInterrupted {
-                written: written.borrow().clone(),
-            });
+            return Err(interrupted());
         };
         write(&csv, text.as_bytes())?;
         check()?;
@@ -352,9 +351,7 @@ pub fn write_outputs_watched(
                 residual_rms,
                 stop,
             )
-            .ok_or_else(|| JobError::OutputsInterrupted {
-                written: written.borrow().clone(),
-            })?,
+            .ok_or_else(interrupted)?,
             weight: exp.weight,
             csv,
             plot,
@@ -396,7 +393,8 @@ pub fn write_outputs_watched(
     warnings.extend(stop);
     warnings.extend(sensitive.clone());
     warnings.extend(at_bound_warnings(campaign, uncertainty));
-    warnings.extend(search_warnings(outcome, polish));
+    let search = search_warnings(outcome, polish);
+    warnings.extend(search.iter().map(|(_, w)| w.clone()));
     let apart = polish
         .zip(uncertainty)
         .and_then(|(p, u)| super::verdict::starts_beyond_intervals(p, u));
@@ -409,18 +407,7 @@ pub fn write_outputs_watched(
     if apart.is_some() {
         more.push("polish starts disagree beyond their intervals".into());
     }
-    if warnings
-        .iter()
-        .any(|w| w.starts_with("the search was still improving"))
-    {
-        more.push("search still improving when it stopped".into());
-    }
-    if warnings
-        .iter()
-        .any(|w| w.starts_with("the polish's ") && w.contains("different costs"))
-    {
-        more.push("polish starts ended at different costs".into());
-    }
+    more.extend(search.iter().map(|(flag, _)| flag.to_string()));
     let flags = super::verdict::flags(polish, &parameters, &experiments, more);
     let ratio = campaign
         .problem
@@ -735,8 +722,12 @@ pub const STILL_IMPROVING: f64 = 5e-3;
 pub const STARTS_DISAGREE: f64 = 1e-2;
 
 /// Warnings on how the search ended: stopped by a limit while the GA's best
-/// was still falling, or polished starts that ended in different minima.
-fn search_warnings(outcome: &SearchOutcome, polish: Option<&PolishOutcome>) -> Vec<String> {
+/// was still falling, or polished starts that ended in different minima;
+/// each with the verdict's short flag for it.
+fn search_warnings(
+    outcome: &SearchOutcome,
+    polish: Option<&PolishOutcome>,
+) -> Vec<(&'static str, String)> {
     let mut out = Vec::new();
     let limited = matches!(
         outcome.termination,
@@ -747,12 +738,15 @@ fn search_warnings(outcome: &SearchOutcome, polish: Option<&PolishOutcome>) -> V
         let then = outcome.history[outcome.history.len().saturating_sub(window + 1)].best_cost;
         let fall = 1.0 - last.best_cost / then;
         if then.is_finite() && fall > STILL_IMPROVING {
-            out.push(format!(
-                "the search was still improving when it stopped ({}): its best 1 − R² fell \
-                 {:.2} % over the last {window} generations; more generations or a larger \
-                 population may fit better, and the intervals assume the optimum was reached",
-                outcome.termination,
-                100.0 * fall
+            out.push((
+                "search still improving when it stopped",
+                format!(
+                    "the search was still improving when it stopped ({}): its best 1 − R² fell \
+                     {:.2} % over the last {window} generations; more generations or a larger \
+                     population may fit better, and the intervals assume the optimum was reached",
+                    outcome.termination,
+                    100.0 * fall
+                ),
             ));
         }
     }
@@ -766,11 +760,14 @@ fn search_warnings(outcome: &SearchOutcome, polish: Option<&PolishOutcome>) -> V
         let best = costs.iter().copied().fold(f64::INFINITY, f64::min);
         let worst = costs.iter().copied().fold(0.0, f64::max);
         if costs.len() > 1 && worst > best * (1.0 + STARTS_DISAGREE) {
-            out.push(format!(
-                "the polish's {} starts ended at different costs (1 − R² from {best:.4e} to \
-                 {worst:.4e}): the cost has several minima near the GA's best; the result is the \
-                 lowest found, and a longer search may find a lower one",
-                costs.len()
+            out.push((
+                "polish starts ended at different costs",
+                format!(
+                    "the polish's {} starts ended at different costs (1 − R² from {best:.4e} to \
+                     {worst:.4e}): the cost has several minima near the GA's best; the result is \
+                     the lowest found, and a longer search may find a lower one",
+                    costs.len()
+                ),
             ));
         }
     }

@@ -103,13 +103,7 @@ pub fn flags(
         {
             out.push(format!("{}: residual not white", e.name));
         }
-        if e.integration_error
-            .fraction_of_residual_rms
-            .is_some_and(|f| f > e.integration_error.allowed_fraction)
-            && e.integration_error
-                .tolerance
-                .is_none_or(|t| e.integration_error.estimate.is_some_and(|x| x > t))
-        {
+        if e.integration_error.above_allowed() {
             out.push(format!("{}: integration error", e.name));
         }
     }

@@ -67,17 +67,15 @@ pub fn summary_text(s: &JobSummary, dir: &Path, steps: f64) -> String {
         "    {:<18} {:>14} {:<7} {:>25} {:>25} {:>12}",
         "name", "value", "unit", "bounds", "95 % interval", "elite width"
     );
+    let sensitive_job = s.sensitivity.as_ref().is_some_and(|x| x.sensitive);
     for p in s.parameters.iter().filter(|p| p.free) {
         let bounds = p
             .bounds
             .map(|[lo, hi]| format!("[{lo:.3e}, {hi:.3e}]"))
             .unwrap_or_default();
         // A response sensitive to tiny changes: the covariance's interval
-        // (often ±0.000 %) says nothing.
-        let sensitive = p
-            .uncertainty_note
-            .as_deref()
-            .is_some_and(|n| n.contains("sensitive to tiny changes"));
+        // (often ±0.000 %) says nothing for any parameter the polish gave one.
+        let sensitive = sensitive_job && p.determined.is_some();
         let interval = p
             .interval_95
             .filter(|_| !sensitive)
