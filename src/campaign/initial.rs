@@ -20,7 +20,7 @@ use super::raw::{RawExperiment, RawInitial, RawInitialData, RawParam};
 use super::resolve::check_value;
 use crate::base::data::{Column, CsvSpec, parse_csv};
 use crate::base::{Drive, ParamScope, Scale};
-use crate::compile::front::initial_param;
+use crate::compile::front::{BASE_VELOCITY, initial_param};
 use crate::model::compiled::CompiledRig;
 use crate::rig::desc::{ParamDesc, RigDesc};
 
@@ -143,13 +143,13 @@ pub(crate) fn check_prescribed(
     Ok(())
 }
 
-/// The initial value from the data file (see [`RawInitialData`]).
 /// Whether `state` is a velocity (`v_<node>`, or the base's velocity under
 /// base acceleration), not a displacement.
 fn is_velocity(state: &str) -> bool {
-    state.starts_with("v_") || state == "base_velocity"
+    state.starts_with("v_") || state == BASE_VELOCITY
 }
 
+/// The initial value from the data file (see [`RawInitialData`]).
 fn from_data(
     file: &Path,
     dir: &Path,

@@ -14,8 +14,8 @@ use crate::rig::desc::{
 /// State names of the base's velocity and displacement (see
 /// [`Layout::base_states`]); no node's or element's state name starts
 /// with `base_`.
-pub(super) const BASE_VELOCITY: &str = "base_velocity";
-pub(super) const BASE_DISPLACEMENT: &str = "base_displacement";
+pub const BASE_VELOCITY: &str = "base_velocity";
+pub const BASE_DISPLACEMENT: &str = "base_displacement";
 
 /// Rig-wide facts every drive mode shares.
 pub(super) struct Layout<'a> {

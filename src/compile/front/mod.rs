@@ -28,6 +28,7 @@ use crate::rig::desc::{DriveLaw, Frame, Quantity, RigDesc};
 use drive::{moves_the_base, signal, table_drive};
 use element::element_force;
 use layout::Layout;
+pub use layout::{BASE_DISPLACEMENT, BASE_VELOCITY};
 
 /// The whole rig, checked: names, regimes, one [`Program`] per drive mode.
 #[derive(Debug, Clone)]
