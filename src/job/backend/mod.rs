@@ -763,15 +763,12 @@ pub fn race(
     cpu_prefix: Option<Box<dyn Evaluator>>,
     watch: TrialWatch<'_>,
 ) -> Result<(Box<dyn Evaluator>, BackendTrial), TrialError> {
-    let part = match plan.prefix {
-        Some(p) => Some(p),
-        None => trial_part(campaign),
-    };
+    let part = plan.prefix.or_else(|| trial_part(campaign));
     race_over(campaign, plan, gpu, cpu, cpu_prefix, part, watch)
 }
 
 /// [`race`], the GPU timed over the first `part` steps of each run where
-/// given.
+/// given (a shortened trial's prefix, else a long record's part).
 #[expect(
     clippy::too_many_lines,
     reason = "one race, its stages in the order they run"
@@ -790,7 +787,7 @@ fn race_over(
     let genomes = trial_genomes(campaign, n);
     watch.arm(gpu.as_mut());
     watch.arm(cpu.as_mut());
-    let over = match plan.prefix.or(part) {
+    let over = match part {
         Some(p) => format!(
             "over each run's first {p} of {:.0} steps",
             longest_record_steps(campaign)
