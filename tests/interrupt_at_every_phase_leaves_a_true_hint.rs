@@ -20,6 +20,19 @@ fn rigfit(dir: &Path) -> Command {
     c
 }
 
+/// `rigfit run CAMPAIGN --out OUT` in `dir`, its stderr piped for
+/// [`interrupt_when`].
+fn run(dir: &Path, campaign: &Path, out: &Path) -> Command {
+    let mut c = rigfit(dir);
+    c.arg("run")
+        .arg(campaign)
+        .arg("--out")
+        .arg(out)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped());
+    c
+}
+
 /// A friction_sdof campaign over a record of `samples` samples at 0.1 ms
 /// made by `rigfit simulate` from the shipped reference values, with
 /// `search` as its search.
@@ -157,15 +170,9 @@ fn sigint_during_the_backend_trial_writes_nothing_and_says_to_start_again() {
         "auto",
     );
     let out = dir.path().join("out");
-    let child = rigfit(dir.path())
-        .arg("run")
-        .arg(&c)
-        .arg("--out")
-        .arg(&out)
+    let child = run(dir.path(), &c, &out)
         // A trial whatever the job's length: the GPU opened and raced.
         .env("RIGFIT_AUTO_TRIAL", "always")
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
         .spawn()
         .unwrap();
     // Without an adapter there is no trial: then the signal lands in the
@@ -203,15 +210,7 @@ fn sigint_during_the_search_keeps_the_checkpoint_and_resumes_as_hinted() {
         "cpu",
     );
     let out = dir.path().join("out");
-    let child = rigfit(dir.path())
-        .arg("run")
-        .arg(&c)
-        .arg("--out")
-        .arg(&out)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let child = run(dir.path(), &c, &out).spawn().unwrap();
     let checkpoint = out.join("checkpoint.json");
     let (code, text, _) = interrupt_when(child, "the search", |_| checkpoint.exists());
     assert_stopped(code, &text, &out);
@@ -232,15 +231,7 @@ fn sigint_during_the_polish_keeps_the_checkpoint_and_resumes_as_hinted() {
         "cpu",
     );
     let out = dir.path().join("out");
-    let child = rigfit(dir.path())
-        .arg("run")
-        .arg(&c)
-        .arg("--out")
-        .arg(&out)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let child = run(dir.path(), &c, &out).spawn().unwrap();
     // The checkpoint of the search's end is written before the polish starts.
     let checkpoint = out.join("checkpoint.json");
     let ended = || -> Option<u64> {
@@ -268,15 +259,7 @@ fn sigint_while_the_outputs_are_written_keeps_the_checkpoint_and_resumes_as_hint
         "cpu",
     );
     let out = dir.path().join("out");
-    let child = rigfit(dir.path())
-        .arg("run")
-        .arg(&c)
-        .arg("--out")
-        .arg(&out)
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let child = run(dir.path(), &c, &out).spawn().unwrap();
     let csv = out.join("f10.csv");
     let (code, text, _) = interrupt_when(child, "the outputs", |_| csv.exists());
     assert_stopped(code, &text, &out);
