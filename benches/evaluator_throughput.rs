@@ -72,8 +72,8 @@ fn problem() -> Problem {
         .and_then(|v| v.parse::<usize>().ok())
     {
         for e in &mut p.experiments {
-            let n = n.min(e.force.len());
-            e.force.truncate(n);
+            let n = n.min(e.measured.len());
+            e.measured.truncate(n);
             e.window = e.window.start.min(n)..n;
         }
     }
@@ -158,7 +158,7 @@ fn print_table(evals: &[Row]) {
     println!("\n{}", machine::machine_line());
     println!(
         "Shipped example, {} samples × {} substeps = {steps} RK4 steps per candidate",
-        problem().experiments[0].force.len(),
+        problem().experiments[0].measured.len(),
         problem().substeps
     );
     let pops = populations();

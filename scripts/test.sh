@@ -2,7 +2,8 @@
 # The README's test command, and exactly what CI runs (.ci/run calls it).
 #
 # On a fresh Debian machine it installs Mesa's lavapipe (software Vulkan) so the
-# GPU tests have an adapter, then runs rustfmt, clippy and every test, then the
+# GPU tests have an adapter, then runs rustfmt, clippy, rustdoc (its warnings,
+# broken intra-doc links among them, fail) and every test, then the
 # Python package's checks (scripts/test-python.sh: its wheel and pytest). The GPU
 # tests run with RIGFIT_REQUIRE_GPU=1: no adapter is a failure, never a skip.
 set -euo pipefail
@@ -43,6 +44,8 @@ echo "test.sh: cargo fmt --check"
 cargo fmt --all --check
 echo "test.sh: cargo clippy"
 cargo clippy --all-targets --locked -- -D warnings
+echo "test.sh: cargo doc (broken intra-doc links fail)"
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --lib --locked
 echo "test.sh: cargo test"
 cargo test --locked --lib --bins --tests
 cargo test --locked --doc

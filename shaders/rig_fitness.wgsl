@@ -1,9 +1,10 @@
 // Fitness kernel of the compiled rigs: one invocation per (candidate,
 // experiment) run integrates the rig (shared/rig_run.wgsl) and accumulates the
-// residual sum of output 0 against the measured force; a finished run writes
-// SS_res / SS_tot (or -1 when it blew up or chattered) to `fitness`. Mirrors
-// FitnessAccumulator in src/eval/fitness.rs. The generated `measured` (see
-// record_fn in src/gpu/shaders.rs) reads the measured values.
+// residual sum of the scored output (`rig_output0_c`) against the measured
+// record; a finished run writes SS_res / SS_tot (or -1 when it blew up or
+// chattered) to `fitness`. Mirrors FitnessAccumulator in src/eval/fitness.rs.
+// The generated `datum` (see datum_fn in src/gpu/shaders.rs) reads the
+// measured values.
 
 // 1 − R² per run, written once the run is done; -1 marks a diverged run.
 @group(0) @binding(6) var<storage, read_write> fitness: array<real>;

@@ -238,7 +238,7 @@ fn absolute_acceleration_on_the_gpu_history_path() {
             drive: Drive::Velocity,
             t_first: 0.0,
             dt: DT,
-            force: (0..SAMPLES).map(|k| exact(k as f64 * DT)[0]).collect(),
+            measured: (0..SAMPLES).map(|k| exact(k as f64 * DT)[0]).collect(),
             window: 0..SAMPLES,
             weight: 1.0,
         }],

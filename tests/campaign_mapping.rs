@@ -66,7 +66,7 @@ fn example_campaign_gives_shared_and_own_genes() {
     assert_eq!(base[ix::VELOCITY], 2.0);
     let x = &c.problem.experiments[0];
     assert_eq!(x.window, 0..251, "0 to 2.5e-4 s at 1 µs");
-    assert_eq!(x.force.len(), 251, "data past the window is dropped");
+    assert_eq!(x.measured.len(), 251, "data past the window is dropped");
     assert!((x.dt - 1e-6).abs() < 1e-15);
     assert_eq!(c.output, dir.path().join("results/aa2024"));
     assert!(c.solver.auto && c.solver.substeps >= 1);
@@ -175,7 +175,7 @@ fn defaults_output_columns_and_digest() {
     set(&mut v, "/experiments/0/data", json!({"file": "v2.csv"}));
     let (dir, c) = load(&v, &[("v2.csv", &csv(300, 1e-6, 0.0))]);
     assert_eq!(c.output, dir.path().join("results/aa2024-t3-synthetic"));
-    assert_eq!(c.problem.experiments[0].force.len(), 251);
+    assert_eq!(c.problem.experiments[0].measured.len(), 251);
     // Same text, different data: a different digest.
     let (_d2, c2) = load(&v, &[("v2.csv", &csv(300, 1e-6, 1e-6))]);
     assert_ne!(c.digest, c2.digest);

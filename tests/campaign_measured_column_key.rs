@@ -37,8 +37,8 @@ fn column_and_scale_read_the_record_as_force_column_and_force_scale_do() {
     ))
     .unwrap();
     let (a, b) = (&old.problem.experiments[0], &new.problem.experiments[0]);
-    assert!(!a.force.is_empty());
-    assert_eq!(a.force, b.force);
+    assert!(!a.measured.is_empty());
+    assert_eq!(a.measured, b.measured);
     // The scale applies: not the record's values as they are.
     let unscaled = Campaign::load(&campaign(
         dir.path(),
@@ -46,7 +46,10 @@ fn column_and_scale_read_the_record_as_force_column_and_force_scale_do() {
         json!({"time_column": "t_s", "column": "force_N"}),
     ))
     .unwrap();
-    assert_eq!(unscaled.problem.experiments[0].force[10] * 2.0, b.force[10]);
+    assert_eq!(
+        unscaled.problem.experiments[0].measured[10] * 2.0,
+        b.measured[10]
+    );
 
     // A column that is not there is refused under the neutral key too.
     let e = Campaign::load(&campaign(

@@ -9,8 +9,8 @@ use std::sync::atomic::AtomicBool;
 use rigfit::base::Scale;
 use rigfit::base::fsutil::temp_path_for;
 use rigfit::search::{
-    BatchCost, Checkpoint, CostBatch, Executor, Fingerprint, FnCost, GaSettings, GeneSpec,
-    GeneticAlgorithm, ObserverMode, SearchError, SearchOutcome, TerminationReason,
+    BatchCost, Checkpoint, CostBatch, Executor, Fingerprint, FnCost, GeneSpec, GeneticAlgorithm,
+    ObserverMode, SearchError, SearchOutcome, SearchSettings, TerminationReason,
 };
 
 mod common;
@@ -23,7 +23,7 @@ fn genes() -> Vec<GeneSpec> {
     ]
 }
 
-fn base_settings(every: usize) -> GaSettings {
+fn base_settings(every: usize) -> SearchSettings {
     let mut s = settings(16, 40, 99);
     s.checkpoint_every = every;
     s
@@ -38,7 +38,7 @@ fn fingerprint(data: &str) -> Fingerprint {
 /// The analytic cost every run here uses.
 type Rosenbrock = FnCost<fn(&[f64]) -> f64>;
 
-fn executor(s: GaSettings) -> Executor<Rosenbrock> {
+fn executor(s: SearchSettings) -> Executor<Rosenbrock> {
     let ga = GeneticAlgorithm::new(s, genes()).unwrap();
     Executor::new(ga, FnCost(rosenbrock as fn(&[f64]) -> f64)).fingerprint(fingerprint("abc"))
 }

@@ -7,7 +7,7 @@ mod tensile_common;
 mod gpu_common;
 use gpu_common as common;
 
-use rigfit::eval::{Batch, CpuEvaluator, Evaluator, Precision, Problem};
+use rigfit::eval::{Batch, CpuEvaluator, Evaluator, Precision, Problem, Timed};
 use rigfit::gpu::{GpuEvaluator, GpuOptions};
 use tensile_common::tensile4;
 use tensile_common::{REFERENCE_DT, REFERENCE_SUBSTEPS, reference_experiment};

@@ -73,9 +73,9 @@ proptest! {
         cx_eta in 0.0..100.0f64, mut_eta in 0.0..100.0f64, seed in any::<u64>(),
     ) {
         let mut s = common::settings(12, 10, seed);
-        s.crossover.eta = cx_eta;
-        s.mutation.eta = mut_eta;
-        s.mutation.probability = Some(1.0);
+        s.ga.crossover.eta = cx_eta;
+        s.ga.mutation.eta = mut_eta;
+        s.ga.mutation.probability = Some(1.0);
         let ga = GeneticAlgorithm::new(s, genes.clone()).unwrap();
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let mut pop = ga.init(&mut rng);

@@ -113,7 +113,7 @@ fn seeded_init_is_evaluated_first() {
         GeneSpec::new("b", -5.0, 5.0, Scale::Linear),
     ];
     let mut s = settings(10, 1, 4);
-    s.elitism = 1;
+    s.ga.elitism = 1;
     let ga = GeneticAlgorithm::new(s, genes).unwrap();
     // Cost is exactly 0 at the seed candidate (a = 1, b = mid-range 0).
     let out = Executor::new(ga, FnCost(|g: &[f64]| g[0].ln().abs() + g[1].abs()))
@@ -177,7 +177,7 @@ fn interrupt_flag_stops_after_the_running_generation() {
 #[test]
 fn evaluations_count_children_only() {
     let mut s = settings(10, 5, 9);
-    s.elitism = 2;
+    s.ga.elitism = 2;
     let ga = GeneticAlgorithm::new(s, linear(1, 0.0, 1.0)).unwrap();
     let out = Executor::new(ga, FnCost(|x: &[f64]| x[0])).run().unwrap();
     assert_eq!(out.evaluations, 10 + 4 * 8);

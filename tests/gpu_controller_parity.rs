@@ -281,7 +281,7 @@ fn problem(case: &Case) -> Problem {
         drive: case.drive.clone(),
         t_first: case.t_first,
         dt: case.dt,
-        force: vec![0.0; case.samples],
+        measured: vec![0.0; case.samples],
         window: 0..case.samples,
         weight: 1.0,
     };
@@ -292,7 +292,7 @@ fn problem(case: &Case) -> Problem {
     };
     let centre = &params_of(case)[0];
     let h = simulate_history(&p, 0, centre, 0.0);
-    exp.force = h.outputs[0]
+    exp.measured = h.outputs[0]
         .iter()
         .enumerate()
         .map(|(k, f)| f * (1.0 + 0.01 * (k as f64 * 0.37).sin()))

@@ -210,7 +210,7 @@ fn elongation_after_step(problem: &Problem, i: usize) -> f64 {
     let mut fine = problem.clone();
     fine.experiments[0].dt /= problem.substeps as f64;
     fine.experiments[0].window = 0..i + 1;
-    fine.experiments[0].force = vec![0.0; i + 1];
+    fine.experiments[0].measured = vec![0.0; i + 1];
     fine.substeps = 1;
     let mut p = REFERENCE;
     p[ix::E_FRACTURE] = 1.0;

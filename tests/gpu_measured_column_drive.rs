@@ -33,8 +33,8 @@ fn campaign() -> Campaign {
         serde_json::json!([{"output": "position", "column": "position_m"}]);
     let mut c = Campaign::from_str(&v.to_string(), &dir, "emps_closed_loop.json").unwrap();
     for e in &mut c.problem.experiments {
-        let n = e.force.len().min(1500);
-        e.force.truncate(n);
+        let n = e.measured.len().min(1500);
+        e.measured.truncate(n);
         e.window = e.window.start.min(n)..n;
     }
     c

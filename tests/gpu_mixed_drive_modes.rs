@@ -265,7 +265,7 @@ fn write_campaign(dir: &Path) -> std::path::PathBuf {
     let problem = problem();
     for exp in &problem.experiments {
         let mut csv = String::from("t_s,force_N\n");
-        for (k, f) in exp.force.iter().enumerate() {
+        for (k, f) in exp.measured.iter().enumerate() {
             csv += &format!("{:e},{:e}\n", exp.t_first + k as f64 * exp.dt, f);
         }
         std::fs::write(dir.join(format!("{}.csv", exp.name)), csv).unwrap();
@@ -367,7 +367,7 @@ fn polish_residuals_of_a_mixed_campaign_match_the_cpu() {
         .problem
         .experiments
         .iter()
-        .map(|x| x.force.iter().fold(0.0_f64, |m, f| m.max(f.abs())) / x.ss_tot().sqrt())
+        .map(|x| x.measured.iter().fold(0.0_f64, |m, f| m.max(f.abs())) / x.ss_tot().sqrt())
         .fold(0.0_f64, f64::max);
     for (precision, _, tol) in precisions(&ctx) {
         let gpu = residuals(Box::new(

@@ -67,7 +67,7 @@ fn polish_residuals_and_jacobian_match_the_cpu_reference() {
     let c = campaign();
     let (r_cpu, p_cpu) = through(&c, Box::new(CpuEvaluator::new(c.problem.clone(), 0)));
     let exp = &c.problem.experiments[0];
-    let f_max = exp.force.iter().fold(0.0_f64, |m, f| m.max(f.abs()));
+    let f_max = exp.measured.iter().fold(0.0_f64, |m, f| m.max(f.abs()));
     // The residuals are scaled by √(w / (W · SS_tot)); a force error of ε·F_max
     // is a residual error of ε·F_max times that scale.
     let scale = (1.0 / exp.ss_tot()).sqrt();

@@ -245,7 +245,7 @@ fn problem(case: &Case) -> Problem {
         drive: case.drive.clone(),
         t_first: 0.0,
         dt: case.dt,
-        force: vec![0.0; case.samples],
+        measured: vec![0.0; case.samples],
         window: 0..case.samples,
         weight: 1.0,
     };
@@ -255,7 +255,7 @@ fn problem(case: &Case) -> Problem {
         substeps: case.substeps,
     };
     let h = simulate_history(&p, 0, &case.centre, 0.0);
-    exp.force = h.outputs[0]
+    exp.measured = h.outputs[0]
         .iter()
         .enumerate()
         .map(|(k, f)| f * (1.0 + 0.01 * (k as f64 * 0.37).sin()))

@@ -15,7 +15,7 @@ use std::path::Path;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rigfit::campaign::Campaign;
-use rigfit::eval::{Batch, Evaluator, Precision, Problem};
+use rigfit::eval::{Batch, Evaluator, Precision, Problem, Timed};
 use rigfit::gpu::{GpuContext, GpuEvaluator, GpuOptions};
 use rigfit::job::gene_specs;
 use tensile_common::ix;
@@ -28,7 +28,7 @@ fn shipped() -> Campaign {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("campaigns/aa2024_t3_synthetic.json");
     let mut c = Campaign::load(&path).unwrap();
     for e in &mut c.problem.experiments {
-        e.force.truncate(SAMPLES);
+        e.measured.truncate(SAMPLES);
         e.window = e.window.start..SAMPLES;
     }
     c

@@ -32,7 +32,7 @@ fn shipped(file: &str) -> Campaign {
         .join(file);
     let mut c = Campaign::load(&path).unwrap();
     for e in &mut c.problem.experiments {
-        e.force.truncate(SAMPLES);
+        e.measured.truncate(SAMPLES);
         e.window = e.window.start.min(SAMPLES / 2)..SAMPLES;
     }
     c

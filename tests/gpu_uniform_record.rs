@@ -37,8 +37,8 @@ fn campaigns() -> Vec<Campaign> {
             continue;
         }
         for e in &mut c.problem.experiments {
-            let n = e.force.len().min(400);
-            e.force.truncate(n);
+            let n = e.measured.len().min(400);
+            e.measured.truncate(n);
             e.window = e.window.start.min(n)..n;
         }
         out.push(c);
@@ -116,8 +116,8 @@ fn a_record_longer_than_the_uniform_binding_is_read_from_storage() {
     // (the fit window stays where it was).
     let e = &mut c.problem.experiments[0];
     let n = limit / 4 + 64;
-    let f = e.force.clone();
-    e.force = (0..n).map(|i| f[i % f.len()]).collect();
+    let f = e.measured.clone();
+    e.measured = (0..n).map(|i| f[i % f.len()]).collect();
     let batch = c.batch(&genomes(&c)[..4]);
     let cpu = CpuEvaluator::new(c.problem.clone(), 1)
         .fitness(&batch)

@@ -37,7 +37,7 @@ fn every_synthetic_record_s_noise_is_found_within_twenty_percent() {
             let Some(sigma) = stated_sigma(&dir.join(file)) else {
                 continue;
             };
-            let est = noise_sigma(&e.force[e.window.clone()]).unwrap();
+            let est = noise_sigma(&e.measured[e.window.clone()]).unwrap();
             println!(
                 "{} {}: stated {sigma:e}, estimated {est:e}",
                 path.display(),

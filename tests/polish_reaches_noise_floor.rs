@@ -38,7 +38,7 @@ fn record(velocity: f64, e_fracture: f64, samples: usize, seed: u64) -> String {
     p[ix::E_FRACTURE] = e_fracture;
     let exp = reference_like(&p, samples, 1e-6, 2, 20.0, seed);
     let mut s = String::from("# synthetic\nt_s,force_N\n");
-    for (k, f) in exp.force.iter().enumerate() {
+    for (k, f) in exp.measured.iter().enumerate() {
         s += &format!("{:e},{f:e}\n", k as f64 * 1e-6);
     }
     s
@@ -225,7 +225,7 @@ fn multi_rate_case() {
         p[ix::E_FRACTURE] = ef;
         let exp = reference_like(&p, n, 1e-6, 2, 20.0, seed);
         let mut s = String::from("t_s,force_N\n");
-        for (k, f) in exp.force.iter().enumerate() {
+        for (k, f) in exp.measured.iter().enumerate() {
             s += &format!("{:e},{f:e}\n", k as f64 * 1e-6);
         }
         s

@@ -8,9 +8,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use rigfit::base::Scale;
 use rigfit::search::{
-    BatchCost, CostBatch, Executor, GaSettings, GeneSpec, GeneticAlgorithm, Observer, ObserverMode,
-    Polish, PolishIteration, PolishSettings, PolishStop, ResidualCost, SearchError, SearchOutcome,
-    TerminationReason, distinct_starts,
+    BatchCost, CostBatch, Executor, GeneSpec, GeneticAlgorithm, Observer, ObserverMode, Polish,
+    PolishIteration, PolishSettings, PolishStop, ResidualCost, SearchError, SearchOutcome,
+    SearchSettings, TerminationReason, distinct_starts,
 };
 
 /// y = a·exp(−t/τ) + c sampled on a grid with a fixed, deterministic
@@ -65,7 +65,7 @@ fn genes() -> Vec<GeneSpec> {
 }
 
 fn ga() -> GeneticAlgorithm {
-    let settings: GaSettings =
+    let settings: SearchSettings =
         serde_json::from_str(r#"{"population": 24, "generations": 8, "seed": 3}"#).unwrap();
     GeneticAlgorithm::new(settings, genes()).unwrap()
 }

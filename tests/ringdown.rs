@@ -9,7 +9,7 @@ use std::f64::consts::PI;
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use rigfit::identify::PrecalError;
+use rigfit::identify::IdentifyError;
 use rigfit::identify::csv_input::{parse_two_columns, read_two_columns};
 use rigfit::identify::ringdown::{RingdownOptions, analyse};
 
@@ -179,7 +179,7 @@ fn shipped_example_file_gives_the_reference_load_cell() {
 fn ramp_without_fracture_is_refused() {
     let (t, f) = history(C1, 50e-3, 10e-3, 10.0, 1);
     let err = analyse(&t, &f, &RingdownOptions::default()).unwrap_err();
-    assert!(matches!(err, PrecalError::NoRingStart { .. }), "{err}");
+    assert!(matches!(err, IdentifyError::NoRingStart { .. }), "{err}");
 }
 
 #[test]
@@ -187,7 +187,7 @@ fn fracture_at_the_end_is_too_short() {
     let (t, f) = history(C1, 9.9e-3, 10e-3, 10.0, 1);
     let err = analyse(&t, &f, &RingdownOptions::default()).unwrap_err();
     assert!(
-        matches!(err, PrecalError::TooShortRingdown { needed: 256, .. }),
+        matches!(err, IdentifyError::TooShortRingdown { needed: 256, .. }),
         "{err}"
     );
     // Enough samples but fewer than six cycles above the noise.
@@ -196,7 +196,7 @@ fn fracture_at_the_end_is_too_short() {
     assert!(
         matches!(
             err,
-            PrecalError::TooShortRingdown {
+            IdentifyError::TooShortRingdown {
                 what: "positive peaks",
                 ..
             }
@@ -205,7 +205,7 @@ fn fracture_at_the_end_is_too_short() {
     );
     let err = analyse(&t[..100], &f[..100], &RingdownOptions::default()).unwrap_err();
     assert!(
-        matches!(err, PrecalError::TooShortRingdown { found: 100, .. }),
+        matches!(err, IdentifyError::TooShortRingdown { found: 100, .. }),
         "{err}"
     );
 }
@@ -216,13 +216,13 @@ fn uneven_time_steps_and_bad_options_are_refused() {
     t[1000] += 0.5e-6;
     let err = analyse(&t, &f, &RingdownOptions::default()).unwrap_err();
     assert!(
-        matches!(err, PrecalError::NonUniformTime { index: 1000, .. }),
+        matches!(err, IdentifyError::NonUniformTime { index: 1000, .. }),
         "{err}"
     );
     let (t, f) = history(C1, 2e-3, 5e-3, 10.0, 1);
     let err = analyse(&t, &f, &with_masses(Some(-7.9), None)).unwrap_err();
     assert!(
-        matches!(err, PrecalError::InvalidOption { name: "m1", .. }),
+        matches!(err, IdentifyError::InvalidOption { name: "m1", .. }),
         "{err}"
     );
 }
@@ -233,7 +233,7 @@ fn non_numeric_and_nan_csv_lines_are_reported_with_line_numbers() {
     assert!(
         matches!(
             err,
-            PrecalError::NotNumeric {
+            IdentifyError::NotNumeric {
                 line: 3,
                 column: 2,
                 ..
@@ -245,7 +245,7 @@ fn non_numeric_and_nan_csv_lines_are_reported_with_line_numbers() {
     assert!(
         matches!(
             err,
-            PrecalError::NotFinite {
+            IdentifyError::NotFinite {
                 line: 3,
                 column: 1,
                 ..
@@ -311,6 +311,98 @@ fn six_samples_per_cycle_envelope_recovers_light_damping_and_agreement_is_report
     assert_eq!(g.agree, g.warnings.is_empty());
 }
 
+/// The damping ratio of both directions of [`bearing_hammer`].
+const BEARING_ZETA: f64 = 0.01;
+
+/// A hammer impact on the shipped `bearing_2dof` rig: times (s), and the
+/// displacements in x and y (m), sampled at 3906.25 Hz.
+struct Hammer {
+    t: Vec<f64>,
+    x: Vec<f64>,
+    y: Vec<f64>,
+    /// The rig's shaft mass `m` (kg).
+    m: f64,
+}
+
+/// The bearing rig at its reference values, damped to [`BEARING_ZETA`] in x
+/// and y without cross damping, struck in x.
+fn bearing_hammer() -> Hammer {
+    use paper_rigs_common::{outputs, params, rig, truth};
+    let rig = rig("bearing_2dof");
+    let mut v = truth("bearing_2dof_reference_params.json");
+    let (m, kx) = (v["m"].as_f64().unwrap(), v["k_x"].as_f64().unwrap());
+    let c = 2.0 * BEARING_ZETA * (kx * m).sqrt();
+    v.insert("c_x".into(), c.into());
+    v.insert("c_y".into(), c.into());
+    v.insert("c_xy".into(), 0.0.into());
+    v.retain(|key, _| !key.starts_with("hy."));
+    let fs = 3906.25;
+    let mut h = outputs(&rig, &params(&rig, &v), 1.0 / fs, 8000, 8);
+    let (y, x) = (h.pop().unwrap(), h.pop().unwrap());
+    let t = (0..x.len()).map(|i| i as f64 / fs).collect();
+    Hammer { t, x, y, m }
+}
+
+/// `ringdown` speaks the rig it is given: `--time` and `--signal` choose the
+/// columns of a wider record by name, `--mass` is the rig's, and the fragment
+/// and the report carry the names `--names` asks for, with the very values a
+/// two-column record of the same signal gives under the load cell's names.
+#[test]
+fn ringdown_takes_the_rigs_columns_and_names() {
+    let hammer = bearing_hammer();
+    let dir = tempfile::tempdir().unwrap();
+    let (wide, two) = (dir.path().join("wide.csv"), dir.path().join("two.csv"));
+    let (mut w, mut t) = (String::from("y_m,t_s,x_m\n"), String::new());
+    for ((time, x), y) in hammer.t.iter().zip(&hammer.x).zip(&hammer.y) {
+        w += &format!("{y:.10e},{time:.10e},{x:.10e}\n");
+        t += &format!("{time:.10e},{x:.10e}\n");
+    }
+    std::fs::write(&wide, w).unwrap();
+    std::fs::write(&two, t).unwrap();
+    let m = hammer.m.to_string();
+    let run = |args: &[&str]| {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_rigfit"))
+            .args(args)
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&o.stdout).into_owned();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        stdout
+    };
+    let wide = wide.to_str().unwrap();
+    let named = ["ringdown", wide, "--time", "t_s", "--signal", "x_m"];
+    let named = [&named[..], &["--mass", &m, "--names", "k_x,c_x"]].concat();
+    let text = run(&named);
+    assert!(
+        text.contains("  c_x = ") && text.contains("  k_x from"),
+        "{text}"
+    );
+    assert!(
+        !text.contains("c1_post =") && !text.contains("k1 from"),
+        "{text}"
+    );
+    let json = |stdout: String| -> serde_json::Value { serde_json::from_str(&stdout).unwrap() };
+    let named = json(run(&[&["--json"], &named[..]].concat()));
+    let plain = json(run(&[
+        "--json",
+        "ringdown",
+        two.to_str().unwrap(),
+        "--m1",
+        &m,
+    ]));
+    let (named, plain) = (&named["fragment"]["params"], &plain["fragment"]["params"]);
+    assert_eq!(named.as_object().unwrap().len(), 2, "{named}");
+    assert_eq!(named["k_x"], plain["k1"], "{named} {plain}");
+    assert_eq!(named["c_x"], plain["c1_post"], "{named} {plain}");
+    // The damping of the x mode, within the estimators' agreement.
+    let (k, c) = (
+        named["k_x"].as_f64().unwrap(),
+        named["c_x"].as_f64().unwrap(),
+    );
+    let zeta = c / (2.0 * (k * hammer.m).sqrt());
+    assert!((zeta / BEARING_ZETA - 1.0).abs() < 0.1, "ζ {zeta}");
+}
+
 /// A hammer impact on the shipped `bearing_2dof` rig, lightly damped and with
 /// its cross coupling (so the x sensor sees both modes), read by the command:
 /// the start is found without a fracture, the envelope's band keeps the
@@ -318,22 +410,13 @@ fn six_samples_per_cycle_envelope_recovers_light_damping_and_agreement_is_report
 /// ringdown.
 #[test]
 fn a_hammer_ringdown_of_the_bearing_rig_is_reported_in_a_ringdowns_words() {
-    use paper_rigs_common::{outputs, params, rig, truth};
-    let rig = rig("bearing_2dof");
-    let mut v = truth("bearing_2dof_reference_params.json");
-    let (m, kx) = (v["m"].as_f64().unwrap(), v["k_x"].as_f64().unwrap());
-    let zeta = 0.01;
-    v.insert("c_x".into(), (2.0 * zeta * (kx * m).sqrt()).into());
-    v.insert("c_y".into(), (2.0 * zeta * (kx * m).sqrt()).into());
-    v.insert("c_xy".into(), 0.0.into());
-    v.retain(|key, _| !key.starts_with("hy."));
-    let fs = 3906.25;
-    let x = &outputs(&rig, &params(&rig, &v), 1.0 / fs, 8000, 8)[0];
+    let zeta = BEARING_ZETA;
+    let hammer = bearing_hammer();
     let dir = tempfile::tempdir().unwrap();
     let csv = dir.path().join("hammer.csv");
     let mut text = String::from("t_s,x_m\n");
-    for (i, x) in x.iter().enumerate() {
-        text += &format!("{:.10e},{x:.10e}\n", i as f64 / fs);
+    for (t, x) in hammer.t.iter().zip(&hammer.x) {
+        text += &format!("{t:.10e},{x:.10e}\n");
     }
     std::fs::write(&csv, text).unwrap();
     let svg = dir.path().join("hammer.svg");

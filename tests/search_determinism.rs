@@ -13,7 +13,7 @@ fn run(seed: u64, init: InitKind) -> SearchOutcome {
         GeneSpec::new("b", -2.0, 2.0, Scale::Linear).with_init(0.5),
     ];
     let mut s = settings(24, 30, seed);
-    s.init = init;
+    s.ga.init = init;
     let ga = GeneticAlgorithm::new(s, genes).unwrap();
     Executor::new(ga, FnCost(rosenbrock)).run().unwrap()
 }

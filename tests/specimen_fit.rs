@@ -3,7 +3,7 @@
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use rigfit::identify::PrecalError;
+use rigfit::identify::IdentifyError;
 use rigfit::identify::csv_input::{parse_two_columns, read_two_columns};
 use rigfit::identify::specimen::{SpecimenFitOptions, YieldChoice, fit};
 
@@ -161,7 +161,7 @@ fn degree_outside_one_to_five_is_refused() {
     for degree in [0, 6] {
         let err = fit(&e, &f, &options(degree)).unwrap_err();
         assert!(
-            matches!(err, PrecalError::DegreeOutOfRange { max: 5, .. }),
+            matches!(err, IdentifyError::DegreeOutOfRange { max: 5, .. }),
             "{err}"
         );
     }
@@ -174,7 +174,7 @@ fn too_few_points_are_refused() {
     assert!(
         matches!(
             err,
-            PrecalError::TooFewPoints {
+            IdentifyError::TooFewPoints {
                 needed: 9,
                 found: 8,
                 ..
@@ -190,10 +190,10 @@ fn purely_elastic_data_has_no_plastic_range() {
     // Elastic up to the end of the data: nothing for a polynomial to fit.
     let (e, f) = generate(300, 5.0e-5, K_LIN, 1.0, &CUBIC, 3.0, 5);
     let err = fit(&e, &f, &options(3)).unwrap_err();
-    assert!(matches!(err, PrecalError::NoPlasticRange { .. }), "{err}");
+    assert!(matches!(err, IdentifyError::NoPlasticRange { .. }), "{err}");
     let exact: Vec<f64> = e.iter().map(|x| K_LIN * x).collect();
     let err = fit(&e, &exact, &options(3)).unwrap_err();
-    assert!(matches!(err, PrecalError::NoPlasticRange { .. }), "{err}");
+    assert!(matches!(err, IdentifyError::NoPlasticRange { .. }), "{err}");
 }
 
 #[test]
@@ -205,7 +205,7 @@ fn fixed_e_yield_leaving_too_few_plastic_points_is_refused() {
     };
     let err = fit(&e, &f, &opts).unwrap_err();
     assert!(
-        matches!(err, PrecalError::BadYield { plastic: 1, .. }),
+        matches!(err, IdentifyError::BadYield { plastic: 1, .. }),
         "{err}"
     );
 }
@@ -217,7 +217,7 @@ fn non_finite_and_mismatched_inputs_are_refused() {
     assert!(
         matches!(
             err,
-            PrecalError::LengthMismatch {
+            IdentifyError::LengthMismatch {
                 x_len: 100,
                 y_len: 101,
                 ..
@@ -228,7 +228,7 @@ fn non_finite_and_mismatched_inputs_are_refused() {
     f[17] = f64::NAN;
     let err = fit(&e, &f, &options(3)).unwrap_err();
     assert!(
-        matches!(err, PrecalError::NonFiniteSample { index: 17, .. }),
+        matches!(err, IdentifyError::NonFiniteSample { index: 17, .. }),
         "{err}"
     );
 }
@@ -239,7 +239,7 @@ fn non_numeric_and_nan_csv_lines_are_reported_with_line_numbers() {
     assert!(
         matches!(
             err,
-            PrecalError::NotNumeric {
+            IdentifyError::NotNumeric {
                 line: 4,
                 column: 2,
                 ..
@@ -252,7 +252,7 @@ fn non_numeric_and_nan_csv_lines_are_reported_with_line_numbers() {
     assert!(
         matches!(
             err,
-            PrecalError::NotFinite {
+            IdentifyError::NotFinite {
                 line: 2,
                 column: 2,
                 ..
@@ -282,7 +282,7 @@ fn elongations_without_spread_past_yield_are_refused() {
         assert!(
             matches!(
                 err,
-                PrecalError::Numerical {
+                IdentifyError::Numerical {
                     stage: "specimen plastic fit",
                     ..
                 }

@@ -81,7 +81,15 @@ fn run_job(campaign: &str, args: &[&str], out: &Path) -> Value {
     let status = Command::new(env!("CARGO_BIN_EXE_rigfit"))
         .arg("run")
         .arg(repo().join("campaigns").join(campaign))
-        .args(["--backend", "cpu", "--precision", "f64", "--threads", "1", "-q"])
+        .args([
+            "--backend",
+            "cpu",
+            "--precision",
+            "f64",
+            "--threads",
+            "1",
+            "-q",
+        ])
         .args(args)
         .arg("--out")
         .arg(out)

@@ -12,7 +12,7 @@ from .result import FitResult, read_result_files
 
 def fit(campaign, *, seed=None, backend=None, precision=None, adapter=None, out=None,
         resume=False, overwrite=False, population=None, generations=None,
-        target_fitness=None, threads=0, max_memory=None, progress=False):
+        target_fitness=None, method=None, threads=0, max_memory=None, progress=False):
     """Calibrates ``campaign``'s free parameters: the genetic algorithm, the
     Levenberg–Marquardt polish and the 95 % intervals, the same job (and for
     the same seed and backend, the same numbers, bit for bit) as ``rigfit
@@ -20,8 +20,8 @@ def fit(campaign, *, seed=None, backend=None, precision=None, adapter=None, out=
 
     ``backend`` (``"auto"``, ``"gpu"``, ``"cpu"``), ``precision`` (``"auto"``,
     ``"f32"``, ``"f64"``), ``adapter``, ``seed``, ``population``,
-    ``generations``, ``target_fitness`` and ``threads`` are the CLI's flags
-    (default: the campaign's). ``out``: the folder the job writes (default: a
+    ``generations``, ``target_fitness``, ``method`` (``"ga"``, ``"cmaes"``)
+    and ``threads`` are the CLI's flags (default: the campaign's). ``out``: the folder the job writes (default: a
     temporary one, removed once the result is read into memory);
     ``resume=True`` continues the checkpoint in ``out``; ``overwrite=True``
     replaces an earlier job's files there.
@@ -51,7 +51,7 @@ def fit(campaign, *, seed=None, backend=None, precision=None, adapter=None, out=
             campaign._inner, out, resume=resume, overwrite=overwrite, backend=backend,
             precision=precision, adapter=adapter, threads=threads, population=population,
             generations=generations, seed=seed, target_fitness=target_fitness,
-            max_memory=max_memory, progress=callback)
+            method=method, max_memory=max_memory, progress=callback)
     except BaseException:
         if temporary and not os.path.exists(os.path.join(out, "checkpoint.json")):
             shutil.rmtree(out, ignore_errors=True)

@@ -94,7 +94,7 @@ fn search_error(e: &JobError) -> PyErr {
 #[pyfunction]
 #[pyo3(signature = (campaign, out, *, resume = false, overwrite = false, backend = None,
     precision = None, adapter = None, threads = 0, population = None, generations = None,
-    seed = None, target_fitness = None, max_memory = None, progress = None))]
+    seed = None, target_fitness = None, method = None, max_memory = None, progress = None))]
 #[expect(
     clippy::too_many_arguments,
     reason = "the keyword arguments of rigfit.fit"
@@ -113,6 +113,7 @@ pub fn run_job<'py>(
     generations: Option<usize>,
     seed: Option<u64>,
     target_fitness: Option<f64>,
+    method: Option<&str>,
     max_memory: Option<crate::memory::MaxMemory>,
     progress: Option<PyObject>,
 ) -> PyResult<Bound<'py, PyDict>> {
@@ -130,6 +131,9 @@ pub fn run_job<'py>(
         }
         if let Some(t) = target_fitness {
             c.search.target_fitness = Some(t);
+        }
+        if let Some(m) = method {
+            c.search.method = m.parse().map_err(|e: String| errors::raise(Kind::Campaign, e))?;
         }
         c.search.validate().map_err(|e| {
             errors::raise(Kind::Campaign, format!("{}: search.{e}", c.path.display()))

@@ -8,7 +8,7 @@ use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 
 use crate::errors::{self, Kind};
-use rigfit::identify::{PrecalError, ringdown, specimen};
+use rigfit::identify::{IdentifyError, ringdown, specimen};
 
 pub fn slice<'a>(x: &'a PyReadonlyArray1<'_, f64>) -> PyResult<&'a [f64]> {
     x.as_slice()
@@ -28,9 +28,11 @@ pub fn slices<'a>(
     Ok((x.as_slice().map_err(bad)?, y.as_slice().map_err(bad)?))
 }
 
-pub fn precal(e: &PrecalError) -> PyErr {
+/// The Python exception for an identification error: a bad option is a
+/// campaign error, anything else a data error.
+pub fn identify_error(e: &IdentifyError) -> PyErr {
     match e {
-        PrecalError::InvalidOption { .. } => errors::raise(Kind::Campaign, errors::chain(e)),
+        IdentifyError::InvalidOption { .. } => errors::raise(Kind::Campaign, errors::chain(e)),
         _ => errors::raise(Kind::Data, errors::chain(e)),
     }
 }
@@ -59,7 +61,7 @@ pub fn ringdown_report(
         };
         let r = py
             .allow_threads(|| ringdown::analyse(t, f, &opts))
-            .map_err(|e| precal(&e))?;
+            .map_err(|e| identify_error(&e))?;
         Ok((
             serde_json::json!({ "ringdown": r }).to_string(),
             r.to_campaign_fragment().to_string(),
@@ -85,7 +87,7 @@ pub fn specimen_report(
         };
         let fit = py
             .allow_threads(|| specimen::fit(e, f, &opts))
-            .map_err(|e| precal(&e))?;
+            .map_err(|e| identify_error(&e))?;
         Ok((
             serde_json::json!({ "fit": fit }).to_string(),
             fit.to_campaign_fragment().to_string(),
@@ -140,8 +142,8 @@ pub fn frf_report(
         };
         let names = names.unwrap_or_else(|| vec!["m".into(), "k".into(), "c".into()]);
         py.allow_threads(|| {
-            let fs = 1.0 / columns::sample_interval(t).map_err(|e| precal(&e))?;
-            let est = frf::estimate(u, y, fs, segment).map_err(|e| precal(&e))?;
+            let fs = 1.0 / columns::sample_interval(t).map_err(|e| identify_error(&e))?;
+            let est = frf::estimate(u, y, fs, segment).map_err(|e| identify_error(&e))?;
             let fit = if modes > 0 {
                 let opts = modal::ModalOptions {
                     modes,
@@ -153,7 +155,7 @@ pub fn frf_report(
                 };
                 Some(
                     modal::fit(&est.freqs, &est.h1, &est.coherence, &opts)
-                        .map_err(|e| precal(&e))?,
+                        .map_err(|e| identify_error(&e))?,
                 )
             } else {
                 None
@@ -248,8 +250,8 @@ pub fn rfs_report(
             grid: GridOptions::default(),
         };
         py.allow_threads(|| {
-            let surface = rfs::surface(t, x, accel, &options).map_err(|e| precal(&e))?;
-            let r = dpe::estimate(&surface, &opts).map_err(|e| precal(&e))?;
+            let surface = rfs::surface(t, x, accel, &options).map_err(|e| identify_error(&e))?;
+            let r = dpe::estimate(&surface, &opts).map_err(|e| identify_error(&e))?;
             Ok((
                 serde_json::json!({ "dpe": r }).to_string(),
                 r.to_campaign_fragment(fixed, &opts.grid).to_string(),
@@ -290,7 +292,7 @@ pub fn idim_report(
                 let t = t
                     .as_slice()
                     .map_err(|e| errors::raise(Kind::Data, e.to_string()))?;
-                1.0 / columns::sample_interval(t).map_err(|e| precal(&e))?
+                1.0 / columns::sample_interval(t).map_err(|e| identify_error(&e))?
             }
             (None, Some(fs)) => fs,
             _ => {
@@ -309,7 +311,7 @@ pub fn idim_report(
         };
         let r = py
             .allow_threads(|| idim::estimate(q, &tau, &opts))
-            .map_err(|e| precal(&e))?;
+            .map_err(|e| identify_error(&e))?;
         Ok((
             serde_json::json!({ "idim": r }).to_string(),
             r.to_campaign_fragment(fixed).to_string(),
@@ -359,7 +361,7 @@ pub fn nimiso_report(
             }
         };
         py.allow_threads(|| {
-            let fs = 1.0 / columns::sample_interval(t).map_err(|e| precal(&e))?;
+            let fs = 1.0 / columns::sample_interval(t).map_err(|e| identify_error(&e))?;
             let opts = nimiso::NimisoOptions {
                 sample_rate_hz: fs,
                 segment_len: segment,
@@ -367,7 +369,7 @@ pub fn nimiso_report(
                 f_min,
                 f_max,
             };
-            let (_, r) = nimiso::analyse(x, f, &opts).map_err(|e| precal(&e))?;
+            let (_, r) = nimiso::analyse(x, f, &opts).map_err(|e| identify_error(&e))?;
             Ok((
                 serde_json::json!({ "nimiso": r }).to_string(),
                 r.to_campaign_fragment(name, fixed).to_string(),

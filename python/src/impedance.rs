@@ -7,7 +7,7 @@ use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 
 use crate::errors;
-use crate::identify::{precal, slice, three};
+use crate::identify::{identify_error, slice, three};
 use rigfit::identify::columns;
 use rigfit::identify::impedance::{self, ImpactRecord};
 
@@ -44,9 +44,9 @@ pub fn impedance_report(
             y: y2,
         };
         py.allow_threads(|| {
-            let fs = 1.0 / columns::sample_interval(t).map_err(|e| precal(&e))?;
-            let m = impedance::matrices(x_impact, y_impact, fs).map_err(|e| precal(&e))?;
-            let fit = impedance::fit(&m, (f_min, f_max), mass).map_err(|e| precal(&e))?;
+            let fs = 1.0 / columns::sample_interval(t).map_err(|e| identify_error(&e))?;
+            let m = impedance::matrices(x_impact, y_impact, fs).map_err(|e| identify_error(&e))?;
+            let fit = impedance::fit(&m, (f_min, f_max), mass).map_err(|e| identify_error(&e))?;
             Ok((
                 serde_json::json!({"impedance": fit}).to_string(),
                 fit.to_campaign_fragment(fixed).to_string(),

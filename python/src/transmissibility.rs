@@ -7,7 +7,7 @@ use numpy::PyReadonlyArray1;
 use pyo3::prelude::*;
 
 use crate::errors::{self, Kind};
-use crate::identify::{precal, slice, three};
+use crate::identify::{identify_error, slice, three};
 use rigfit::identify::columns;
 use rigfit::identify::transmissibility::{self as tr, ArxForm};
 
@@ -63,14 +63,14 @@ pub fn arx_report(
         let (t, u) = (slice(&t)?, slice(&u)?);
         let ys = ys.iter().map(slice).collect::<PyResult<Vec<&[f64]>>>()?;
         py.allow_threads(|| {
-            let fs = 1.0 / columns::sample_interval(t).map_err(|e| precal(&e))?;
-            let spec = tr::block_spectra(u, &ys, fs, segment).map_err(|e| precal(&e))?;
+            let fs = 1.0 / columns::sample_interval(t).map_err(|e| identify_error(&e))?;
+            let spec = tr::block_spectra(u, &ys, fs, segment).map_err(|e| identify_error(&e))?;
             let (ts, coherences): (Vec<_>, Vec<_>) =
                 (0..ys.len()).map(|c| spec.transmissibility(c)).unzip();
             let band = (f_min, f_max);
-            let lines = tr::arx(&spec, form, band.0, band.1).map_err(|e| precal(&e))?;
+            let lines = tr::arx(&spec, form, band.0, band.1).map_err(|e| identify_error(&e))?;
             let fit = tr::element_fit(&spec.freqs, &ts, &coherences[0], &mass, band, min_coherence)
-                .map_err(|e| precal(&e))?;
+                .map_err(|e| identify_error(&e))?;
             let report = serde_json::json!({"welch": spec.settings, "element": fit, "arx": lines});
             let fragment = fit.to_campaign_fragment([&names[0], &names[1]], fixed);
             let spectra = ArxSpectra {
@@ -130,13 +130,13 @@ pub fn sensitivity_report(
         let t = slice(&t)?;
         let (base, changed) = (three(&base)?, three(&changed)?);
         py.allow_threads(|| {
-            let fs = 1.0 / columns::sample_interval(t).map_err(|e| precal(&e))?;
+            let fs = 1.0 / columns::sample_interval(t).map_err(|e| identify_error(&e))?;
             let spectra = |[u, y1, y2]: [&[f64]; 3]| {
-                tr::block_spectra(u, &[y1, y2], fs, segment).map_err(|e| precal(&e))
+                tr::block_spectra(u, &[y1, y2], fs, segment).map_err(|e| identify_error(&e))
             };
             let (base, changed) = (spectra(base)?, spectra(changed)?);
             let r = tr::strut_sensitivity(&base, &changed, k1, c1, (f_min, f_max))
-                .map_err(|e| precal(&e))?;
+                .map_err(|e| identify_error(&e))?;
             Ok((
                 serde_json::json!({"welch": base.settings, "sensitivity": r}).to_string(),
                 r.to_campaign_fragment(name, base_value, fixed).to_string(),

@@ -126,3 +126,21 @@ def test_backend_auto_takes_the_clis_measured_choice(bearing, cli, tmp_path, mon
     assert py_json["backend"] == cli_json["backend"]
     assert py_json["params"] == cli_json["params"]
     assert py_json.get("backend_trial", {}).get("chosen") == cli_json.get("backend_trial", {}).get("chosen")
+
+
+def test_cmaes_from_python_is_the_cli_s_cmaes_and_reports_its_covariance(bearing, cli, tmp_path):
+    cli("run", bearing, "--backend", "cpu", "--seed", "5", "--method", "cmaes",
+        "--generations", "12", "--out", tmp_path / "cli")
+    cli_json = json.loads((tmp_path / "cli" / "result.json").read_text())
+    c = rigfit.Campaign.from_json(bearing)
+    r = rigfit.fit(c, seed=5, backend="cpu", method="cmaes", generations=12)
+    py_json = json.loads(r.files["result.json"])
+    assert py_json["search_method"] == cli_json["search_method"] == "cmaes"
+    assert py_json["params"] == cli_json["params"]
+    assert py_json["search_summary"] == cli_json["search_summary"]
+    corr = np.array(py_json["search_summary"]["correlation"])
+    assert corr.shape == (len(c.genes), len(c.genes))
+    assert np.allclose(np.diag(corr), 1.0)
+    import pytest
+    with pytest.raises(rigfit.CampaignError, match="unknown search method `de`"):
+        rigfit.fit(c, seed=5, backend="cpu", method="de")

@@ -27,7 +27,7 @@ struct ExpInfo {
     // Fit window [win_start, win_end).
     win_start: u32,
     win_end: u32,
-    // Index of sample 0's measured force in `data`.
+    // Index of sample 0's measured output in `data`.
     data_offset: u32,
     // Force drive: breakpoint times at data[table_offset..+table_len], values after.
     table_offset: u32,

@@ -1,8 +1,8 @@
-// ln, sin and cos for the compiled rigs (src/compile/wgsl.rs), precision-generic
-// like shared/exp.wgsl: the built-in functions in f32 (EXP_NATIVE, from the
+// ln, sin and cos for the compiled rigs (src/compile/back/wgsl/mod.rs),
+// precision-generic like shared/exp.wgsl: the built-in functions in f32 (EXP_NATIVE, from the
 // prelude), our own in f64, where the SPIR-V extended instructions are not
 // defined and lavapipe returns wrong values. Held against f64::ln, sin and cos
-// by tests/gpu_math_matches_std.rs.
+// by tests/gpu_exp_matches_std.rs.
 
 // One step of ln_r's scaling: (m, k) to (m·2^∓n, k ± n) where m ≥ 2^n or
 // m < 2^-n (up = 2^n and down = 2^-n, from the prelude: f32 cannot hold them).

@@ -16,7 +16,7 @@ use crate::base::{Drive, PiecewiseLinear};
 use crate::eval::{ExperimentData, Problem};
 use crate::model::compiled::CompiledRig;
 use crate::rig;
-use crate::search::GaSettings;
+use crate::search::SearchSettings;
 
 /// Validates campaign text from `file`, resolving paths against `dir`, its
 /// records read as `reading` says.
@@ -183,7 +183,7 @@ pub(crate) fn build(
         base_offsets: owners.iter().map(|&o| base_offsets[o]).collect(),
         solver: step.settings(raw.solver.backend, raw.solver.precision),
         search_given: raw.search.is_some(),
-        search: raw.search.unwrap_or_else(GaSettings::unset),
+        search: raw.search.unwrap_or_else(SearchSettings::unset),
         output,
         inputs,
         raw_json: text.to_string(),
@@ -496,15 +496,15 @@ fn experiment(
             format!("{} N at every sample", scored[0]),
         ));
     }
-    let mut force = series.force;
-    force.truncate(window.end);
+    let mut measured = series.force;
+    measured.truncate(window.end);
     let mut exp = ExperimentData {
         output: 0,
         name: x.name.clone(),
         drive,
         t_first: series.t[0],
         dt: series.dt,
-        force,
+        measured,
         window,
         weight: x.weight,
     };
@@ -513,7 +513,7 @@ fn experiment(
     }
     if let Some(samples) = reading.record_samples() {
         // Continued past the record or cut short; the placeholder is never scored.
-        exp.force.resize(samples, 0.0);
+        exp.measured.resize(samples, 0.0);
         exp.window = 0..samples;
     }
     Ok((exp, digest, read.then_some(data_file)))
@@ -609,7 +609,7 @@ fn check_scored_record(
     exp: &ExperimentData,
     d: &RawData,
 ) -> Result<(), CampaignError> {
-    let (t, f) = (&t[exp.window.clone()], &exp.force[exp.window.clone()]);
+    let (t, f) = (&t[exp.window.clone()], &exp.measured[exp.window.clone()]);
     let same = |a: f64, b: f64| (a - b).abs() <= 1e-12 * a.abs().max(b.abs());
     if t.iter()
         .zip(f)

@@ -449,7 +449,7 @@ impl Campaign {
             &x.window,
         )?;
         let mut record = x.clone();
-        record.force[x.window.clone()].copy_from_slice(&y);
+        record.measured[x.window.clone()].copy_from_slice(&y);
         super::stability::target(&record, None, "").map(|t| t.0)
     }
 }

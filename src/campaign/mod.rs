@@ -66,7 +66,7 @@ pub use stability::{
 use crate::base::Scale;
 use crate::eval::{Batch, DIVERGED, Problem, Scores};
 use crate::model::CompiledRig;
-use crate::search::GaSettings;
+use crate::search::SearchSettings;
 
 /// What a gene sets.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -151,9 +151,9 @@ pub struct Campaign {
     /// Integration settings as chosen.
     pub solver: SolverSettings,
     /// Search settings (validated when given).
-    pub search: GaSettings,
+    pub search: SearchSettings,
     /// Whether the file has a `search` section; without one, `search` holds
-    /// [`GaSettings::unset`] and [`Campaign::require_search`] refuses a run.
+    /// [`SearchSettings::unset`] and [`Campaign::require_search`] refuses a run.
     pub search_given: bool,
     /// Results folder (resolved against the campaign's folder).
     pub output: PathBuf,

@@ -12,7 +12,7 @@ use serde::{Deserialize, Deserializer};
 use crate::base::Scale;
 use crate::base::data::Column;
 use crate::eval::{Backend, PrecisionChoice};
-use crate::search::GaSettings;
+use crate::search::SearchSettings;
 
 /// The whole campaign file.
 #[derive(Debug, Clone, Deserialize)]
@@ -39,9 +39,9 @@ pub struct RawCampaign {
     /// `"solver"`: integration settings (all optional).
     #[serde(default)]
     pub solver: RawSolver,
-    /// `"search"`: genetic-algorithm settings ([`GaSettings`]); needed by
+    /// `"search"`: genetic-algorithm settings ([`SearchSettings`]); needed by
     /// `rigfit run` only.
-    pub search: Option<GaSettings>,
+    pub search: Option<SearchSettings>,
     /// `"output"`: results folder, relative to the campaign file's folder
     /// (default `results/<name>`).
     pub output: Option<PathBuf>,

@@ -104,8 +104,10 @@ pub enum Command {
         at Intermediate Strain Rates\", and the free decay and logarithmic decrement of\n\
         \"Experimental Investigations of Lubricated Bearing Stiffness\".\n\n\
         Example:\n  \
-        rigfit ringdown campaigns/ringdown_synthetic.csv --m1 7.9 --k1 8.4e9 --out loadcell.json\n\n\
-        Input: CSV of time (s) and force (N); '#' lines are comments."
+        rigfit ringdown campaigns/ringdown_synthetic.csv --m1 7.9 --k1 8.4e9 --out loadcell.json\n  \
+        rigfit ringdown hammer.csv --time t_s --signal x_m --mass 3 --names k_x,c_x --out bearing.json\n\n\
+        Input: CSV of time (s) and the ringing signal (force in N, or a motion), two columns\n\
+        or those --time and --signal name; '#' lines are comments."
     )]
     Ringdown(RingdownArgs),
     /// Classical identification from the papers the shipped rigs come from (restoring force, FRF, inverse model).

@@ -188,7 +188,7 @@ pub fn check(args: &CheckArgs, out: &Output) -> Result<()> {
                 s,
                 "\n  {}: {} samples at {:.3e} s, fit window samples {}..{}",
                 e.name,
-                e.force.len(),
+                e.measured.len(),
                 e.dt,
                 e.window.start,
                 e.window.end

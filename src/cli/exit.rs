@@ -25,7 +25,7 @@ pub fn exit_code(err: &anyhow::Error) -> u8 {
     let bad_input = err.chain().any(|e| {
         e.is::<rigfit::campaign::CampaignError>()
             || e.is::<rigfit::base::data::DataError>()
-            || e.is::<rigfit::identify::PrecalError>()
+            || e.is::<rigfit::identify::IdentifyError>()
             || e.is::<BadInput>()
             || e.downcast_ref::<JobError>()
                 .is_some_and(JobError::blames_input)

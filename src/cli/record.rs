@@ -6,17 +6,17 @@ use std::path::Path;
 use anyhow::Result;
 
 use super::exit::BadInput;
-use rigfit::identify::PrecalError;
+use rigfit::identify::IdentifyError;
 use rigfit::identify::columns::{Table, sample_interval};
 use rigfit::identify::csv_input::{self, TwoColumns};
 
 /// A pre-calibration or identification error as one line that names the
 /// input file, with its causes (why the file could not be read); an option's
 /// value refused for itself is named without the file.
-pub fn in_file(path: &Path, e: PrecalError) -> anyhow::Error {
+pub fn in_file(path: &Path, e: IdentifyError) -> anyhow::Error {
     // A value given on the command line is the option's fault, not the
     // record's (a column the record lacks is both: the file is named).
-    if let PrecalError::InvalidOption { name, .. } = &e
+    if let IdentifyError::InvalidOption { name, .. } = &e
         && *name != "column"
     {
         return BadInput(e.to_string()).into();
@@ -69,7 +69,7 @@ impl<'a> Record<'a> {
     }
 
     /// A library error about this record, naming its file.
-    pub fn error(&self, e: PrecalError) -> anyhow::Error {
+    pub fn error(&self, e: IdentifyError) -> anyhow::Error {
         in_file(self.path, e)
     }
 }

@@ -10,20 +10,34 @@ use clap::Args;
 use super::exit::BadInput;
 use super::fragment::{Figure, Files, Findings};
 use super::output::Output;
-use super::record::{in_file, read_two_columns};
-use rigfit::identify::ringdown::{self, RingdownOptions};
+use super::record::{Record, in_file, read_two_columns};
+use rigfit::identify::csv_input::TwoColumns;
+use rigfit::identify::ringdown::{self, DEFAULT_NAMES, RingdownOptions};
 
 /// `rigfit ringdown`.
 #[derive(Debug, Args)]
 pub struct RingdownArgs {
-    /// CSV of time (s) and force (N).
+    /// CSV record: time (s) and the ringing signal (force in N, or any motion);
+    /// two columns unless --time or --signal choose among more.
     pub data: PathBuf,
-    /// Load-cell mass m1 (kg): with it, k1 follows from the frequency.
+    /// Time column (s), by header name or 1-based position (default: 1).
     #[arg(long)]
+    pub time: Option<String>,
+    /// Ringing signal column, by header name or 1-based position (default: 2).
+    #[arg(long)]
+    pub signal: Option<String>,
+    /// Mass of the ringing mode (kg; m1, the load cell, on the tensile rig):
+    /// with it, the stiffness follows from the frequency.
+    #[arg(long, visible_alias = "mass")]
     pub m1: Option<f64>,
-    /// Load-cell stiffness k1 (N/m), held fixed in the damping fit.
-    #[arg(long)]
+    /// Stiffness of the ringing mode (N/m; k1 on the tensile rig), held fixed
+    /// in the damping fit.
+    #[arg(long, visible_alias = "stiffness")]
     pub k1: Option<f64>,
+    /// Campaign names of the ringing mode's stiffness and damping, as the
+    /// fragment writes them.
+    #[arg(long, value_delimiter = ',', default_values_t = DEFAULT_NAMES.map(String::from))]
+    pub names: Vec<String>,
     /// Start of the free ringing (s; default: the start of the largest drop, e.g. a fracture).
     #[arg(long)]
     pub start: Option<f64>,
@@ -50,12 +64,22 @@ pub fn ringdown(args: &RingdownArgs, out: &Output) -> Result<()> {
     if let Some(start) = args.start.filter(|s| !s.is_finite()) {
         return Err(start_refused(start, "").into());
     }
+    let names: [&str; 2] = match args.names.as_slice() {
+        [k, c] => [k, c],
+        _ => {
+            return Err(BadInput(format!(
+                "--names takes the stiffness and the damping name, found {}",
+                args.names.len()
+            ))
+            .into());
+        }
+    };
     let files = Files {
         fragment: args.out.as_deref(),
         figure: args.svg.as_deref(),
     };
     files.check(&[], &[&args.data], args.overwrite)?;
-    let data = read_two_columns(&args.data)?;
+    let data = read_record(args)?;
     if let (Some(start), Some(&first), Some(&last)) = (args.start, data.x.first(), data.x.last()) {
         if !(first..last).contains(&start) {
             let span = format!(
@@ -79,14 +103,37 @@ pub fn ringdown(args: &RingdownArgs, out: &Output) -> Result<()> {
     };
     Findings {
         report: serde_json::json!({"ringdown": r}),
-        fragment: r.to_campaign_fragment(),
-        text: || report(args, &r),
+        fragment: r.to_campaign_fragment_named(names),
+        text: || report(args, names, &r),
     }
     .deliver_with(out, files, figure)
 }
 
-/// The human report.
-fn report(args: &RingdownArgs, r: &ringdown::RingdownReport) -> String {
+/// The time and signal columns: the two columns of a two-column record, or
+/// those `--time` and `--signal` choose.
+fn read_record(args: &RingdownArgs) -> Result<TwoColumns> {
+    if args.time.is_none() && args.signal.is_none() {
+        return read_two_columns(&args.data);
+    }
+    let record = Record::read(&args.data)?;
+    let column = |which: &Option<String>, default: &str| {
+        record
+            .column(which.as_deref().unwrap_or(default))
+            .map(<[f64]>::to_vec)
+    };
+    Ok(TwoColumns {
+        header: None,
+        x: column(&args.time, "1")?,
+        y: column(&args.signal, "2")?,
+    })
+}
+
+/// The human report, naming the stiffness and damping `[k, c]` as the fragment does.
+fn report(
+    args: &RingdownArgs,
+    [k_name, c_name]: [&str; 2],
+    r: &ringdown::RingdownReport,
+) -> String {
     let mut s = format!(
         "ringdown of {} (sampled at {:.0} Hz, free ringing from {:.6e} s)\n",
         args.data.display(),
@@ -127,10 +174,10 @@ fn report(args: &RingdownArgs, r: &ringdown::RingdownReport) -> String {
     }
     let cell = &r.load_cell;
     if let (true, Some(k1)) = (cell.k1_from_frequency, cell.k1) {
-        s += &format!("  k1 from frequency and m1 = {k1:.6e} N/m\n");
+        s += &format!("  {k_name} from frequency and mass = {k1:.6e} N/m\n");
     }
     if let Some(c) = cell.c1_post {
-        s += &format!("  c1_post = {c:.6e} N·s/m\n");
+        s += &format!("  {c_name} = {c:.6e} N·s/m\n");
     }
     s
 }

@@ -1,7 +1,7 @@
 //! The compiled form of a rig: one SSA list of scalar operations.
 //!
-//! Every element law lowers to these few operations; the CPU reference ([`super::tape`])
-//! and the WGSL emitter ([`super::wgsl`]) walk the same list in the same order, so
+//! Every element law lowers to these few operations; the CPU reference ([`super::exec::tape`])
+//! and the WGSL emitter ([`super::back::wgsl`]) walk the same list in the same order, so
 //! the two paths compute the same arithmetic. Values are `f64` here; the emitter
 //! writes them in the kernel's precision.
 
@@ -200,11 +200,11 @@ impl Graph {
             Op::Abs(a) => c(a)?.abs(),
             Op::Min(a, b) => c(a)?.min(c(b)?),
             Op::Max(a, b) => c(a)?.max(c(b)?),
-            Op::Exp(a) => super::exec::math::exp(c(a)?),
-            Op::Expm1(a) => super::exec::math::expm1(c(a)?),
-            Op::Ln(a) => super::exec::math::ln(c(a)?),
-            Op::Sin(a) => super::exec::math::sin(c(a)?),
-            Op::Cos(a) => super::exec::math::cos(c(a)?),
+            Op::Exp(a) => super::math::exp(c(a)?),
+            Op::Expm1(a) => super::math::expm1(c(a)?),
+            Op::Ln(a) => super::math::ln(c(a)?),
+            Op::Sin(a) => super::math::sin(c(a)?),
+            Op::Cos(a) => super::math::cos(c(a)?),
             Op::Le(a, b) => f64::from(u8::from(c(a)? <= c(b)?)),
             Op::Eq(a, b) => f64::from(u8::from(c(a)? == c(b)?)),
             Op::Select(..) | Op::Const(_) | Op::In(_) => return None,
@@ -376,11 +376,11 @@ pub fn eval_op(op: Op, a: impl Fn(Id) -> f64, input: impl FnOnce(Input) -> f64) 
         Op::Abs(p) => a(p).abs(),
         Op::Min(p, q) => a(p).min(a(q)),
         Op::Max(p, q) => a(p).max(a(q)),
-        Op::Exp(p) => super::exec::math::exp(a(p)),
-        Op::Expm1(p) => super::exec::math::expm1(a(p)),
-        Op::Ln(p) => super::exec::math::ln(a(p)),
-        Op::Sin(p) => super::exec::math::sin(a(p)),
-        Op::Cos(p) => super::exec::math::cos(a(p)),
+        Op::Exp(p) => super::math::exp(a(p)),
+        Op::Expm1(p) => super::math::expm1(a(p)),
+        Op::Ln(p) => super::math::ln(a(p)),
+        Op::Sin(p) => super::math::sin(a(p)),
+        Op::Cos(p) => super::math::cos(a(p)),
         Op::Le(p, q) => f64::from(u8::from(a(p) <= a(q))),
         Op::Eq(p, q) => f64::from(u8::from(a(p) == a(q))),
         Op::Select(c, p, q) => {

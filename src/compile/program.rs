@@ -45,7 +45,7 @@ pub struct Transition {
     /// Further mode values (variable, value) that must all hold for it to be
     /// armed; empty but in the fitness variant of a program, where a switch
     /// that can no longer reach the measured output is skipped
-    /// ([`super::liveness`]).
+    /// ([`super::analysis::liveness`]).
     pub guard: Vec<(u32, u32)>,
 }
 
@@ -143,7 +143,7 @@ pub struct Program {
     pub tables: Vec<Option<PiecewiseLinear>>,
     /// The run's initial value of every state: a run constant (the literal 0,
     /// or the slot of the rig's `initial_<state>` parameter). See
-    /// [`super::initial`] for the regimes it starts in.
+    /// [`super::exec::initial`] for the regimes it starts in.
     pub initial: Vec<Id>,
     /// The controllers' sample instants and held states, if the rig has
     /// controllers in this mode.

@@ -8,8 +8,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use rayon::prelude::*;
 
 use super::{
-    Batch, EvalError, Evaluator, EvaluatorInfo, History, Precision, Problem, Scores, score_many,
-    score_one, simulate_histories, simulate_history, simulate_scored,
+    Batch, EvalError, Evaluator, EvaluatorInfo, History, Precision, Problem, Scores, Timed,
+    score_many, score_one, simulate_histories, simulate_history, simulate_scored,
 };
 
 /// Scores candidates with the f64 reference on a rayon pool.
@@ -19,7 +19,7 @@ pub struct CpuEvaluator {
     pool: rayon::ThreadPool,
     cancel: Option<Arc<AtomicBool>>,
     precision: Precision,
-    /// The thread of [`Evaluator::prepare_soon`]'s builds, joined on drop.
+    /// The thread of [`Timed::prepare_soon`]'s builds, joined on drop.
     early_builds: Option<std::thread::JoinHandle<()>>,
     /// One thread fewer than `pool`, which batches run on while the early
     /// builds' C compiler runs ([`CpuEvaluator::active_pool`]); `None` on
@@ -74,7 +74,7 @@ impl CpuEvaluator {
     }
 
     /// The pool a batch runs on: while the C compiler of
-    /// [`Evaluator::prepare_soon`]'s builds runs, one thread fewer, so that
+    /// [`Timed::prepare_soon`]'s builds runs, one thread fewer, so that
     /// the compiler has a core of its own. On two cores the quarter car's
     /// build took 0.8 s beside two interpreting threads and 0.3 s alone,
     /// and the interpreter is several times slower than the code it waits for.
@@ -88,7 +88,7 @@ impl CpuEvaluator {
 
     /// Starts, in the background, the native builds a search scores with
     /// and, with `histories`, the polish's (the full programs') after them:
-    /// [`Evaluator::prepare_soon`] with both; `auto`'s trial with the
+    /// [`Timed::prepare_soon`] with both; `auto`'s trial with the
     /// search's alone, so that the CPU is timed without waiting for a build
     /// only the polish needs (on the aa2024 campaign each takes 0.4 s), whose
     /// own build starts once the CPU is chosen.
@@ -321,6 +321,12 @@ impl Evaluator for CpuEvaluator {
         Ok(self.records(batch, which, simulate_scored))
     }
 
+    fn set_cancel(&mut self, flag: Arc<AtomicBool>) {
+        self.cancel = Some(flag);
+    }
+}
+
+impl Timed for CpuEvaluator {
     fn prepare(&mut self) {
         // Every build started early is done (none left to compete with a
         // timed batch), then the fitness builds, if none was started.
@@ -334,9 +340,5 @@ impl Evaluator for CpuEvaluator {
 
     fn prepare_soon(&mut self) {
         self.start_early_builds(true);
-    }
-
-    fn set_cancel(&mut self, flag: Arc<AtomicBool>) {
-        self.cancel = Some(flag);
     }
 }

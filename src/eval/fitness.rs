@@ -34,7 +34,7 @@ impl FitnessAccumulator {
     /// fit window (the same for every run of a sample, so a group looks it
     /// up once).
     pub fn measured(exp: &ExperimentData, k: usize) -> Option<f64> {
-        exp.window.contains(&k).then(|| exp.force[k])
+        exp.window.contains(&k).then(|| exp.measured[k])
     }
 
     /// [`Self::add`] with the sample's [`Self::measured`] value.

@@ -3,13 +3,16 @@
 //! An evaluator receives full model parameter vectors (one per candidate and
 //! experiment, already mapped from the search's genomes) and returns, per
 //! candidate and experiment, the fitness `1 − R²` of the model's output 0 against
-//! the measured history over the experiment's fit window.
+//! the measured history over the experiment's fit window. What `auto`'s
+//! backend trial asks of an evaluator beyond that (making it ready, timing
+//! part of a pass, its kernel variants) is [`Timed`].
 
 mod cpu;
 mod fitness;
 mod problem;
 mod remembered;
 mod residuals;
+mod timed;
 
 use std::ops::Range;
 
@@ -21,6 +24,7 @@ pub use fitness::{
 pub use problem::{ExperimentData, Problem};
 pub use remembered::Remembered;
 pub use residuals::{scored_residuals, window_residuals};
+pub use timed::Timed;
 
 /// Floating-point precision of an evaluator's arithmetic.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -238,45 +242,6 @@ pub trait Evaluator: Send {
     /// in flight stop as soon as it can and return [`EvalError::Cancelled`].
     /// An evaluator that cannot stop early ignores it.
     fn set_cancel(&mut self, _flag: std::sync::Arc<std::sync::atomic::AtomicBool>) {}
-
-    /// Makes ready what scoring `batch` needs, so that a batch timed after
-    /// it measures the scoring alone: the GPU builds the kernel that scores
-    /// it and runs its first chunk. By default it scores the batch once.
-    fn warm_up(&mut self, batch: &Batch) -> Result<(), EvalError> {
-        self.fitness(batch).map(|_| ())
-    }
-
-    /// Runs the fitness pass of `batch` for its first `steps` steps or so
-    /// (whole chunks), its scores never read, and returns the most steps a
-    /// run advanced: what `auto`'s trial times a long record's path on
-    /// before it knows whether it keeps it. `None` (by default) where the
-    /// evaluator cannot stop a pass partway: the trial then times a whole
-    /// pass.
-    fn fitness_part(&mut self, _batch: &Batch, _steps: usize) -> Result<Option<usize>, EvalError> {
-        Ok(None)
-    }
-
-    /// Makes ready now what the evaluator would make ready once it pays (the
-    /// CPU lanes' native build), so that a timed trial measures the path
-    /// the job runs. Nothing by default.
-    fn prepare(&mut self) {}
-
-    /// Starts making ready, in the background, what [`Evaluator::prepare`]
-    /// makes ready now (and what the polish's histories run), for a job
-    /// long enough to want it: scoring goes on meanwhile as it would
-    /// without. Nothing by default.
-    fn prepare_soon(&mut self) {}
-
-    /// The kernel variants it can score with, the one it starts with first
-    /// (the GPU's [`KERNEL_VARIANTS`]); none by default. Which is fastest
-    /// depends on the adapter and its driver, so `auto` times each.
-    fn kernel_variants(&self) -> &'static [&'static str] {
-        &[]
-    }
-
-    /// Scores with `variant`, one of [`Evaluator::kernel_variants`], from now
-    /// on (the same values to rounding); any other name changes nothing.
-    fn use_kernel_variant(&mut self, _variant: &str) {}
 }
 
 /// The GPU evaluators' kernel variants: `"specialised"` (the values every

@@ -22,9 +22,9 @@ pub struct ExperimentData {
     /// Which of the rig's outputs is measured (0 unless a campaign's
     /// `channels` name another).
     pub output: usize,
-    /// The measured output (a force, a displacement or an acceleration) at
-    /// each sample, in that output's unit.
-    pub force: Vec<f64>,
+    /// The measured output (a force, a displacement, a voltage or an
+    /// acceleration) at each sample, in that output's unit.
+    pub measured: Vec<f64>,
     /// Samples scored by the fitness.
     pub window: Range<usize>,
     /// Weight in the joint fitness.
@@ -34,7 +34,7 @@ pub struct ExperimentData {
 impl ExperimentData {
     /// Sum of squares of the measured output about its mean over the window.
     pub fn ss_tot(&self) -> f64 {
-        let w = &self.force[self.window.clone()];
+        let w = &self.measured[self.window.clone()];
         let mean = w.iter().sum::<f64>() / w.len() as f64;
         w.iter().map(|f| (f - mean) * (f - mean)).sum()
     }
@@ -43,13 +43,13 @@ impl ExperimentData {
     /// itself ([`crate::base::noise::noise_sigma`]); `None` for a window too
     /// short to tell.
     pub fn noise_estimate(&self) -> Option<f64> {
-        crate::base::noise::noise_sigma(&self.force[self.window.clone()])
+        crate::base::noise::noise_sigma(&self.measured[self.window.clone()])
     }
 
     /// Magnitude beyond which a model output counts as having blown up: 1000 ×
     /// the largest measured magnitude (at least 1).
     pub fn blowup_limit(&self) -> f64 {
-        1.0e3 * self.force.iter().fold(1.0_f64, |m, f| m.max(f.abs()))
+        1.0e3 * self.measured.iter().fold(1.0_f64, |m, f| m.max(f.abs()))
     }
 
     /// Integration grid for a candidate with clock offset `offset` (s).

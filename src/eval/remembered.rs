@@ -7,17 +7,17 @@
 //! same scores: the same evaluator on the same batch, bit for bit) and every
 //! other request as it would.
 
-use super::{Batch, EvalError, Evaluator, EvaluatorInfo, History, Problem, Scores};
+use super::{Batch, EvalError, Evaluator, EvaluatorInfo, History, Problem, Scores, Timed};
 
 /// `inner`, with the scores of one batch kept for the first request of it.
 pub struct Remembered {
-    inner: Box<dyn Evaluator>,
+    inner: Box<dyn Timed>,
     kept: Option<(Batch, Scores)>,
 }
 
 impl Remembered {
     /// `inner`, which scored `batch` as `scores`.
-    pub fn new(inner: Box<dyn Evaluator>, batch: Batch, scores: Scores) -> Self {
+    pub fn new(inner: Box<dyn Timed>, batch: Batch, scores: Scores) -> Self {
         Self {
             inner,
             kept: Some((batch, scores)),
@@ -79,7 +79,9 @@ impl Evaluator for Remembered {
     fn set_cancel(&mut self, flag: std::sync::Arc<std::sync::atomic::AtomicBool>) {
         self.inner.set_cancel(flag);
     }
+}
 
+impl Timed for Remembered {
     fn warm_up(&mut self, batch: &Batch) -> Result<(), EvalError> {
         self.inner.warm_up(batch)
     }
@@ -148,6 +150,8 @@ mod tests {
             Ok(vec![])
         }
     }
+
+    impl Timed for Counting {}
 
     fn batch(first: f64) -> Batch {
         Batch {

@@ -30,5 +30,10 @@ pub fn scored_residuals(exp: &ExperimentData, out: &[f64]) -> Option<Vec<f64>> {
     {
         return None;
     }
-    Some(exp.window.clone().map(|k| out[k] - exp.force[k]).collect())
+    Some(
+        exp.window
+            .clone()
+            .map(|k| out[k] - exp.measured[k])
+            .collect(),
+    )
 }

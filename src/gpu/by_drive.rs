@@ -13,7 +13,7 @@ use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
 use crate::eval::{
-    Batch, EvalError, Evaluator, EvaluatorInfo, History, Precision, Problem, Scores,
+    Batch, EvalError, Evaluator, EvaluatorInfo, History, Precision, Problem, Scores, Timed,
 };
 use crate::model::GpuModel;
 
@@ -214,23 +214,6 @@ impl Evaluator for GpuByDrive {
         })
     }
 
-    /// Each group's first chunk alone ([`Evaluator::fitness_part`] of one
-    /// step).
-    fn warm_up(&mut self, batch: &Batch) -> Result<(), EvalError> {
-        self.fitness_part(batch, 1).map(|_| ())
-    }
-
-    fn fitness_part(&mut self, batch: &Batch, steps: usize) -> Result<Option<usize>, EvalError> {
-        self.problem.check_batch(batch)?;
-        // Every group's part, the most steps of any; `None` where any group
-        // cannot stop partway.
-        let mut most = Some(0);
-        for part in self.each_group(batch, |ev, sub| ev.fitness_part(sub, steps)) {
-            most = most.zip(part?).map(|(a, b)| a.max(b));
-        }
-        Ok(most)
-    }
-
     fn checked_histories(
         &mut self,
         batch: &Batch,
@@ -255,6 +238,25 @@ impl Evaluator for GpuByDrive {
 
     fn problem(&self) -> &Problem {
         &self.problem
+    }
+}
+
+impl Timed for GpuByDrive {
+    /// Each group's first chunk alone ([`Timed::fitness_part`] of one
+    /// step).
+    fn warm_up(&mut self, batch: &Batch) -> Result<(), EvalError> {
+        self.fitness_part(batch, 1).map(|_| ())
+    }
+
+    fn fitness_part(&mut self, batch: &Batch, steps: usize) -> Result<Option<usize>, EvalError> {
+        self.problem.check_batch(batch)?;
+        // Every group's part, the most steps of any; `None` where any group
+        // cannot stop partway.
+        let mut most = Some(0);
+        for part in self.each_group(batch, |ev, sub| ev.fitness_part(sub, steps)) {
+            most = most.zip(part?).map(|(a, b)| a.max(b));
+        }
+        Ok(most)
     }
 
     fn kernel_variants(&self) -> &'static [&'static str] {

@@ -17,7 +17,7 @@ use std::sync::atomic::AtomicBool;
 
 use crate::base::Drive;
 use crate::eval::{
-    Batch, EvalError, Evaluator, EvaluatorInfo, History, Precision, Problem, Scores,
+    Batch, EvalError, Evaluator, EvaluatorInfo, History, Precision, Problem, Scores, Timed,
 };
 use crate::model::GpuModel;
 
@@ -284,18 +284,6 @@ impl Evaluator for GpuEvaluator {
         self.scores(raw)
     }
 
-    /// The batch's first chunk alone ([`Evaluator::fitness_part`] of one step).
-    fn warm_up(&mut self, batch: &Batch) -> Result<(), EvalError> {
-        self.fitness_part(batch, 1).map(|_| ())
-    }
-
-    fn fitness_part(&mut self, batch: &Batch, steps: usize) -> Result<Option<usize>, EvalError> {
-        self.problem.check_batch(batch)?;
-        self.part_fitness(batch, steps)
-            .map(Some)
-            .map_err(device_error)
-    }
-
     fn checked_histories(
         &mut self,
         batch: &Batch,
@@ -324,6 +312,20 @@ impl Evaluator for GpuEvaluator {
 
     fn problem(&self) -> &Problem {
         &self.problem
+    }
+}
+
+impl Timed for GpuEvaluator {
+    /// The batch's first chunk alone ([`Timed::fitness_part`] of one step).
+    fn warm_up(&mut self, batch: &Batch) -> Result<(), EvalError> {
+        self.fitness_part(batch, 1).map(|_| ())
+    }
+
+    fn fitness_part(&mut self, batch: &Batch, steps: usize) -> Result<Option<usize>, EvalError> {
+        self.problem.check_batch(batch)?;
+        self.part_fitness(batch, steps)
+            .map(Some)
+            .map_err(device_error)
     }
 
     fn kernel_variants(&self) -> &'static [&'static str] {

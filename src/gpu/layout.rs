@@ -40,7 +40,7 @@ pub struct ExpInfo {
     pub win_start: u32,
     /// One past the last sample of the fit window.
     pub win_end: u32,
-    /// Index of sample 0's measured force in the data buffer.
+    /// Index of sample 0's measured output in the data buffer.
     pub data_offset: u32,
     /// Force drive: index of the breakpoint times in the data buffer (values follow).
     pub table_offset: u32,

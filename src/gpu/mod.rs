@@ -2,28 +2,41 @@
 //! in one WGSL compute pipeline (wgpu), one invocation per (candidate,
 //! experiment) run, returning one `1 − R²` per run.
 //!
-//! The kernels under `shaders/` reproduce the f64 CPU reference
-//! ([`crate::integrate`]) operation for operation: the same RK4 stages, the same
-//! fracture location inside the step (Hermite cubic, 52 bisection halvings), step
-//! times from the step index, the prologue when `t0 > 0`, the blow-up guard
-//! `|F1| > blowup_limit` and `SS_res / SS_tot` over the fit window, accumulated on
-//! the device against the measured history. A second kernel writes full histories
-//! of chosen candidates ([`with_best`] adds the best one). Long runs are split
+//! A compiled rig's kernels are stitched together in one place
+//! ([`shaders::source`]): the prelude, the shared pieces under
+//! `shaders/shared/`, the rig file that `crate::compile::back::wgsl` emits for
+//! the rig's program, and a kernel (`shaders/rig_fitness.wgsl` or
+//! `shaders/rig_history.wgsl`). The run loop (`shaders/shared/rig_run.wgsl`)
+//! takes every step as the f64 CPU reference does
+//! ([`crate::compile::exec::events::EventStepper`] on
+//! [`crate::base::walk_grid`]'s times): the same RK4 stages, step times from the
+//! step index, the prologue when `t0 > 0`, every located switch found inside
+//! its step on the step's cubic Hermite interpolant and the step redone to it,
+//! a controller's sample instants taken as
+//! [`crate::compile::exec::sampling::SampleClock`] takes them, the blow-up
+//! guard on the scored output and `SS_res / SS_tot` over the fit window,
+//! accumulated on the device against the measured record. The history kernel
+//! writes full histories of chosen candidates ([`with_best`] adds the best
+//! one). `shaders/TWINS.md` lists each hand-kept WGSL function with the Rust
+//! function it must agree with. Long runs are split
 //! into chunks of [`GpuOptions::chunk_steps`] steps, one submit each with the
 //! next queued behind it, the cancel flag read between them (an interrupt
 //! stops a pass within two chunks); a batch past one dispatch's workgroup
-//! limit is split into several dispatches over slices of the buffers; the [`GpuContext`] (device) and the evaluator's pipelines and buffers
-//! are built once per job and reused every generation. The fitness kernel is
+//! limit is split into several dispatches over slices of the buffers; the
+//! [`GpuContext`] (device) and the evaluator's pipelines and buffers are built
+//! once per job and reused every generation. The fitness kernel is
 //! specialised to the batch ([`specialise`]): values shared by every run are
 //! compiled in as constants (the same results to rounding).
 //!
-//! Candidates whose load-cell force leaves the experiment's blow-up limit (or
-//! becomes NaN/Inf) stop integrating and score [`crate::eval::DIVERGED`]; they
-//! are counted in `Scores::diverged`.
+//! Candidates whose scored output leaves the experiment's blow-up limit (or
+//! becomes NaN/Inf), or that chatter (more than the run loop's events in one
+//! step), stop integrating and score [`crate::eval::DIVERGED`]; they are
+//! counted in `Scores::diverged`.
 //!
 //! # Limits
-//! - Models with at most four degrees of freedom (`State` is two `vec4`) and two
-//!   outputs (history records hold t, 2 outputs, 8 states).
+//! - At most [`crate::compile::back::wgsl::MAX_SWITCHES`] located switches per
+//!   program (`rig_hits` is a 32-bit mask); a rig past it has no kernels
+//!   ([`GpuError::TooManySwitches`]).
 //! - Force drives are supported (table in the data buffer); kernels for
 //!   velocity-only problems are compiled without the force-drive code. A
 //!   compiled rig has kernels per drive mode; a job that mixes modes runs one
@@ -32,22 +45,20 @@
 //! - On CPU drivers (lavapipe) both sides of every branch run, every loop body
 //!   runs at least once and a loop tested at its head runs one extra masked
 //!   pass, so the sampled part of a run is one flat loop of RK4 steps per block
-//!   of samples that locates a fracture after its block and redoes that step in
-//!   the next (`shaders/shared/run.wgsl`), and the model's piecewise laws are
-//!   `select`s.
+//!   of samples (`run_block` in `shaders/shared/rig_run.wgsl`) that leaves the
+//!   block at a step with a switch or a sample instant inside it, which
+//!   `run_crossed` then takes in pieces.
 //!
 //! # Precision
-//! `f32` everywhere; `f64` where the adapter has `SHADER_F64`. Exponentials use
-//! our own `exp`/`expm1` (`shaders/shared/exp.wgsl`) because lavapipe's f64
-//! transcendental functions are wrong; logarithms (the slack knee `d*`) are
-//! computed on the host. Measured against the CPU reference on a seeded batch of
-//! 256 candidates (`tests/gpu_cpu_parity.rs`): f64 force histories agree within
-//! 1e-9 of the history's largest |F| (observed ≈ 2e-14); f32 within
-//! [`F32_HISTORY_TOLERANCE`] of the largest |F| (observed ≈ 3e-5). Where the
-//! histories differ, divisions by masses are multiplications by packed `1/m`,
-//! the drive's exponential at t + h/2 and t + h is e(t) times e^{−v·h/2r},
-//! polynomials are evaluated in a different order (Estrin), and the driver may
-//! fuse multiply-adds.
+//! `f32` everywhere; `f64` where the adapter has `SHADER_F64`. Exponentials,
+//! logarithms, sines and cosines use our own (`shaders/shared/exp.wgsl`,
+//! `shaders/shared/math.wgsl`) in f64 because lavapipe's f64 transcendental
+//! functions are wrong. Histories agree with the f64 CPU reference within
+//! [`F64_HISTORY_TOLERANCE`] (f64) and [`F32_HISTORY_TOLERANCE`] (f32) of the
+//! history's largest magnitude (`tests/gpu_cpu_parity.rs`,
+//! `tests/gpu_rig_parity.rs`). Where the histories differ, the driver may
+//! evaluate polynomials in a different order (Estrin in our own exp) and fuse
+//! multiply-adds.
 //!
 //! # Throughput
 //! Reference problem (998 RK4 steps per candidate), `RIGFIT_BENCH_TABLE_ONLY=1
@@ -91,14 +102,14 @@ pub use evaluator::{GpuEvaluator, GpuOptions};
 pub use pack::{from_real_bytes, real_size, to_real_bytes};
 pub use probe::{Probed, probe_exp, probe_math};
 
-use crate::eval::{Backend, CpuEvaluator, Evaluator, Precision, PrecisionChoice, Problem, Scores};
+use crate::eval::{Backend, CpuEvaluator, Precision, PrecisionChoice, Problem, Scores, Timed};
 use crate::model::GpuModel;
 
-/// f32 force histories agree with the f64 CPU reference within this fraction of
-/// the history's largest |F| (measured in `tests/gpu_cpu_parity.rs`).
+/// f32 histories agree with the f64 CPU reference within this fraction of the
+/// history's largest magnitude (measured in `tests/gpu_cpu_parity.rs`).
 pub const F32_HISTORY_TOLERANCE: f64 = 2e-4;
-/// f64 force histories agree with the f64 CPU reference within this fraction of
-/// the history's largest |F|.
+/// f64 histories agree with the f64 CPU reference within this fraction of the
+/// history's largest magnitude.
 pub const F64_HISTORY_TOLERANCE: f64 = 1e-9;
 
 /// Name of the environment variable that makes a missing adapter an error.
@@ -141,7 +152,7 @@ pub enum GpuError {
         mode: String,
         /// Its located switches.
         count: usize,
-        /// [`crate::compile::back::wgsl::MAX_TRANSITIONS`].
+        /// [`crate::compile::back::wgsl::MAX_SWITCHES`].
         limit: usize,
     },
     /// One [`GpuEvaluator`] was asked to score experiments that need
@@ -210,12 +221,12 @@ pub fn kernels_for(problem: &Problem, e: usize) -> Result<GpuModel, GpuError> {
     }
     let program = model.program_for(drive).map(|i| &model.lowered.programs[i]);
     match program {
-        Some(p) if p.transitions.len() > crate::compile::back::wgsl::MAX_TRANSITIONS => {
+        Some(p) if p.transitions.len() > crate::compile::back::wgsl::MAX_SWITCHES => {
             Err(GpuError::TooManySwitches {
                 rig: model.id().to_string(),
                 mode: p.mode.to_string(),
                 count: p.transitions.len(),
-                limit: crate::compile::back::wgsl::MAX_TRANSITIONS,
+                limit: crate::compile::back::wgsl::MAX_SWITCHES,
             })
         }
         _ => Err(GpuError::UnsupportedModel(model.id().to_string())),
@@ -230,8 +241,8 @@ pub fn gpu_required() -> bool {
 /// An opened evaluator with a note for the user (e.g. why `auto` fell back to
 /// the CPU), to print once.
 pub struct Opened {
-    /// The evaluator.
-    pub evaluator: Box<dyn Evaluator>,
+    /// The evaluator, which `auto`'s trial can time.
+    pub evaluator: Box<dyn Timed>,
     /// One line to tell the user, if any.
     pub note: Option<String>,
 }
@@ -317,7 +328,7 @@ pub fn open_evaluator_on(
         Err(e) => return Err(e),
     };
     let precision = resolve_precision(&ctx, precision)?;
-    let evaluator: Box<dyn Evaluator> = if kernel_groups(&problem)?.len() > 1 {
+    let evaluator: Box<dyn Timed> = if kernel_groups(&problem)?.len() > 1 {
         Box::new(GpuByDrive::new(
             ctx,
             problem,

@@ -9,14 +9,14 @@ use crate::model::GpuModel;
 
 use super::layout::{DRIVE_FORCE, DRIVE_VELOCITY, ExpInfo, RUN_HEADER, run_stride};
 
-/// Experiments and the data buffer's contents (measured forces, then drive
+/// Experiments and the data buffer's contents (measured outputs, then drive
 /// tables), with each experiment's blow-up limit and SS_tot.
 #[derive(Debug, Clone)]
 pub struct PackedProblem {
     /// One per experiment.
     pub experiments: Vec<ExpInfo>,
-    /// Measured forces of every experiment, then each force-drive table (times,
-    /// then values).
+    /// Measured outputs of every experiment, then each force-drive table
+    /// (times, then values).
     pub data: Vec<f64>,
     /// `ExperimentData::blowup_limit` per experiment.
     pub limit: Vec<f64>,
@@ -43,7 +43,7 @@ pub fn pack_problem(problem: &Problem, model: &GpuModel) -> PackedProblem {
             hist_offset,
             ..ExpInfo::zeroed_default()
         });
-        data.extend_from_slice(&exp.force);
+        data.extend_from_slice(&exp.measured);
         hist_offset += samples;
     }
     for (info, exp) in experiments.iter_mut().zip(&problem.experiments) {

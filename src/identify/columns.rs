@@ -13,7 +13,7 @@
 
 use std::path::Path;
 
-use super::{PrecalError, require_points};
+use super::{IdentifyError, require_points};
 use crate::base::data::content_lines;
 
 /// A table of numeric columns.
@@ -29,18 +29,18 @@ impl Table {
     /// Reads a table from a file.
     ///
     /// # Errors
-    /// [`PrecalError::Io`] and the parsing errors of [`Table::parse`].
-    pub fn read(path: &Path) -> Result<Self, PrecalError> {
+    /// [`IdentifyError::Io`] and the parsing errors of [`Table::parse`].
+    pub fn read(path: &Path) -> Result<Self, IdentifyError> {
         Self::parse(&read_text(path)?)
     }
 
     /// Parses CSV text (see the module docs for the rules).
     ///
     /// # Errors
-    /// [`PrecalError::ColumnCount`], [`PrecalError::NotNumeric`],
-    /// [`PrecalError::NotFinite`], and [`PrecalError::TooFewPoints`] for a table
+    /// [`IdentifyError::ColumnCount`], [`IdentifyError::NotNumeric`],
+    /// [`IdentifyError::NotFinite`], and [`IdentifyError::TooFewPoints`] for a table
     /// without data rows.
-    pub fn parse(text: &str) -> Result<Self, PrecalError> {
+    pub fn parse(text: &str) -> Result<Self, IdentifyError> {
         let table = parse_rows(text, None)?;
         require_points("data rows", 1, table.columns.first().map_or(0, Vec::len))?;
         Ok(table)
@@ -51,8 +51,8 @@ impl Table {
     /// `time_column` counts from 0, and every message says which).
     ///
     /// # Errors
-    /// [`PrecalError::InvalidOption`] naming the columns there are.
-    pub fn column(&self, key: &str) -> Result<&[f64], PrecalError> {
+    /// [`IdentifyError::InvalidOption`] naming the columns there are.
+    pub fn column(&self, key: &str) -> Result<&[f64], IdentifyError> {
         let by_name = self.header.iter().position(|h| h == key);
         let index = match by_name {
             Some(i) => Some(i),
@@ -72,7 +72,7 @@ impl Table {
                     self.columns.len()
                 )
             };
-            PrecalError::InvalidOption {
+            IdentifyError::InvalidOption {
                 name: "column",
                 reason: format!(
                     "no column {key:?} (there are: {known}; on the command line a position \
@@ -86,7 +86,7 @@ impl Table {
 /// The header (empty when there was none) and the numeric columns of CSV text
 /// (see the module docs), every line `width` fields wide, or as wide as the
 /// first when `None`. A text without data rows gives empty columns.
-pub(crate) fn parse_rows(text: &str, width: Option<usize>) -> Result<Table, PrecalError> {
+pub(crate) fn parse_rows(text: &str, width: Option<usize>) -> Result<Table, IdentifyError> {
     let mut header = Vec::new();
     let mut columns: Vec<Vec<f64>> = vec![Vec::new(); width.unwrap_or(0)];
     let mut rows = content_lines(text).peekable();
@@ -102,7 +102,7 @@ pub(crate) fn parse_rows(text: &str, width: Option<usize>) -> Result<Table, Prec
     for (line, row) in rows {
         let fields = split_fields(row);
         if fields.len() != columns.len() {
-            return Err(PrecalError::ColumnCount {
+            return Err(IdentifyError::ColumnCount {
                 line,
                 expected: columns.len(),
                 found: fields.len(),
@@ -117,9 +117,9 @@ pub(crate) fn parse_rows(text: &str, width: Option<usize>) -> Result<Table, Prec
 
 /// The text of `path`, read as every measured record is
 /// ([`crate::base::fsutil::read_record`]: a regular file of at most
-/// [`crate::base::fsutil::MAX_RECORD_BYTES`]), or [`PrecalError::Io`] naming it.
-pub(crate) fn read_text(path: &Path) -> Result<String, PrecalError> {
-    let io = |source| PrecalError::Io {
+/// [`crate::base::fsutil::MAX_RECORD_BYTES`]), or [`IdentifyError::Io`] naming it.
+pub(crate) fn read_text(path: &Path) -> Result<String, IdentifyError> {
+    let io = |source| IdentifyError::Io {
         path: path.to_path_buf(),
         source,
     };
@@ -144,14 +144,14 @@ fn split_fields(line: &str) -> Vec<&str> {
 }
 
 /// A field as a finite number, or the error naming its line and column.
-fn parse_field(text: &str, line: usize, column: usize) -> Result<f64, PrecalError> {
-    let value: f64 = text.parse().map_err(|_| PrecalError::NotNumeric {
+fn parse_field(text: &str, line: usize, column: usize) -> Result<f64, IdentifyError> {
+    let value: f64 = text.parse().map_err(|_| IdentifyError::NotNumeric {
         line,
         column,
         found: text.to_string(),
     })?;
     if !value.is_finite() {
-        return Err(PrecalError::NotFinite {
+        return Err(IdentifyError::NotFinite {
             line,
             column,
             found: text.to_string(),
@@ -164,15 +164,15 @@ fn parse_field(text: &str, line: usize, column: usize) -> Result<f64, PrecalErro
 /// checking that no step strays from it by more than 1 %.
 ///
 /// # Errors
-/// [`PrecalError::TooFewPoints`] for fewer than two samples and
-/// [`PrecalError::NonUniformTime`] for uneven spacing.
-pub fn sample_interval(t: &[f64]) -> Result<f64, PrecalError> {
+/// [`IdentifyError::TooFewPoints`] for fewer than two samples and
+/// [`IdentifyError::NonUniformTime`] for uneven spacing.
+pub fn sample_interval(t: &[f64]) -> Result<f64, IdentifyError> {
     require_points("time stamps", 2, t.len())?;
     let dt = (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64;
     for (index, w) in t.windows(2).enumerate() {
         let step = w[1] - w[0];
         if dt.is_nan() || dt <= 0.0 || (step - dt).abs() > 0.01 * dt {
-            return Err(PrecalError::NonUniformTime {
+            return Err(IdentifyError::NonUniformTime {
                 index: index + 1,
                 step,
                 expected: dt,
@@ -195,11 +195,11 @@ mod tests {
         assert!(e.contains("t, x, y"), "{e}");
         assert!(matches!(
             Table::parse("0,1\n2\n"),
-            Err(PrecalError::ColumnCount { line: 2, .. })
+            Err(IdentifyError::ColumnCount { line: 2, .. })
         ));
         assert!(matches!(
             Table::parse("a,b\n1,nan\n"),
-            Err(PrecalError::NotFinite {
+            Err(IdentifyError::NotFinite {
                 line: 2,
                 column: 2,
                 ..
@@ -212,7 +212,7 @@ mod tests {
         assert!((sample_interval(&[0.0, 0.1, 0.2, 0.3]).unwrap() - 0.1).abs() < 1e-15);
         assert!(matches!(
             sample_interval(&[0.0, 0.1, 0.25, 0.3]),
-            Err(PrecalError::NonUniformTime { index: 2, .. })
+            Err(IdentifyError::NonUniformTime { index: 2, .. })
         ));
     }
 }

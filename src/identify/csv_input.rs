@@ -8,7 +8,7 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use super::PrecalError;
+use super::IdentifyError;
 use super::columns::{Table, parse_rows, read_text};
 
 /// Two numeric columns read from a file.
@@ -23,12 +23,12 @@ pub struct TwoColumns {
 }
 
 /// Reads a two-column CSV file.
-pub fn read_two_columns(path: &Path) -> Result<TwoColumns, PrecalError> {
+pub fn read_two_columns(path: &Path) -> Result<TwoColumns, IdentifyError> {
     parse_two_columns(&read_text(path)?)
 }
 
 /// Parses two-column CSV text (see the module docs for the rules).
-pub fn parse_two_columns(text: &str) -> Result<TwoColumns, PrecalError> {
+pub fn parse_two_columns(text: &str) -> Result<TwoColumns, IdentifyError> {
     let Table {
         mut header,
         mut columns,

@@ -9,7 +9,7 @@
 use nalgebra::{Matrix3, Matrix5, Vector3, Vector5};
 use serde::Serialize;
 
-use super::{PrecalError, r_squared};
+use super::{IdentifyError, r_squared};
 
 const MAX_ITERATIONS: usize = 200;
 
@@ -47,11 +47,12 @@ pub(crate) fn fit_decay(
     x: &[f64],
     omega_d: f64,
     decay_rate: f64,
-) -> Result<DecayFit, PrecalError> {
-    let linear = linear_part(t, x, decay_rate, omega_d).ok_or_else(|| PrecalError::Numerical {
-        stage: "ring-down fit start",
-        reason: "singular linear system".into(),
-    })?;
+) -> Result<DecayFit, IdentifyError> {
+    let linear =
+        linear_part(t, x, decay_rate, omega_d).ok_or_else(|| IdentifyError::Numerical {
+            stage: "ring-down fit start",
+            reason: "singular linear system".into(),
+        })?;
     let mut p = Vector5::new(linear[0], linear[1], decay_rate, omega_d, linear[2]);
     let mut sse = sse_of(t, x, &p);
     let mut lambda = 1e-3;

@@ -13,7 +13,7 @@
 //! and the stiffness exponent β; its Eq. 6 prints `ẋ` in the stiffness terms, which the
 //! sentence after it corrects to `x`). For fixed `(α, β)` the coefficients solve the
 //! over-determined system Eq. 7 by least squares. The exponents are found as the paper
-//! does (its ref. [21]): a grid of step `h` around a centre `(α₀, β₀)`; the centre moves
+//! does (its ref. \[21\]): a grid of step `h` around a centre `(α₀, β₀)`; the centre moves
 //! to the grid point of least squared error; the step is halved; this repeats until the
 //! step is below a tolerance. The paper gives neither the grid's extent, its start nor
 //! the tolerance: rigfit uses a 5 × 5 grid (±2h), `h₀ = 0.25`, centre `(1, 2)` and
@@ -24,7 +24,7 @@
 use serde::Serialize;
 use serde_json::{Value, json};
 
-use super::PrecalError;
+use super::IdentifyError;
 use super::lsq::{LinearFit, least_squares};
 use super::rfs::Surface;
 use super::signal::sign;
@@ -296,16 +296,16 @@ impl DpeReport {
     }
 }
 
-fn validate(opts: &DpeOptions) -> Result<(), PrecalError> {
+fn validate(opts: &DpeOptions) -> Result<(), IdentifyError> {
     if opts.terms.is_empty() {
-        return Err(PrecalError::InvalidOption {
+        return Err(IdentifyError::InvalidOption {
             name: "terms",
             reason: "choose at least one term".into(),
         });
     }
     let g = &opts.grid;
     if !(g.step > 0.0 && g.tolerance > 0.0 && g.half_width >= 1) {
-        return Err(PrecalError::InvalidOption {
+        return Err(IdentifyError::InvalidOption {
             name: "grid",
             reason: "the step, the tolerance and the half-width must be positive".into(),
         });
@@ -317,7 +317,7 @@ fn validate(opts: &DpeOptions) -> Result<(), PrecalError> {
         if let Some(v) = v
             && !(v.is_finite() && v >= lo && v <= hi)
         {
-            return Err(PrecalError::InvalidOption {
+            return Err(IdentifyError::InvalidOption {
                 name,
                 reason: format!("{v} is outside [{lo}, {hi}]"),
             });
@@ -332,7 +332,7 @@ fn fit_fixed(
     terms: &[Term],
     alpha: f64,
     beta: f64,
-) -> Result<LinearFit, PrecalError> {
+) -> Result<LinearFit, IdentifyError> {
     let columns: Vec<Vec<f64>> = terms
         .iter()
         .map(|t| {
@@ -367,10 +367,10 @@ fn axis_points(
 /// Direct parameter estimation on a restoring-force surface.
 ///
 /// # Errors
-/// [`PrecalError::InvalidOption`] for no terms or a bad exponent or grid,
-/// [`PrecalError::Numerical`] when no grid point gives independent regressors,
+/// [`IdentifyError::InvalidOption`] for no terms or a bad exponent or grid,
+/// [`IdentifyError::Numerical`] when no grid point gives independent regressors,
 /// and the errors of the least-squares solve.
-pub fn estimate(surface: &Surface, opts: &DpeOptions) -> Result<DpeReport, PrecalError> {
+pub fn estimate(surface: &Surface, opts: &DpeOptions) -> Result<DpeReport, IdentifyError> {
     validate(opts)?;
     let mut terms: Vec<Term> = Term::ALL
         .into_iter()
@@ -400,7 +400,7 @@ pub fn estimate(surface: &Surface, opts: &DpeOptions) -> Result<DpeReport, Preca
                 }
             }
             let Some((a, b, sse)) = best else {
-                return Err(PrecalError::Numerical {
+                return Err(IdentifyError::Numerical {
                     stage: "exponent search",
                     reason: format!(
                         "no grid point around (α, β) = ({alpha}, {beta}) gives independent regressors"

@@ -19,7 +19,7 @@ use rustfft::FftPlanner;
 use rustfft::num_complex::Complex64;
 use serde::Serialize;
 
-use super::{PrecalError, r_squared};
+use super::{IdentifyError, r_squared};
 
 /// The envelope's decay.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -39,18 +39,18 @@ pub struct EnvelopeDecay {
 /// Envelope decay of `x` sampled at `fs` (Hz) in `f_peak ± band` (Hz).
 ///
 /// # Errors
-/// [`PrecalError::InvalidOption`] for a band that does not fit below the Nyquist
-/// rate, [`PrecalError::TooShortRingdown`] when fewer than 16 samples remain for
+/// [`IdentifyError::InvalidOption`] for a band that does not fit below the Nyquist
+/// rate, [`IdentifyError::TooShortRingdown`] when fewer than 16 samples remain for
 /// the fit.
 pub fn envelope_decay(
     x: &[f64],
     fs: f64,
     f_peak: f64,
     band: f64,
-) -> Result<EnvelopeDecay, PrecalError> {
+) -> Result<EnvelopeDecay, IdentifyError> {
     let (lo, hi) = ((f_peak - band).max(0.0), f_peak + band);
     if !(band > 0.0 && hi < fs / 2.0) {
-        return Err(PrecalError::InvalidOption {
+        return Err(IdentifyError::InvalidOption {
             name: "envelope band",
             reason: format!("{lo:.4} … {hi:.4} Hz does not fit below half the sample rate"),
         });
@@ -83,7 +83,7 @@ pub fn envelope_decay(
         .find(|&i| env[i] < floor)
         .unwrap_or(n.saturating_sub(margin));
     if end < start + 16 {
-        return Err(PrecalError::TooShortRingdown {
+        return Err(IdentifyError::TooShortRingdown {
             what: "envelope samples between the band-pass edges",
             needed: 16,
             found: end.saturating_sub(start),

@@ -24,7 +24,7 @@ use rustfft::num_complex::Complex64;
 
 pub use super::psd::WelchSettings;
 use super::psd::{averaged_segments, check_rate};
-use super::{PrecalError, check_inputs};
+use super::{IdentifyError, check_inputs};
 
 /// What a modal fit of the FRF assumes of its input: the mass, stiffness and
 /// damping it reports (and writes into a campaign fragment) are the rig's
@@ -55,15 +55,15 @@ pub struct Frf {
 /// Estimates H1, H2 and the coherence from `u` and `y` sampled at `fs` (Hz).
 ///
 /// # Errors
-/// Input errors, [`PrecalError::InvalidOption`] for a non-positive rate or a
-/// segment shorter than 8 samples, [`PrecalError::TooFewPoints`] for fewer than
+/// Input errors, [`IdentifyError::InvalidOption`] for a non-positive rate or a
+/// segment shorter than 8 samples, [`IdentifyError::TooFewPoints`] for fewer than
 /// two segments.
 pub fn estimate(
     u: &[f64],
     y: &[f64],
     fs: f64,
     segment_len: Option<usize>,
-) -> Result<Frf, PrecalError> {
+) -> Result<Frf, IdentifyError> {
     check_inputs("input and output", u, y)?;
     check_rate(fs)?;
     let seg = averaged_segments(u.len(), segment_len, 8, "samples for two averaged segments")?;

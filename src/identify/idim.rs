@@ -31,7 +31,7 @@ use serde_json::{Value, json};
 
 use super::lsq::{LinearFit, least_squares};
 use super::signal::{self, butter_lowpass, decimate, derivative, downsample, filtfilt};
-use super::{PrecalError, check_inputs, require_points};
+use super::{IdentifyError, check_inputs, require_points};
 
 /// Options of [`estimate`].
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -142,9 +142,9 @@ impl IdimReport {
 /// Fits the inverse model to position `q` (m) and force `tau` (N).
 ///
 /// # Errors
-/// Input errors, [`PrecalError::InvalidOption`] for a bad filter or decimation,
+/// Input errors, [`IdentifyError::InvalidOption`] for a bad filter or decimation,
 /// and the least-squares errors.
-pub fn estimate(q: &[f64], tau: &[f64], opts: &IdimOptions) -> Result<IdimReport, PrecalError> {
+pub fn estimate(q: &[f64], tau: &[f64], opts: &IdimOptions) -> Result<IdimReport, IdentifyError> {
     check_inputs("position and force", q, tau)?;
     // A force without spread (a gain of 0, a constant column) fits any model
     // exactly, with R² = 1 and parameters of 0 ± NaN %: nothing to identify.
@@ -154,7 +154,7 @@ pub fn estimate(q: &[f64], tau: &[f64], opts: &IdimOptions) -> Result<IdimReport
             (l.min(v), h.max(v))
         });
     if hi.partial_cmp(&lo) != Some(std::cmp::Ordering::Greater) {
-        return Err(PrecalError::InvalidOption {
+        return Err(IdentifyError::InvalidOption {
             name: "force",
             reason: format!(
                 "the force (the column times --gain) is {lo:e} N at every sample: \

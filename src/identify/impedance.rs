@@ -33,7 +33,7 @@ use serde::Serialize;
 
 use super::lsq::least_squares;
 use super::psd::{check_rate, lines_in_band};
-use super::{PrecalError, check_inputs, r_squared, require_points};
+use super::{IdentifyError, check_inputs, r_squared, require_points};
 
 /// One impact test: the hammer force and the x and y displacements.
 #[derive(Debug, Clone, Copy)]
@@ -76,7 +76,7 @@ pub fn matrices(
     x_test: ImpactRecord<'_>,
     y_test: ImpactRecord<'_>,
     fs: f64,
-) -> Result<ImpedanceMatrices, PrecalError> {
+) -> Result<ImpedanceMatrices, IdentifyError> {
     for r in [x_test, y_test] {
         check_inputs("force and x displacement", r.force, r.x)?;
         check_inputs("force and y displacement", r.force, r.y)?;
@@ -201,13 +201,13 @@ impl ImpedanceFit {
 /// Fits `K_ij`, `C_ij` and `M` (unless `mass` is given) over `band` (Hz).
 ///
 /// # Errors
-/// [`PrecalError::TooFewPoints`] for fewer than four finite lines in the band,
+/// [`IdentifyError::TooFewPoints`] for fewer than four finite lines in the band,
 /// and the least-squares errors.
 pub fn fit(
     m: &ImpedanceMatrices,
     band: (f64, f64),
     mass: Option<f64>,
-) -> Result<ImpedanceFit, PrecalError> {
+) -> Result<ImpedanceFit, IdentifyError> {
     let lines: Vec<usize> = lines_in_band(&m.freqs, band)
         .into_iter()
         .filter(|&k| m.freqs[k] > 0.0)

@@ -10,7 +10,7 @@
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
-use super::{PrecalError, r_squared, require_points};
+use super::{IdentifyError, r_squared, require_points};
 
 /// A least-squares fit `y ≈ Σ θ_j·column_j`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -49,15 +49,15 @@ impl Coefficient {
 /// Solves `min Σ (y − Σ θ_j c_j)²` over the rows.
 ///
 /// # Errors
-/// [`PrecalError::LengthMismatch`] for a column of the wrong length,
-/// [`PrecalError::TooFewPoints`] for no more rows than columns, and
-/// [`PrecalError::Numerical`] when a column is zero or the columns are
+/// [`IdentifyError::LengthMismatch`] for a column of the wrong length,
+/// [`IdentifyError::TooFewPoints`] for no more rows than columns, and
+/// [`IdentifyError::Numerical`] when a column is zero or the columns are
 /// dependent.
-pub fn least_squares(columns: &[Vec<f64>], y: &[f64]) -> Result<LinearFit, PrecalError> {
+pub fn least_squares(columns: &[Vec<f64>], y: &[f64]) -> Result<LinearFit, IdentifyError> {
     let n = y.len();
     let p = columns.len();
     if let Some(c) = columns.iter().find(|c| c.len() != n) {
-        return Err(PrecalError::LengthMismatch {
+        return Err(IdentifyError::LengthMismatch {
             what: "regressor column",
             x_len: c.len(),
             y_len: n,
@@ -69,13 +69,13 @@ pub fn least_squares(columns: &[Vec<f64>], y: &[f64]) -> Result<LinearFit, Preca
         .map(|c| c.iter().map(|v| v * v).sum::<f64>().sqrt())
         .collect();
     if let Some(j) = norms.iter().position(|&s| !(s > 0.0 && s.is_finite())) {
-        return Err(PrecalError::Numerical {
+        return Err(IdentifyError::Numerical {
             stage: "least squares",
             reason: format!("regressor {} is zero or not finite", j + 1),
         });
     }
     if y.iter().all(|v| *v == 0.0) || y.iter().any(|v| !v.is_finite()) {
-        return Err(PrecalError::Numerical {
+        return Err(IdentifyError::Numerical {
             stage: "least squares",
             reason: "the fitted quantity is zero at every row, or not finite: nothing to fit"
                 .into(),
@@ -87,7 +87,7 @@ pub fn least_squares(columns: &[Vec<f64>], y: &[f64]) -> Result<LinearFit, Preca
     let s_max = svd.singular_values.max();
     let s_min = svd.singular_values.min();
     if s_min.is_nan() || s_min <= 1e-13 * s_max {
-        return Err(PrecalError::Numerical {
+        return Err(IdentifyError::Numerical {
             stage: "least squares",
             reason: format!(
                 "the regressors are linearly dependent (singular values {s_max:e} … {s_min:e})"
@@ -96,7 +96,7 @@ pub fn least_squares(columns: &[Vec<f64>], y: &[f64]) -> Result<LinearFit, Preca
     }
     let theta = svd
         .solve(&b, 0.0)
-        .map_err(|reason| PrecalError::Numerical {
+        .map_err(|reason| IdentifyError::Numerical {
             stage: "least squares",
             reason: reason.to_string(),
         })?;
@@ -128,7 +128,7 @@ pub fn least_squares(columns: &[Vec<f64>], y: &[f64]) -> Result<LinearFit, Preca
     let values = fit.coefficients.iter().map(|c| c.value);
     let numbers = values.chain(fit.coefficients.iter().map(|c| c.std_error));
     if let Some(bad) = numbers.chain([fit.sse, fit.r2]).find(|v| !v.is_finite()) {
-        return Err(PrecalError::Numerical {
+        return Err(IdentifyError::Numerical {
             stage: "least squares",
             reason: format!("the fit is not finite ({bad} among its results)"),
         });

@@ -47,9 +47,9 @@ pub use decay_fit::DecayFit;
 
 use std::path::PathBuf;
 
-/// Everything that can go wrong in a pre-calibration tool.
+/// Everything that can go wrong in an identification tool.
 #[derive(Debug, thiserror::Error)]
-pub enum PrecalError {
+pub enum IdentifyError {
     /// The input file could not be read.
     #[error("cannot read {path}")]
     Io {
@@ -198,15 +198,15 @@ pub enum PrecalError {
     },
 }
 
-/// [`PrecalError::TooFewPoints`] when `found` is less than `needed`: the one
+/// [`IdentifyError::TooFewPoints`] when `found` is less than `needed`: the one
 /// check every method makes before it fits.
 pub(crate) fn require_points(
     what: &'static str,
     needed: usize,
     found: usize,
-) -> Result<(), PrecalError> {
+) -> Result<(), IdentifyError> {
     if found < needed {
-        return Err(PrecalError::TooFewPoints {
+        return Err(IdentifyError::TooFewPoints {
             what,
             needed,
             found,
@@ -231,9 +231,9 @@ pub(crate) fn r_squared(sse: f64, values: &[f64]) -> f64 {
 }
 
 /// Checks that both slices have the same length and finite values.
-pub(crate) fn check_inputs(what: &'static str, x: &[f64], y: &[f64]) -> Result<(), PrecalError> {
+pub(crate) fn check_inputs(what: &'static str, x: &[f64], y: &[f64]) -> Result<(), IdentifyError> {
     if x.len() != y.len() {
-        return Err(PrecalError::LengthMismatch {
+        return Err(IdentifyError::LengthMismatch {
             what,
             x_len: x.len(),
             y_len: y.len(),
@@ -244,7 +244,7 @@ pub(crate) fn check_inputs(what: &'static str, x: &[f64], y: &[f64]) -> Result<(
         .zip(y)
         .position(|(a, b)| !a.is_finite() || !b.is_finite())
     {
-        return Err(PrecalError::NonFiniteSample { what, index });
+        return Err(IdentifyError::NonFiniteSample { what, index });
     }
     Ok(())
 }

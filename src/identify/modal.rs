@@ -33,7 +33,7 @@ use nalgebra::{DMatrix, DVector};
 use rustfft::num_complex::Complex64;
 use serde::Serialize;
 
-use super::{PrecalError, require_points};
+use super::{IdentifyError, require_points};
 
 /// What the measured response is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -134,15 +134,15 @@ fn to_receptance_factor(f: f64, kind: Response) -> Complex64 {
     }
 }
 
-fn validate(o: &ModalOptions) -> Result<(), PrecalError> {
+fn validate(o: &ModalOptions) -> Result<(), IdentifyError> {
     if !(1..=4).contains(&o.modes) {
-        return Err(PrecalError::InvalidOption {
+        return Err(IdentifyError::InvalidOption {
             name: "modes",
             reason: format!("{} is outside 1..=4", o.modes),
         });
     }
     if !(o.f_min > 0.0 && o.f_max > o.f_min && o.f_max.is_finite()) {
-        return Err(PrecalError::InvalidOption {
+        return Err(IdentifyError::InvalidOption {
             name: "band",
             reason: format!("{} … {} Hz is not a band above 0", o.f_min, o.f_max),
         });
@@ -154,15 +154,15 @@ fn validate(o: &ModalOptions) -> Result<(), PrecalError> {
 /// line by its `coherence`.
 ///
 /// # Errors
-/// [`PrecalError::InvalidOption`] for bad options, [`PrecalError::TooFewPoints`]
-/// for too few coherent lines in the band, [`PrecalError::Numerical`] when the
+/// [`IdentifyError::InvalidOption`] for bad options, [`IdentifyError::TooFewPoints`]
+/// for too few coherent lines in the band, [`IdentifyError::Numerical`] when the
 /// fit has fewer stable, oscillating poles than modes asked for.
 pub fn fit(
     freqs: &[f64],
     h: &[Complex64],
     coherence: &[f64],
     opts: &ModalOptions,
-) -> Result<ModalFit, PrecalError> {
+) -> Result<ModalFit, IdentifyError> {
     validate(opts)?;
     let lines: Vec<(f64, Complex64, f64)> = (0..freqs.len())
         .filter(|&k| freqs[k] >= opts.f_min && freqs[k] <= opts.f_max)
@@ -219,7 +219,7 @@ pub fn fit(
         let theta =
             a.svd(true, true)
                 .solve(&rhs, 1e-14)
-                .map_err(|reason| PrecalError::Numerical {
+                .map_err(|reason| IdentifyError::Numerical {
                     stage: "rational-fraction fit",
                     reason: reason.to_string(),
                 })?;
@@ -268,7 +268,7 @@ pub fn fit(
         })
         .collect();
     if modes.len() < n {
-        return Err(PrecalError::Numerical {
+        return Err(IdentifyError::Numerical {
             stage: "modal fit",
             reason: format!(
                 "{} stable oscillating pole pair(s) found for {n} mode(s); try another band or fewer modes",

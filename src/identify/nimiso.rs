@@ -34,7 +34,7 @@ use super::frf::WelchSettings;
 use super::lsq::least_squares;
 use super::psd::{averaged_segments, check_rate, lines_in_band};
 use super::signal::{derivative, sign};
-use super::{PrecalError, check_inputs, require_points};
+use super::{IdentifyError, check_inputs, require_points};
 
 /// The nonlinear input `v = g(x, ẋ)`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -120,14 +120,14 @@ pub struct NimisoReport {
 /// Reverse-path analysis of motion `x` (m) and force `y` (N).
 ///
 /// # Errors
-/// Input errors, [`PrecalError::InvalidOption`] for a bad rate, segment or band,
-/// [`PrecalError::TooFewPoints`] for a short record or a band of fewer than four
+/// Input errors, [`IdentifyError::InvalidOption`] for a bad rate, segment or band,
+/// [`IdentifyError::TooFewPoints`] for a short record or a band of fewer than four
 /// lines, and least-squares errors.
 pub fn analyse(
     x: &[f64],
     y: &[f64],
     opts: &NimisoOptions,
-) -> Result<(ReversePath, NimisoReport), PrecalError> {
+) -> Result<(ReversePath, NimisoReport), IdentifyError> {
     check_inputs("motion and force", x, y)?;
     let fs = opts.sample_rate_hz;
     check_rate(fs)?;

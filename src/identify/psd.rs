@@ -14,7 +14,7 @@ use rustfft::num_complex::Complex64;
 use rustfft::{Fft, FftPlanner};
 use serde::Serialize;
 
-use super::PrecalError;
+use super::IdentifyError;
 
 /// Segments the automatic segment length aims for.
 pub const MIN_SEGMENTS: usize = 8;
@@ -85,11 +85,11 @@ pub struct WelchSettings {
 }
 
 /// Refuses a sample rate `fs` (Hz) that is not positive and finite.
-pub(crate) fn check_rate(fs: f64) -> Result<(), PrecalError> {
+pub(crate) fn check_rate(fs: f64) -> Result<(), IdentifyError> {
     if fs > 0.0 && fs.is_finite() {
         Ok(())
     } else {
-        Err(PrecalError::InvalidOption {
+        Err(IdentifyError::InvalidOption {
             name: "sample rate",
             reason: format!("{fs} Hz is not positive"),
         })
@@ -202,18 +202,18 @@ impl Segments {
 /// samples (chosen from the data when `None`; at least `min_len`).
 ///
 /// # Errors
-/// [`PrecalError::InvalidOption`] for a segment shorter than `min_len`;
-/// [`PrecalError::TooFewPoints`] (`what` names the samples) when two segments
+/// [`IdentifyError::InvalidOption`] for a segment shorter than `min_len`;
+/// [`IdentifyError::TooFewPoints`] (`what` names the samples) when two segments
 /// do not fit.
 pub fn averaged_segments(
     n: usize,
     segment_len: Option<usize>,
     min_len: usize,
     what: &'static str,
-) -> Result<Segments, PrecalError> {
+) -> Result<Segments, IdentifyError> {
     let len = segment_len.unwrap_or_else(|| auto_segment_len(n));
     if len < min_len {
-        return Err(PrecalError::InvalidOption {
+        return Err(IdentifyError::InvalidOption {
             name: "segment length",
             reason: format!("{len} samples is too short"),
         });
@@ -221,7 +221,7 @@ pub fn averaged_segments(
     let step = len / 2;
     let count = if n >= len { (n - len) / step + 1 } else { 0 };
     if count < 2 {
-        return Err(PrecalError::TooFewPoints {
+        return Err(IdentifyError::TooFewPoints {
             what,
             needed: len + step,
             found: n,
@@ -239,20 +239,20 @@ pub fn averaged_segments(
 /// data.
 ///
 /// # Errors
-/// [`PrecalError::TooShortRingdown`] when `x` holds fewer samples than one
-/// segment; [`PrecalError::InvalidOption`] for a segment shorter than 4 samples or
+/// [`IdentifyError::TooShortRingdown`] when `x` holds fewer samples than one
+/// segment; [`IdentifyError::InvalidOption`] for a segment shorter than 4 samples or
 /// a non-positive `fs`.
-pub fn welch(x: &[f64], fs: f64, segment_len: Option<usize>) -> Result<Psd, PrecalError> {
+pub fn welch(x: &[f64], fs: f64, segment_len: Option<usize>) -> Result<Psd, IdentifyError> {
     check_rate(fs)?;
     let len = segment_len.unwrap_or_else(|| auto_segment_len(x.len()));
     if len < 4 {
-        return Err(PrecalError::InvalidOption {
+        return Err(IdentifyError::InvalidOption {
             name: "segment_len",
             reason: format!("{len} samples is too short"),
         });
     }
     if x.len() < len {
-        return Err(PrecalError::TooShortRingdown {
+        return Err(IdentifyError::TooShortRingdown {
             what: "samples for one PSD segment",
             needed: len,
             found: x.len(),

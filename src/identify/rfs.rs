@@ -24,7 +24,7 @@ use serde::Serialize;
 
 use super::columns::sample_interval;
 use super::signal::{butter_lowpass, derivative, filtfilt, second_derivative};
-use super::{PrecalError, check_inputs, require_points};
+use super::{IdentifyError, check_inputs, require_points};
 
 /// How the surface is formed.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -71,13 +71,18 @@ impl Surface {
 /// `x` (m) and base acceleration `a` (m/s²).
 ///
 /// # Errors
-/// Input errors, [`PrecalError::NonUniformTime`], [`PrecalError::InvalidOption`]
-/// for a non-positive mass or a bad filter, [`PrecalError::TooFewPoints`].
-pub fn surface(t: &[f64], x: &[f64], a: &[f64], opts: &RfsOptions) -> Result<Surface, PrecalError> {
+/// Input errors, [`IdentifyError::NonUniformTime`], [`IdentifyError::InvalidOption`]
+/// for a non-positive mass or a bad filter, [`IdentifyError::TooFewPoints`].
+pub fn surface(
+    t: &[f64],
+    x: &[f64],
+    a: &[f64],
+    opts: &RfsOptions,
+) -> Result<Surface, IdentifyError> {
     check_inputs("relative displacement", t, x)?;
     check_inputs("base acceleration", t, a)?;
     if !(opts.mass > 0.0 && opts.mass.is_finite()) {
-        return Err(PrecalError::InvalidOption {
+        return Err(IdentifyError::InvalidOption {
             name: "mass",
             reason: format!("{} kg is not positive", opts.mass),
         });

@@ -51,7 +51,7 @@ pub use super::decrement::Decrement;
 use super::decrement::{find_peaks, log_decrement, slope};
 use super::envelope::{EnvelopeDecay, envelope_decay};
 use super::psd::welch;
-use super::{DecayFit, PrecalError, check_inputs};
+use super::{DecayFit, IdentifyError, check_inputs};
 
 /// Fewest samples of free ringing accepted.
 pub const MIN_RING_SAMPLES: usize = 256;
@@ -255,18 +255,30 @@ impl Agreement {
     }
 }
 
+/// The campaign names the fragment gives the stiffness and the damping of the
+/// ringing mode when no others are asked for: the tensile rig's load cell.
+pub const DEFAULT_NAMES: [&str; 2] = ["k1", "c1_post"];
+
 impl RingdownReport {
-    /// `{"params": {"c1_post": …, "k1": …}}`: `c1_post` when it could be computed,
-    /// `k1` only when derived from the frequency. Values are fixed parameters;
-    /// replace them by bounds to let the search refine them.
+    /// `{"params": {"c1_post": …, "k1": …}}`: the fragment of
+    /// [`Self::to_campaign_fragment_named`] under [`DEFAULT_NAMES`].
     pub fn to_campaign_fragment(&self) -> Value {
+        self.to_campaign_fragment_named(DEFAULT_NAMES)
+    }
+
+    /// `{"params": {damping: …, stiffness: …}}` for `[stiffness, damping]` the
+    /// names of the ringing mode's stiffness and damping in the rig: the damping
+    /// when it could be computed, the stiffness only when derived from the
+    /// frequency. Values are fixed parameters; replace them by bounds to let the
+    /// search refine them.
+    pub fn to_campaign_fragment_named(&self, [stiffness, damping]: [&str; 2]) -> Value {
         let mut params = serde_json::Map::new();
         let cell = &self.load_cell;
         if let Some(c) = cell.c1_post {
-            params.insert("c1_post".into(), json!(c));
+            params.insert(damping.into(), json!(c));
         }
         if let (true, Some(k)) = (cell.k1_from_frequency, cell.k1) {
-            params.insert("k1".into(), json!(k));
+            params.insert(stiffness.into(), json!(k));
         }
         json!({ "params": params })
     }
@@ -276,19 +288,19 @@ impl RingdownReport {
 /// unit) at times `t` (s) that rings down freely from a start.
 ///
 /// # Errors
-/// Input errors, [`PrecalError::NonUniformTime`], [`PrecalError::NoRingStart`],
-/// [`PrecalError::TooShortRingdown`] (fewer than [`MIN_RING_SAMPLES`] samples or
-/// [`MIN_PEAKS`] peaks after the start), [`PrecalError::InvalidOption`] and
-/// [`PrecalError::Numerical`].
+/// Input errors, [`IdentifyError::NonUniformTime`], [`IdentifyError::NoRingStart`],
+/// [`IdentifyError::TooShortRingdown`] (fewer than [`MIN_RING_SAMPLES`] samples or
+/// [`MIN_PEAKS`] peaks after the start), [`IdentifyError::InvalidOption`] and
+/// [`IdentifyError::Numerical`].
 pub fn analyse(
     t: &[f64],
     f: &[f64],
     options: &RingdownOptions,
-) -> Result<RingdownReport, PrecalError> {
+) -> Result<RingdownReport, IdentifyError> {
     check_inputs("ring-down data", t, f)?;
     validate(options)?;
     if t.len() < MIN_RING_SAMPLES {
-        return Err(PrecalError::TooShortRingdown {
+        return Err(IdentifyError::TooShortRingdown {
             what: "samples",
             needed: MIN_RING_SAMPLES,
             found: t.len(),
@@ -310,7 +322,7 @@ pub fn analyse(
     };
     let x = &f[start.index..];
     if x.len() < MIN_RING_SAMPLES {
-        return Err(PrecalError::TooShortRingdown {
+        return Err(IdentifyError::TooShortRingdown {
             what: "samples of free ringing",
             needed: MIN_RING_SAMPLES,
             found: x.len(),
@@ -321,7 +333,7 @@ pub fn analyse(
     let psd = welch(x, fs, options.segment_len)?;
     let (peak_bin_hz, peak_hz) =
         psd.peak(options.min_frequency)
-            .ok_or_else(|| PrecalError::Numerical {
+            .ok_or_else(|| IdentifyError::Numerical {
                 stage: "PSD peak",
                 reason: "no bin above the minimum frequency".into(),
             })?;
@@ -329,7 +341,7 @@ pub fn analyse(
     let mean = x.iter().sum::<f64>() / x.len() as f64;
     let peaks = find_peaks(x, mean, period);
     if peaks.len() < MIN_PEAKS {
-        return Err(PrecalError::TooShortRingdown {
+        return Err(IdentifyError::TooShortRingdown {
             what: "positive peaks",
             needed: MIN_PEAKS,
             found: peaks.len(),
@@ -492,21 +504,21 @@ pub fn figure(report: &RingdownReport, t: &[f64], f: &[f64]) -> Vec<super::plot:
     ]
 }
 
-fn validate(o: &RingdownOptions) -> Result<(), PrecalError> {
+fn validate(o: &RingdownOptions) -> Result<(), IdentifyError> {
     for (name, v) in [
         ("m1", o.m1),
         ("k1", o.k1),
         ("envelope_band_hz", o.envelope_band_hz),
     ] {
         if let Some(v) = v.filter(|v| !(v.is_finite() && *v > 0.0)) {
-            return Err(PrecalError::InvalidOption {
+            return Err(IdentifyError::InvalidOption {
                 name,
                 reason: format!("{v} is not positive"),
             });
         }
     }
     if o.max_separations == 0 {
-        return Err(PrecalError::InvalidOption {
+        return Err(IdentifyError::InvalidOption {
             name: "max_separations",
             reason: "must be ≥ 1".into(),
         });
@@ -515,7 +527,7 @@ fn validate(o: &RingdownOptions) -> Result<(), PrecalError> {
 }
 
 /// The median time step, after checking every step is within 1 % of it.
-fn uniform_step(t: &[f64]) -> Result<f64, PrecalError> {
+fn uniform_step(t: &[f64]) -> Result<f64, IdentifyError> {
     let mut steps: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
     let mut sorted = steps.clone();
     sorted.sort_by(f64::total_cmp);
@@ -524,7 +536,7 @@ fn uniform_step(t: &[f64]) -> Result<f64, PrecalError> {
         .iter_mut()
         .position(|s| !(median > 0.0 && (*s - median).abs() <= 0.01 * median))
     {
-        return Err(PrecalError::NonUniformTime {
+        return Err(IdentifyError::NonUniformTime {
             index: i + 1,
             step: steps[i],
             expected: median,
@@ -534,7 +546,7 @@ fn uniform_step(t: &[f64]) -> Result<f64, PrecalError> {
 }
 
 /// Start of the largest drop from a running maximum.
-fn detect_start(t: &[f64], f: &[f64]) -> Result<RingStart, PrecalError> {
+fn detect_start(t: &[f64], f: &[f64]) -> Result<RingStart, IdentifyError> {
     let (mut peak, mut best, mut best_drop) = (0, 0, 0.0);
     for (i, &v) in f.iter().enumerate() {
         if v > f[peak] {
@@ -552,7 +564,7 @@ fn detect_start(t: &[f64], f: &[f64]) -> Result<RingStart, PrecalError> {
         });
     let range = hi - lo;
     if best_drop <= 0.5 * range {
-        return Err(PrecalError::NoRingStart {
+        return Err(IdentifyError::NoRingStart {
             drop: best_drop,
             range,
         });

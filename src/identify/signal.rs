@@ -11,7 +11,7 @@
 
 use std::f64::consts::PI;
 
-use super::{PrecalError, require_points};
+use super::{IdentifyError, require_points};
 
 /// One section `H(z) = (b0 + b1 z⁻¹ + b2 z⁻²) / (1 + a1 z⁻¹ + a2 z⁻²)`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -28,15 +28,15 @@ impl Section {
     }
 }
 
-fn check_lowpass(order: usize, fc: f64, fs: f64) -> Result<(), PrecalError> {
+fn check_lowpass(order: usize, fc: f64, fs: f64) -> Result<(), IdentifyError> {
     if !(1..=8).contains(&order) {
-        return Err(PrecalError::InvalidOption {
+        return Err(IdentifyError::InvalidOption {
             name: "filter order",
             reason: format!("{order} is outside 1..=8"),
         });
     }
     if !(fc > 0.0 && fc < fs / 2.0) {
-        return Err(PrecalError::InvalidOption {
+        return Err(IdentifyError::InvalidOption {
             name: "cut-off",
             reason: format!("{fc} Hz is not between 0 and half the sample rate {fs} Hz"),
         });
@@ -89,9 +89,9 @@ fn bilinear_lowpass(poles: &[(f64, f64)], fc: f64, fs: f64, dc_gain: f64) -> Vec
 /// sample rate `fs` (Hz).
 ///
 /// # Errors
-/// [`PrecalError::InvalidOption`] for an order outside 1..=8 or a cut-off not
+/// [`IdentifyError::InvalidOption`] for an order outside 1..=8 or a cut-off not
 /// strictly between 0 and `fs/2`.
-pub fn butter_lowpass(order: usize, fc: f64, fs: f64) -> Result<Vec<Section>, PrecalError> {
+pub fn butter_lowpass(order: usize, fc: f64, fs: f64) -> Result<Vec<Section>, IdentifyError> {
     check_lowpass(order, fc, fs)?;
     let mut poles: Vec<(f64, f64)> = (0..order / 2)
         .map(|i| {
@@ -117,10 +117,10 @@ pub fn cheby1_lowpass(
     ripple_db: f64,
     fc: f64,
     fs: f64,
-) -> Result<Vec<Section>, PrecalError> {
+) -> Result<Vec<Section>, IdentifyError> {
     check_lowpass(order, fc, fs)?;
     if ripple_db.is_nan() || ripple_db <= 0.0 {
-        return Err(PrecalError::InvalidOption {
+        return Err(IdentifyError::InvalidOption {
             name: "ripple",
             reason: format!("{ripple_db} dB is not positive"),
         });
@@ -170,8 +170,8 @@ pub fn filter(sections: &[Section], x: &[f64]) -> Vec<f64> {
 /// (see the module docs).
 ///
 /// # Errors
-/// [`PrecalError::TooFewPoints`] when `x` is not longer than the padding.
-pub fn filtfilt(sections: &[Section], x: &[f64]) -> Result<Vec<f64>, PrecalError> {
+/// [`IdentifyError::TooFewPoints`] when `x` is not longer than the padding.
+pub fn filtfilt(sections: &[Section], x: &[f64]) -> Result<Vec<f64>, IdentifyError> {
     let pad = 3 * (2 * sections.len() + 1);
     require_points("samples to filter", pad + 1, x.len())?;
     let n = x.len();
@@ -232,11 +232,11 @@ pub fn downsample(x: &[f64], first: usize, factor: usize) -> Vec<f64> {
 /// sample is kept.
 ///
 /// # Errors
-/// [`PrecalError::InvalidOption`] for a factor below 2,
-/// [`PrecalError::TooFewPoints`] for a record shorter than the filter's padding.
-pub fn decimate(x: &[f64], factor: usize) -> Result<Vec<f64>, PrecalError> {
+/// [`IdentifyError::InvalidOption`] for a factor below 2,
+/// [`IdentifyError::TooFewPoints`] for a record shorter than the filter's padding.
+pub fn decimate(x: &[f64], factor: usize) -> Result<Vec<f64>, IdentifyError> {
     if factor < 2 {
-        return Err(PrecalError::InvalidOption {
+        return Err(IdentifyError::InvalidOption {
             name: "decimation",
             reason: format!("factor {factor} is below 2"),
         });

@@ -36,7 +36,7 @@ use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 use serde_json::{Value, json};
 
-use super::{PrecalError, check_inputs, r_squared, require_points};
+use super::{IdentifyError, check_inputs, r_squared, require_points};
 
 /// Highest degree of the specimen's plastic polynomial (`a0` … `a5` of the tensile
 /// rig file).
@@ -160,14 +160,18 @@ impl SpecimenFit {
 /// Fits the specimen law to elongation `e` (m) and force `f` (N).
 ///
 /// # Errors
-/// [`PrecalError::DegreeOutOfRange`], [`PrecalError::TooFewPoints`] when fewer
-/// than `degree + 4` points are given, [`PrecalError::NoPlasticRange`] when the
-/// elastic line alone explains the data, [`PrecalError::BadYield`] for a fixed
+/// [`IdentifyError::DegreeOutOfRange`], [`IdentifyError::TooFewPoints`] when fewer
+/// than `degree + 4` points are given, [`IdentifyError::NoPlasticRange`] when the
+/// elastic line alone explains the data, [`IdentifyError::BadYield`] for a fixed
 /// `e_yield` that leaves too few points on a side, and input errors.
-pub fn fit(e: &[f64], f: &[f64], options: &SpecimenFitOptions) -> Result<SpecimenFit, PrecalError> {
+pub fn fit(
+    e: &[f64],
+    f: &[f64],
+    options: &SpecimenFitOptions,
+) -> Result<SpecimenFit, IdentifyError> {
     let degree = options.degree;
     if degree == 0 || degree > MAX_POLY_DEGREE {
-        return Err(PrecalError::DegreeOutOfRange {
+        return Err(IdentifyError::DegreeOutOfRange {
             degree,
             max: MAX_POLY_DEGREE,
         });
@@ -183,7 +187,7 @@ pub fn fit(e: &[f64], f: &[f64], options: &SpecimenFitOptions) -> Result<Specime
     pts.sort_by(|a, b| a.0.total_cmp(&b.0));
     let scale = pts.iter().map(|p| p.0.abs()).fold(0.0, f64::max);
     if scale == 0.0 {
-        return Err(PrecalError::NoPlasticRange {
+        return Err(IdentifyError::NoPlasticRange {
             f_statistic: 0.0,
             threshold: MIN_F_STATISTIC,
         });
@@ -195,7 +199,7 @@ pub fn fit(e: &[f64], f: &[f64], options: &SpecimenFitOptions) -> Result<Specime
             let split = data.pts.partition_point(|p| p.0 <= ey);
             let plastic = data.pts.len() - split;
             if split < 2 || plastic < degree + 2 {
-                return Err(PrecalError::BadYield {
+                return Err(IdentifyError::BadYield {
                     e_yield: ey,
                     elastic: split,
                     plastic,
@@ -208,7 +212,7 @@ pub fn fit(e: &[f64], f: &[f64], options: &SpecimenFitOptions) -> Result<Specime
     let e_yield = options.e_yield.unwrap_or(data.pts[split - 1].0);
     let branches = data
         .fit_split(split)
-        .ok_or_else(|| PrecalError::Numerical {
+        .ok_or_else(|| IdentifyError::Numerical {
             stage: "specimen least squares",
             reason: "singular system at the chosen e_yield".into(),
         })?;
@@ -224,7 +228,7 @@ pub fn fit(e: &[f64], f: &[f64], options: &SpecimenFitOptions) -> Result<Specime
         || !within(middle, MIN_PLASTIC_SPREAD * scale, f64::INFINITY)
         || branches.scaled.iter().any(|b| !b.is_finite())
     {
-        return Err(PrecalError::Numerical {
+        return Err(IdentifyError::Numerical {
             stage: "specimen plastic fit",
             reason: format!(
                 "the {} points past yield have elongations from {:e} to {:e} m, the middle \
@@ -249,7 +253,7 @@ pub fn fit(e: &[f64], f: &[f64], options: &SpecimenFitOptions) -> Result<Specime
     let f_statistic = ((sse_line - sse).max(0.0) / (p - 1) as f64)
         / (sse.max(sse_floor).max(f64::MIN_POSITIVE) / n.saturating_sub(p).max(1) as f64);
     if f_statistic.is_nan() || f_statistic < MIN_F_STATISTIC {
-        return Err(PrecalError::NoPlasticRange {
+        return Err(IdentifyError::NoPlasticRange {
             f_statistic,
             threshold: MIN_F_STATISTIC,
         });
@@ -305,12 +309,12 @@ struct Branches {
 
 impl Data {
     /// Smallest-total-SSE split (number of elastic points), coarse then fine.
-    fn best_split(&self) -> Result<usize, PrecalError> {
+    fn best_split(&self) -> Result<usize, IdentifyError> {
         let lo = 2;
         let hi = self.pts.len() - (self.degree + 2);
         let step = ((hi - lo) / COARSE_CANDIDATES).max(1);
         let coarse = self.best_in((lo..=hi).step_by(step));
-        let (best, _) = coarse.ok_or_else(|| PrecalError::Numerical {
+        let (best, _) = coarse.ok_or_else(|| IdentifyError::Numerical {
             stage: "specimen e_yield scan",
             reason: "no candidate breakpoint could be fitted".into(),
         })?;

@@ -48,7 +48,7 @@ impl<'a> CampaignCost<'a> {
 
     /// Stops the residuals between two chunks once `flag` is raised
     /// ([`EvalError::Cancelled`]), each chunk at most about a quarter of a
-    /// second's work ([`RESIDUAL_STEPS_PER_CORE`]) but a pair of runs for
+    /// second's work (`RESIDUAL_STEPS_PER_CORE`) but a pair of runs for
     /// each core.
     pub fn with_interrupt(mut self, flag: std::sync::Arc<std::sync::atomic::AtomicBool>) -> Self {
         let cores = crate::eval::all_cores();

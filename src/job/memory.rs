@@ -114,7 +114,7 @@ impl MemoryEstimate {
         let evaluation = chunk as f64 * per_candidate;
         let unchunked_evaluation = n as f64 * per_candidate;
         let histories = histories_bytes(campaign, gpu_real);
-        let samples = summed(campaign, |x| x.force.len());
+        let samples = summed(campaign, |x| x.measured.len());
         let base = if gpu_real.is_some() {
             BASE_CPU + BASE_GPU
         } else {

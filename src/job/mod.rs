@@ -27,8 +27,8 @@ use crate::campaign::Campaign;
 use crate::eval::Evaluator;
 use crate::eval::Precision;
 use crate::search::{
-    Executor, Fingerprint, GeneSpec, GeneticAlgorithm, HistoryCsvObserver, Observer, ObserverMode,
-    Polish, ProgressObserver, SearchError, TerminationReason,
+    Executor, Fingerprint, GeneSpec, HistoryCsvObserver, Observer, ObserverMode, Polish,
+    ProgressObserver, SearchError, TerminationReason,
 };
 
 /// Name of the checkpoint file inside the output folder.
@@ -265,7 +265,10 @@ pub fn run_observed(
         source,
     })?;
     let genes = gene_specs(campaign);
-    let ga = GeneticAlgorithm::new(campaign.search.clone(), genes.clone())?;
+    let solver = campaign
+        .search
+        .method
+        .solver(&campaign.search, genes.clone())?;
     let mut cost = CampaignCost::new(campaign, evaluator, opts.require_gpu, opts.threads)
         .with_interrupt(opts.interrupt.clone());
     let polish = campaign
@@ -276,7 +279,7 @@ pub fn run_observed(
     let checkpoint = opts.out.join(CHECKPOINT_FILE);
     let progress = ProgressObserver::new(campaign.search.generations, opts.quiet)
         .with_steps_per_candidate(steps_per_candidate(campaign));
-    let mut exec = Executor::new(ga, &mut cost)
+    let mut exec = Executor::boxed(solver, &mut cost)
         .fingerprint(fp)
         .checkpoint_to(&checkpoint)
         .interrupt(opts.interrupt.clone())

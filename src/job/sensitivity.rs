@@ -209,7 +209,7 @@ pub fn check(campaign: &Campaign, genes: &[GeneSpec], best: &[f64]) -> Sensitivi
                     .collect()
             };
             let sigma = exp.noise_estimate().unwrap_or_else(|| {
-                let w = &exp.force[exp.window.clone()];
+                let w = &exp.measured[exp.window.clone()];
                 1e-6 * (w.iter().map(|v| v * v).sum::<f64>() / w.len().max(1) as f64).sqrt()
             });
             let mut first: Option<usize> = None;

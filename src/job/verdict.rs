@@ -21,7 +21,7 @@ pub struct Verdict {
     /// The joint fitness over the noise floor the records' noise implies
     /// (about 1 at the floor); `null` where a record's noise is unknown.
     pub cost_over_noise_floor: Option<f64>,
-    /// Whether that is at most [`AT_FLOOR`].
+    /// Whether that is at most `AT_FLOOR` (1.1×).
     pub at_noise_floor: Option<bool>,
     /// Free parameters the data determine (after the polish; 0 without one).
     pub determined: usize,

@@ -171,7 +171,7 @@ impl CompiledRig {
     }
 
     /// The per-law bound: Gershgorin on each free node's row of M⁻¹K and
-    /// M⁻¹C from each element law's largest tangent ([`Self::element_bound`]),
+    /// M⁻¹C from each element law's largest tangent (`element_bound`),
     /// `c/m + √(k/m)` per row.
     pub fn per_law_omega(&self, lower: &[f64], upper: &[f64], drive: &Drive) -> (f64, String) {
         // Gershgorin on each free node's row of M⁻¹K and M⁻¹C, with every
@@ -247,7 +247,7 @@ impl CompiledRig {
     /// `[0, t_end]`, every regime variable over all its values, each node's
     /// displacement and every internal state (slider, play) in `[−e, e]` and
     /// each node's velocity in `[−r, r]`, with `(e, r)` the rig's reach as
-    /// [`Self::element_bound`] reads it (its `"reach"`, else the largest break
+    /// `element_bound` reads it (its `"reach"`, else the largest break
     /// limit and 10 m/s). An element's elongation then lies in `[−2e, 2e]`
     /// and its rate in `[−2r, 2r]`, which holds the `[−e, e]`, `[−r, r]`
     /// the per-law bound assumes: the box is sound exactly where the reach

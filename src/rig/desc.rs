@@ -1,5 +1,6 @@
 //! The rig description as it is written in a rig file (serde, unknown keys
-//! refused). [`super::validate`] turns it into a checked [`super::Rig`].
+//! refused). [`crate::compile::lower`] checks it and turns it into a
+//! [`crate::compile::Lowered`], one program per drive mode.
 //!
 //! A rig is a 1-D lumped network: nodes (masses) joined to each other or to
 //! ground by elements; drives move or push nodes; outputs combine element forces

@@ -15,11 +15,13 @@ use super::state::SearchState;
 use crate::base::fsutil::atomic_write;
 
 const FORMAT: &str = "rigfit-search-checkpoint";
-const VERSION: u32 = 1;
+/// 2: the method's state in `state.solver` (1 held the GA's population at
+/// the state's top).
+const VERSION: u32 = 2;
 
 /// What a checkpoint must agree with to be resumed: ordered `key → value` items
 /// ("rig" → "tensile4", "data.sha" → …). The search adds its own items (genes,
-/// population, seed, operators) to whatever the caller passes.
+/// population, seed, method and its settings) to whatever the caller passes.
 #[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Fingerprint {
     items: Vec<(String, String)>,
@@ -161,8 +163,8 @@ impl Checkpoint {
             source,
         };
         let value = serde_json::to_value(Parts { fingerprint, state }).map_err(|e| io(e.into()))?;
-        let floats = state.population.len() * (state.best_genome.len() + 1);
-        let mut bytes = Vec::with_capacity(1024 + 28 * floats);
+        let floats = state.history.len() * (state.best_genome.len() + 8);
+        let mut bytes = Vec::with_capacity(4096 + 28 * floats);
         let head = serde_json::json!(FORMAT);
         bytes.extend_from_slice(br#"{"format":"#);
         serde_json::to_writer(&mut bytes, &head).map_err(|e| io(e.into()))?;

@@ -1,20 +1,17 @@
-//! The driver: runs a [`GeneticAlgorithm`] against a [`BatchCost`], then the
-//! Levenberg–Marquardt [`Polish`] on the same cost; calls one set of observers
-//! for both, writes checkpoints and decides when to stop and why.
+//! The driver: runs any [`Solver`] against a [`BatchCost`] (ask a batch, score
+//! it, tell the costs), then the Levenberg–Marquardt [`Polish`] on the same
+//! cost; calls one set of observers for both, writes checkpoints and decides
+//! when to stop and why.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
-use rand::SeedableRng;
-use rand_chacha::ChaCha8Rng;
-
 use super::SearchError;
 use super::checkpoint::{Checkpoint, Fingerprint};
 use super::cost::BatchCost;
-use super::ga::GeneticAlgorithm;
-use super::genes::genome_values;
+use super::genes::{GeneSpec, genome_values};
 use super::observers::{Observer, ObserverMode};
 use super::polish::{
     Polish, PolishIteration, PolishOutcome, PolishStop, ResidualCost, distinct_starts,
@@ -23,6 +20,8 @@ use super::report::{
     GenerationReport, SearchOutcome, TerminationReason, diversity, elite_spread, is_diverged,
     median, ranking, sanitize_cost,
 };
+use super::settings::SearchSettings;
+use super::solver::Solver;
 use super::state::SearchState;
 use crate::eval::EvalError;
 
@@ -31,17 +30,23 @@ pub const DIVERGED_WARN_SHARE: f64 = 0.25;
 
 /// Runs a search: evaluation, bookkeeping, observers, checkpoints, stopping.
 ///
-/// Stops on the limits in the GA's settings (`generations`, `target_fitness`,
-/// `stall_generations`, `max_time_s`) or when the interrupt flag is raised; the
-/// flag and the limits are checked after every generation, so an interrupt takes
+/// Stops on the limits in the search's settings (`generations`,
+/// `target_fitness`, `stall_generations`, `max_evaluations`, `max_time_s`),
+/// when the method has nothing more to do ([`Solver::terminate`]) or when the
+/// interrupt flag is raised; the flag and the limits are checked after every
+/// generation, so an interrupt takes
 /// effect once the running evaluation returns. A cost whose evaluator watches
 /// the same flag ([`crate::eval::Evaluator::set_cancel`]) returns early with
 /// [`EvalError::Cancelled`]; the generation in flight is then dropped and the
 /// checkpoint holds the last finished one.
 ///
 /// Checkpoints are written by the executor itself rather than by an observer:
-/// they need the full state (RNG included), taken at the one point of the loop
-/// where a resumed search continues exactly as an uninterrupted one would.
+/// they need the full state (RNG and the method's state included), taken at the
+/// one point of the loop where a resumed search continues exactly as an
+/// uninterrupted one would.
+///
+/// Every method runs through this one executor: a new method is a new
+/// [`Solver`], nothing here changes.
 ///
 /// ```
 /// use std::sync::{Arc, atomic::AtomicBool};
@@ -50,7 +55,7 @@ pub const DIVERGED_WARN_SHARE: f64 = 0.25;
 ///
 /// # let dir = tempfile::tempdir().unwrap();
 /// let checkpoint = dir.path().join("checkpoint.json");
-/// let settings: GaSettings =
+/// let settings: SearchSettings =
 ///     serde_json::from_str(r#"{"population": 16, "generations": 20}"#).unwrap();
 /// let genes = vec![GeneSpec::new("k", 1e-3, 1e3, Scale::Log)];
 /// let build = || {
@@ -67,7 +72,9 @@ pub const DIVERGED_WARN_SHARE: f64 = 0.25;
 /// assert_eq!(first.best_cost.to_bits(), again.best_cost.to_bits());
 /// ```
 pub struct Executor<C: BatchCost> {
-    ga: GeneticAlgorithm,
+    solver: Box<dyn Solver>,
+    settings: SearchSettings,
+    genes: Vec<GeneSpec>,
     cost: C,
     observers: Vec<(Box<dyn Observer>, ObserverMode)>,
     interrupt: Option<Arc<AtomicBool>>,
@@ -77,8 +84,8 @@ pub struct Executor<C: BatchCost> {
     polish: Option<PolishStage<C>>,
 }
 
-/// The polish to run after the GA: set by [`Executor::then_polish`], which is
-/// only available when the cost also gives residuals, so the executor keeps
+/// The polish to run after the search: set by [`Executor::then_polish`], which
+/// is only available when the cost also gives residuals, so the executor keeps
 /// the call as a function pointer made where that bound holds.
 struct PolishStage<C> {
     polish: Polish,
@@ -94,10 +101,10 @@ type PolishRun<C> = fn(
 ) -> Result<PolishOutcome, SearchError>;
 
 impl<C: BatchCost + ResidualCost> Executor<C> {
-    /// After the GA, polishes from its `starts` best distinct candidates
+    /// After the search, polishes from its `starts` best distinct candidates
     /// ([`distinct_starts`]) on the same cost, under the same interrupt flag
     /// and observers ([`Observer::polished`]); the outcome carries it in
-    /// [`SearchOutcome::polish`]. An interrupted GA is not polished; an
+    /// [`SearchOutcome::polish`]. An interrupted search is not polished; an
     /// interrupted polish makes the outcome's termination
     /// [`TerminationReason::Interrupted`].
     pub fn then_polish(mut self, polish: Polish, starts: usize) -> Self {
@@ -110,11 +117,32 @@ impl<C: BatchCost + ResidualCost> Executor<C> {
     }
 }
 
+/// One scored batch, before the bookkeeping.
+struct Scored {
+    /// The batch's best candidate (scale space) and its cost.
+    best: (Vec<f64>, f64),
+    /// Candidates scored.
+    evaluated: usize,
+    /// Candidates whose cost was diverged (or not finite).
+    diverged: usize,
+    /// Blown-up runs as the cost function counted them.
+    diverged_runs: usize,
+}
+
 impl<C: BatchCost> Executor<C> {
-    /// A search of `ga` scored by `cost`.
-    pub fn new(ga: GeneticAlgorithm, cost: C) -> Self {
+    /// A search by `solver` scored by `cost`, under the limits of the settings
+    /// the solver was built from ([`Solver::settings`]).
+    pub fn new(solver: impl Solver + 'static, cost: C) -> Self {
+        Self::boxed(Box::new(solver), cost)
+    }
+
+    /// [`Self::new`] for a solver chosen at run time
+    /// ([`super::Method::solver`]).
+    pub fn boxed(solver: Box<dyn Solver>, cost: C) -> Self {
         Self {
-            ga,
+            settings: solver.settings().clone(),
+            genes: solver.genes().to_vec(),
+            solver,
             cost,
             observers: Vec::new(),
             interrupt: None,
@@ -160,19 +188,16 @@ impl<C: BatchCost> Executor<C> {
     }
 
     /// The caller's fingerprint plus the search's items: genes, population,
-    /// seed, operators. Stopping limits are left out so a resumed search may
-    /// run longer.
+    /// seed, the method and its settings ([`Solver::fingerprint`]). Stopping
+    /// limits are left out so a resumed search may run longer.
     pub fn full_fingerprint(&self) -> Fingerprint {
-        let s = self.ga.settings();
+        let s = &self.settings;
         let mut fp = self.fingerprint.clone();
-        fp.insert("search.genes".into(), json(&self.ga.genes()));
+        fp.insert("search.genes".into(), json(&self.genes));
         fp.insert("search.population".into(), s.population.to_string());
         fp.insert("search.seed".into(), s.seed.to_string());
-        fp.insert("search.tournament".into(), s.tournament.to_string());
-        fp.insert("search.crossover".into(), json(&s.crossover));
-        fp.insert("search.mutation".into(), json(&s.mutation));
-        fp.insert("search.elitism".into(), s.elitism.to_string());
-        fp.insert("search.init".into(), json(&s.init));
+        fp.insert("search.method".into(), self.solver.method().to_string());
+        self.solver.fingerprint(&mut fp);
         fp
     }
 
@@ -183,20 +208,27 @@ impl<C: BatchCost> Executor<C> {
         let (mut state, base_elapsed) = match self.resume.take() {
             Some((path, cp)) => {
                 cp.verify(&fingerprint, &path)?;
-                self.check_shape(&cp.state, &path)?;
+                self.restore(&cp.state, &path)?;
                 for (obs, _) in &mut self.observers {
                     obs.resumed(&cp.state.history)?;
                 }
                 let base = cp.state.elapsed_s;
                 (cp.state, base)
             }
-            None => (self.first_generation(started)?, 0.0),
+            None => {
+                let mut state = SearchState::start(self.settings.seed);
+                // An interrupt inside the first batch has nothing to keep:
+                // it ends the search with the evaluator's error.
+                let scored = self.score(&mut state)?;
+                self.record(&mut state, scored, started, started.elapsed().as_secs_f64())?;
+                (state, 0.0)
+            }
         };
         loop {
             let elapsed = base_elapsed + started.elapsed().as_secs_f64();
             if let Some(reason) = self.stop_reason(&state, elapsed) {
                 state.elapsed_s = elapsed;
-                self.save(&fingerprint, &state)?;
+                self.save(&fingerprint, &mut state)?;
                 let mut outcome = self.outcome(state, reason);
                 self.run_polish(&mut outcome)?;
                 for (obs, _) in &mut self.observers {
@@ -204,50 +236,59 @@ impl<C: BatchCost> Executor<C> {
                 }
                 return Ok(outcome);
             }
-            let every = self.ga.settings().checkpoint_every;
+            let every = self.settings.checkpoint_every;
             if every > 0 && (state.generation + 1) % every == 0 {
-                self.save(&fingerprint, &state)?;
+                self.save(&fingerprint, &mut state)?;
             }
             let gen_start = Instant::now();
             let rng_before = state.rng.clone();
-            let off = self
-                .ga
-                .next_generation(&mut state.rng, &state.population, &state.costs);
-            let (child_costs, diverged_runs) = match self.evaluate(&off.children) {
+            let scored = match self.score(&mut state) {
                 Err(SearchError::Eval(EvalError::Cancelled)) if self.interrupted() => {
-                    // The generation in flight is dropped: the state goes back to
-                    // the last finished one, which the loop's head checkpoints, so
-                    // a resume repeats this generation exactly.
+                    // The batch in flight is dropped: the RNG goes back to
+                    // where it was, the method asks the same batch again, and
+                    // the loop's head checkpoints the last finished
+                    // generation, so a resume repeats this one exactly.
                     state.rng = rng_before;
                     continue;
                 }
                 other => other?,
             };
-            let mut population: Vec<Vec<f64>> = off
-                .elites
-                .iter()
-                .map(|&i| state.population[i].clone())
-                .collect();
-            let mut costs: Vec<f64> = off.elites.iter().map(|&i| state.costs[i]).collect();
-            let evaluated = off.children.len();
-            let first_child = costs.len();
-            population.extend(off.children);
-            costs.extend(child_costs);
             state.generation += 1;
             let elapsed = base_elapsed + started.elapsed().as_secs_f64();
-            let generation = Generation {
-                population,
-                costs,
-                first_child,
-                evaluated,
-                diverged_runs,
-            };
-            self.record(&mut state, generation, gen_start, elapsed)?;
+            self.record(&mut state, scored, gen_start, elapsed)?;
         }
     }
 
-    /// Runs the configured polish from the GA's outcome, if any and if the GA
-    /// was not interrupted.
+    /// Asks the method for a batch, scores it and tells the method its costs
+    /// (sanitized: finite).
+    fn score(&mut self, state: &mut SearchState) -> Result<Scored, SearchError> {
+        let batch = self.solver.ask(&mut state.rng);
+        let values: Vec<Vec<f64>> = batch
+            .iter()
+            .map(|g| genome_values(&self.genes, g))
+            .collect();
+        let scored = self.cost.cost(&values)?;
+        if scored.costs.len() != values.len() {
+            return Err(SearchError::CostLength {
+                expected: values.len(),
+                found: scored.costs.len(),
+            });
+        }
+        let diverged = scored.costs.iter().filter(|&&c| is_diverged(c)).count();
+        let costs: Vec<f64> = scored.costs.into_iter().map(sanitize_cost).collect();
+        let best = ranking(&costs)[0];
+        let best = (batch[best].clone(), costs[best]);
+        self.solver.tell(&mut state.rng, &costs);
+        Ok(Scored {
+            best,
+            evaluated: values.len(),
+            diverged,
+            diverged_runs: scored.diverged,
+        })
+    }
+
+    /// Runs the configured polish from the search's outcome, if any and if the
+    /// search was not interrupted.
     fn run_polish(&mut self, outcome: &mut SearchOutcome) -> Result<(), SearchError> {
         let Some(stage) = self.polish.take() else {
             return Ok(());
@@ -255,7 +296,7 @@ impl<C: BatchCost> Executor<C> {
         if outcome.termination == TerminationReason::Interrupted {
             return Ok(());
         }
-        let starts = distinct_starts(self.ga.genes(), outcome, stage.starts);
+        let starts = distinct_starts(&self.genes, outcome, stage.starts);
         let polish = match &self.interrupt {
             Some(flag) => stage.polish.interrupt(flag.clone()),
             None => stage.polish,
@@ -277,120 +318,65 @@ impl<C: BatchCost> Executor<C> {
         Ok(())
     }
 
-    /// Guards against hand-edited checkpoints that the fingerprint cannot catch.
-    fn check_shape(&self, state: &SearchState, path: &Path) -> Result<(), SearchError> {
-        let (n, g) = (self.ga.settings().population, self.ga.genes().len());
-        let ok = state.population.len() == n
-            && state.costs.len() == n
-            && state.best_genome.len() == g
-            && state.population.iter().all(|x| x.len() == g);
-        if ok {
-            Ok(())
-        } else {
-            Err(SearchError::CheckpointFormat {
-                path: path.into(),
-                reason: format!("state does not hold {n} genomes of {g} genes with costs"),
-            })
-        }
-    }
-
-    fn first_generation(&mut self, started: Instant) -> Result<SearchState, SearchError> {
-        let mut rng = ChaCha8Rng::seed_from_u64(self.ga.settings().seed);
-        let population = self.ga.init(&mut rng);
-        let (costs, diverged_runs) = self.evaluate(&population)?;
-        let mut state = SearchState {
-            best_genome: population[0].clone(),
-            best_cost: f64::INFINITY,
-            population: Vec::new(),
-            costs: Vec::new(),
-            rng,
-            generation: 0,
-            stall: 0,
-            evaluations: 0,
-            elapsed_s: 0.0,
-            history: Vec::new(),
-            divergence_alerts: Vec::new(),
+    /// Puts a checkpoint's method state into the solver; a state that does not
+    /// fit (a hand-edited checkpoint the fingerprint cannot catch) is refused.
+    fn restore(&mut self, state: &SearchState, path: &Path) -> Result<(), SearchError> {
+        let bad = |reason: String| SearchError::CheckpointFormat {
+            path: path.into(),
+            reason,
         };
-        let evaluated = population.len();
-        let generation = Generation {
-            population,
-            costs,
-            first_child: 0,
-            evaluated,
-            diverged_runs,
-        };
-        self.record(
-            &mut state,
-            generation,
-            started,
-            started.elapsed().as_secs_f64(),
-        )?;
-        Ok(state)
-    }
-
-    /// Scores scale-space genomes; returns the raw costs and the cost
-    /// function's diverged-run count.
-    fn evaluate(&mut self, scaled: &[Vec<f64>]) -> Result<(Vec<f64>, usize), SearchError> {
-        let genes = self.ga.genes();
-        let values: Vec<Vec<f64>> = scaled.iter().map(|g| genome_values(genes, g)).collect();
-        let batch = self.cost.cost(&values)?;
-        if batch.costs.len() != values.len() {
-            return Err(SearchError::CostLength {
-                expected: values.len(),
-                found: batch.costs.len(),
-            });
+        if state.best_genome.len() != self.genes.len() {
+            return Err(bad(format!(
+                "its best genome holds {} genes, the search {}",
+                state.best_genome.len(),
+                self.genes.len()
+            )));
         }
-        Ok((batch.costs, batch.diverged))
+        self.solver.restore(state.solver.clone()).map_err(bad)
     }
 
-    /// Takes an evaluated generation into the state and tells the observers.
+    /// Takes a scored batch into the state and tells the observers.
     fn record(
         &mut self,
         state: &mut SearchState,
-        g: Generation,
+        scored: Scored,
         gen_start: Instant,
         elapsed: f64,
     ) -> Result<(), SearchError> {
-        let diverged = g.costs[g.first_child..]
-            .iter()
-            .filter(|&&c| is_diverged(c))
-            .count();
-        let costs: Vec<f64> = g.costs.into_iter().map(sanitize_cost).collect();
-        let best = ranking(&costs)[0];
-        let improved = costs[best] < state.best_cost;
+        let (best_genome, best_cost) = scored.best;
+        let improved = best_cost < state.best_cost;
         if improved {
-            state.best_cost = costs[best];
-            state.best_genome = g.population[best].clone();
+            state.best_cost = best_cost;
+            state.best_genome = best_genome;
             state.stall = 0;
         } else {
             state.stall += 1;
         }
-        if diverged as f64 > DIVERGED_WARN_SHARE * g.evaluated as f64 {
+        if scored.diverged as f64 > DIVERGED_WARN_SHARE * scored.evaluated as f64 {
             state.divergence_alerts.push(state.generation);
         }
-        state.evaluations += g.evaluated as u64;
+        state.evaluations += scored.evaluated as u64;
         state.elapsed_s = elapsed;
         let secs = gen_start.elapsed().as_secs_f64();
+        let (population, costs) = self.solver.population();
         let report = GenerationReport {
             generation: state.generation,
             best_cost: state.best_cost,
-            median_cost: median(&costs),
-            best_genome: genome_values(self.ga.genes(), &state.best_genome),
+            median_cost: median(costs),
+            best_genome: genome_values(&self.genes, &state.best_genome),
             improved,
-            diversity: diversity(&g.population, self.ga.bounds()),
+            diversity: diversity(population, self.solver.bounds()),
             evaluations: state.evaluations,
-            evaluated: g.evaluated,
+            evaluated: scored.evaluated,
             evals_per_s: if secs > 0.0 {
-                g.evaluated as f64 / secs
+                scored.evaluated as f64 / secs
             } else {
                 0.0
             },
-            diverged,
-            diverged_runs: g.diverged_runs,
+            diverged: scored.diverged,
+            diverged_runs: scored.diverged_runs,
             elapsed_s: elapsed,
         };
-        state.population = g.population;
-        state.costs = costs;
         let last = self.stop_reason(state, elapsed).is_some();
         for (obs, mode) in &mut self.observers {
             if mode.selects(&report, last) {
@@ -402,7 +388,7 @@ impl<C: BatchCost> Executor<C> {
     }
 
     fn stop_reason(&self, state: &SearchState, elapsed: f64) -> Option<TerminationReason> {
-        let s = self.ga.settings();
+        let s = &self.settings;
         if s.target_fitness.is_some_and(|t| state.best_cost <= t) {
             Some(TerminationReason::TargetReached)
         } else if state.generation + 1 >= s.generations {
@@ -411,6 +397,10 @@ impl<C: BatchCost> Executor<C> {
             Some(TerminationReason::Stalled)
         } else if s.max_time_s.is_some_and(|t| elapsed >= t) {
             Some(TerminationReason::Timeout)
+        } else if s.max_evaluations.is_some_and(|n| state.evaluations >= n) {
+            Some(TerminationReason::MaxEvaluations)
+        } else if let Some(reason) = self.solver.terminate() {
+            Some(reason)
         } else if self.interrupted() {
             Some(TerminationReason::Interrupted)
         } else {
@@ -424,17 +414,25 @@ impl<C: BatchCost> Executor<C> {
             .is_some_and(|f| f.load(Ordering::SeqCst))
     }
 
-    fn save(&self, fingerprint: &Fingerprint, state: &SearchState) -> Result<(), SearchError> {
+    /// Writes a checkpoint if one is configured, with the method's state as it
+    /// stands.
+    fn save(&self, fingerprint: &Fingerprint, state: &mut SearchState) -> Result<(), SearchError> {
         match &self.checkpoint_path {
-            Some(path) => Checkpoint::save_parts(fingerprint, state, path),
+            Some(path) => {
+                state.solver = self.solver.state();
+                let saved = Checkpoint::save_parts(fingerprint, state, path);
+                state.solver = serde_json::Value::Null;
+                saved
+            }
             None => Ok(()),
         }
     }
 
     fn outcome(&self, state: SearchState, termination: TerminationReason) -> SearchOutcome {
-        let genes = self.ga.genes();
-        let order = ranking(&state.costs);
-        let sorted: Vec<Vec<f64>> = order.iter().map(|&i| state.population[i].clone()).collect();
+        let genes = &self.genes;
+        let (population, costs) = self.solver.population();
+        let order = ranking(costs);
+        let sorted: Vec<Vec<f64>> = order.iter().map(|&i| population[i].clone()).collect();
         let mut warnings = Vec::new();
         if let Some(&first) = state.divergence_alerts.first() {
             warnings.push(format!(
@@ -451,7 +449,7 @@ impl<C: BatchCost> Executor<C> {
             best_genome: genome_values(genes, &state.best_genome),
             best_cost: state.best_cost,
             population: sorted.iter().map(|g| genome_values(genes, g)).collect(),
-            costs: order.iter().map(|&i| state.costs[i]).collect(),
+            costs: order.iter().map(|&i| costs[i]).collect(),
             elite_spread: elite_spread(&sorted, genes),
             generations: state.generation + 1,
             evaluations: state.evaluations,
@@ -459,19 +457,11 @@ impl<C: BatchCost> Executor<C> {
             termination,
             history: state.history,
             warnings,
+            method: self.solver.method(),
+            method_summary: self.solver.summary(),
             polish: None,
         }
     }
-}
-
-/// An evaluated generation before bookkeeping.
-struct Generation {
-    population: Vec<Vec<f64>>,
-    costs: Vec<f64>,
-    /// Index of the first newly evaluated candidate (after the elites).
-    first_child: usize,
-    evaluated: usize,
-    diverged_runs: usize,
 }
 
 fn json<T: serde::Serialize + ?Sized>(v: &T) -> String {

@@ -1,27 +1,48 @@
 //! The genetic algorithm as pure state transitions: an initial population, and
 //! the next population from the current one and its costs. No I/O, no clock; all
-//! randomness from the RNG passed in (argmin's `init` / `next_iter` split).
+//! randomness from the RNG passed in. As a [`Solver`], the first batch asked is
+//! the initial population and each later batch the children of the next
+//! generation; the elites keep their costs.
 
 use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+use serde_json::Value;
 
+use super::checkpoint::Fingerprint;
 use super::genes::{GeneSpec, clamp_into};
+use super::methods::Method;
 use super::operators::{latin_hypercube, mutate, sbx, tournament, uniform};
 use super::report::ranking;
-use super::{GaSettings, InitKind, SearchError};
+use super::solver::Solver;
+use super::{InitKind, SearchError, SearchSettings};
 
 /// A real-coded GA over a fixed set of genes.
 ///
 /// Genomes here are in scale space (see [`crate::search::genes`]).
 #[derive(Debug, Clone)]
 pub struct GeneticAlgorithm {
-    settings: GaSettings,
+    settings: SearchSettings,
     genes: Vec<GeneSpec>,
     bounds: Vec<(f64, f64)>,
     mutation_probability: f64,
+    /// The current population and its costs (empty before the first tell).
+    now: Population,
+    /// The batch in hand: children asked for, and the elites (indices into
+    /// `now`) that join them.
+    asked: Offspring,
+}
+
+/// A population (scale space) with its costs: the GA's state between
+/// generations.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+struct Population {
+    population: Vec<Vec<f64>>,
+    costs: Vec<f64>,
 }
 
 /// The next generation before evaluation.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct Offspring {
     /// Indices (into the previous population) of the elites carried over
     /// unchanged, best first; their costs are reused.
@@ -32,7 +53,7 @@ pub struct Offspring {
 
 impl GeneticAlgorithm {
     /// Checks the settings and genes the algorithm depends on.
-    pub fn new(settings: GaSettings, genes: Vec<GeneSpec>) -> Result<Self, SearchError> {
+    pub fn new(settings: SearchSettings, genes: Vec<GeneSpec>) -> Result<Self, SearchError> {
         let invalid = |field, reason: String| Err(SearchError::InvalidSettings { field, reason });
         if genes.is_empty() {
             return invalid("genes", "no free parameters to search".into());
@@ -40,7 +61,7 @@ impl GeneticAlgorithm {
         for g in &genes {
             g.validate()?;
         }
-        let s = &settings;
+        let (s, ga) = (&settings, &settings.ga);
         if s.population < 2 {
             return invalid(
                 "population",
@@ -50,38 +71,38 @@ impl GeneticAlgorithm {
         if s.generations < 1 {
             return invalid("generations", "need at least 1".into());
         }
-        if s.tournament < 1 {
+        if ga.tournament < 1 {
             return invalid("tournament", "need at least 1".into());
         }
-        if s.elitism >= s.population {
+        if ga.elitism >= s.population {
             return invalid(
                 "elitism",
                 format!(
                     "{} elites leave no room in a population of {}",
-                    s.elitism, s.population
+                    ga.elitism, s.population
                 ),
             );
         }
         let prob_ok = |p: f64| (0.0..=1.0).contains(&p);
-        if !prob_ok(s.crossover.probability) {
+        if !prob_ok(ga.crossover.probability) {
             return invalid(
                 "crossover.probability",
-                format!("{} is not in [0, 1]", s.crossover.probability),
+                format!("{} is not in [0, 1]", ga.crossover.probability),
             );
         }
-        if !(s.crossover.eta >= 0.0 && s.crossover.eta.is_finite()) {
+        if !(ga.crossover.eta >= 0.0 && ga.crossover.eta.is_finite()) {
             return invalid(
                 "crossover.eta",
-                format!("{} is not a finite value ≥ 0", s.crossover.eta),
+                format!("{} is not a finite value ≥ 0", ga.crossover.eta),
             );
         }
-        if !(s.mutation.eta >= 0.0 && s.mutation.eta.is_finite()) {
+        if !(ga.mutation.eta >= 0.0 && ga.mutation.eta.is_finite()) {
             return invalid(
                 "mutation.eta",
-                format!("{} is not a finite value ≥ 0", s.mutation.eta),
+                format!("{} is not a finite value ≥ 0", ga.mutation.eta),
             );
         }
-        let mutation_probability = s.mutation.probability.unwrap_or(1.0 / genes.len() as f64);
+        let mutation_probability = ga.mutation.probability.unwrap_or(1.0 / genes.len() as f64);
         if !prob_ok(mutation_probability) {
             return invalid(
                 "mutation.probability",
@@ -94,11 +115,13 @@ impl GeneticAlgorithm {
             genes,
             bounds,
             mutation_probability,
+            now: Population::default(),
+            asked: Offspring::default(),
         })
     }
 
     /// The settings.
-    pub fn settings(&self) -> &GaSettings {
+    pub fn settings(&self) -> &SearchSettings {
         &self.settings
     }
 
@@ -121,7 +144,7 @@ impl GeneticAlgorithm {
     /// RNG state afterwards) does not depend on the starting guesses.
     pub fn init<R: Rng + ?Sized>(&self, rng: &mut R) -> Vec<Vec<f64>> {
         let n = self.settings.population;
-        let mut pop = match self.settings.init {
+        let mut pop = match self.settings.ga.init {
             InitKind::Lhs => latin_hypercube(rng, n, &self.bounds),
             InitKind::Uniform => uniform(rng, n, &self.bounds),
         };
@@ -159,9 +182,9 @@ impl GeneticAlgorithm {
         for (r, &i) in order.iter().enumerate() {
             rank[i] = r;
         }
-        let s = &self.settings;
+        let s = &self.settings.ga;
         let elites: Vec<usize> = order[..s.elitism].to_vec();
-        let needed = s.population - s.elitism;
+        let needed = self.settings.population - s.elitism;
         let mut children = Vec::with_capacity(needed + 1);
         while children.len() < needed {
             let p1 = &population[tournament(rng, &rank, s.tournament)];
@@ -182,6 +205,89 @@ impl GeneticAlgorithm {
     }
 }
 
+impl Solver for GeneticAlgorithm {
+    fn method(&self) -> Method {
+        Method::Ga
+    }
+
+    fn settings(&self) -> &SearchSettings {
+        &self.settings
+    }
+
+    fn genes(&self) -> &[GeneSpec] {
+        &self.genes
+    }
+
+    fn bounds(&self) -> &[(f64, f64)] {
+        &self.bounds
+    }
+
+    fn fingerprint(&self, fp: &mut Fingerprint) {
+        let s = &self.settings.ga;
+        fp.insert("search.tournament".into(), s.tournament.to_string());
+        fp.insert("search.crossover".into(), json(&s.crossover));
+        fp.insert("search.mutation".into(), json(&s.mutation));
+        fp.insert("search.elitism".into(), s.elitism.to_string());
+        fp.insert("search.init".into(), json(&s.init));
+    }
+
+    fn ask(&mut self, rng: &mut ChaCha8Rng) -> &[Vec<f64>] {
+        self.asked = if self.now.population.is_empty() {
+            Offspring {
+                elites: Vec::new(),
+                children: self.init(rng),
+            }
+        } else {
+            self.next_generation(rng, &self.now.population, &self.now.costs)
+        };
+        &self.asked.children
+    }
+
+    fn tell(&mut self, _rng: &mut ChaCha8Rng, costs: &[f64]) {
+        let asked = std::mem::take(&mut self.asked);
+        let mut next = Population {
+            population: Vec::with_capacity(self.settings.population),
+            costs: Vec::with_capacity(self.settings.population),
+        };
+        for &i in &asked.elites {
+            next.population.push(self.now.population[i].clone());
+            next.costs.push(self.now.costs[i]);
+        }
+        next.population.extend(asked.children);
+        next.costs.extend_from_slice(costs);
+        self.now = next;
+    }
+
+    fn population(&self) -> (&[Vec<f64>], &[f64]) {
+        (&self.now.population, &self.now.costs)
+    }
+
+    fn state(&self) -> Value {
+        serde_json::to_value(&self.now).unwrap_or(Value::Null)
+    }
+
+    fn restore(&mut self, state: Value) -> Result<(), String> {
+        let now: Population = serde_json::from_value(state).map_err(|e| e.to_string())?;
+        let (n, g) = (self.settings.population, self.genes.len());
+        let fits = now.population.len() == n
+            && now.costs.len() == n
+            && now.population.iter().all(|x| x.len() == g);
+        if !fits {
+            return Err(format!(
+                "state does not hold {n} genomes of {g} genes with costs"
+            ));
+        }
+        self.now = now;
+        self.asked = Offspring::default();
+        Ok(())
+    }
+}
+
+/// A setting as the fingerprint holds it: compact JSON.
+fn json<T: Serialize>(v: &T) -> String {
+    serde_json::to_string(v).unwrap_or_default()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -189,7 +295,7 @@ mod tests {
     use rand::SeedableRng;
     use rand_chacha::ChaCha8Rng;
 
-    fn settings() -> GaSettings {
+    fn settings() -> SearchSettings {
         serde_json::from_str(r#"{"population": 10, "generations": 5}"#).unwrap()
     }
 
@@ -200,7 +306,7 @@ mod tests {
     #[test]
     fn bad_settings_name_the_field() {
         let mut s = settings();
-        s.elitism = 10;
+        s.ga.elitism = 10;
         let e = GeneticAlgorithm::new(s, genes()).unwrap_err();
         assert!(matches!(
             e,
@@ -210,7 +316,7 @@ mod tests {
             }
         ));
         let mut s = settings();
-        s.crossover.probability = 1.5;
+        s.ga.crossover.probability = 1.5;
         let e = GeneticAlgorithm::new(s, genes()).unwrap_err();
         assert!(e.to_string().contains("crossover.probability"));
         assert!(GeneticAlgorithm::new(settings(), vec![]).is_err());

@@ -1,21 +1,25 @@
-//! The calibration search: a real-coded genetic algorithm shaped as a solver loop
-//! with observers.
+//! The calibration search: methods behind one [`Solver`] trait, one executor
+//! with observers, and the polish after.
 //!
-//! - [`GeneticAlgorithm`]: pure state transitions (initial population, next
-//!   population from costs), all randomness from one seeded `ChaCha8Rng`.
-//! - [`BatchCost`]: scores a whole generation at once (GPU-friendly).
-//! - [`Executor`]: drives both, calls [`Observer`]s, writes [`Checkpoint`]s,
-//!   stops on generations / target / stall / wall time / interrupt and says why
+//! - [`Solver`]: a method as pure state transitions in ask/tell form (ask a
+//!   batch, tell its costs), all randomness from one seeded `ChaCha8Rng`.
+//!   [`GeneticAlgorithm`] and [`Cmaes`] implement it; [`Method`] registers
+//!   them under the names a campaign uses.
+//! - [`BatchCost`]: scores a whole batch at once (GPU-friendly).
+//! - [`Executor`]: drives any solver against a cost, calls [`Observer`]s, writes
+//!   [`Checkpoint`]s, stops on generations / evaluations / target / stall /
+//!   wall time / the method's own end / interrupt and says why
 //!   ([`TerminationReason`]).
-//! - [`Polish`]: Levenberg–Marquardt on a [`ResidualCost`] from the GA's best
-//!   distinct candidates, and the [`Uncertainty`] of each gene at the optimum;
-//!   run by the same executor after the GA ([`Executor::then_polish`]), under
-//!   the same observers, interrupt flag and termination reason.
+//! - [`Polish`]: Levenberg–Marquardt on a [`ResidualCost`] from the search's
+//!   best distinct candidates, and the [`Uncertainty`] of each gene at the
+//!   optimum; run by the same executor after the search
+//!   ([`Executor::then_polish`]), under the same observers, interrupt flag and
+//!   termination reason.
 //!
 //! ```
 //! use rigfit::base::Scale;
-//! use rigfit::search::{Executor, FnCost, GaSettings, GeneSpec, GeneticAlgorithm, TerminationReason};
-//! let settings: GaSettings =
+//! use rigfit::search::{Executor, FnCost, GeneSpec, GeneticAlgorithm, SearchSettings, TerminationReason};
+//! let settings: SearchSettings =
 //!     serde_json::from_str(r#"{"population": 40, "generations": 60, "seed": 7}"#).unwrap();
 //! let genes = vec![
 //!     GeneSpec::new("x", -5.0, 5.0, Scale::Linear),
@@ -29,26 +33,31 @@
 //! ```
 
 mod checkpoint;
+mod cmaes;
 mod cost;
 mod error;
 mod executor;
 mod ga;
 pub mod genes;
+mod methods;
 mod observers;
 pub mod operators;
 mod polish;
 mod progress;
 pub mod report;
 mod settings;
+mod solver;
 mod state;
 pub mod uncertainty;
 
 pub use checkpoint::{Checkpoint, Fingerprint};
+pub use cmaes::{Cmaes, CmaesSettings};
 pub use cost::{BatchCost, CostBatch, FnCost};
 pub use error::SearchError;
 pub use executor::{DIVERGED_WARN_SHARE, Executor};
 pub use ga::{GeneticAlgorithm, Offspring};
 pub use genes::GeneSpec;
+pub use methods::{Method, first_candidates};
 pub use observers::{
     HISTORY_COLUMNS, HistoryCsvObserver, Observer, ObserverMode, history_csv, write_history_csv,
 };
@@ -59,7 +68,9 @@ pub use polish::{
 pub use progress::ProgressObserver;
 pub use report::{EliteSpread, GenerationReport, SearchOutcome, TerminationReason};
 pub use settings::{
-    CrossoverSettings, GaSettings, InitKind, MutationSettings, PolishSettings, SettingsError,
+    CrossoverSettings, GaSettings, InitKind, MutationSettings, PolishSettings, SearchSettings,
+    SettingsError,
 };
+pub use solver::Solver;
 pub use state::SearchState;
 pub use uncertainty::{AtBound, GeneUncertainty, ResidualBlock, Uncertainty, Z95};

@@ -6,6 +6,7 @@ use std::fmt;
 use serde::{Deserialize, Serialize};
 
 use super::genes::GeneSpec;
+use super::methods::Method;
 use super::polish::PolishOutcome;
 use crate::eval::DIVERGED;
 
@@ -21,6 +22,11 @@ pub enum TerminationReason {
     Stalled,
     /// `max_time_s` of wall time passed.
     Timeout,
+    /// `max_evaluations` candidates were scored.
+    MaxEvaluations,
+    /// The method found nothing more to learn (CMA-ES: its step or the spread
+    /// of its costs fell below its tolerance, with no restart left).
+    Converged,
     /// The interrupt flag was raised (Ctrl-C, SIGTERM).
     Interrupted,
 }
@@ -32,6 +38,8 @@ impl fmt::Display for TerminationReason {
             Self::MaxGenerations => "maximum number of generations reached",
             Self::Stalled => "no improvement for the allowed number of generations",
             Self::Timeout => "wall-time limit reached",
+            Self::MaxEvaluations => "maximum number of evaluations reached",
+            Self::Converged => "the search method converged",
             Self::Interrupted => "interrupted",
         })
     }
@@ -110,6 +118,13 @@ pub struct SearchOutcome {
     pub history: Vec<GenerationReport>,
     /// Things a user should know (e.g. many diverged candidates).
     pub warnings: Vec<String>,
+    /// The method that searched.
+    #[serde(default)]
+    pub method: Method,
+    /// What the method learned beside the polish ([`super::Solver::summary`]:
+    /// CMA-ES's covariance); `None` for the GA.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub method_summary: Option<serde_json::Value>,
     /// The polish that followed the GA ([`super::Executor::then_polish`]);
     /// `None` when none was configured or the GA was interrupted. Not part of
     /// a checkpoint: the polish is a pure function of the GA's final state, so a

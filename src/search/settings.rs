@@ -2,6 +2,9 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::cmaes::CmaesSettings;
+use super::methods::Method;
+
 /// How the first generation is drawn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
@@ -36,44 +39,150 @@ pub struct MutationSettings {
     pub eta: f64,
 }
 
-/// The campaign's `"search"` object.
+/// The genetic algorithm's operators: the `"search"` keys only the GA reads
+/// (written beside the executor's keys in a campaign, for files written
+/// before a second method existed).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct GaSettings {
-    /// Candidates per generation (≥ 4).
-    pub population: usize,
-    /// Maximum number of generations (≥ 1).
-    pub generations: usize,
-    /// RNG seed; the same seed, campaign and backend give bit-identical results.
-    #[serde(default)]
-    pub seed: u64,
     /// Tournament size for parent selection (≥ 2).
-    #[serde(default = "default_tournament")]
     pub tournament: usize,
     /// Crossover.
-    #[serde(default)]
     pub crossover: CrossoverSettings,
     /// Mutation.
-    #[serde(default)]
     pub mutation: MutationSettings,
     /// Best candidates copied unchanged into the next generation.
-    #[serde(default = "default_elitism")]
     pub elitism: usize,
     /// Initial population.
-    #[serde(default)]
     pub init: InitKind,
+}
+
+impl Default for GaSettings {
+    fn default() -> Self {
+        Self {
+            tournament: default_tournament(),
+            crossover: CrossoverSettings::default(),
+            mutation: MutationSettings::default(),
+            elitism: default_elitism(),
+            init: InitKind::default(),
+        }
+    }
+}
+
+/// The campaign's `"search"` object: the method, what the executor reads for
+/// every method (the batch size, the seed, the limits, checkpoints, the
+/// polish after), and each method's own settings.
+///
+/// In a campaign file the GA's operators sit beside the executor's keys
+/// (`"tournament": 3`), each other method's settings in an object of its
+/// name (`"cmaes": {"sigma0": 0.2}`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(from = "SearchFile", into = "SearchFile")]
+pub struct SearchSettings {
+    /// The search method ([`Method`]; default the genetic algorithm).
+    pub method: Method,
+    /// Candidates per generation, the batch each evaluation scores (≥ 4).
+    pub population: usize,
+    /// Maximum number of generations (iterations of the method, ≥ 1).
+    pub generations: usize,
+    /// RNG seed; the same seed, campaign and backend give bit-identical results.
+    pub seed: u64,
     /// Stop once the best joint fitness (weighted mean of 1 − R²) is at or below this.
     pub target_fitness: Option<f64>,
     /// Stop after this many generations without improvement of the best.
     pub stall_generations: Option<usize>,
+    /// Stop after this many cost evaluations (candidates scored).
+    pub max_evaluations: Option<u64>,
     /// Stop after this much wall time (s).
     pub max_time_s: Option<f64>,
     /// Write a checkpoint every this many generations (0: only on interrupt).
-    #[serde(default = "default_checkpoint_every")]
     pub checkpoint_every: usize,
-    /// The local polish after the GA, and the parameter uncertainty it gives.
-    #[serde(default)]
+    /// The local polish after the search, and the parameter uncertainty it gives.
     pub polish: PolishSettings,
+    /// The genetic algorithm's operators.
+    pub ga: GaSettings,
+    /// CMA-ES's settings.
+    pub cmaes: CmaesSettings,
+}
+
+/// [`SearchSettings`] as a campaign writes it: one flat object.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SearchFile {
+    #[serde(default)]
+    method: Method,
+    population: usize,
+    generations: usize,
+    #[serde(default)]
+    seed: u64,
+    #[serde(default = "default_tournament")]
+    tournament: usize,
+    #[serde(default)]
+    crossover: CrossoverSettings,
+    #[serde(default)]
+    mutation: MutationSettings,
+    #[serde(default = "default_elitism")]
+    elitism: usize,
+    #[serde(default)]
+    init: InitKind,
+    target_fitness: Option<f64>,
+    stall_generations: Option<usize>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    max_evaluations: Option<u64>,
+    max_time_s: Option<f64>,
+    #[serde(default = "default_checkpoint_every")]
+    checkpoint_every: usize,
+    #[serde(default)]
+    polish: PolishSettings,
+    #[serde(default, skip_serializing_if = "CmaesSettings::is_default")]
+    cmaes: CmaesSettings,
+}
+
+impl From<SearchFile> for SearchSettings {
+    fn from(f: SearchFile) -> Self {
+        Self {
+            method: f.method,
+            population: f.population,
+            generations: f.generations,
+            seed: f.seed,
+            target_fitness: f.target_fitness,
+            stall_generations: f.stall_generations,
+            max_evaluations: f.max_evaluations,
+            max_time_s: f.max_time_s,
+            checkpoint_every: f.checkpoint_every,
+            polish: f.polish,
+            ga: GaSettings {
+                tournament: f.tournament,
+                crossover: f.crossover,
+                mutation: f.mutation,
+                elitism: f.elitism,
+                init: f.init,
+            },
+            cmaes: f.cmaes,
+        }
+    }
+}
+
+impl From<SearchSettings> for SearchFile {
+    fn from(s: SearchSettings) -> Self {
+        Self {
+            method: s.method,
+            population: s.population,
+            generations: s.generations,
+            seed: s.seed,
+            tournament: s.ga.tournament,
+            crossover: s.ga.crossover,
+            mutation: s.ga.mutation,
+            elitism: s.ga.elitism,
+            init: s.ga.init,
+            target_fitness: s.target_fitness,
+            stall_generations: s.stall_generations,
+            max_evaluations: s.max_evaluations,
+            max_time_s: s.max_time_s,
+            checkpoint_every: s.checkpoint_every,
+            polish: s.polish,
+            cmaes: s.cmaes,
+        }
+    }
 }
 
 /// The campaign's `"search": {"polish": {…}}` object: Levenberg–Marquardt from
@@ -164,9 +273,9 @@ pub struct SettingsError {
     pub found: String,
 }
 
-impl GaSettings {
+impl SearchSettings {
     /// Settings of a campaign that has no `search` section: every default, no
-    /// population and no generations, so [`GaSettings::validate`] refuses them.
+    /// population and no generations, so [`SearchSettings::validate`] refuses them.
     pub fn unset() -> Self {
         serde_json::from_str(r#"{"population": 0, "generations": 0}"#)
             .expect("the defaults deserialise")
@@ -174,7 +283,8 @@ impl GaSettings {
 
     /// Checks every setting's range: population ≥ 4, generations ≥ 1,
     /// tournament ≥ 2 and ≤ population, elitism < population, probabilities in
-    /// [0, 1], distribution indices > 0, time limit > 0, polish starts ≥ 1.
+    /// [0, 1], distribution indices > 0, evaluation and time limits > 0,
+    /// polish starts ≥ 1, and the method's own settings.
     pub fn validate(&self) -> Result<(), SettingsError> {
         let err = |field, expected: &str, found: String| {
             Err(SettingsError {
@@ -190,32 +300,32 @@ impl GaSettings {
         if self.generations < 1 {
             return err("generations", "at least 1", "0".into());
         }
-        if self.tournament < 2 || self.tournament > self.population {
+        let ga = &self.ga;
+        if ga.tournament < 2 || ga.tournament > self.population {
             let exp = format!("between 2 and the population ({})", self.population);
-            return err("tournament", &exp, self.tournament.to_string());
+            return err("tournament", &exp, ga.tournament.to_string());
         }
-        if self.elitism >= self.population {
+        if ga.elitism >= self.population {
             let exp = format!("less than the population ({})", self.population);
-            return err("elitism", &exp, self.elitism.to_string());
+            return err("elitism", &exp, ga.elitism.to_string());
         }
-        if !prob(self.crossover.probability) {
-            let found = self.crossover.probability.to_string();
+        if !prob(ga.crossover.probability) {
+            let found = ga.crossover.probability.to_string();
             return err("crossover.probability", "a value in [0, 1]", found);
         }
-        if !(self.crossover.eta > 0.0 && self.crossover.eta.is_finite()) {
-            return err(
-                "crossover.eta",
-                "a value > 0",
-                self.crossover.eta.to_string(),
-            );
+        if !(ga.crossover.eta > 0.0 && ga.crossover.eta.is_finite()) {
+            return err("crossover.eta", "a value > 0", ga.crossover.eta.to_string());
         }
-        if let Some(p) = self.mutation.probability {
+        if let Some(p) = ga.mutation.probability {
             if !prob(p) {
                 return err("mutation.probability", "a value in [0, 1]", p.to_string());
             }
         }
-        if !(self.mutation.eta > 0.0 && self.mutation.eta.is_finite()) {
-            return err("mutation.eta", "a value > 0", self.mutation.eta.to_string());
+        if !(ga.mutation.eta > 0.0 && ga.mutation.eta.is_finite()) {
+            return err("mutation.eta", "a value > 0", ga.mutation.eta.to_string());
+        }
+        if self.max_evaluations == Some(0) {
+            return err("max_evaluations", "at least 1", "0".into());
         }
         if let Some(t) = self.max_time_s {
             if t.is_nan() || t <= 0.0 {
@@ -230,6 +340,6 @@ impl GaSettings {
                 return err("target_fitness", "a finite number", f.to_string());
             }
         }
-        Ok(())
+        self.cmaes.validate()
     }
 }

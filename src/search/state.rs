@@ -2,17 +2,17 @@
 
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
+use serde_json::Value;
 
 use super::report::GenerationReport;
 
 /// Everything needed to continue a search exactly where it stopped: after a
-/// generation was evaluated and reported, before the next one is bred.
+/// generation was evaluated and reported, before the next one is asked for.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SearchState {
-    /// Current population in scale space.
-    pub population: Vec<Vec<f64>>,
-    /// Its costs (sanitized: finite).
-    pub costs: Vec<f64>,
+    /// The method's own state ([`super::Solver::state`]: the GA's population
+    /// and costs, CMA-ES's mean, step and covariance).
+    pub solver: Value,
     /// The search's only RNG, positioned after the last draw.
     #[serde(with = "rng_serde")]
     pub rng: ChaCha8Rng,
@@ -32,6 +32,25 @@ pub struct SearchState {
     pub history: Vec<GenerationReport>,
     /// Generations where more than a quarter of the candidates diverged.
     pub divergence_alerts: Vec<usize>,
+}
+
+impl SearchState {
+    /// A search before its first batch: the RNG seeded, nothing scored.
+    pub fn start(seed: u64) -> Self {
+        use rand::SeedableRng;
+        Self {
+            solver: Value::Null,
+            rng: ChaCha8Rng::seed_from_u64(seed),
+            generation: 0,
+            best_genome: Vec::new(),
+            best_cost: f64::INFINITY,
+            stall: 0,
+            evaluations: 0,
+            elapsed_s: 0.0,
+            history: Vec::new(),
+            divergence_alerts: Vec::new(),
+        }
+    }
 }
 
 /// ChaCha8Rng as (seed, stream, word position). The word position is a `u128`,
@@ -88,8 +107,7 @@ mod tests {
             let _: u32 = rng.random();
         }
         let state = SearchState {
-            population: vec![],
-            costs: vec![],
+            solver: Value::Null,
             rng: rng.clone(),
             generation: 0,
             best_genome: vec![],

@@ -4,10 +4,10 @@
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use rigfit::search::{GaSettings, GenerationReport, Observer, SearchError, SearchOutcome};
+use rigfit::search::{GenerationReport, Observer, SearchError, SearchOutcome, SearchSettings};
 
 /// Settings from the campaign JSON defaults plus population, generations, seed.
-pub fn settings(population: usize, generations: usize, seed: u64) -> GaSettings {
+pub fn settings(population: usize, generations: usize, seed: u64) -> SearchSettings {
     serde_json::from_value(serde_json::json!({
         "population": population, "generations": generations, "seed": seed
     }))

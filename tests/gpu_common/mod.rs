@@ -128,7 +128,7 @@ pub fn self_measured(
         drive,
         t_first,
         dt,
-        force: vec![0.0; samples],
+        measured: vec![0.0; samples],
         window: 0..samples,
         weight: 1.0,
     };
@@ -137,6 +137,6 @@ pub fn self_measured(
         experiments: vec![exp.clone()],
         substeps: 2,
     };
-    exp.force = simulate_history(&one, 0, params, 0.0).outputs[0].clone();
+    exp.measured = simulate_history(&one, 0, params, 0.0).outputs[0].clone();
     exp
 }

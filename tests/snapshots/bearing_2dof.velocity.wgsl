@@ -1,7 +1,7 @@
 // Generated from the rig description by src/compile/back/wgsl/.
 
 const RIG_STATES: u32 = 4u;
-const RIG_MODES: u32 = 2u;
+const RIG_REGIMES: u32 = 2u;
 const RIG_REPORT: u32 = 6u;
 
 struct RigState {
@@ -12,8 +12,8 @@ struct RigState {
 }
 
 struct RigRegime {
-    m0: u32,
-    m1: u32,
+    r0: u32,
+    r1: u32,
 }
 
 struct RunConsts {
@@ -67,8 +67,8 @@ fn rig_state_load(sb: u32) -> RigState {
 
 fn rig_regimes_load(sb: u32) -> RigRegime {
     var md: RigRegime;
-    md.m0 = u32(state[sb + 4u]);
-    md.m1 = u32(state[sb + 5u]);
+    md.r0 = u32(state[sb + 4u]);
+    md.r1 = u32(state[sb + 5u]);
     return md;
 }
 
@@ -80,8 +80,8 @@ fn rig_state_store(sb: u32, y: RigState, md: RigRegime) {
     state[sb + 1u] = y.s1;
     state[sb + 2u] = y.s2;
     state[sb + 3u] = y.s3;
-    state[sb + 4u] = real(md.m0);
-    state[sb + 5u] = real(md.m1);
+    state[sb + 4u] = real(md.r0);
+    state[sb + 5u] = real(md.r1);
 }
 
 const RIG_ACC: u32 = 6u;
@@ -136,12 +136,12 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     let v6 = y.s3;
     let v11 = v0 - kc.k10;
     let v15 = kc.k14 * v11;
-    let v16 = real(md.m0);
+    let v16 = real(md.r0);
     let v17 = select(real(0.0), real(1.0), v16 == real(1e0));
     let v18 = sin_r(v15);
     let v20 = kc.k8 * v18;
     let v27 = select(real(0e0), v20, v17 != real(0.0));
-    let v31 = real(md.m1);
+    let v31 = real(md.r1);
     let v32 = select(real(0.0), real(1.0), v31 == real(1e0));
     let v33 = kc.k30 * v18;
     let v36 = select(real(0e0), v33, v32 != real(0.0));
@@ -185,10 +185,10 @@ fn rig_events_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
 
 fn rig_hits(g0: RigEventValues, g1: RigEventValues, md: RigRegime) -> u32 {
     var hits = 0u;
-    hits |= select(0u, 1u, md.m0 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
-    hits |= select(0u, 2u, md.m0 == 1u && g1.g[1] >= real(0.0) && (!(g0.g[1] >= real(0.0)) || g1.g[1] > g0.g[1]));
-    hits |= select(0u, 4u, md.m1 == 0u && g1.g[2] >= real(0.0) && (!(g0.g[2] >= real(0.0)) || g1.g[2] > g0.g[2]));
-    hits |= select(0u, 8u, md.m1 == 1u && g1.g[3] >= real(0.0) && (!(g0.g[3] >= real(0.0)) || g1.g[3] > g0.g[3]));
+    hits |= select(0u, 1u, md.r0 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
+    hits |= select(0u, 2u, md.r0 == 1u && g1.g[1] >= real(0.0) && (!(g0.g[1] >= real(0.0)) || g1.g[1] > g0.g[1]));
+    hits |= select(0u, 4u, md.r1 == 0u && g1.g[2] >= real(0.0) && (!(g0.g[2] >= real(0.0)) || g1.g[2] > g0.g[2]));
+    hits |= select(0u, 8u, md.r1 == 1u && g1.g[3] >= real(0.0) && (!(g0.g[3] >= real(0.0)) || g1.g[3] > g0.g[3]));
     return hits;
 }
 
@@ -217,12 +217,12 @@ fn rig_window(kc: RunConsts, md: RigRegime) -> EventWindows {
     var w: EventWindows;
     w.lo0 = -REAL_MAX;
     w.hi0 = REAL_MAX;
-    w.hi0 = select(w.hi0, min(w.hi0, kc.k10), md.m0 == 0u);
-    w.hi0 = select(w.hi0, min(w.hi0, kc.k10), md.m1 == 0u);
+    w.hi0 = select(w.hi0, min(w.hi0, kc.k10), md.r0 == 0u);
+    w.hi0 = select(w.hi0, min(w.hi0, kc.k10), md.r1 == 0u);
     w.lo1 = -REAL_MAX;
     w.hi1 = REAL_MAX;
-    w.hi1 = select(w.hi1, min(w.hi1, kc.k9), md.m0 == 1u);
-    w.hi1 = select(w.hi1, min(w.hi1, kc.k9), md.m1 == 1u);
+    w.hi1 = select(w.hi1, min(w.hi1, kc.k9), md.r0 == 1u);
+    w.hi1 = select(w.hi1, min(w.hi1, kc.k9), md.r1 == 1u);
     return w;
 }
 
@@ -243,10 +243,10 @@ fn rig_oriented(g: RigEventValues, i: u32) -> real {
 
 fn rig_fire(i: u32, md: ptr<function, RigRegime>) {
     switch i {
-        case 0u: { (*md).m0 = 1u; }
-        case 1u: { (*md).m0 = 2u; }
-        case 2u: { (*md).m1 = 1u; }
-        case 3u: { (*md).m1 = 2u; }
+        case 0u: { (*md).r0 = 1u; }
+        case 1u: { (*md).r0 = 2u; }
+        case 2u: { (*md).r1 = 1u; }
+        case 3u: { (*md).r1 = 2u; }
         default: {}
     }
 }

@@ -1,7 +1,7 @@
 // Generated from the rig description by src/compile/back/wgsl/.
 
 const RIG_STATES: u32 = 2u;
-const RIG_MODES: u32 = 0u;
+const RIG_REGIMES: u32 = 0u;
 const RIG_REPORT: u32 = 6u;
 
 struct RigState {
@@ -10,7 +10,7 @@ struct RigState {
 }
 
 struct RigRegime {
-    m0: u32,
+    r0: u32,
     h0: real,
     h1: real,
     h2: real,

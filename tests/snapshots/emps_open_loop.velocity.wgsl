@@ -1,7 +1,7 @@
 // Generated from the rig description by src/compile/back/wgsl/.
 
 const RIG_STATES: u32 = 4u;
-const RIG_MODES: u32 = 0u;
+const RIG_REGIMES: u32 = 0u;
 const RIG_REPORT: u32 = 7u;
 
 struct RigState {
@@ -12,7 +12,7 @@ struct RigState {
 }
 
 struct RigRegime {
-    m0: u32,
+    r0: u32,
 }
 
 struct RunConsts {

@@ -1,7 +1,7 @@
 // Generated from the rig description by src/compile/back/wgsl/.
 
 const RIG_STATES: u32 = 3u;
-const RIG_MODES: u32 = 1u;
+const RIG_REGIMES: u32 = 1u;
 const RIG_REPORT: u32 = 7u;
 
 struct RigState {
@@ -11,7 +11,7 @@ struct RigState {
 }
 
 struct RigRegime {
-    m0: u32,
+    r0: u32,
 }
 
 struct RunConsts {
@@ -54,7 +54,7 @@ fn rig_state_load(sb: u32) -> RigState {
 
 fn rig_regimes_load(sb: u32) -> RigRegime {
     var md: RigRegime;
-    md.m0 = u32(state[sb + 3u]);
+    md.r0 = u32(state[sb + 3u]);
     return md;
 }
 
@@ -65,7 +65,7 @@ fn rig_state_store(sb: u32, y: RigState, md: RigRegime) {
     state[sb + 0u] = y.s0;
     state[sb + 1u] = y.s1;
     state[sb + 2u] = y.s2;
-    state[sb + 3u] = real(md.m0);
+    state[sb + 3u] = real(md.r0);
 }
 
 const RIG_ACC: u32 = 4u;
@@ -123,7 +123,7 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     let v27 = v24 + v26;
     let v30 = y.s2;
     let v31 = kc.k29 * v30;
-    let v34 = real(md.m0);
+    let v34 = real(md.r0);
     let v35 = select(real(0.0), real(1.0), v34 == real(0e0));
     let v36 = select(real(0e0), v4, v35 != real(0.0));
     let v37 = real(0e0) - v27;
@@ -153,10 +153,10 @@ fn rig_events_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
 
 fn rig_hits(g0: RigEventValues, g1: RigEventValues, md: RigRegime) -> u32 {
     var hits = 0u;
-    hits |= select(0u, 1u, md.m0 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
-    hits |= select(0u, 2u, md.m0 == 0u && -(g1.g[1]) >= real(0.0) && (!(-(g0.g[1]) >= real(0.0)) || -(g1.g[1]) > -(g0.g[1])));
-    hits |= select(0u, 4u, md.m0 == 1u && -(g1.g[2]) >= real(0.0) && (!(-(g0.g[2]) >= real(0.0)) || -(g1.g[2]) > -(g0.g[2])));
-    hits |= select(0u, 8u, md.m0 == 2u && g1.g[3] >= real(0.0) && (!(g0.g[3] >= real(0.0)) || g1.g[3] > g0.g[3]));
+    hits |= select(0u, 1u, md.r0 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
+    hits |= select(0u, 2u, md.r0 == 0u && -(g1.g[1]) >= real(0.0) && (!(-(g0.g[1]) >= real(0.0)) || -(g1.g[1]) > -(g0.g[1])));
+    hits |= select(0u, 4u, md.r0 == 1u && -(g1.g[2]) >= real(0.0) && (!(-(g0.g[2]) >= real(0.0)) || -(g1.g[2]) > -(g0.g[2])));
+    hits |= select(0u, 8u, md.r0 == 2u && g1.g[3] >= real(0.0) && (!(g0.g[3] >= real(0.0)) || g1.g[3] > g0.g[3]));
     return hits;
 }
 
@@ -191,14 +191,14 @@ fn rig_window(kc: RunConsts, md: RigRegime) -> EventWindows {
     var w: EventWindows;
     w.lo0 = -REAL_MAX;
     w.hi0 = REAL_MAX;
-    w.hi0 = select(w.hi0, min(w.hi0, kc.k28), md.m0 == 0u);
+    w.hi0 = select(w.hi0, min(w.hi0, kc.k28), md.r0 == 0u);
     w.lo1 = -REAL_MAX;
     w.hi1 = REAL_MAX;
-    w.lo1 = select(w.lo1, max(w.lo1, real(0.0)), md.m0 == 0u);
+    w.lo1 = select(w.lo1, max(w.lo1, real(0.0)), md.r0 == 0u);
     w.lo2 = -REAL_MAX;
     w.hi2 = REAL_MAX;
-    w.hi2 = select(w.hi2, min(w.hi2, real(0.0)), md.m0 == 2u);
-    w.lo2 = select(w.lo2, max(w.lo2, real(0.0)), md.m0 == 1u);
+    w.hi2 = select(w.hi2, min(w.hi2, real(0.0)), md.r0 == 2u);
+    w.lo2 = select(w.lo2, max(w.lo2, real(0.0)), md.r0 == 1u);
     return w;
 }
 
@@ -221,10 +221,10 @@ fn rig_oriented(g: RigEventValues, i: u32) -> real {
 
 fn rig_fire(i: u32, md: ptr<function, RigRegime>) {
     switch i {
-        case 0u: { (*md).m0 = 1u; }
-        case 1u: { (*md).m0 = 2u; }
-        case 2u: { (*md).m0 = 0u; }
-        case 3u: { (*md).m0 = 0u; }
+        case 0u: { (*md).r0 = 1u; }
+        case 1u: { (*md).r0 = 2u; }
+        case 2u: { (*md).r0 = 0u; }
+        case 3u: { (*md).r0 = 0u; }
         default: {}
     }
 }

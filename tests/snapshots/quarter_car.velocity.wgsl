@@ -1,7 +1,7 @@
 // Generated from the rig description by src/compile/back/wgsl/.
 
 const RIG_STATES: u32 = 6u;
-const RIG_MODES: u32 = 1u;
+const RIG_REGIMES: u32 = 1u;
 const RIG_REPORT: u32 = 12u;
 
 struct RigState {
@@ -14,7 +14,7 @@ struct RigState {
 }
 
 struct RigRegime {
-    m0: u32,
+    r0: u32,
 }
 
 struct RunConsts {
@@ -76,7 +76,7 @@ fn rig_state_load(sb: u32) -> RigState {
 
 fn rig_regimes_load(sb: u32) -> RigRegime {
     var md: RigRegime;
-    md.m0 = u32(state[sb + 6u]);
+    md.r0 = u32(state[sb + 6u]);
     return md;
 }
 
@@ -90,7 +90,7 @@ fn rig_state_store(sb: u32, y: RigState, md: RigRegime) {
     state[sb + 3u] = y.s3;
     state[sb + 4u] = y.s4;
     state[sb + 5u] = y.s5;
-    state[sb + 6u] = real(md.m0);
+    state[sb + 6u] = real(md.r0);
 }
 
 const RIG_ACC: u32 = 7u;
@@ -185,7 +185,7 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     let v61 = v46 + v60;
     let v63 = v43 - kc.k62;
     let v64 = v43 + kc.k62;
-    let v65 = real(md.m0);
+    let v65 = real(md.r0);
     let v66 = select(real(0.0), real(1.0), v65 == real(1e0));
     let v68 = select(real(0.0), real(1.0), v65 == real(2e0));
     let v70 = kc.k69 * v63;
@@ -224,10 +224,10 @@ fn rig_events_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
 
 fn rig_hits(g0: RigEventValues, g1: RigEventValues, md: RigRegime) -> u32 {
     var hits = 0u;
-    hits |= select(0u, 1u, md.m0 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
-    hits |= select(0u, 2u, md.m0 == 1u && -(g1.g[1]) >= real(0.0) && (!(-(g0.g[1]) >= real(0.0)) || -(g1.g[1]) > -(g0.g[1])));
-    hits |= select(0u, 4u, md.m0 == 0u && -(g1.g[2]) >= real(0.0) && (!(-(g0.g[2]) >= real(0.0)) || -(g1.g[2]) > -(g0.g[2])));
-    hits |= select(0u, 8u, md.m0 == 2u && g1.g[3] >= real(0.0) && (!(g0.g[3] >= real(0.0)) || g1.g[3] > g0.g[3]));
+    hits |= select(0u, 1u, md.r0 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
+    hits |= select(0u, 2u, md.r0 == 1u && -(g1.g[1]) >= real(0.0) && (!(-(g0.g[1]) >= real(0.0)) || -(g1.g[1]) > -(g0.g[1])));
+    hits |= select(0u, 4u, md.r0 == 0u && -(g1.g[2]) >= real(0.0) && (!(-(g0.g[2]) >= real(0.0)) || -(g1.g[2]) > -(g0.g[2])));
+    hits |= select(0u, 8u, md.r0 == 2u && g1.g[3] >= real(0.0) && (!(g0.g[3] >= real(0.0)) || g1.g[3] > g0.g[3]));
     return hits;
 }
 
@@ -258,12 +258,12 @@ fn rig_window(kc: RunConsts, md: RigRegime) -> EventWindows {
     var w: EventWindows;
     w.lo0 = -REAL_MAX;
     w.hi0 = REAL_MAX;
-    w.hi0 = select(w.hi0, min(w.hi0, kc.k62), md.m0 == 0u);
-    w.lo0 = select(w.lo0, max(w.lo0, kc.k62), md.m0 == 1u);
+    w.hi0 = select(w.hi0, min(w.hi0, kc.k62), md.r0 == 0u);
+    w.lo0 = select(w.lo0, max(w.lo0, kc.k62), md.r0 == 1u);
     w.lo1 = -REAL_MAX;
     w.hi1 = REAL_MAX;
-    w.hi1 = select(w.hi1, min(w.hi1, real(0.0)), md.m0 == 2u);
-    w.lo1 = select(w.lo1, max(w.lo1, real(0.0)), md.m0 == 0u);
+    w.hi1 = select(w.hi1, min(w.hi1, real(0.0)), md.r0 == 2u);
+    w.lo1 = select(w.lo1, max(w.lo1, real(0.0)), md.r0 == 0u);
     return w;
 }
 
@@ -286,10 +286,10 @@ fn rig_oriented(g: RigEventValues, i: u32) -> real {
 
 fn rig_fire(i: u32, md: ptr<function, RigRegime>) {
     switch i {
-        case 0u: { (*md).m0 = 1u; }
-        case 1u: { (*md).m0 = 0u; }
-        case 2u: { (*md).m0 = 2u; }
-        case 3u: { (*md).m0 = 0u; }
+        case 0u: { (*md).r0 = 1u; }
+        case 1u: { (*md).r0 = 0u; }
+        case 2u: { (*md).r0 = 2u; }
+        case 3u: { (*md).r0 = 0u; }
         default: {}
     }
 }
@@ -315,7 +315,7 @@ fn rig_output0_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCl
     let v61 = v46 + v60;
     let v63 = v43 - kc.k62;
     let v64 = v43 + kc.k62;
-    let v65 = real(md.m0);
+    let v65 = real(md.r0);
     let v66 = select(real(0.0), real(1.0), v65 == real(1e0));
     let v68 = select(real(0.0), real(1.0), v65 == real(2e0));
     let v70 = kc.k69 * v63;
@@ -376,7 +376,7 @@ fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
     let v61 = v46 + v60;
     let v63 = v43 - kc.k62;
     let v64 = v43 + kc.k62;
-    let v65 = real(md.m0);
+    let v65 = real(md.r0);
     let v66 = select(real(0.0), real(1.0), v65 == real(1e0));
     let v68 = select(real(0.0), real(1.0), v65 == real(2e0));
     let v70 = kc.k69 * v63;

@@ -1,7 +1,7 @@
 // Generated from the rig description by src/compile/back/wgsl/.
 
 const RIG_STATES: u32 = 8u;
-const RIG_MODES: u32 = 3u;
+const RIG_REGIMES: u32 = 3u;
 const RIG_REPORT: u32 = 10u;
 
 struct RigState {
@@ -16,9 +16,9 @@ struct RigState {
 }
 
 struct RigRegime {
-    m0: u32,
-    m1: u32,
-    m2: u32,
+    r0: u32,
+    r1: u32,
+    r2: u32,
 }
 
 struct RunConsts {
@@ -114,9 +114,9 @@ fn rig_state_load(sb: u32) -> RigState {
 
 fn rig_regimes_load(sb: u32) -> RigRegime {
     var md: RigRegime;
-    md.m0 = u32(state[sb + 8u]);
-    md.m1 = u32(state[sb + 9u]);
-    md.m2 = u32(state[sb + 10u]);
+    md.r0 = u32(state[sb + 8u]);
+    md.r1 = u32(state[sb + 9u]);
+    md.r2 = u32(state[sb + 10u]);
     return md;
 }
 
@@ -132,9 +132,9 @@ fn rig_state_store(sb: u32, y: RigState, md: RigRegime) {
     state[sb + 5u] = y.s5;
     state[sb + 6u] = y.s6;
     state[sb + 7u] = y.s7;
-    state[sb + 8u] = real(md.m0);
-    state[sb + 9u] = real(md.m1);
-    state[sb + 10u] = real(md.m2);
+    state[sb + 8u] = real(md.r0);
+    state[sb + 9u] = real(md.r1);
+    state[sb + 10u] = real(md.r2);
 }
 
 const RIG_ACC: u32 = 11u;
@@ -205,7 +205,7 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     let v10 = y.s7;
     let v11 = ck.tab0;
     let v13 = kc.k12 * v3;
-    let v16 = real(md.m0);
+    let v16 = real(md.r0);
     let v17 = select(real(0.0), real(1.0), v16 == real(1e0));
     let v18 = select(kc.k14, kc.k15, v17 != real(0.0));
     let v19 = v18 * v4;
@@ -223,7 +223,7 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     let v39 = v38 * v21;
     let v40 = v39 + kc.k25;
     let v41 = kc.k23 * v21;
-    let v43 = real(md.m1);
+    let v43 = real(md.r1);
     let v44 = select(real(0.0), real(1.0), v43 == real(1e0));
     let v45 = select(v41, v40, v44 != real(0.0));
     let v47 = kc.k46 * v22;
@@ -237,7 +237,7 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     let v59 = v9 - v7;
     let v60 = v10 - v8;
     let v62 = v59 - kc.k61;
-    let v64 = real(md.m2);
+    let v64 = real(md.r2);
     let v65 = select(real(0.0), real(1.0), v64 == real(1e0));
     let v84 = kc.k67 * v62;
     let v85 = expm1_r(v84);
@@ -293,11 +293,11 @@ fn rig_events_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
 
 fn rig_hits(g0: RigEventValues, g1: RigEventValues, md: RigRegime) -> u32 {
     var hits = 0u;
-    hits |= select(0u, 1u, md.m1 == 0u && md.m0 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
-    hits |= select(0u, 2u, md.m1 == 1u && md.m0 == 0u && -(g1.g[1]) >= real(0.0) && (!(-(g0.g[1]) >= real(0.0)) || -(g1.g[1]) > -(g0.g[1])));
-    hits |= select(0u, 4u, md.m0 == 0u && g1.g[2] >= real(0.0) && (!(g0.g[2] >= real(0.0)) || g1.g[2] > g0.g[2]));
-    hits |= select(0u, 8u, md.m2 == 0u && md.m0 == 0u && g1.g[3] >= real(0.0) && (!(g0.g[3] >= real(0.0)) || g1.g[3] > g0.g[3]));
-    hits |= select(0u, 16u, md.m2 == 1u && md.m0 == 0u && -(g1.g[4]) >= real(0.0) && (!(-(g0.g[4]) >= real(0.0)) || -(g1.g[4]) > -(g0.g[4])));
+    hits |= select(0u, 1u, md.r1 == 0u && md.r0 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
+    hits |= select(0u, 2u, md.r1 == 1u && md.r0 == 0u && -(g1.g[1]) >= real(0.0) && (!(-(g0.g[1]) >= real(0.0)) || -(g1.g[1]) > -(g0.g[1])));
+    hits |= select(0u, 4u, md.r0 == 0u && g1.g[2] >= real(0.0) && (!(g0.g[2] >= real(0.0)) || g1.g[2] > g0.g[2]));
+    hits |= select(0u, 8u, md.r2 == 0u && md.r0 == 0u && g1.g[3] >= real(0.0) && (!(g0.g[3] >= real(0.0)) || g1.g[3] > g0.g[3]));
+    hits |= select(0u, 16u, md.r2 == 1u && md.r0 == 0u && -(g1.g[4]) >= real(0.0) && (!(-(g0.g[4]) >= real(0.0)) || -(g1.g[4]) > -(g0.g[4])));
     return hits;
 }
 
@@ -330,13 +330,13 @@ fn rig_window(kc: RunConsts, md: RigRegime) -> EventWindows {
     var w: EventWindows;
     w.lo0 = -REAL_MAX;
     w.hi0 = REAL_MAX;
-    w.hi0 = select(w.hi0, min(w.hi0, kc.k24), md.m1 == 0u && md.m0 == 0u);
-    w.hi0 = select(w.hi0, min(w.hi0, kc.k49), md.m0 == 0u);
-    w.lo0 = select(w.lo0, max(w.lo0, kc.k24), md.m1 == 1u && md.m0 == 0u);
+    w.hi0 = select(w.hi0, min(w.hi0, kc.k24), md.r1 == 0u && md.r0 == 0u);
+    w.hi0 = select(w.hi0, min(w.hi0, kc.k49), md.r0 == 0u);
+    w.lo0 = select(w.lo0, max(w.lo0, kc.k24), md.r1 == 1u && md.r0 == 0u);
     w.lo1 = -REAL_MAX;
     w.hi1 = REAL_MAX;
-    w.hi1 = select(w.hi1, min(w.hi1, kc.k61), md.m2 == 0u && md.m0 == 0u);
-    w.lo1 = select(w.lo1, max(w.lo1, kc.k61), md.m2 == 1u && md.m0 == 0u);
+    w.hi1 = select(w.hi1, min(w.hi1, kc.k61), md.r2 == 0u && md.r0 == 0u);
+    w.lo1 = select(w.lo1, max(w.lo1, kc.k61), md.r2 == 1u && md.r0 == 0u);
     return w;
 }
 
@@ -360,11 +360,11 @@ fn rig_oriented(g: RigEventValues, i: u32) -> real {
 
 fn rig_fire(i: u32, md: ptr<function, RigRegime>) {
     switch i {
-        case 0u: { (*md).m1 = 1u; }
-        case 1u: { (*md).m1 = 0u; }
-        case 2u: { (*md).m0 = 1u; }
-        case 3u: { (*md).m2 = 1u; }
-        case 4u: { (*md).m2 = 0u; }
+        case 0u: { (*md).r1 = 1u; }
+        case 1u: { (*md).r1 = 0u; }
+        case 2u: { (*md).r0 = 1u; }
+        case 3u: { (*md).r2 = 1u; }
+        case 4u: { (*md).r2 = 0u; }
         default: {}
     }
 }
@@ -373,7 +373,7 @@ fn rig_output0_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCl
     let v3 = y.s0;
     let v4 = y.s4;
     let v13 = kc.k12 * v3;
-    let v16 = real(md.m0);
+    let v16 = real(md.r0);
     let v17 = select(real(0.0), real(1.0), v16 == real(1e0));
     let v18 = select(kc.k14, kc.k15, v17 != real(0.0));
     let v19 = v18 * v4;
@@ -391,7 +391,7 @@ fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
     let v9 = y.s3;
     let v10 = y.s7;
     let v13 = kc.k12 * v3;
-    let v16 = real(md.m0);
+    let v16 = real(md.r0);
     let v17 = select(real(0.0), real(1.0), v16 == real(1e0));
     let v18 = select(kc.k14, kc.k15, v17 != real(0.0));
     let v19 = v18 * v4;
@@ -409,7 +409,7 @@ fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
     let v39 = v38 * v21;
     let v40 = v39 + kc.k25;
     let v41 = kc.k23 * v21;
-    let v43 = real(md.m1);
+    let v43 = real(md.r1);
     let v44 = select(real(0.0), real(1.0), v43 == real(1e0));
     let v45 = select(v41, v40, v44 != real(0.0));
     let v47 = kc.k46 * v22;

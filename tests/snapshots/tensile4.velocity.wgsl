@@ -1,7 +1,7 @@
 // Generated from the rig description by src/compile/back/wgsl/.
 
 const RIG_STATES: u32 = 8u;
-const RIG_MODES: u32 = 3u;
+const RIG_REGIMES: u32 = 3u;
 const RIG_REPORT: u32 = 10u;
 
 struct RigState {
@@ -16,9 +16,9 @@ struct RigState {
 }
 
 struct RigRegime {
-    m0: u32,
-    m1: u32,
-    m2: u32,
+    r0: u32,
+    r1: u32,
+    r2: u32,
 }
 
 struct RunConsts {
@@ -112,9 +112,9 @@ fn rig_state_load(sb: u32) -> RigState {
 
 fn rig_regimes_load(sb: u32) -> RigRegime {
     var md: RigRegime;
-    md.m0 = u32(state[sb + 8u]);
-    md.m1 = u32(state[sb + 9u]);
-    md.m2 = u32(state[sb + 10u]);
+    md.r0 = u32(state[sb + 8u]);
+    md.r1 = u32(state[sb + 9u]);
+    md.r2 = u32(state[sb + 10u]);
     return md;
 }
 
@@ -130,9 +130,9 @@ fn rig_state_store(sb: u32, y: RigState, md: RigRegime) {
     state[sb + 5u] = y.s5;
     state[sb + 6u] = y.s6;
     state[sb + 7u] = y.s7;
-    state[sb + 8u] = real(md.m0);
-    state[sb + 9u] = real(md.m1);
-    state[sb + 10u] = real(md.m2);
+    state[sb + 8u] = real(md.r0);
+    state[sb + 9u] = real(md.r1);
+    state[sb + 10u] = real(md.r2);
 }
 
 const RIG_ACC: u32 = 11u;
@@ -214,7 +214,7 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     let v31 = select(v28, real(0e0), v13 != real(0.0));
     let v32 = select(v29, real(0e0), v13 != real(0.0));
     let v35 = kc.k34 * v3;
-    let v38 = real(md.m0);
+    let v38 = real(md.r0);
     let v39 = select(real(0.0), real(1.0), v38 == real(1e0));
     let v40 = select(kc.k36, kc.k37, v39 != real(0.0));
     let v41 = v40 * v4;
@@ -232,7 +232,7 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     let v61 = v60 * v43;
     let v62 = v61 + kc.k47;
     let v63 = kc.k45 * v43;
-    let v65 = real(md.m1);
+    let v65 = real(md.r1);
     let v66 = select(real(0.0), real(1.0), v65 == real(1e0));
     let v67 = select(v63, v62, v66 != real(0.0));
     let v69 = kc.k68 * v44;
@@ -246,7 +246,7 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     let v81 = v31 - v7;
     let v82 = v32 - v8;
     let v84 = v81 - kc.k83;
-    let v86 = real(md.m2);
+    let v86 = real(md.r2);
     let v87 = select(real(0.0), real(1.0), v86 == real(1e0));
     let v106 = kc.k89 * v84;
     let v107 = expm1_r(v106);
@@ -309,11 +309,11 @@ fn rig_events_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
 
 fn rig_hits(g0: RigEventValues, g1: RigEventValues, md: RigRegime) -> u32 {
     var hits = 0u;
-    hits |= select(0u, 1u, md.m1 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
-    hits |= select(0u, 2u, md.m1 == 1u && -(g1.g[1]) >= real(0.0) && (!(-(g0.g[1]) >= real(0.0)) || -(g1.g[1]) > -(g0.g[1])));
-    hits |= select(0u, 4u, md.m0 == 0u && g1.g[2] >= real(0.0) && (!(g0.g[2] >= real(0.0)) || g1.g[2] > g0.g[2]));
-    hits |= select(0u, 8u, md.m2 == 0u && g1.g[3] >= real(0.0) && (!(g0.g[3] >= real(0.0)) || g1.g[3] > g0.g[3]));
-    hits |= select(0u, 16u, md.m2 == 1u && -(g1.g[4]) >= real(0.0) && (!(-(g0.g[4]) >= real(0.0)) || -(g1.g[4]) > -(g0.g[4])));
+    hits |= select(0u, 1u, md.r1 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
+    hits |= select(0u, 2u, md.r1 == 1u && -(g1.g[1]) >= real(0.0) && (!(-(g0.g[1]) >= real(0.0)) || -(g1.g[1]) > -(g0.g[1])));
+    hits |= select(0u, 4u, md.r0 == 0u && g1.g[2] >= real(0.0) && (!(g0.g[2] >= real(0.0)) || g1.g[2] > g0.g[2]));
+    hits |= select(0u, 8u, md.r2 == 0u && g1.g[3] >= real(0.0) && (!(g0.g[3] >= real(0.0)) || g1.g[3] > g0.g[3]));
+    hits |= select(0u, 16u, md.r2 == 1u && -(g1.g[4]) >= real(0.0) && (!(-(g0.g[4]) >= real(0.0)) || -(g1.g[4]) > -(g0.g[4])));
     return hits;
 }
 
@@ -355,13 +355,13 @@ fn rig_window(kc: RunConsts, md: RigRegime) -> EventWindows {
     var w: EventWindows;
     w.lo0 = -REAL_MAX;
     w.hi0 = REAL_MAX;
-    w.hi0 = select(w.hi0, min(w.hi0, kc.k46), md.m1 == 0u);
-    w.hi0 = select(w.hi0, min(w.hi0, kc.k71), md.m0 == 0u);
-    w.lo0 = select(w.lo0, max(w.lo0, kc.k46), md.m1 == 1u);
+    w.hi0 = select(w.hi0, min(w.hi0, kc.k46), md.r1 == 0u);
+    w.hi0 = select(w.hi0, min(w.hi0, kc.k71), md.r0 == 0u);
+    w.lo0 = select(w.lo0, max(w.lo0, kc.k46), md.r1 == 1u);
     w.lo1 = -REAL_MAX;
     w.hi1 = REAL_MAX;
-    w.hi1 = select(w.hi1, min(w.hi1, kc.k83), md.m2 == 0u);
-    w.lo1 = select(w.lo1, max(w.lo1, kc.k83), md.m2 == 1u);
+    w.hi1 = select(w.hi1, min(w.hi1, kc.k83), md.r2 == 0u);
+    w.lo1 = select(w.lo1, max(w.lo1, kc.k83), md.r2 == 1u);
     return w;
 }
 
@@ -385,11 +385,11 @@ fn rig_oriented(g: RigEventValues, i: u32) -> real {
 
 fn rig_fire(i: u32, md: ptr<function, RigRegime>) {
     switch i {
-        case 0u: { (*md).m1 = 1u; }
-        case 1u: { (*md).m1 = 0u; }
-        case 2u: { (*md).m0 = 1u; }
-        case 3u: { (*md).m2 = 1u; }
-        case 4u: { (*md).m2 = 0u; }
+        case 0u: { (*md).r1 = 1u; }
+        case 1u: { (*md).r1 = 0u; }
+        case 2u: { (*md).r0 = 1u; }
+        case 3u: { (*md).r2 = 1u; }
+        case 4u: { (*md).r2 = 0u; }
         default: {}
     }
 }
@@ -398,7 +398,7 @@ fn rig_output0_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCl
     let v3 = y.s0;
     let v4 = y.s4;
     let v35 = kc.k34 * v3;
-    let v38 = real(md.m0);
+    let v38 = real(md.r0);
     let v39 = select(real(0.0), real(1.0), v38 == real(1e0));
     let v40 = select(kc.k36, kc.k37, v39 != real(0.0));
     let v41 = v40 * v4;
@@ -428,7 +428,7 @@ fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
     let v31 = select(v28, real(0e0), v13 != real(0.0));
     let v32 = select(v29, real(0e0), v13 != real(0.0));
     let v35 = kc.k34 * v3;
-    let v38 = real(md.m0);
+    let v38 = real(md.r0);
     let v39 = select(real(0.0), real(1.0), v38 == real(1e0));
     let v40 = select(kc.k36, kc.k37, v39 != real(0.0));
     let v41 = v40 * v4;
@@ -446,7 +446,7 @@ fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
     let v61 = v60 * v43;
     let v62 = v61 + kc.k47;
     let v63 = kc.k45 * v43;
-    let v65 = real(md.m1);
+    let v65 = real(md.r1);
     let v66 = select(real(0.0), real(1.0), v65 == real(1e0));
     let v67 = select(v63, v62, v66 != real(0.0));
     let v69 = kc.k68 * v44;

@@ -64,7 +64,7 @@ pub fn reference_like(
         drive: Drive::Velocity,
         t_first: 0.0,
         dt,
-        force: vec![0.0; samples],
+        measured: vec![0.0; samples],
         window: 0..samples,
         weight: 1.0,
     };
@@ -75,7 +75,7 @@ pub fn reference_like(
     };
     let h = simulate_history(&problem, 0, params, 0.0);
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    exp.force = h.outputs[0]
+    exp.measured = h.outputs[0]
         .iter()
         .map(|f| f + noise * gaussian(&mut rng))
         .collect();

@@ -20,7 +20,7 @@ use rigfit::eval::{Backend, EvalError, PrecisionChoice};
 use rigfit::job::backend::{OpenError, OpenNote, TrialWatch};
 use rigfit::job::memory::human_bytes;
 use rigfit::job::{self, FolderMode, JobError, JobOptions, OutputFolder};
-use rigfit::search::SearchError;
+use rigfit::search::{Method, SearchError};
 
 /// Evaluator backend on the command line.
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -77,6 +77,15 @@ pub struct RunArgs {
     /// Override the campaign's search.target_fitness (stop once 1 − R² ≤ this).
     #[arg(long)]
     pub target_fitness: Option<f64>,
+    /// Override the campaign's search.method: `ga` (the genetic algorithm) or
+    /// `cmaes` (CMA-ES, which learns how the parameters trade off; see
+    /// docs/reference/campaign.md, "search").
+    #[arg(long, value_parser = method_name)]
+    pub method: Option<Method>,
+    /// Override the campaign's search.max_evaluations (stop once this many
+    /// candidates were scored).
+    #[arg(long)]
+    pub max_evaluations: Option<u64>,
     /// CPU threads for the CPU evaluator (0: all cores).
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
@@ -125,12 +134,19 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     if let Some(t) = a.target_fitness {
         c.search.target_fitness = Some(t);
     }
+    if let Some(m) = a.method {
+        c.search.method = m;
+    }
+    if let Some(n) = a.max_evaluations {
+        c.search.max_evaluations = Some(n);
+    }
     c.search.validate().map_err(|e| {
         // Blame the flag that set the value, not the campaign file.
         let flag = match e.field {
             "population" => a.population.map(|n| format!("--population {n}")),
             "generations" => a.generations.map(|n| format!("--generations {n}")),
             "target_fitness" => a.target_fitness.map(|t| format!("--target-fitness {t}")),
+            "max_evaluations" => a.max_evaluations.map(|n| format!("--max-evaluations {n}")),
             "tournament" | "elitism" => a.population.map(|n| {
                 format!(
                     "--population {n}: the campaign's search.{} = {} needs a larger population",
@@ -426,7 +442,7 @@ fn first_line(c: &Campaign, a: &RunArgs) -> String {
         })
         .unwrap_or_default();
     format!(
-        "{} ({}): rig {}, {} record{} of {} samples ({longest}), {} candidates × {} generations",
+        "{} ({}): rig {}, {} record{} of {} samples ({longest}), {} candidates × {} generations ({})",
         rigfit::base::text::echo_bare(&c.name),
         a.campaign.display(),
         c.model.id(),
@@ -434,8 +450,14 @@ fn first_line(c: &Campaign, a: &RunArgs) -> String {
         if experiments.len() == 1 { "" } else { "s" },
         samples,
         c.search.population,
-        c.search.generations
+        c.search.generations,
+        c.search.method
     )
+}
+
+/// `--method NAME`: one of the registered search methods.
+fn method_name(s: &str) -> Result<Method, String> {
+    s.parse()
 }
 
 /// A refusal of the job's evaluator as the CLI words it: the flag (or the

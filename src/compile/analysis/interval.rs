@@ -7,7 +7,7 @@
 //!
 //! Rounding: every result's ends are moved outward by one ulp
 //! ([`Interval::widen`]), which covers the correctly rounded `+ − × ÷` and the
-//! evaluators' `exp`/`expm1`/`ln`/`sin`/`cos` ([`crate::compile::exec::math`],
+//! evaluators' `exp`/`expm1`/`ln`/`sin`/`cos` ([`crate::compile::math`],
 //! held within 1–4 ulp of the C library by its tests, which is itself within
 //! an ulp or so on the targets we run: a documented small widening, not a
 //! proof for a libm worse than that). Conventions: `0 · (±∞) = 0` (a zero tangent times an unbounded
@@ -161,9 +161,9 @@ impl Interval {
             if self.lo <= 0.0 {
                 f64::NEG_INFINITY
             } else {
-                crate::compile::exec::math::ln(self.lo)
+                crate::compile::math::ln(self.lo)
             },
-            crate::compile::exec::math::ln(self.hi),
+            crate::compile::math::ln(self.hi),
         )
         .widen()
     }
@@ -176,7 +176,7 @@ impl Interval {
             return Self { lo: -1.0, hi: 1.0 };
         }
         let f = |x: f64| {
-            use crate::compile::exec::math;
+            use crate::compile::math;
             if cos { math::cos(x) } else { math::sin(x) }
         };
         let base = if cos { 0.0 } else { FRAC_PI_2 };
@@ -259,8 +259,8 @@ pub fn interval_op(
         Op::Abs(p) => a(p).abs(),
         Op::Min(p, q) => a(p).min(a(q)),
         Op::Max(p, q) => a(p).max(a(q)),
-        Op::Exp(p) => a(p).monotone(crate::compile::exec::math::exp),
-        Op::Expm1(p) => a(p).monotone(crate::compile::exec::math::expm1),
+        Op::Exp(p) => a(p).monotone(crate::compile::math::exp),
+        Op::Expm1(p) => a(p).monotone(crate::compile::math::expm1),
         Op::Ln(p) => a(p).ln(),
         Op::Sin(p) => a(p).trig(false),
         Op::Cos(p) => a(p).trig(true),

@@ -6,7 +6,7 @@
 //! sliding bar or the slack adapter), the switches of that part (the adapter's
 //! contact, the specimen's yield) change nothing the fit sees; locating them
 //! only costs steps. [`fitness_variant`] finds them and guards each such
-//! transition ([`Transition::guard`]) with the mode values where it can still
+//! transition ([`Transition::guard`](crate::compile::program::Transition::guard)) with the mode values where it can still
 //! matter, so the fitness paths (GPU fitness kernel, CPU fitted lanes) skip
 //! it elsewhere, on both paths alike. Histories and reports keep every switch.
 //!

@@ -8,7 +8,7 @@
 //! the two one-sided ones, which is what a central difference sees; a
 //! comparison has tangent 0, and a select takes its chosen operand's.
 
-use crate::compile::exec::tape::Frame;
+use crate::compile::exec::tape::{Frame, Point, Tape};
 use crate::compile::ir::{Id, Input, Op};
 use crate::compile::program::Program;
 
@@ -63,7 +63,7 @@ fn kink(a: f64, b: f64, da: f64, db: f64, smaller: bool) -> f64 {
 /// major, from the graph's tangents.
 pub fn deriv_jacobian(
     prog: &Program,
-    tape: &crate::compile::Tape,
+    tape: &Tape,
     frame: &mut Frame<'_>,
     t: f64,
     y: &[f64],
@@ -75,7 +75,7 @@ pub fn deriv_jacobian(
     let held = crate::compile::exec::initial::initial_held(prog, frame);
     frame.eval(
         &tape.deriv_ops,
-        crate::compile::Point {
+        Point {
             t,
             y,
             regimes,

@@ -15,8 +15,8 @@
 //! ([`EventStepper::sample`]); switches are located inside each piece, so a
 //! switch and an instant in the same step are taken in time order.
 
-use crate::compile::back::native::Native;
 use crate::compile::exec::lane_code::LaneCode;
+use crate::compile::exec::native_calls::Native;
 use crate::compile::exec::sampling::SampleClock;
 use crate::compile::exec::tape::{Frame, Point, Tape, table_value};
 use crate::compile::program::Program;
@@ -123,7 +123,7 @@ impl<'p> EventStepper<'p> {
     /// Takes the derivative from `native`, the build of `code` (this
     /// stepper's program's lane code), instead of the tape: the same bits,
     /// several times faster. Only a build without `rig_redo` has it
-    /// ([`Native::redoes`]: one with it redoes the steps itself).
+    /// (`Native::redoes`: one with it redoes the steps itself).
     pub fn with_native_deriv(&mut self, code: &'p LaneCode, native: &'p Native) {
         let mut r = vec![0.0; code.registers];
         for &(id, reg) in &code.constants {
@@ -283,7 +283,7 @@ impl<'p> EventStepper<'p> {
     /// the plain RK4 step from `(t, y)` over `h` is known to end at `y_end`
     /// (the lane ensemble took it): of that step only the first slope (which
     /// locating a switch needs) is computed again. (Native code that redoes
-    /// steps, [`Native::redo`], takes a runner's lanes together instead.)
+    /// steps, `Native::redo`, takes a runner's lanes together instead.)
     pub fn step_ending_at(&mut self, t: f64, h: f64, y: &mut [f64], y_end: &[f64]) {
         self.step_known(t, h, y, Some(y_end));
     }

@@ -2,7 +2,7 @@
 //! to every lane in blocks of [`W`] lanes (structure of arrays), so the compiler
 //! turns each instruction into a few vector instructions; RK4's stage sums and the
 //! event marks, lane by lane. `exp`/`expm1`/`ln` are
-//! [`crate::compile::exec::math`]'s branch-free forms, which vectorise too;
+//! [`crate::compile::math`]'s branch-free forms, which vectorise too;
 //! `sin`/`cos` are its scalar forms, lane by lane.
 //!
 //! These loops are written once; [`super::isa`] builds them for each vector
@@ -89,7 +89,7 @@ impl Span {
 /// first `nb` blocks of `r`.
 #[inline(always)]
 pub(super) fn exec(code: &[Ins], span: &[Span], r: &mut [Reg], nb: usize) {
-    use crate::compile::exec::math::{cos, exp, expm1, ln, sin};
+    use crate::compile::math::{cos, exp, expm1, ln, sin};
     for (&ins, &sp) in code.iter().zip(span) {
         // A value every lane shares is computed in one block (and copied
         // where a block of its own lane reads it).

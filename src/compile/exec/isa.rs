@@ -1,7 +1,8 @@
 //! The vector instruction sets the lane loops ([`super::interp`]) are built for,
-//! and the dispatch that calls the build [`Isa::detect`] picked. This and the
-//! native library loader (`crate::compile::back::native`) are the crate's only
-//! `unsafe` code: calling a function built with `#[target_feature]` is unsafe,
+//! and the dispatch that calls the build [`Isa::detect`] picked. This, the
+//! calls into a native build ([`super::native_calls`]) and the library's
+//! loader (`crate::compile::back::native`) are the crate's only `unsafe`
+//! code: calling a function built with `#[target_feature]` is unsafe,
 //! and sound only where the processor has the feature, which `detect` checks.
 
 use crate::compile::exec::interp::{Span, exec, finish, stage};

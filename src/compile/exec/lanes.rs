@@ -3,7 +3,7 @@
 //! once into a register program ([`crate::compile::exec::lane_code`]); every instruction is
 //! applied to all runs in blocks of [`W`] lanes (structure of arrays), so the
 //! compiler turns each into a few vector instructions, and `exp`/`expm1` are
-//! [`crate::compile::exec::math`]'s branch-free forms, which vectorise too.
+//! [`crate::compile::math`]'s branch-free forms, which vectorise too.
 //!
 //! Between steps every lane's state sits in the state registers, where the
 //! event and report lists read it; RK4 reads each slope where the derivative
@@ -18,19 +18,18 @@
 //! operations in the same order as the scalar reference, so every lane's history
 //! is bit-identical to [`EventStepper`]'s (`tests/rig_cpu_ensemble.rs`).
 //!
-//! The interpreter's loops are in [`super::interp`], built for each vector
-//! instruction set in [`super::isa`]; this file holds the lane layout and the
+//! The interpreter's loops are in `interp.rs`, built for each vector
+//! instruction set in `isa.rs`; this file holds the lane layout and the
 //! runner.
 
 use std::ops::ControlFlow;
 
 use crate::base::{MeasuredSample, PiecewiseLinear, Report, Sample, lane_bits};
 use crate::base::{SampleGrid, walk_grid};
-use crate::compile::back::c::Arith;
-use crate::compile::back::native::{Native, NativeList, REDO_FIRED, RedoLanes};
 use crate::compile::exec::events::{EventStepper, Fired};
 use crate::compile::exec::interp::{Span, mark};
 use crate::compile::exec::lane_code::{LaneCode, List};
+use crate::compile::exec::native_calls::{Arith, Native, NativeList, REDO_FIRED, RedoLanes};
 use crate::compile::exec::sampling::SampleClock;
 use crate::compile::exec::tape::{Tape, table_value};
 use crate::compile::program::{Direction, Program};

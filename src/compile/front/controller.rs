@@ -78,7 +78,7 @@ impl<'a> Controllers<'a> {
                 ));
             }
             for (j, st) in c.states.iter().enumerate() {
-                if !super::layout::ident(&st.name) {
+                if !super::names::ident(&st.name) {
                     return Err(lay.err(
                         format!("{path}.states[{j}].name"),
                         "letters, digits and '_', not starting with a digit",
@@ -278,7 +278,7 @@ impl<'a> Controllers<'a> {
                     .chain(desc.outputs.iter().map(|o| o.name.as_str()))
                     .chain(lay.params.keys().copied())
                     .chain(["t", "period", "reference"]);
-                super::layout::nearest(names, name)
+                super::names::nearest(names, name)
                     .map(|n| format!(" (did you mean '{n}'?)"))
                     .unwrap_or_default()
             } else {

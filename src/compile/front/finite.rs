@@ -8,7 +8,7 @@
 //! the parameters' values, which only a campaign gives.
 
 use super::expr;
-use super::layout::{law_reach, reach_points};
+use super::reach::{law_reach, reach_points};
 use crate::rig::RigError;
 use crate::rig::desc::{DamperLaw, RigDesc, SpringLaw};
 

@@ -4,6 +4,8 @@
 
 use std::collections::HashMap;
 
+use super::names::{UNIT_EXPECTED, ident, nearest, unit_text};
+use super::reach::{law_reach, literals, not_finite_found, reach_points};
 use crate::compile::ir::{Graph, Id, Input};
 use crate::compile::program::RegimeVar;
 use crate::rig::RigError;
@@ -12,7 +14,7 @@ use crate::rig::desc::{
 };
 
 /// State names of the base's velocity and displacement (see
-/// [`Layout::base_states`]); no node's or element's state name starts
+/// `Layout::base_states`); no node's or element's state name starts
 /// with `base_`.
 pub const BASE_VELOCITY: &str = "base_velocity";
 pub const BASE_DISPLACEMENT: &str = "base_displacement";
@@ -557,111 +559,6 @@ impl<'a> Layout<'a> {
                 let broken = g.eq(m, one);
                 Ok(g.select(broken, after, before))
             }
-        }
-    }
-}
-
-/// How far an element's elongation (m) and rate (m/s) reach: the rig's
-/// `reach`, else the largest `breaks_at` (literal, or a parameter's value in
-/// `values`) and 10 m/s, else 0.01 m and 10 m/s (as the stability bound).
-pub fn law_reach(desc: &RigDesc, values: Option<&[f64]>) -> (f64, f64) {
-    if let Some(r) = desc.reach {
-        return (r.elongation, r.rate);
-    }
-    let value = |c: &Coef| -> f64 {
-        match c {
-            Coef::Number(v) => v.abs(),
-            Coef::Param(n) => values
-                .and_then(|v| {
-                    let i = desc.params.iter().position(|p| &p.name == n)?;
-                    v.get(i).map(|x| x.abs())
-                })
-                .unwrap_or(0.0),
-            Coef::Switch(_) => literals(c).iter().fold(0.0, |m, v| m.max(v.abs())),
-        }
-    };
-    let e = desc
-        .elements
-        .iter()
-        .filter_map(|e| e.breaks_at.as_ref())
-        .map(value)
-        .filter(|v| v.is_finite())
-        .fold(0.0, f64::max);
-    (if e > 0.0 { e } else { 0.01 }, 10.0)
-}
-
-/// Where a law is evaluated over a reach: 201 points from `−reach` to
-/// `reach`, 0 among them.
-pub fn reach_points(reach: f64) -> Vec<f64> {
-    (0..=200)
-        .map(|j| reach * (f64::from(j) / 100.0 - 1.0))
-        .collect()
-}
-
-/// What a law that is not finite is said to be: its text, the part and where.
-pub fn not_finite_found(
-    short: &str,
-    nf: &crate::compile::front::expr::NotFinite,
-    var: &str,
-) -> String {
-    let part = crate::base::text::echo(&nf.part);
-    if nf.division {
-        format!(
-            "{short:?}, which divides by zero at {var} = {:e}: {part}",
-            nf.at
-        )
-    } else {
-        format!(
-            "{short:?}, whose part {part} is {} at {var} = {:e}",
-            nf.value, nf.at
-        )
-    }
-}
-
-/// A name the generated code and every output file can carry as it is.
-/// The name of `names` nearest `name` (edit distance; the first in sorted
-/// order of those as near), for a "did you mean".
-pub(super) fn nearest<'n>(names: impl IntoIterator<Item = &'n str>, name: &str) -> Option<&'n str> {
-    let mut names: Vec<&str> = names.into_iter().collect();
-    names.sort_unstable();
-    names
-        .into_iter()
-        .min_by_key(|n| strsim::levenshtein(n, name))
-}
-
-pub(super) fn ident(s: &str) -> bool {
-    !s.is_empty()
-        && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
-        && !s.starts_with(|c: char| c.is_ascii_digit())
-}
-
-/// Most characters a unit may have.
-pub const MAX_UNIT_CHARS: usize = 24;
-
-const UNIT_EXPECTED: &str = "a unit of at most 24 characters: letters, digits, \
-    '/', '*', '·', '^', '(', ')', '.', '_', '-', '%', '°' and spaces, starting \
-    with a letter, a digit, '(', '%' or '°' (\"N\", \"m/s²\", \"N·s/m\")";
-
-/// A unit a CSV header, a spreadsheet and a summary line show as it is: no
-/// separators, quotes or line breaks, no formula's leading `=`, `+`, `-`, `@`.
-fn unit_text(s: &str) -> bool {
-    s.chars().count() <= MAX_UNIT_CHARS
-        && s.chars()
-            .all(|c| c.is_alphanumeric() || "/*·^()._-%° ".contains(c))
-        && s.chars()
-            .next()
-            .is_none_or(|c| c.is_alphanumeric() || "(%°".contains(c))
-}
-
-/// The numbers written into a coefficient (both sides of a switch).
-pub(super) fn literals(c: &Coef) -> Vec<f64> {
-    match c {
-        Coef::Number(v) => vec![*v],
-        Coef::Param(_) => vec![],
-        Coef::Switch(s) => {
-            let mut v = literals(&s.before);
-            v.extend(literals(&s.after));
-            v
         }
     }
 }

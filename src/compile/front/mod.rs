@@ -19,6 +19,8 @@ mod element;
 pub mod expr;
 pub mod finite;
 mod layout;
+mod names;
+mod reach;
 
 use super::program::{Program, RegimeVar, Transition};
 use crate::base::PiecewiseLinear;

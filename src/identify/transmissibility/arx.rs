@@ -20,7 +20,7 @@ use rustfft::num_complex::Complex64;
 use serde::Serialize;
 
 use super::spectra::BlockSpectra;
-use crate::identify::{PrecalError, require_points};
+use crate::identify::{IdentifyError, require_points};
 
 /// Which ARX form.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -60,14 +60,14 @@ fn pair(c: Complex64) -> (f64, f64) {
 /// channel, by least squares over the segments.
 ///
 /// # Errors
-/// [`PrecalError::TooFewPoints`] with fewer segments than coefficients plus
-/// two, [`PrecalError::Numerical`] for a singular line.
+/// [`IdentifyError::TooFewPoints`] with fewer segments than coefficients plus
+/// two, [`IdentifyError::Numerical`] for a singular line.
 pub fn arx(
     spec: &BlockSpectra,
     form: ArxForm,
     f_min: f64,
     f_max: f64,
-) -> Result<Vec<ArxLine>, PrecalError> {
+) -> Result<Vec<ArxLine>, IdentifyError> {
     let bins = spec.freqs.len();
     let segs = spec.reference.len();
     require_points("segments for three complex ARX coefficients", 5, segs)?;
@@ -142,7 +142,7 @@ pub fn arx(
 fn complex_least_squares(
     cols: &[Vec<Complex64>],
     target: &[Complex64],
-) -> Result<Vec<Complex64>, PrecalError> {
+) -> Result<Vec<Complex64>, IdentifyError> {
     let (n, p) = (target.len(), cols.len());
     require_points("segments for the ARX coefficients", p + 2, n)?;
     let scale: Vec<f64> = cols
@@ -172,7 +172,7 @@ fn complex_least_squares(
     let x = a
         .svd(true, true)
         .solve(&rhs, 1e-12)
-        .map_err(|reason| PrecalError::Numerical {
+        .map_err(|reason| IdentifyError::Numerical {
             stage: "frequency-domain ARX",
             reason: reason.to_string(),
         })?;

@@ -22,7 +22,7 @@ use serde::Serialize;
 
 use crate::identify::lsq::least_squares;
 use crate::identify::psd::lines_in_band;
-use crate::identify::{PrecalError, require_points};
+use crate::identify::{IdentifyError, require_points};
 
 /// The element between the reference node and the first response node.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -87,8 +87,8 @@ impl ElementFit {
 /// below `min_coherence`.
 ///
 /// # Errors
-/// [`PrecalError::InvalidOption`] for masses that do not match the channels or
-/// are not positive, [`PrecalError::TooFewPoints`] for fewer than three lines,
+/// [`IdentifyError::InvalidOption`] for masses that do not match the channels or
+/// are not positive, [`IdentifyError::TooFewPoints`] for fewer than three lines,
 /// and the least-squares errors.
 pub fn element_fit(
     freqs: &[f64],
@@ -97,9 +97,9 @@ pub fn element_fit(
     masses: &[f64],
     band: (f64, f64),
     min_coherence: f64,
-) -> Result<ElementFit, PrecalError> {
+) -> Result<ElementFit, IdentifyError> {
     if masses.len() != transmissibilities.len() || masses.iter().any(|m| m.is_nan() || *m <= 0.0) {
-        return Err(PrecalError::InvalidOption {
+        return Err(IdentifyError::InvalidOption {
             name: "mass",
             reason: format!(
                 "give one positive mass (kg) per response channel: {} channel(s), masses {masses:?}",

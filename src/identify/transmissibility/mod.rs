@@ -5,7 +5,7 @@
 //!
 //! - [`spectra`]: the block spectra every method reads (shared);
 //! - [`ratio`]: the transmissibility and its coherence, and its figure;
-//! - [`arx`]: the frequency-domain ARX model (Eq. 4–6);
+//! - [`arx`](mod@arx): the frequency-domain ARX model (Eq. 4–6);
 //! - [`element`]: `k` and `c` of one element from a low-order model;
 //! - [`sensitivity`]: the sensitivity functions (Eq. 7–8, 10–11) and the
 //!   strut's stiffness change.

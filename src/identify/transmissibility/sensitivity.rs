@@ -24,7 +24,7 @@ use serde::Serialize;
 use super::spectra::BlockSpectra;
 use crate::identify::plot::{FIT, MEASURED, OTHER, Panel, Series, Style, line_over};
 use crate::identify::psd::lines_in_band;
-use crate::identify::{PrecalError, require_points};
+use crate::identify::{IdentifyError, require_points};
 
 /// Eq. 7a: `∂H_jk/∂K_mn = −(H_jm − H_jn)·(H_mk − H_nk)`, with `h(a, b)` the
 /// receptance between DOFs `a` and `b` (1-based) and DOF 0 the ground (Eq. 7d).
@@ -94,13 +94,13 @@ pub struct StiffnessChange {
 /// finite difference `delta_h` and the baseline sensitivity `sensitivity`.
 ///
 /// # Errors
-/// [`PrecalError::TooFewPoints`] for no line in the band.
+/// [`IdentifyError::TooFewPoints`] for no line in the band.
 pub fn stiffness_change(
     freqs: &[f64],
     delta_h: &[Complex64],
     sensitivity: &[Complex64],
     band: (f64, f64),
-) -> Result<StiffnessChange, PrecalError> {
+) -> Result<StiffnessChange, IdentifyError> {
     let per_line: Vec<(f64, f64)> = (0..freqs.len())
         .filter(|&k| freqs[k] >= band.0 && freqs[k] <= band.1)
         .map(|k| (freqs[k], (delta_h[k] / sensitivity[k]).re))
@@ -174,7 +174,7 @@ impl StrutSensitivity {
 /// `k1` (N/m) and `c1` (N·s/m), over `band` (Hz).
 ///
 /// # Errors
-/// [`PrecalError::InvalidOption`] for spectra with other lines or fewer than
+/// [`IdentifyError::InvalidOption`] for spectra with other lines or fewer than
 /// two responses; [`stiffness_change`]'s errors.
 pub fn strut_sensitivity(
     base: &BlockSpectra,
@@ -182,9 +182,9 @@ pub fn strut_sensitivity(
     k1: f64,
     c1: f64,
     band: (f64, f64),
-) -> Result<StrutSensitivity, PrecalError> {
+) -> Result<StrutSensitivity, IdentifyError> {
     if base.freqs != changed.freqs || base.responses.len() < 2 || changed.responses.len() < 2 {
-        return Err(PrecalError::InvalidOption {
+        return Err(IdentifyError::InvalidOption {
             name: "records",
             reason: "both records need the wheel pan, the unsprung and the sprung mass, at the same rate and segment length".into(),
         });

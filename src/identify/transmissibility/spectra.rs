@@ -7,7 +7,7 @@
 
 use rustfft::num_complex::Complex64;
 
-use crate::identify::PrecalError;
+use crate::identify::IdentifyError;
 use crate::identify::frf::WelchSettings;
 use crate::identify::psd::{averaged_segments, check_rate};
 
@@ -44,9 +44,9 @@ pub fn block_spectra(
     responses: &[&[f64]],
     fs: f64,
     segment_len: Option<usize>,
-) -> Result<BlockSpectra, PrecalError> {
+) -> Result<BlockSpectra, IdentifyError> {
     if responses.is_empty() {
-        return Err(PrecalError::InvalidOption {
+        return Err(IdentifyError::InvalidOption {
             name: "output",
             reason: "give at least one response channel".into(),
         });

@@ -2,7 +2,7 @@
 //! part of a long record on the GPU, each run's first steps, or nothing
 //! ([`TrialPlan`]); the budgets of a job's trial and of `check`'s race.
 
-use super::{CHECK_TRIAL_STEPS, TRIAL_STEPS};
+use super::{CHECK_TRIAL_STEPS, TRIAL_MIN_CANDIDATES, TRIAL_STEPS};
 use crate::campaign::Campaign;
 
 /// Steps of a record from which `auto`'s trial times the GPU over a part of
@@ -99,7 +99,7 @@ pub(super) fn job_candidate_steps(campaign: &Campaign) -> f64 {
 /// more.
 pub fn trial_plan(campaign: &Campaign, population: usize, budget: f64) -> TrialPlan {
     let steps = crate::job::steps_per_candidate(campaign);
-    let n = super::trial_candidates(population, steps, TRIAL_STEPS);
+    let n = trial_candidates(population, steps, TRIAL_STEPS);
     let longest = longest_record_steps(campaign);
     let runs = campaign.problem.experiments.len().max(1) as f64;
     let whole = TRIAL_PASSES * n as f64 * steps;
@@ -179,7 +179,64 @@ pub(super) fn prefix_campaign(campaign: &Campaign, steps: usize) -> Campaign {
             0
         };
         x.window = start..end;
-        x.force.truncate(end);
+        x.measured.truncate(end);
     }
     c
+}
+
+/// Candidates in a timed trial batch: the population where it takes at
+/// most `budget` candidate-steps ([`TRIAL_STEPS`] for `auto`'s race), else
+/// as many whole workgroups as fit, at least [`TRIAL_MIN_CANDIDATES`].
+pub(super) fn trial_candidates(population: usize, steps_per_candidate: f64, budget: f64) -> usize {
+    let fit = (budget / steps_per_candidate.max(1.0)) as usize / 64 * 64;
+    population.min(fit.max(TRIAL_MIN_CANDIDATES)).max(1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_long_record_or_a_costly_trial_is_shortened_and_an_unaffordable_one_skipped() {
+        let path = std::path::Path::new("campaigns/friction_sdof_synthetic.json");
+        let mut campaign = Campaign::load(path).expect("a shipped campaign");
+        campaign.search.population = 64;
+        // The shipped record (5 000 steps) within a generous budget: whole.
+        let plan = trial_plan(&campaign, 64, 1e12);
+        assert_eq!((plan.prefix, plan.skip), (None, false), "{plan:?}");
+        // A budget whole runs exceed: each run's first steps.
+        let steps = crate::job::steps_per_candidate(&campaign);
+        let budget = TRIAL_PASSES * 64.0 * steps / 2.0;
+        let plan = trial_plan(&campaign, 64, budget);
+        let p = plan.prefix.expect("a shortened trial");
+        assert!(
+            p < steps as usize && p >= TRIAL_PREFIX_MIN_STEPS,
+            "{plan:?}"
+        );
+        assert!(plan.why.is_some_and(|w| w.contains("% of the job")));
+        // A budget that cannot afford the fewest steps: skipped.
+        let plan = trial_plan(&campaign, 64, 1e3);
+        assert!(plan.skip && plan.prefix.is_none(), "{plan:?}");
+        // A record far longer than TRIAL_LONG_RECORD_STEPS: a prefix,
+        // whatever the budget.
+        let x = &mut campaign.problem.experiments[0];
+        let n = 300_000;
+        x.measured = (0..n).map(|k| x.measured[k % x.measured.len()]).collect();
+        x.window = 0..n;
+        let plan = trial_plan(&campaign, 64, 1e15);
+        assert_eq!(plan.prefix, Some(TRIAL_PREFIX_STEPS), "{plan:?}");
+        assert!(plan.why.is_some_and(|w| w.contains("longest run")));
+    }
+
+    #[test]
+    fn the_trial_scores_the_population_unless_it_is_long() {
+        assert_eq!(trial_candidates(2048, 2500.0, TRIAL_STEPS), 2048);
+        assert_eq!(trial_candidates(128, 49_680.0, TRIAL_STEPS), 128);
+        assert_eq!(trial_candidates(4096, 49_680.0, TRIAL_STEPS), 576);
+        assert_eq!(
+            trial_candidates(4096, 1e9, TRIAL_STEPS),
+            TRIAL_MIN_CANDIDATES
+        );
+        assert_eq!(trial_candidates(40, 1e9, TRIAL_STEPS), 40);
+    }
 }

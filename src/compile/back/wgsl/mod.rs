@@ -25,7 +25,7 @@
 //!   that fire over a step from `g0` to `g1`, one bit each: the exact test of
 //!   the located-step path), `rig_bases_c`, `rig_window(kc, md)` and
 //!   `rig_outside(w, b)` (the flat loop's conservative test at every step:
-//!   [`Emitter::window`]), `rig_oriented(g, i) -> real` (transition `i`'s
+//!   `Emitter::window`), `rig_oriented(g, i) -> real` (transition `i`'s
 //!   event function oriented so that `>= 0` is past its switch, from
 //!   `rig_events`' values), `rig_fire(i, md)`;
 //! - `rig_output0_c(kc, t, y, md, ck) -> real` (the scored output) and
@@ -39,7 +39,7 @@
 //!   as `rig_deriv_c`, `rig_events_c`, `rig_output0_c` and `rig_report_c`,
 //!   taking `ck`; `rig_deriv` and `rig_events` (for the located-switch path)
 //!   compute it at `t`, as the CPU reference computes the exponential.
-//! - with controllers, the sample clock ([`Emitter::sample_functions`]):
+//! - with controllers, the sample clock (`Emitter::sample_functions`):
 //!   `RIG_SAMPLED`, `SAMPLE_PERIOD`, `SAMPLE_PHASE`, `rig_instant(md)` and `rig_sample_c(kc, t, y, md, ck) -> RigRegime`
 //!   (every held state from its update, the next instant counted), with
 //!   `rig_sample` computing the clocks at `t`; the state buffer keeps the
@@ -56,14 +56,14 @@ use window::{armed, fires, oriented};
 
 /// Most located switches one program may have on the GPU (`rig_hits` is a
 /// 32-bit mask).
-pub const MAX_TRANSITIONS: usize = 32;
+pub const MAX_SWITCHES: usize = 32;
 
 /// Why a program cannot run in the kernels.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
 pub enum EmitError {
-    /// More transitions than [`MAX_TRANSITIONS`].
-    #[error("{0} located switches; the GPU kernels take at most {MAX_TRANSITIONS}")]
-    TooManyTransitions(usize),
+    /// More located switches than [`MAX_SWITCHES`].
+    #[error("{0} located switches; the GPU kernels take at most {MAX_SWITCHES}")]
+    TooManySwitches(usize),
 }
 
 /// A program prepared for the kernels: which run constants become slots, and the
@@ -107,8 +107,8 @@ impl GpuRig {
     /// variant where it differs (the same graph; guards only), for the fitness
     /// kernel.
     pub fn with_fitness(prog: &Program, fitness: Option<Program>) -> Result<Self, EmitError> {
-        if prog.transitions.len() > MAX_TRANSITIONS {
-            return Err(EmitError::TooManyTransitions(prog.transitions.len()));
+        if prog.transitions.len() > MAX_SWITCHES {
+            return Err(EmitError::TooManySwitches(prog.transitions.len()));
         }
         let tape = Tape::new(prog);
         // Run constants read by a per-step operation or used as a root.
@@ -231,12 +231,12 @@ impl GpuRig {
 
     /// Slot names (`K<id>`), for the prelude's `P_*` indices; a program with
     /// initial-state parameters adds the run's initial state (`Y0_<i>`) and
-    /// initial regimes (`M0_<j>`).
+    /// initial regimes (`R0_<j>`).
     pub fn slot_names(&self) -> Vec<String> {
         let mut names: Vec<String> = self.slots.iter().map(|i| format!("K{i}")).collect();
         if self.prog.has_initial() {
             names.extend((0..self.states()).map(|i| format!("Y0_{i}")));
-            names.extend((0..self.regimes()).map(|j| format!("M0_{j}")));
+            names.extend((0..self.regimes()).map(|j| format!("R0_{j}")));
         }
         names
     }
@@ -308,7 +308,7 @@ impl Emitter<'_> {
                 Op::In(Input::Time) => "t".into(),
                 Op::In(Input::Slot(_)) => unreachable!("slots are run constants"),
                 Op::In(Input::State(k)) => format!("y.s{k}"),
-                Op::In(Input::Regime(m)) => format!("real(md.m{m})"),
+                Op::In(Input::Regime(m)) => format!("real(md.r{m})"),
                 Op::In(Input::Held(k)) => format!("md.h{k}"),
                 Op::In(Input::Table(k)) => {
                     format!("ck.tab{k}")
@@ -355,7 +355,7 @@ impl Emitter<'_> {
         let mut s =
             String::from("// Generated from the rig description by src/compile/back/wgsl/.\n\n");
         let _ = writeln!(s, "const RIG_STATES: u32 = {ns}u;");
-        let _ = writeln!(s, "const RIG_MODES: u32 = {nm}u;");
+        let _ = writeln!(s, "const RIG_REGIMES: u32 = {nm}u;");
         let _ = writeln!(
             s,
             "const RIG_REPORT: u32 = {}u;\n",
@@ -370,7 +370,7 @@ impl Emitter<'_> {
         // The held states and the next instant's index ride with the
         // regimes: they too change only at a switch in time, and go wherever
         // the regimes go.
-        let mut md = self.fields("m", nm.max(1), "u32");
+        let mut md = self.fields("r", nm.max(1), "u32");
         if p.sampling.is_some() {
             md.push_str(&self.fields("h", self.rig.held(), "real"));
             md.push_str("    kn: u32,\n");
@@ -446,7 +446,7 @@ impl Emitter<'_> {
         s.push_str("    return y;\n}\n\n");
         s.push_str("fn rig_regimes_load(sb: u32) -> RigRegime {\n    var md: RigRegime;\n");
         for j in 0..nm {
-            let _ = writeln!(s, "    md.m{j} = u32(state[sb + {}u]);", ns + j);
+            let _ = writeln!(s, "    md.r{j} = u32(state[sb + {}u]);", ns + j);
         }
         if p.sampling.is_some() {
             for k in 0..nh {
@@ -464,7 +464,7 @@ impl Emitter<'_> {
                 let _ = writeln!(s, "    (*y).s{i} = param(base, P_Y0_{i});");
             }
             for j in 0..nm {
-                let _ = writeln!(s, "    (*md).m{j} = u32(param(base, P_M0_{j}));");
+                let _ = writeln!(s, "    (*md).r{j} = u32(param(base, P_R0_{j}));");
             }
         }
         // The held states' values before the first instant: run constants,
@@ -485,7 +485,7 @@ impl Emitter<'_> {
             let _ = writeln!(s, "    state[sb + {i}u] = y.s{i};");
         }
         for j in 0..nm {
-            let _ = writeln!(s, "    state[sb + {}u] = real(md.m{j});", ns + j);
+            let _ = writeln!(s, "    state[sb + {}u] = real(md.r{j});", ns + j);
         }
         if p.sampling.is_some() {
             for k in 0..nh {
@@ -577,7 +577,7 @@ impl Emitter<'_> {
         for (i, tr) in p.transitions.iter().enumerate() {
             let _ = writeln!(
                 s,
-                "        case {i}u: {{ (*md).m{} = {}u; }}",
+                "        case {i}u: {{ (*md).r{} = {}u; }}",
                 tr.var, tr.to
             );
         }

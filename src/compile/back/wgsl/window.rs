@@ -109,7 +109,7 @@ impl Emitter<'_> {
 pub(super) fn armed(tr: &Transition) -> String {
     std::iter::once((tr.var, tr.from))
         .chain(tr.guard.iter().copied())
-        .map(|(v, x)| format!("md.m{v} == {x}u"))
+        .map(|(v, x)| format!("md.r{v} == {x}u"))
         .collect::<Vec<_>>()
         .join(" && ")
 }

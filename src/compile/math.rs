@@ -83,7 +83,7 @@ fn pow2(k: f64) -> f64 {
     f64::from_bits((k + (1023.0 + SHIFT)).to_bits() << 52)
 }
 
-/// `eˣ`: 0 below −745.2, +∞ above [`EXP_MAX`], NaN for NaN.
+/// `eˣ`: 0 below −745.2, +∞ above `EXP_MAX` (709.78…), NaN for NaN.
 #[inline(always)]
 pub fn exp(x: f64) -> f64 {
     let (k, r) = reduce(x.clamp(-746.0, EXP_MAX));
@@ -100,7 +100,7 @@ pub fn exp(x: f64) -> f64 {
 }
 
 /// `eˣ − 1`, accurate near 0: exactly −1 below −40, `e⁷⁰⁹ − 1` from 709 to
-/// [`EXP_MAX`] (saturated, as the WGSL form is: a run that far has diverged
+/// `EXP_MAX` (saturated, as the WGSL form is: a run that far has diverged
 /// anyway), +∞ above, NaN for NaN.
 #[inline(always)]
 pub fn expm1(x: f64) -> f64 {
