@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Throughput of the workflow rigfit replaces: one SciPy `odeint` call per candidate.
 
-Integrates the tensile4 model (the same equations as src/model/tensile.rs, velocity
+Integrates the tensile4 model (the equations of rigs/tensile4.json, velocity
 drive, fracture by a flag set inside the right-hand side, as hand-written GA scripts
 do) for a batch of candidates around the reference values over the shipped
 example's record (2500 samples of 1 µs), and prints candidate-steps per second,

@@ -17,12 +17,12 @@ fn observe(
     limit: real,
     kc: RunConsts,
     y: RigState,
-    md: RigRegime,
+    rg: RigRegime,
     ck: DriveClocks,
     chattered: bool,
     acc: ptr<function, real>,
 ) -> bool {
-    let f = rig_output0_c(kc, t, y, md, ck);
+    let f = rig_output0_c(kc, t, y, rg, ck);
     if chattered || !(abs(f) <= limit) {
         *acc = real(-1.0);
         return true;

@@ -19,7 +19,7 @@ fn observe(
     limit: real,
     kc: RunConsts,
     y: RigState,
-    md: RigRegime,
+    rg: RigRegime,
     ck: DriveClocks,
     chattered: bool,
     acc: ptr<function, real>,
@@ -27,11 +27,11 @@ fn observe(
     let j = slot / settings.experiments;
     let at = (j * settings.hist_stride) + ex.hist_offset + k;
     if settings.record == RECORD_SCORED {
-        history[at] = rig_output0_c(kc, t, y, md, ck);
+        history[at] = rig_output0_c(kc, t, y, rg, ck);
         return false;
     }
     let o = at * HIST_VALUES;
-    let rep = rig_report_c(kc, t, y, md, ck);
+    let rep = rig_report_c(kc, t, y, rg, ck);
     history[o] = t;
     for (var i = 0u; i < RIG_REPORT; i += 1u) {
         history[o + 1u + i] = rep.v[i];

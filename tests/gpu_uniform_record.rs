@@ -1,6 +1,6 @@
 //! The compiled rigs' fitness kernel reads the measured values from a
 //! uniform-buffer copy where they fit the device's uniform binding, and from
-//! the storage buffer otherwise (src/gpu/shaders.rs, `record_fn`): the two give
+//! the storage buffer otherwise (src/gpu/shaders.rs, `datum_fn`): the two give
 //! the same bits, on every shipped rig campaign in both precisions (force
 //! tables sit in the same buffer after the records), and a record too long for
 //! the uniform binding falls back to the storage buffer and still matches the

@@ -176,7 +176,7 @@ fn the_fitness_kernel_skips_the_switches_behind_the_break() {
         let body = &src[at..at + src[at..].find("\n}\n").expect("end")];
         body.lines()
             .filter(|l| l.contains("hits |="))
-            .map(|l| l.matches("md.r").count())
+            .map(|l| l.matches("rg.r").count())
             .collect::<Vec<_>>()
     };
     // Five transitions; fracture (one mode test) is never guarded.

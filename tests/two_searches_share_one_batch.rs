@@ -74,7 +74,11 @@ fn two_searches_in_one_batch_end_where_each_ends_alone() {
     }
     assert_eq!(calls, 25);
     for i in 0..2 {
-        assert_eq!(best[i].to_bits(), alone[i].best_cost.to_bits(), "search {i}");
+        assert_eq!(
+            best[i].to_bits(),
+            alone[i].best_cost.to_bits(),
+            "search {i}"
+        );
         assert_eq!(evaluations[i] as u64, alone[i].evaluations, "search {i}");
     }
 }

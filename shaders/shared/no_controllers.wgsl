@@ -9,14 +9,14 @@ const RIG_SAMPLED: bool = false;
 const SAMPLE_SNAP: real = real(0.0);
 
 // No instant ever comes.
-fn rig_instant(md: RigRegime) -> real {
+fn rig_instant(rg: RigRegime) -> real {
     return REAL_MAX;
 }
 
-fn rig_sample_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigRegime {
-    return md;
+fn rig_sample_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> RigRegime {
+    return rg;
 }
 
-fn rig_sample(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigRegime {
-    return md;
+fn rig_sample(kc: RunConsts, t: real, y: RigState, rg: RigRegime) -> RigRegime {
+    return rg;
 }

@@ -35,18 +35,18 @@
 // One RK4 step of length h from (t, y) whose first stage f0 = rig_deriv(t, y)
 // is already known, written as EventStepper::rk4; ckh and ck1 are the drive
 // clocks at t + h/2 and t + h.
-fn rig_rk4_c(kc: RunConsts, t: real, h: real, y: RigState, f0: RigState, md: RigRegime, ckh: DriveClocks, ck1: DriveClocks) -> RigState {
+fn rig_rk4_c(kc: RunConsts, t: real, h: real, y: RigState, f0: RigState, rg: RigRegime, ckh: DriveClocks, ck1: DriveClocks) -> RigState {
     let hh = real(0.5) * h;
-    let k2 = rig_deriv_c(kc, t + hh, st_axpy(y, hh, f0), md, ckh);
-    let k3 = rig_deriv_c(kc, t + hh, st_axpy(y, hh, k2), md, ckh);
-    let k4 = rig_deriv_c(kc, t + h, st_axpy(y, h, k3), md, ck1);
+    let k2 = rig_deriv_c(kc, t + hh, st_axpy(y, hh, f0), rg, ckh);
+    let k3 = rig_deriv_c(kc, t + hh, st_axpy(y, hh, k2), rg, ckh);
+    let k4 = rig_deriv_c(kc, t + h, st_axpy(y, h, k3), rg, ck1);
     return st_rk4(y, h / real(6.0), f0, k2, k3, k4);
 }
 
 // The same with the clocks computed at the stage times.
-fn rig_rk4(kc: RunConsts, t: real, h: real, y: RigState, f0: RigState, md: RigRegime) -> RigState {
+fn rig_rk4(kc: RunConsts, t: real, h: real, y: RigState, f0: RigState, rg: RigRegime) -> RigState {
     let hh = real(0.5) * h;
-    return rig_rk4_c(kc, t, h, y, f0, md, rig_clock(kc, t + hh), rig_clock(kc, t + h));
+    return rig_rk4_c(kc, t, h, y, f0, rg, rig_clock(kc, t + hh), rig_clock(kc, t + h));
 }
 
 // Fraction of the step [ta, ta + h] where transition i first passes its
@@ -58,7 +58,7 @@ fn rig_rk4(kc: RunConsts, t: real, h: real, y: RigState, f0: RigState, md: RigRe
 // is not half as wide as three trials before, until it is no wider than
 // LOCATE_TOLERANCE or a trial lands on the switch; the end past the switch is
 // returned.
-fn rig_locate(kc: RunConsts, i: u32, ta: real, h: real, y0: RigState, f0: RigState, y1: RigState, f1: RigState, md: RigRegime, v0: real, v1: real) -> real {
+fn rig_locate(kc: RunConsts, i: u32, ta: real, h: real, y0: RigState, f0: RigState, y1: RigState, f1: RigState, rg: RigRegime, v0: real, v1: real) -> real {
     if !(v0 < real(0.0)) {
         return real(0.0);
     }
@@ -92,7 +92,7 @@ fn rig_locate(kc: RunConsts, i: u32, ta: real, h: real, y0: RigState, f0: RigSta
         let c01 = real(-2.0) * s3 + real(3.0) * s2;
         let c11 = (s3 - s2) * h;
         let yi = st_hermite(y0, f0, y1, f1, c00, c10, c01, c11);
-        let vm = rig_oriented(rig_events(kc, ta + m * h, yi, md), i);
+        let vm = rig_oriented(rig_events(kc, ta + m * h, yi, rg), i);
         if vm == real(0.0) {
             return m;
         }
@@ -119,8 +119,8 @@ fn rig_locate(kc: RunConsts, i: u32, ta: real, h: real, y0: RigState, f0: RigSta
 
 // Takes the sample instants not yet taken at or before t (within
 // SAMPLE_SNAP), each at t: SampleClock::catch_up.
-fn rig_catch_up(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigRegime {
-    var m = md;
+fn rig_catch_up(kc: RunConsts, t: real, y: RigState, rg: RigRegime) -> RigRegime {
+    var m = rg;
     loop {
         if !RIG_SAMPLED || !(rig_instant(m) <= t + SAMPLE_SNAP) {
             break;
@@ -169,7 +169,7 @@ fn rig_tick(k: RunSetup, s: ptr<function, RunProgress>, ck: DriveClocks) {
         // pointer to a member of a struct variable.
         var acc = (*s).acc;
         let st = *s;
-        (*s).done = observe(k.slot, k.ex, i, k.t0 + real(i) * k.dt, k.limit, k.kc, st.y, st.md, ck, st.chattered, &acc);
+        (*s).done = observe(k.slot, k.ex, i, k.t0 + real(i) * k.dt, k.limit, k.kc, st.y, st.rg, ck, st.chattered, &acc);
         (*s).acc = acc;
     }
 }
@@ -200,7 +200,7 @@ struct RunSetup {
 // (cut), where the rest of it starts (ta: the instant).
 struct RunProgress {
     y: RigState,
-    md: RigRegime,
+    rg: RigRegime,
     acc: real,
     prog: vec4<u32>,
     chattered: bool,
@@ -239,24 +239,24 @@ fn run_consts(slot: u32, base: u32, e: u32) -> RunSetup {
 fn run_open(k: RunSetup) -> RunProgress {
     var prog = progress[k.slot];
     var y = rig_state_load(k.sb);
-    var md = rig_regimes_load(k.sb);
+    var rg = rig_regimes_load(k.sb);
     if prog.x == 0u && prog.y == 0u && prog.w == 0u {
-        rig_initial(k.base, &y, &md);
+        rig_initial(k.base, &y, &rg);
         // The instants due before anything else (the first, at a phase of
         // 0): at t0 where sample 0 is observed before the first step, else at
         // the first step's start.
-        md = rig_catch_up(k.kc, select(real(0.0), k.t0, k.pro == 0u), y, md);
+        rg = rig_catch_up(k.kc, select(real(0.0), k.t0, k.pro == 0u), y, rg);
     }
     var acc = state[k.sb + RIG_ACC];
     let chattered = (prog.z & FLAG_CHATTER) != 0u;
     var done = (prog.z & FLAG_DONE) != 0u;
     if k.pro == 0u && prog.y == 0u {
         if k.ex.samples > 0u {
-            done = observe(k.slot, k.ex, 0u, k.t0, k.limit, k.kc, y, md, rig_clock(k.kc, k.t0), chattered, &acc);
+            done = observe(k.slot, k.ex, 0u, k.t0, k.limit, k.kc, y, rg, rig_clock(k.kc, k.t0), chattered, &acc);
         }
         prog.y = 1u;
     }
-    return RunProgress(y, md, acc, prog, chattered, done, 0u, real(0.0), real(0.0), false);
+    return RunProgress(y, rg, acc, prog, chattered, done, 0u, real(0.0), real(0.0), false);
 }
 
 // Whether the run goes on: not stopped, steps left to take.
@@ -283,7 +283,7 @@ fn run_block(k: RunSetup, s: ptr<function, RunProgress>, budget: ptr<function, u
     var left = *budget;
     var crossed = false;
     var ck0 = rig_clock(k.kc, rig_step_at(st.prog, k.pro, k.t0, k.h, k.hp).x);
-    let w = rig_window(k.kc, st.md);
+    let w = rig_window(k.kc, st.rg);
     var n = 0u;
     loop {
         let live = !crossed && left > 0u && run_live(k, st);
@@ -294,18 +294,18 @@ fn run_block(k: RunSetup, s: ptr<function, RunProgress>, budget: ptr<function, u
         }
         let ckh = rig_clock_shift(k.kc, ck0, q, at.x + real(0.5) * at.y);
         let ck1 = rig_clock_shift(k.kc, ckh, q, at.x + at.y);
-        let f0 = rig_deriv_c(k.kc, at.x, st.y, st.md, ck0);
-        let y1 = rig_rk4_c(k.kc, at.x, at.y, st.y, f0, st.md, ckh, ck1);
+        let f0 = rig_deriv_c(k.kc, at.x, st.y, st.rg, ck0);
+        let y1 = rig_rk4_c(k.kc, at.x, at.y, st.y, f0, st.rg, ckh, ck1);
         // Evaluated before the test and joined by `&`, not `&&`: WGSL's
         // short-circuit operators become branches, which a CPU driver runs
         // under a mask (measured 3-4 % slower on lavapipe).
         let end = at.x + at.y;
-        let b1 = rig_bases_c(k.kc, end, y1, st.md, ck1);
+        let b1 = rig_bases_c(k.kc, end, y1, st.rg, ck1);
         // With controllers, a sample instant inside the step (or one not yet
         // taken at its start) leaves the loop as a crossing does; one at its
         // end is taken there, after the step and before the sample it
         // completes is observed.
-        let tn = rig_instant(st.md);
+        let tn = rig_instant(st.rg);
         let cut = RIG_SAMPLED & !st.chattered & ((tn < end - SAMPLE_SNAP) | (tn <= at.x + SAMPLE_SNAP));
         let hit = (!st.chattered & rig_outside(w, b1)) | cut;
         if live && hit {
@@ -316,7 +316,7 @@ fn run_block(k: RunSetup, s: ptr<function, RunProgress>, budget: ptr<function, u
                 st.y = y1;
                 ck0 = ck1;
                 if RIG_SAMPLED && tn <= end + SAMPLE_SNAP {
-                    st.md = rig_sample_c(k.kc, end, y1, st.md, ck1);
+                    st.rg = rig_sample_c(k.kc, end, y1, st.rg, ck1);
                 }
             }
             left -= 1u;
@@ -359,11 +359,11 @@ fn run_crossed(k: RunSetup, s: ptr<function, RunProgress>) {
     var cut = false;
     if RIG_SAMPLED {
         if !resume && !st.cut {
-            st.md = rig_catch_up(k.kc, at.x, st.y, st.md);
+            st.rg = rig_catch_up(k.kc, at.x, st.y, st.rg);
         }
         // The instant counter changes only between pieces, so a piece that
         // a switch interrupted ends where it was going to.
-        let tn = rig_instant(st.md);
+        let tn = rig_instant(st.rg);
         cut = tn < end - SAMPLE_SNAP;
         if !resume {
             ta = select(at.x, st.ta, st.cut);
@@ -371,13 +371,13 @@ fn run_crossed(k: RunSetup, s: ptr<function, RunProgress>) {
         }
     }
     let y0 = st.y;
-    let md = st.md;
-    let f0 = rig_deriv(k.kc, ta, y0, md);
-    let y1 = rig_rk4(k.kc, ta, rem, y0, f0, md);
-    let g0 = rig_events(k.kc, ta, y0, md);
-    let g1 = rig_events(k.kc, ta + rem, y1, md);
-    let hits = rig_hits(g0, g1, md);
-    let f1 = rig_deriv(k.kc, ta + rem, y1, md);
+    let rg = st.rg;
+    let f0 = rig_deriv(k.kc, ta, y0, rg);
+    let y1 = rig_rk4(k.kc, ta, rem, y0, f0, rg);
+    let g0 = rig_events(k.kc, ta, y0, rg);
+    let g1 = rig_events(k.kc, ta + rem, y1, rg);
+    let hits = rig_hits(g0, g1, rg);
+    let f1 = rig_deriv(k.kc, ta + rem, y1, rg);
     // The transitions that fire, in index order (ties go to the first). One
     // search loop for all of them, not one per transition: a CPU driver runs
     // every loop it reaches at least once, so an unrolled search per
@@ -391,7 +391,7 @@ fn run_crossed(k: RunSetup, s: ptr<function, RunProgress>) {
         }
         let i = firstTrailingBit(rest);
         rest &= rest - 1u;
-        let theta = rig_locate(k.kc, i, ta, rem, y0, f0, y1, f1, md, rig_oriented(g0, i), rig_oriented(g1, i));
+        let theta = rig_locate(k.kc, i, ta, rem, y0, f0, y1, f1, rg, rig_oriented(g0, i), rig_oriented(g1, i));
         if theta < best {
             best = theta;
             which = i;
@@ -400,8 +400,8 @@ fn run_crossed(k: RunSetup, s: ptr<function, RunProgress>) {
     // Redone to the crossing (its first slope is f0 again), the switch taken,
     // and the rest of the step whole.
     let sub = best * rem;
-    let ys = rig_rk4(k.kc, ta, sub, y0, f0, md);
-    var md2 = md;
+    let ys = rig_rk4(k.kc, ta, sub, y0, f0, rg);
+    var md2 = rg;
     rig_fire(which, &md2);
     let ta2 = ta + sub;
     let rem2 = rem - sub;
@@ -412,7 +412,7 @@ fn run_crossed(k: RunSetup, s: ptr<function, RunProgress>) {
     if hits == 0u {
         st.y = y1;
     } else {
-        st.md = md2;
+        st.rg = md2;
         st.ev += 1u;
         if rem2 <= real(0.0) {
             st.y = ys;
@@ -433,13 +433,13 @@ fn run_crossed(k: RunSetup, s: ptr<function, RunProgress>) {
         if cut {
             // The piece ends at an instant inside the step: taken there,
             // the rest of the step from it by the next call.
-            let tn = rig_instant(st.md);
-            st.md = rig_sample(k.kc, tn, st.y, st.md);
+            let tn = rig_instant(st.rg);
+            st.rg = rig_sample(k.kc, tn, st.y, st.rg);
             st.ta = tn;
             st.cut = true;
         } else {
             st.cut = false;
-            st.md = rig_catch_up(k.kc, end, st.y, st.md);
+            st.rg = rig_catch_up(k.kc, end, st.y, st.rg);
             rig_tick(k, &st, rig_clock(k.kc, end));
         }
     }
@@ -450,7 +450,7 @@ fn run_crossed(k: RunSetup, s: ptr<function, RunProgress>) {
 // or chattered) writes its result.
 fn run_close(k: RunSetup, s: RunProgress) {
     let done = !run_live(k, s);
-    rig_state_store(k.sb, s.y, s.md);
+    rig_state_store(k.sb, s.y, s.rg);
     state[k.sb + RIG_ACC] = s.acc;
     var flags = s.prog.z;
     if s.chattered {

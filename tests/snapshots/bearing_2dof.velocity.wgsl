@@ -66,22 +66,22 @@ fn rig_state_load(sb: u32) -> RigState {
 }
 
 fn rig_regimes_load(sb: u32) -> RigRegime {
-    var md: RigRegime;
-    md.r0 = u32(state[sb + 4u]);
-    md.r1 = u32(state[sb + 5u]);
-    return md;
+    var rg: RigRegime;
+    rg.r0 = u32(state[sb + 4u]);
+    rg.r1 = u32(state[sb + 5u]);
+    return rg;
 }
 
-fn rig_initial(base: u32, y: ptr<function, RigState>, md: ptr<function, RigRegime>) {
+fn rig_initial(base: u32, y: ptr<function, RigState>, rg: ptr<function, RigRegime>) {
 }
 
-fn rig_state_store(sb: u32, y: RigState, md: RigRegime) {
+fn rig_state_store(sb: u32, y: RigState, rg: RigRegime) {
     state[sb + 0u] = y.s0;
     state[sb + 1u] = y.s1;
     state[sb + 2u] = y.s2;
     state[sb + 3u] = y.s3;
-    state[sb + 4u] = real(md.r0);
-    state[sb + 5u] = real(md.r1);
+    state[sb + 4u] = real(rg.r0);
+    state[sb + 5u] = real(rg.r1);
 }
 
 const RIG_ACC: u32 = 6u;
@@ -128,7 +128,7 @@ fn rig_clock_shift(kc: RunConsts, c: DriveClocks, q: DriveClocks, t: real) -> Dr
     return r;
 }
 
-fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigState {
+fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> RigState {
     let v0 = t;
     let v3 = y.s0;
     let v4 = y.s2;
@@ -136,12 +136,12 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     let v6 = y.s3;
     let v11 = v0 - kc.k10;
     let v15 = kc.k14 * v11;
-    let v16 = real(md.r0);
+    let v16 = real(rg.r0);
     let v17 = select(real(0.0), real(1.0), v16 == real(1e0));
     let v18 = sin_r(v15);
     let v20 = kc.k8 * v18;
     let v27 = select(real(0e0), v20, v17 != real(0.0));
-    let v31 = real(md.r1);
+    let v31 = real(rg.r1);
     let v32 = select(real(0.0), real(1.0), v31 == real(1e0));
     let v33 = kc.k30 * v18;
     let v36 = select(real(0e0), v33, v32 != real(0.0));
@@ -171,7 +171,7 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     return r;
 }
 
-fn rig_events_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigEventValues {
+fn rig_events_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> RigEventValues {
     let v0 = t;
     let v11 = v0 - kc.k10;
     let v12 = v11 - kc.k9;
@@ -183,12 +183,12 @@ fn rig_events_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
     return r;
 }
 
-fn rig_hits(g0: RigEventValues, g1: RigEventValues, md: RigRegime) -> u32 {
+fn rig_hits(g0: RigEventValues, g1: RigEventValues, rg: RigRegime) -> u32 {
     var hits = 0u;
-    hits |= select(0u, 1u, md.r0 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
-    hits |= select(0u, 2u, md.r0 == 1u && g1.g[1] >= real(0.0) && (!(g0.g[1] >= real(0.0)) || g1.g[1] > g0.g[1]));
-    hits |= select(0u, 4u, md.r1 == 0u && g1.g[2] >= real(0.0) && (!(g0.g[2] >= real(0.0)) || g1.g[2] > g0.g[2]));
-    hits |= select(0u, 8u, md.r1 == 1u && g1.g[3] >= real(0.0) && (!(g0.g[3] >= real(0.0)) || g1.g[3] > g0.g[3]));
+    hits |= select(0u, 1u, rg.r0 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
+    hits |= select(0u, 2u, rg.r0 == 1u && g1.g[1] >= real(0.0) && (!(g0.g[1] >= real(0.0)) || g1.g[1] > g0.g[1]));
+    hits |= select(0u, 4u, rg.r1 == 0u && g1.g[2] >= real(0.0) && (!(g0.g[2] >= real(0.0)) || g1.g[2] > g0.g[2]));
+    hits |= select(0u, 8u, rg.r1 == 1u && g1.g[3] >= real(0.0) && (!(g0.g[3] >= real(0.0)) || g1.g[3] > g0.g[3]));
     return hits;
 }
 
@@ -197,7 +197,7 @@ struct EventBases {
     b1: real,
 }
 
-fn rig_bases_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> EventBases {
+fn rig_bases_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> EventBases {
     let v0 = t;
     let v11 = v0 - kc.k10;
     var r: EventBases;
@@ -213,16 +213,16 @@ struct EventWindows {
     hi1: real,
 }
 
-fn rig_window(kc: RunConsts, md: RigRegime) -> EventWindows {
+fn rig_window(kc: RunConsts, rg: RigRegime) -> EventWindows {
     var w: EventWindows;
     w.lo0 = -REAL_MAX;
     w.hi0 = REAL_MAX;
-    w.hi0 = select(w.hi0, min(w.hi0, kc.k10), md.r0 == 0u);
-    w.hi0 = select(w.hi0, min(w.hi0, kc.k10), md.r1 == 0u);
+    w.hi0 = select(w.hi0, min(w.hi0, kc.k10), rg.r0 == 0u);
+    w.hi0 = select(w.hi0, min(w.hi0, kc.k10), rg.r1 == 0u);
     w.lo1 = -REAL_MAX;
     w.hi1 = REAL_MAX;
-    w.hi1 = select(w.hi1, min(w.hi1, kc.k9), md.r0 == 1u);
-    w.hi1 = select(w.hi1, min(w.hi1, kc.k9), md.r1 == 1u);
+    w.hi1 = select(w.hi1, min(w.hi1, kc.k9), rg.r0 == 1u);
+    w.hi1 = select(w.hi1, min(w.hi1, kc.k9), rg.r1 == 1u);
     return w;
 }
 
@@ -241,22 +241,22 @@ fn rig_oriented(g: RigEventValues, i: u32) -> real {
     }
 }
 
-fn rig_fire(i: u32, md: ptr<function, RigRegime>) {
+fn rig_fire(i: u32, rg: ptr<function, RigRegime>) {
     switch i {
-        case 0u: { (*md).r0 = 1u; }
-        case 1u: { (*md).r0 = 2u; }
-        case 2u: { (*md).r1 = 1u; }
-        case 3u: { (*md).r1 = 2u; }
+        case 0u: { (*rg).r0 = 1u; }
+        case 1u: { (*rg).r0 = 2u; }
+        case 2u: { (*rg).r1 = 1u; }
+        case 3u: { (*rg).r1 = 2u; }
         default: {}
     }
 }
 
-fn rig_output0_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> real {
+fn rig_output0_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> real {
     let v3 = y.s0;
     return v3;
 }
 
-fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigReport {
+fn rig_report_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> RigReport {
     let v3 = y.s0;
     let v4 = y.s2;
     let v5 = y.s1;
@@ -271,11 +271,11 @@ fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
     return r;
 }
 
-fn rig_deriv(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigState {
-    return rig_deriv_c(kc, t, y, md, rig_clock(kc, t));
+fn rig_deriv(kc: RunConsts, t: real, y: RigState, rg: RigRegime) -> RigState {
+    return rig_deriv_c(kc, t, y, rg, rig_clock(kc, t));
 }
 
-fn rig_events(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigEventValues {
-    return rig_events_c(kc, t, y, md, rig_clock(kc, t));
+fn rig_events(kc: RunConsts, t: real, y: RigState, rg: RigRegime) -> RigEventValues {
+    return rig_events_c(kc, t, y, rg, rig_clock(kc, t));
 }
 

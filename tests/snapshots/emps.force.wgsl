@@ -65,28 +65,28 @@ fn rig_state_load(sb: u32) -> RigState {
 }
 
 fn rig_regimes_load(sb: u32) -> RigRegime {
-    var md: RigRegime;
-    md.h0 = state[sb + 2u];
-    md.h1 = state[sb + 3u];
-    md.h2 = state[sb + 4u];
-    md.kn = u32(state[sb + 5u]);
-    return md;
+    var rg: RigRegime;
+    rg.h0 = state[sb + 2u];
+    rg.h1 = state[sb + 3u];
+    rg.h2 = state[sb + 4u];
+    rg.kn = u32(state[sb + 5u]);
+    return rg;
 }
 
-fn rig_initial(base: u32, y: ptr<function, RigState>, md: ptr<function, RigRegime>) {
-    (*md).h0 = real(0e0);
-    (*md).h1 = real(0e0);
-    (*md).h2 = real(0e0);
-    (*md).kn = 0u;
+fn rig_initial(base: u32, y: ptr<function, RigState>, rg: ptr<function, RigRegime>) {
+    (*rg).h0 = real(0e0);
+    (*rg).h1 = real(0e0);
+    (*rg).h2 = real(0e0);
+    (*rg).kn = 0u;
 }
 
-fn rig_state_store(sb: u32, y: RigState, md: RigRegime) {
+fn rig_state_store(sb: u32, y: RigState, rg: RigRegime) {
     state[sb + 0u] = y.s0;
     state[sb + 1u] = y.s1;
-    state[sb + 2u] = md.h0;
-    state[sb + 3u] = md.h1;
-    state[sb + 4u] = md.h2;
-    state[sb + 5u] = real(md.kn);
+    state[sb + 2u] = rg.h0;
+    state[sb + 3u] = rg.h1;
+    state[sb + 4u] = rg.h2;
+    state[sb + 5u] = real(rg.kn);
 }
 
 const RIG_ACC: u32 = 6u;
@@ -128,9 +128,9 @@ fn rig_clock_shift(kc: RunConsts, c: DriveClocks, q: DriveClocks, t: real) -> Dr
     return r;
 }
 
-fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigState {
+fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> RigState {
     let v4 = y.s1;
-    let v6 = md.h2;
+    let v6 = rg.h2;
     let v7 = kc.k5 * v6;
     let v9 = kc.k8 * v4;
     let v12 = v4 / kc.k11;
@@ -152,12 +152,12 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     return r;
 }
 
-fn rig_events_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigEventValues {
+fn rig_events_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> RigEventValues {
     var r: RigEventValues;
     return r;
 }
 
-fn rig_hits(g0: RigEventValues, g1: RigEventValues, md: RigRegime) -> u32 {
+fn rig_hits(g0: RigEventValues, g1: RigEventValues, rg: RigRegime) -> u32 {
     var hits = 0u;
     return hits;
 }
@@ -166,7 +166,7 @@ struct EventBases {
     b0: real,
 }
 
-fn rig_bases_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> EventBases {
+fn rig_bases_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> EventBases {
     var r: EventBases;
     r.b0 = real(0.0);
     return r;
@@ -177,7 +177,7 @@ struct EventWindows {
     hi0: real,
 }
 
-fn rig_window(kc: RunConsts, md: RigRegime) -> EventWindows {
+fn rig_window(kc: RunConsts, rg: RigRegime) -> EventWindows {
     var w: EventWindows;
     w.lo0 = -REAL_MAX;
     w.hi0 = REAL_MAX;
@@ -194,21 +194,21 @@ fn rig_oriented(g: RigEventValues, i: u32) -> real {
     }
 }
 
-fn rig_fire(i: u32, md: ptr<function, RigRegime>) {
+fn rig_fire(i: u32, rg: ptr<function, RigRegime>) {
     switch i {
         default: {}
     }
 }
 
-fn rig_output0_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> real {
+fn rig_output0_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> real {
     let v3 = y.s0;
     return v3;
 }
 
-fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigReport {
+fn rig_report_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> RigReport {
     let v3 = y.s0;
     let v4 = y.s1;
-    let v6 = md.h2;
+    let v6 = rg.h2;
     let v12 = v4 / kc.k11;
     let v15 = real(2e0) * v12;
     let v16 = min(v15, real(4e1));
@@ -227,26 +227,26 @@ fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
     return r;
 }
 
-fn rig_deriv(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigState {
-    return rig_deriv_c(kc, t, y, md, rig_clock(kc, t));
+fn rig_deriv(kc: RunConsts, t: real, y: RigState, rg: RigRegime) -> RigState {
+    return rig_deriv_c(kc, t, y, rg, rig_clock(kc, t));
 }
 
-fn rig_events(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigEventValues {
-    return rig_events_c(kc, t, y, md, rig_clock(kc, t));
+fn rig_events(kc: RunConsts, t: real, y: RigState, rg: RigRegime) -> RigEventValues {
+    return rig_events_c(kc, t, y, rg, rig_clock(kc, t));
 }
 
 const RIG_SAMPLED: bool = true;
 const SAMPLE_PERIOD: real = real(1e-3);
 const SAMPLE_PHASE: real = real(0e0);
 
-fn rig_instant(md: RigRegime) -> real {
-    return SAMPLE_PHASE + real(md.kn) * SAMPLE_PERIOD;
+fn rig_instant(rg: RigRegime) -> real {
+    return SAMPLE_PHASE + real(rg.kn) * SAMPLE_PERIOD;
 }
 
-fn rig_sample_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigRegime {
+fn rig_sample_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> RigRegime {
     let v3 = y.s0;
-    let v31 = md.h0;
-    let v32 = md.h1;
+    let v31 = rg.h0;
+    let v32 = rg.h1;
     let v35 = ck.tab0;
     let v36 = v35 - v3;
     let v37 = kc.k34 * v36;
@@ -254,15 +254,15 @@ fn rig_sample_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
     let v41 = v38 / real(2e-3);
     let v42 = v37 - v41;
     let v43 = kc.k33 * v42;
-    var r = md;
+    var r = rg;
     r.h0 = v3;
     r.h1 = v31;
     r.h2 = v43;
-    r.kn = md.kn + 1u;
+    r.kn = rg.kn + 1u;
     return r;
 }
 
-fn rig_sample(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigRegime {
-    return rig_sample_c(kc, t, y, md, rig_clock(kc, t));
+fn rig_sample(kc: RunConsts, t: real, y: RigState, rg: RigRegime) -> RigRegime {
+    return rig_sample_c(kc, t, y, rg, rig_clock(kc, t));
 }
 

@@ -53,19 +53,19 @@ fn rig_state_load(sb: u32) -> RigState {
 }
 
 fn rig_regimes_load(sb: u32) -> RigRegime {
-    var md: RigRegime;
-    md.r0 = u32(state[sb + 3u]);
-    return md;
+    var rg: RigRegime;
+    rg.r0 = u32(state[sb + 3u]);
+    return rg;
 }
 
-fn rig_initial(base: u32, y: ptr<function, RigState>, md: ptr<function, RigRegime>) {
+fn rig_initial(base: u32, y: ptr<function, RigState>, rg: ptr<function, RigRegime>) {
 }
 
-fn rig_state_store(sb: u32, y: RigState, md: RigRegime) {
+fn rig_state_store(sb: u32, y: RigState, rg: RigRegime) {
     state[sb + 0u] = y.s0;
     state[sb + 1u] = y.s1;
     state[sb + 2u] = y.s2;
-    state[sb + 3u] = real(md.r0);
+    state[sb + 3u] = real(rg.r0);
 }
 
 const RIG_ACC: u32 = 4u;
@@ -109,7 +109,7 @@ fn rig_clock_shift(kc: RunConsts, c: DriveClocks, q: DriveClocks, t: real) -> Dr
     return r;
 }
 
-fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigState {
+fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> RigState {
     let v0 = t;
     let v3 = y.s0;
     let v4 = y.s1;
@@ -123,7 +123,7 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     let v27 = v24 + v26;
     let v30 = y.s2;
     let v31 = kc.k29 * v30;
-    let v34 = real(md.r0);
+    let v34 = real(rg.r0);
     let v35 = select(real(0.0), real(1.0), v34 == real(0e0));
     let v36 = select(real(0e0), v4, v35 != real(0.0));
     let v37 = real(0e0) - v27;
@@ -137,7 +137,7 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     return r;
 }
 
-fn rig_events_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigEventValues {
+fn rig_events_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> RigEventValues {
     let v4 = y.s1;
     let v30 = y.s2;
     let v31 = kc.k29 * v30;
@@ -151,12 +151,12 @@ fn rig_events_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
     return r;
 }
 
-fn rig_hits(g0: RigEventValues, g1: RigEventValues, md: RigRegime) -> u32 {
+fn rig_hits(g0: RigEventValues, g1: RigEventValues, rg: RigRegime) -> u32 {
     var hits = 0u;
-    hits |= select(0u, 1u, md.r0 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
-    hits |= select(0u, 2u, md.r0 == 0u && -(g1.g[1]) >= real(0.0) && (!(-(g0.g[1]) >= real(0.0)) || -(g1.g[1]) > -(g0.g[1])));
-    hits |= select(0u, 4u, md.r0 == 1u && -(g1.g[2]) >= real(0.0) && (!(-(g0.g[2]) >= real(0.0)) || -(g1.g[2]) > -(g0.g[2])));
-    hits |= select(0u, 8u, md.r0 == 2u && g1.g[3] >= real(0.0) && (!(g0.g[3] >= real(0.0)) || g1.g[3] > g0.g[3]));
+    hits |= select(0u, 1u, rg.r0 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
+    hits |= select(0u, 2u, rg.r0 == 0u && -(g1.g[1]) >= real(0.0) && (!(-(g0.g[1]) >= real(0.0)) || -(g1.g[1]) > -(g0.g[1])));
+    hits |= select(0u, 4u, rg.r0 == 1u && -(g1.g[2]) >= real(0.0) && (!(-(g0.g[2]) >= real(0.0)) || -(g1.g[2]) > -(g0.g[2])));
+    hits |= select(0u, 8u, rg.r0 == 2u && g1.g[3] >= real(0.0) && (!(g0.g[3] >= real(0.0)) || g1.g[3] > g0.g[3]));
     return hits;
 }
 
@@ -166,7 +166,7 @@ struct EventBases {
     b2: real,
 }
 
-fn rig_bases_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> EventBases {
+fn rig_bases_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> EventBases {
     let v4 = y.s1;
     let v30 = y.s2;
     let v31 = kc.k29 * v30;
@@ -187,18 +187,18 @@ struct EventWindows {
     hi2: real,
 }
 
-fn rig_window(kc: RunConsts, md: RigRegime) -> EventWindows {
+fn rig_window(kc: RunConsts, rg: RigRegime) -> EventWindows {
     var w: EventWindows;
     w.lo0 = -REAL_MAX;
     w.hi0 = REAL_MAX;
-    w.hi0 = select(w.hi0, min(w.hi0, kc.k28), md.r0 == 0u);
+    w.hi0 = select(w.hi0, min(w.hi0, kc.k28), rg.r0 == 0u);
     w.lo1 = -REAL_MAX;
     w.hi1 = REAL_MAX;
-    w.lo1 = select(w.lo1, max(w.lo1, real(0.0)), md.r0 == 0u);
+    w.lo1 = select(w.lo1, max(w.lo1, real(0.0)), rg.r0 == 0u);
     w.lo2 = -REAL_MAX;
     w.hi2 = REAL_MAX;
-    w.hi2 = select(w.hi2, min(w.hi2, real(0.0)), md.r0 == 2u);
-    w.lo2 = select(w.lo2, max(w.lo2, real(0.0)), md.r0 == 1u);
+    w.hi2 = select(w.hi2, min(w.hi2, real(0.0)), rg.r0 == 2u);
+    w.lo2 = select(w.lo2, max(w.lo2, real(0.0)), rg.r0 == 1u);
     return w;
 }
 
@@ -219,17 +219,17 @@ fn rig_oriented(g: RigEventValues, i: u32) -> real {
     }
 }
 
-fn rig_fire(i: u32, md: ptr<function, RigRegime>) {
+fn rig_fire(i: u32, rg: ptr<function, RigRegime>) {
     switch i {
-        case 0u: { (*md).r0 = 1u; }
-        case 1u: { (*md).r0 = 2u; }
-        case 2u: { (*md).r0 = 0u; }
-        case 3u: { (*md).r0 = 0u; }
+        case 0u: { (*rg).r0 = 1u; }
+        case 1u: { (*rg).r0 = 2u; }
+        case 2u: { (*rg).r0 = 0u; }
+        case 3u: { (*rg).r0 = 0u; }
         default: {}
     }
 }
 
-fn rig_output0_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> real {
+fn rig_output0_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> real {
     let v0 = t;
     let v3 = y.s0;
     let v4 = y.s1;
@@ -252,7 +252,7 @@ fn rig_output0_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCl
     return v45;
 }
 
-fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigReport {
+fn rig_report_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> RigReport {
     let v0 = t;
     let v3 = y.s0;
     let v4 = y.s1;
@@ -283,11 +283,11 @@ fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
     return r;
 }
 
-fn rig_deriv(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigState {
-    return rig_deriv_c(kc, t, y, md, rig_clock(kc, t));
+fn rig_deriv(kc: RunConsts, t: real, y: RigState, rg: RigRegime) -> RigState {
+    return rig_deriv_c(kc, t, y, rg, rig_clock(kc, t));
 }
 
-fn rig_events(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigEventValues {
-    return rig_events_c(kc, t, y, md, rig_clock(kc, t));
+fn rig_events(kc: RunConsts, t: real, y: RigState, rg: RigRegime) -> RigEventValues {
+    return rig_events_c(kc, t, y, rg, rig_clock(kc, t));
 }
 

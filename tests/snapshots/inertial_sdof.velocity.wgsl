@@ -61,14 +61,14 @@ fn rig_state_load(sb: u32) -> RigState {
 }
 
 fn rig_regimes_load(sb: u32) -> RigRegime {
-    var md: RigRegime;
-    return md;
+    var rg: RigRegime;
+    return rg;
 }
 
-fn rig_initial(base: u32, y: ptr<function, RigState>, md: ptr<function, RigRegime>) {
+fn rig_initial(base: u32, y: ptr<function, RigState>, rg: ptr<function, RigRegime>) {
 }
 
-fn rig_state_store(sb: u32, y: RigState, md: RigRegime) {
+fn rig_state_store(sb: u32, y: RigState, rg: RigRegime) {
     state[sb + 0u] = y.s0;
     state[sb + 1u] = y.s1;
 }
@@ -111,7 +111,7 @@ fn rig_clock_shift(kc: RunConsts, c: DriveClocks, q: DriveClocks, t: real) -> Dr
     return r;
 }
 
-fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigState {
+fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> RigState {
     let v0 = t;
     let v3 = y.s0;
     let v4 = y.s1;
@@ -167,12 +167,12 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     return r;
 }
 
-fn rig_events_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigEventValues {
+fn rig_events_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> RigEventValues {
     var r: RigEventValues;
     return r;
 }
 
-fn rig_hits(g0: RigEventValues, g1: RigEventValues, md: RigRegime) -> u32 {
+fn rig_hits(g0: RigEventValues, g1: RigEventValues, rg: RigRegime) -> u32 {
     var hits = 0u;
     return hits;
 }
@@ -181,7 +181,7 @@ struct EventBases {
     b0: real,
 }
 
-fn rig_bases_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> EventBases {
+fn rig_bases_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> EventBases {
     var r: EventBases;
     r.b0 = real(0.0);
     return r;
@@ -192,7 +192,7 @@ struct EventWindows {
     hi0: real,
 }
 
-fn rig_window(kc: RunConsts, md: RigRegime) -> EventWindows {
+fn rig_window(kc: RunConsts, rg: RigRegime) -> EventWindows {
     var w: EventWindows;
     w.lo0 = -REAL_MAX;
     w.hi0 = REAL_MAX;
@@ -209,18 +209,18 @@ fn rig_oriented(g: RigEventValues, i: u32) -> real {
     }
 }
 
-fn rig_fire(i: u32, md: ptr<function, RigRegime>) {
+fn rig_fire(i: u32, rg: ptr<function, RigRegime>) {
     switch i {
         default: {}
     }
 }
 
-fn rig_output0_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> real {
+fn rig_output0_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> real {
     let v3 = y.s0;
     return v3;
 }
 
-fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigReport {
+fn rig_report_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> RigReport {
     let v0 = t;
     let v3 = y.s0;
     let v4 = y.s1;
@@ -282,11 +282,11 @@ fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
     return r;
 }
 
-fn rig_deriv(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigState {
-    return rig_deriv_c(kc, t, y, md, rig_clock(kc, t));
+fn rig_deriv(kc: RunConsts, t: real, y: RigState, rg: RigRegime) -> RigState {
+    return rig_deriv_c(kc, t, y, rg, rig_clock(kc, t));
 }
 
-fn rig_events(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigEventValues {
-    return rig_events_c(kc, t, y, md, rig_clock(kc, t));
+fn rig_events(kc: RunConsts, t: real, y: RigState, rg: RigRegime) -> RigEventValues {
+    return rig_events_c(kc, t, y, rg, rig_clock(kc, t));
 }
 

@@ -75,22 +75,22 @@ fn rig_state_load(sb: u32) -> RigState {
 }
 
 fn rig_regimes_load(sb: u32) -> RigRegime {
-    var md: RigRegime;
-    md.r0 = u32(state[sb + 6u]);
-    return md;
+    var rg: RigRegime;
+    rg.r0 = u32(state[sb + 6u]);
+    return rg;
 }
 
-fn rig_initial(base: u32, y: ptr<function, RigState>, md: ptr<function, RigRegime>) {
+fn rig_initial(base: u32, y: ptr<function, RigState>, rg: ptr<function, RigRegime>) {
 }
 
-fn rig_state_store(sb: u32, y: RigState, md: RigRegime) {
+fn rig_state_store(sb: u32, y: RigState, rg: RigRegime) {
     state[sb + 0u] = y.s0;
     state[sb + 1u] = y.s1;
     state[sb + 2u] = y.s2;
     state[sb + 3u] = y.s3;
     state[sb + 4u] = y.s4;
     state[sb + 5u] = y.s5;
-    state[sb + 6u] = real(md.r0);
+    state[sb + 6u] = real(rg.r0);
 }
 
 const RIG_ACC: u32 = 7u;
@@ -143,7 +143,7 @@ fn rig_clock_shift(kc: RunConsts, c: DriveClocks, q: DriveClocks, t: real) -> Dr
     return r;
 }
 
-fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigState {
+fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> RigState {
     let v0 = t;
     let v5 = y.s1;
     let v6 = y.s4;
@@ -185,7 +185,7 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     let v61 = v46 + v60;
     let v63 = v43 - kc.k62;
     let v64 = v43 + kc.k62;
-    let v65 = real(md.r0);
+    let v65 = real(rg.r0);
     let v66 = select(real(0.0), real(1.0), v65 == real(1e0));
     let v68 = select(real(0.0), real(1.0), v65 == real(2e0));
     let v70 = kc.k69 * v63;
@@ -208,7 +208,7 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     return r;
 }
 
-fn rig_events_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigEventValues {
+fn rig_events_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> RigEventValues {
     let v5 = y.s1;
     let v7 = y.s2;
     let v43 = v7 - v5;
@@ -222,12 +222,12 @@ fn rig_events_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
     return r;
 }
 
-fn rig_hits(g0: RigEventValues, g1: RigEventValues, md: RigRegime) -> u32 {
+fn rig_hits(g0: RigEventValues, g1: RigEventValues, rg: RigRegime) -> u32 {
     var hits = 0u;
-    hits |= select(0u, 1u, md.r0 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
-    hits |= select(0u, 2u, md.r0 == 1u && -(g1.g[1]) >= real(0.0) && (!(-(g0.g[1]) >= real(0.0)) || -(g1.g[1]) > -(g0.g[1])));
-    hits |= select(0u, 4u, md.r0 == 0u && -(g1.g[2]) >= real(0.0) && (!(-(g0.g[2]) >= real(0.0)) || -(g1.g[2]) > -(g0.g[2])));
-    hits |= select(0u, 8u, md.r0 == 2u && g1.g[3] >= real(0.0) && (!(g0.g[3] >= real(0.0)) || g1.g[3] > g0.g[3]));
+    hits |= select(0u, 1u, rg.r0 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
+    hits |= select(0u, 2u, rg.r0 == 1u && -(g1.g[1]) >= real(0.0) && (!(-(g0.g[1]) >= real(0.0)) || -(g1.g[1]) > -(g0.g[1])));
+    hits |= select(0u, 4u, rg.r0 == 0u && -(g1.g[2]) >= real(0.0) && (!(-(g0.g[2]) >= real(0.0)) || -(g1.g[2]) > -(g0.g[2])));
+    hits |= select(0u, 8u, rg.r0 == 2u && g1.g[3] >= real(0.0) && (!(g0.g[3] >= real(0.0)) || g1.g[3] > g0.g[3]));
     return hits;
 }
 
@@ -236,7 +236,7 @@ struct EventBases {
     b1: real,
 }
 
-fn rig_bases_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> EventBases {
+fn rig_bases_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> EventBases {
     let v5 = y.s1;
     let v7 = y.s2;
     let v43 = v7 - v5;
@@ -254,16 +254,16 @@ struct EventWindows {
     hi1: real,
 }
 
-fn rig_window(kc: RunConsts, md: RigRegime) -> EventWindows {
+fn rig_window(kc: RunConsts, rg: RigRegime) -> EventWindows {
     var w: EventWindows;
     w.lo0 = -REAL_MAX;
     w.hi0 = REAL_MAX;
-    w.hi0 = select(w.hi0, min(w.hi0, kc.k62), md.r0 == 0u);
-    w.lo0 = select(w.lo0, max(w.lo0, kc.k62), md.r0 == 1u);
+    w.hi0 = select(w.hi0, min(w.hi0, kc.k62), rg.r0 == 0u);
+    w.lo0 = select(w.lo0, max(w.lo0, kc.k62), rg.r0 == 1u);
     w.lo1 = -REAL_MAX;
     w.hi1 = REAL_MAX;
-    w.hi1 = select(w.hi1, min(w.hi1, real(0.0)), md.r0 == 2u);
-    w.lo1 = select(w.lo1, max(w.lo1, real(0.0)), md.r0 == 0u);
+    w.hi1 = select(w.hi1, min(w.hi1, real(0.0)), rg.r0 == 2u);
+    w.lo1 = select(w.lo1, max(w.lo1, real(0.0)), rg.r0 == 0u);
     return w;
 }
 
@@ -284,17 +284,17 @@ fn rig_oriented(g: RigEventValues, i: u32) -> real {
     }
 }
 
-fn rig_fire(i: u32, md: ptr<function, RigRegime>) {
+fn rig_fire(i: u32, rg: ptr<function, RigRegime>) {
     switch i {
-        case 0u: { (*md).r0 = 1u; }
-        case 1u: { (*md).r0 = 0u; }
-        case 2u: { (*md).r0 = 2u; }
-        case 3u: { (*md).r0 = 0u; }
+        case 0u: { (*rg).r0 = 1u; }
+        case 1u: { (*rg).r0 = 0u; }
+        case 2u: { (*rg).r0 = 2u; }
+        case 3u: { (*rg).r0 = 0u; }
         default: {}
     }
 }
 
-fn rig_output0_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> real {
+fn rig_output0_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> real {
     let v5 = y.s1;
     let v6 = y.s4;
     let v7 = y.s2;
@@ -315,7 +315,7 @@ fn rig_output0_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCl
     let v61 = v46 + v60;
     let v63 = v43 - kc.k62;
     let v64 = v43 + kc.k62;
-    let v65 = real(md.r0);
+    let v65 = real(rg.r0);
     let v66 = select(real(0.0), real(1.0), v65 == real(1e0));
     let v68 = select(real(0.0), real(1.0), v65 == real(2e0));
     let v70 = kc.k69 * v63;
@@ -328,7 +328,7 @@ fn rig_output0_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCl
     return v84;
 }
 
-fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigReport {
+fn rig_report_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> RigReport {
     let v0 = t;
     let v5 = y.s1;
     let v6 = y.s4;
@@ -376,7 +376,7 @@ fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
     let v61 = v46 + v60;
     let v63 = v43 - kc.k62;
     let v64 = v43 + kc.k62;
-    let v65 = real(md.r0);
+    let v65 = real(rg.r0);
     let v66 = select(real(0.0), real(1.0), v65 == real(1e0));
     let v68 = select(real(0.0), real(1.0), v65 == real(2e0));
     let v70 = kc.k69 * v63;
@@ -410,11 +410,11 @@ fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
     return r;
 }
 
-fn rig_deriv(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigState {
-    return rig_deriv_c(kc, t, y, md, rig_clock(kc, t));
+fn rig_deriv(kc: RunConsts, t: real, y: RigState, rg: RigRegime) -> RigState {
+    return rig_deriv_c(kc, t, y, rg, rig_clock(kc, t));
 }
 
-fn rig_events(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigEventValues {
-    return rig_events_c(kc, t, y, md, rig_clock(kc, t));
+fn rig_events(kc: RunConsts, t: real, y: RigState, rg: RigRegime) -> RigEventValues {
+    return rig_events_c(kc, t, y, rg, rig_clock(kc, t));
 }
 

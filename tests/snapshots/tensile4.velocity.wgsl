@@ -111,17 +111,17 @@ fn rig_state_load(sb: u32) -> RigState {
 }
 
 fn rig_regimes_load(sb: u32) -> RigRegime {
-    var md: RigRegime;
-    md.r0 = u32(state[sb + 8u]);
-    md.r1 = u32(state[sb + 9u]);
-    md.r2 = u32(state[sb + 10u]);
-    return md;
+    var rg: RigRegime;
+    rg.r0 = u32(state[sb + 8u]);
+    rg.r1 = u32(state[sb + 9u]);
+    rg.r2 = u32(state[sb + 10u]);
+    return rg;
 }
 
-fn rig_initial(base: u32, y: ptr<function, RigState>, md: ptr<function, RigRegime>) {
+fn rig_initial(base: u32, y: ptr<function, RigState>, rg: ptr<function, RigRegime>) {
 }
 
-fn rig_state_store(sb: u32, y: RigState, md: RigRegime) {
+fn rig_state_store(sb: u32, y: RigState, rg: RigRegime) {
     state[sb + 0u] = y.s0;
     state[sb + 1u] = y.s1;
     state[sb + 2u] = y.s2;
@@ -130,9 +130,9 @@ fn rig_state_store(sb: u32, y: RigState, md: RigRegime) {
     state[sb + 5u] = y.s5;
     state[sb + 6u] = y.s6;
     state[sb + 7u] = y.s7;
-    state[sb + 8u] = real(md.r0);
-    state[sb + 9u] = real(md.r1);
-    state[sb + 10u] = real(md.r2);
+    state[sb + 8u] = real(rg.r0);
+    state[sb + 9u] = real(rg.r1);
+    state[sb + 10u] = real(rg.r2);
 }
 
 const RIG_ACC: u32 = 11u;
@@ -192,7 +192,7 @@ fn rig_clock_shift(kc: RunConsts, c: DriveClocks, q: DriveClocks, t: real) -> Dr
     return r;
 }
 
-fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigState {
+fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> RigState {
     let v0 = t;
     let v3 = y.s0;
     let v4 = y.s4;
@@ -214,7 +214,7 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     let v31 = select(v28, real(0e0), v13 != real(0.0));
     let v32 = select(v29, real(0e0), v13 != real(0.0));
     let v35 = kc.k34 * v3;
-    let v38 = real(md.r0);
+    let v38 = real(rg.r0);
     let v39 = select(real(0.0), real(1.0), v38 == real(1e0));
     let v40 = select(kc.k36, kc.k37, v39 != real(0.0));
     let v41 = v40 * v4;
@@ -232,7 +232,7 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     let v61 = v60 * v43;
     let v62 = v61 + kc.k47;
     let v63 = kc.k45 * v43;
-    let v65 = real(md.r1);
+    let v65 = real(rg.r1);
     let v66 = select(real(0.0), real(1.0), v65 == real(1e0));
     let v67 = select(v63, v62, v66 != real(0.0));
     let v69 = kc.k68 * v44;
@@ -246,7 +246,7 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     let v81 = v31 - v7;
     let v82 = v32 - v8;
     let v84 = v81 - kc.k83;
-    let v86 = real(md.r2);
+    let v86 = real(rg.r2);
     let v87 = select(real(0.0), real(1.0), v86 == real(1e0));
     let v106 = kc.k89 * v84;
     let v107 = expm1_r(v106);
@@ -279,7 +279,7 @@ fn rig_deriv_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCloc
     return r;
 }
 
-fn rig_events_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigEventValues {
+fn rig_events_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> RigEventValues {
     let v0 = t;
     let v3 = y.s0;
     let v5 = y.s1;
@@ -307,13 +307,13 @@ fn rig_events_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
     return r;
 }
 
-fn rig_hits(g0: RigEventValues, g1: RigEventValues, md: RigRegime) -> u32 {
+fn rig_hits(g0: RigEventValues, g1: RigEventValues, rg: RigRegime) -> u32 {
     var hits = 0u;
-    hits |= select(0u, 1u, md.r1 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
-    hits |= select(0u, 2u, md.r1 == 1u && -(g1.g[1]) >= real(0.0) && (!(-(g0.g[1]) >= real(0.0)) || -(g1.g[1]) > -(g0.g[1])));
-    hits |= select(0u, 4u, md.r0 == 0u && g1.g[2] >= real(0.0) && (!(g0.g[2] >= real(0.0)) || g1.g[2] > g0.g[2]));
-    hits |= select(0u, 8u, md.r2 == 0u && g1.g[3] >= real(0.0) && (!(g0.g[3] >= real(0.0)) || g1.g[3] > g0.g[3]));
-    hits |= select(0u, 16u, md.r2 == 1u && -(g1.g[4]) >= real(0.0) && (!(-(g0.g[4]) >= real(0.0)) || -(g1.g[4]) > -(g0.g[4])));
+    hits |= select(0u, 1u, rg.r1 == 0u && g1.g[0] >= real(0.0) && (!(g0.g[0] >= real(0.0)) || g1.g[0] > g0.g[0]));
+    hits |= select(0u, 2u, rg.r1 == 1u && -(g1.g[1]) >= real(0.0) && (!(-(g0.g[1]) >= real(0.0)) || -(g1.g[1]) > -(g0.g[1])));
+    hits |= select(0u, 4u, rg.r0 == 0u && g1.g[2] >= real(0.0) && (!(g0.g[2] >= real(0.0)) || g1.g[2] > g0.g[2]));
+    hits |= select(0u, 8u, rg.r2 == 0u && g1.g[3] >= real(0.0) && (!(g0.g[3] >= real(0.0)) || g1.g[3] > g0.g[3]));
+    hits |= select(0u, 16u, rg.r2 == 1u && -(g1.g[4]) >= real(0.0) && (!(-(g0.g[4]) >= real(0.0)) || -(g1.g[4]) > -(g0.g[4])));
     return hits;
 }
 
@@ -322,7 +322,7 @@ struct EventBases {
     b1: real,
 }
 
-fn rig_bases_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> EventBases {
+fn rig_bases_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> EventBases {
     let v0 = t;
     let v3 = y.s0;
     let v5 = y.s1;
@@ -351,17 +351,17 @@ struct EventWindows {
     hi1: real,
 }
 
-fn rig_window(kc: RunConsts, md: RigRegime) -> EventWindows {
+fn rig_window(kc: RunConsts, rg: RigRegime) -> EventWindows {
     var w: EventWindows;
     w.lo0 = -REAL_MAX;
     w.hi0 = REAL_MAX;
-    w.hi0 = select(w.hi0, min(w.hi0, kc.k46), md.r1 == 0u);
-    w.hi0 = select(w.hi0, min(w.hi0, kc.k71), md.r0 == 0u);
-    w.lo0 = select(w.lo0, max(w.lo0, kc.k46), md.r1 == 1u);
+    w.hi0 = select(w.hi0, min(w.hi0, kc.k46), rg.r1 == 0u);
+    w.hi0 = select(w.hi0, min(w.hi0, kc.k71), rg.r0 == 0u);
+    w.lo0 = select(w.lo0, max(w.lo0, kc.k46), rg.r1 == 1u);
     w.lo1 = -REAL_MAX;
     w.hi1 = REAL_MAX;
-    w.hi1 = select(w.hi1, min(w.hi1, kc.k83), md.r2 == 0u);
-    w.lo1 = select(w.lo1, max(w.lo1, kc.k83), md.r2 == 1u);
+    w.hi1 = select(w.hi1, min(w.hi1, kc.k83), rg.r2 == 0u);
+    w.lo1 = select(w.lo1, max(w.lo1, kc.k83), rg.r2 == 1u);
     return w;
 }
 
@@ -383,22 +383,22 @@ fn rig_oriented(g: RigEventValues, i: u32) -> real {
     }
 }
 
-fn rig_fire(i: u32, md: ptr<function, RigRegime>) {
+fn rig_fire(i: u32, rg: ptr<function, RigRegime>) {
     switch i {
-        case 0u: { (*md).r1 = 1u; }
-        case 1u: { (*md).r1 = 0u; }
-        case 2u: { (*md).r0 = 1u; }
-        case 3u: { (*md).r2 = 1u; }
-        case 4u: { (*md).r2 = 0u; }
+        case 0u: { (*rg).r1 = 1u; }
+        case 1u: { (*rg).r1 = 0u; }
+        case 2u: { (*rg).r0 = 1u; }
+        case 3u: { (*rg).r2 = 1u; }
+        case 4u: { (*rg).r2 = 0u; }
         default: {}
     }
 }
 
-fn rig_output0_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> real {
+fn rig_output0_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> real {
     let v3 = y.s0;
     let v4 = y.s4;
     let v35 = kc.k34 * v3;
-    let v38 = real(md.r0);
+    let v38 = real(rg.r0);
     let v39 = select(real(0.0), real(1.0), v38 == real(1e0));
     let v40 = select(kc.k36, kc.k37, v39 != real(0.0));
     let v41 = v40 * v4;
@@ -406,7 +406,7 @@ fn rig_output0_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveCl
     return v42;
 }
 
-fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigReport {
+fn rig_report_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> RigReport {
     let v0 = t;
     let v3 = y.s0;
     let v4 = y.s4;
@@ -428,7 +428,7 @@ fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
     let v31 = select(v28, real(0e0), v13 != real(0.0));
     let v32 = select(v29, real(0e0), v13 != real(0.0));
     let v35 = kc.k34 * v3;
-    let v38 = real(md.r0);
+    let v38 = real(rg.r0);
     let v39 = select(real(0.0), real(1.0), v38 == real(1e0));
     let v40 = select(kc.k36, kc.k37, v39 != real(0.0));
     let v41 = v40 * v4;
@@ -446,7 +446,7 @@ fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
     let v61 = v60 * v43;
     let v62 = v61 + kc.k47;
     let v63 = kc.k45 * v43;
-    let v65 = real(md.r1);
+    let v65 = real(rg.r1);
     let v66 = select(real(0.0), real(1.0), v65 == real(1e0));
     let v67 = select(v63, v62, v66 != real(0.0));
     let v69 = kc.k68 * v44;
@@ -466,11 +466,11 @@ fn rig_report_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClo
     return r;
 }
 
-fn rig_deriv(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigState {
-    return rig_deriv_c(kc, t, y, md, rig_clock(kc, t));
+fn rig_deriv(kc: RunConsts, t: real, y: RigState, rg: RigRegime) -> RigState {
+    return rig_deriv_c(kc, t, y, rg, rig_clock(kc, t));
 }
 
-fn rig_events(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigEventValues {
-    return rig_events_c(kc, t, y, md, rig_clock(kc, t));
+fn rig_events(kc: RunConsts, t: real, y: RigState, rg: RigRegime) -> RigEventValues {
+    return rig_events_c(kc, t, y, rg, rig_clock(kc, t));
 }
 

@@ -45,9 +45,9 @@
 //! kernel variants) is [`crate::eval::Timed`].
 //!
 //! The files, in the order a job meets them: `open.rs` (the flow above),
-//! `plan.rs` (how much a trial may time, and over what), `race.rs` (the
+//! `plan.rs` (how much a trial may time, and over what), `racing.rs` (the
 //! race), `trial.rs` (what it measured, its errors, what watches it),
-//! `cache.rs` (the choices kept per machine) and `cpu_trial.rs` (`check`'s
+//! `cache.rs` (the choices kept per machine) and `cpu_rate.rs` (`check`'s
 //! measurement of the CPU lanes alone, [`cpu_trial`]).
 //!
 //! The measurements behind these choices are in
@@ -60,17 +60,17 @@ use crate::campaign::Campaign;
 use crate::search::first_candidates;
 
 mod cache;
-mod cpu_trial;
+mod cpu_rate;
 mod open;
 mod plan;
-mod race;
+mod racing;
 mod trial;
 
 pub use cache::{
     KeptChoice, ObservedRate, TrialKey, adapters_key, auto_key, cache_file, cached, kept_choices,
     observed_cpu_rate, observed_key, processor, remember, remember_observed,
 };
-pub use cpu_trial::{CHECK_TRIAL_STEPS, CpuTrial, CpuTrialError, cpu_trial};
+pub use cpu_rate::{CHECK_TRIAL_STEPS, CpuTrial, CpuTrialError, cpu_trial};
 pub use open::{
     AutoPick, JobEvaluator, OpenError, OpenNote, open_job_evaluator, open_job_evaluator_watched,
 };
@@ -79,7 +79,7 @@ pub use plan::{
     TRIAL_PREFIX_MIN_STEPS, TRIAL_PREFIX_STEPS, TRIAL_SHARE, TRIAL_STEPS_FLOOR, TrialPlan,
     check_trial_budget, job_trial_budget, trial_part, trial_plan,
 };
-pub use race::{CLOSE_CALL, race};
+pub use racing::{CLOSE_CALL, race};
 pub use trial::{BackendTrial, TrialError, TrialWatch};
 
 /// Most candidate-steps a trial batch takes on each path: below it the

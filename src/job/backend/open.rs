@@ -17,7 +17,7 @@ use crate::gpu::GpuError;
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum AutoPick {
     /// A job's choice: the one cached for this job on this machine, else a
-    /// race of the two paths ([`race`](super::race)), cached for the next run.
+    /// race of the two paths ([`race`]), cached for the next run.
     Measure,
     /// A race of the two paths whatever the job's length (`check`'s
     /// measurement where none is cached), cached for the next run as

@@ -109,9 +109,9 @@ impl Emitter<'_> {
 
 impl Emitter<'_> {
     /// A rig with controllers: `RIG_SAMPLED`, the period and phase,
-    /// `rig_instant(md)` (the time of the next
+    /// `rig_instant(rg)` (the time of the next
     /// instant, from its index as [`crate::compile::program::Sampling::instant`]
-    /// computes it) and `rig_sample_c(kc, t, y, md, ck)` (every held state
+    /// computes it) and `rig_sample_c(kc, t, y, rg, ck)` (every held state
     /// set from its update at `t`, all from the values before, and the next
     /// instant counted: [`crate::compile::exec::events::EventStepper::sample`]).
     /// `SAMPLE_SNAP`, which depends on the kernel's precision
@@ -133,19 +133,19 @@ impl Emitter<'_> {
             lit(smp.phase)
         );
         s.push_str(
-            "fn rig_instant(md: RigRegime) -> real {\n    return SAMPLE_PHASE + real(md.kn) * SAMPLE_PERIOD;\n}\n\n",
+            "fn rig_instant(rg: RigRegime) -> real {\n    return SAMPLE_PHASE + real(rg.kn) * SAMPLE_PERIOD;\n}\n\n",
         );
         let _ = write!(
             s,
-            "fn rig_sample_c(kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks) -> RigRegime {{\n{}    var r = md;\n",
+            "fn rig_sample_c(kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks) -> RigRegime {{\n{}    var r = rg;\n",
             self.body(&smp.update)
         );
         for (k, &id) in smp.update.iter().enumerate() {
             let _ = writeln!(s, "    r.h{k} = {};", self.name(id));
         }
-        s.push_str("    r.kn = md.kn + 1u;\n    return r;\n}\n\n");
+        s.push_str("    r.kn = rg.kn + 1u;\n    return r;\n}\n\n");
         s.push_str(
-            "fn rig_sample(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> RigRegime {\n    return rig_sample_c(kc, t, y, md, rig_clock(kc, t));\n}\n\n",
+            "fn rig_sample(kc: RunConsts, t: real, y: RigState, rg: RigRegime) -> RigRegime {\n    return rig_sample_c(kc, t, y, rg, rig_clock(kc, t));\n}\n\n",
         );
         s
     }

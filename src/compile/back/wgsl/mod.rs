@@ -14,22 +14,22 @@
 //!   variables, `m0…`; with controllers also the held states `h0…` and the
 //!   next sample instant's index `kn`), `struct RunConsts` (the run's
 //!   constants and table offsets);
-//! - `rig_load(base, ex) -> RunConsts`, `rig_state_load(sb)`, `rig_state_store(sb, y, md)`,
-//!   `rig_regimes_load(sb)`, `rig_initial(base, &y, &md)` (the run's initial
+//! - `rig_load(base, ex) -> RunConsts`, `rig_state_load(sb)`, `rig_state_store(sb, y, rg)`,
+//!   `rig_regimes_load(sb)`, `rig_initial(base, &y, &rg)` (the run's initial
 //!   state and regimes, packed per run where the program has initial-state
 //!   parameters);
 //! - `st_axpy(y, a, k)` (`y + a·k`), `st_rk4(y, h6, k1, k2, k3, k4)`,
 //!   `st_hermite(y0, f0, y1, f1, c00, c10, c01, c11)`;
-//! - `rig_deriv(kc, t, y, md) -> RigState`, `rig_events(kc, t, y, md) -> RigEventValues` (every
-//!   event function), `rig_hits(g0, g1, md) -> u32` (the armed transitions
+//! - `rig_deriv(kc, t, y, rg) -> RigState`, `rig_events(kc, t, y, rg) -> RigEventValues` (every
+//!   event function), `rig_hits(g0, g1, rg) -> u32` (the armed transitions
 //!   that fire over a step from `g0` to `g1`, one bit each: the exact test of
-//!   the located-step path), `rig_bases_c`, `rig_window(kc, md)` and
+//!   the located-step path), `rig_bases_c`, `rig_window(kc, rg)` and
 //!   `rig_outside(w, b)` (the flat loop's conservative test at every step:
 //!   `Emitter::window`), `rig_oriented(g, i) -> real` (transition `i`'s
 //!   event function oriented so that `>= 0` is past its switch, from
-//!   `rig_events`' values), `rig_fire(i, md)`;
-//! - `rig_output0_c(kc, t, y, md, ck) -> real` (the scored output) and
-//!   `rig_report_c(kc, t, y, md, ck) -> RigReport` (every output, then the full state);
+//!   `rig_events`' values), `rig_fire(i, rg)`;
+//! - `rig_output0_c(kc, t, y, rg, ck) -> real` (the scored output) and
+//!   `rig_report_c(kc, t, y, rg, ck) -> RigReport` (every output, then the full state);
 //! - the drive clocks: `struct DriveClocks`, `rig_clock(kc, t)` and
 //!   `rig_clock_shift(kc, c, q, t)`, which also carry each table's value at
 //!   the clock's time (a stage reads `ck.tab<k>`). An `exp` or `expm1` whose exponent is `c·t` (`c`
@@ -40,7 +40,7 @@
 //!   taking `ck`; `rig_deriv` and `rig_events` (for the located-switch path)
 //!   compute it at `t`, as the CPU reference computes the exponential.
 //! - with controllers, the sample clock (`Emitter::sample_functions`):
-//!   `RIG_SAMPLED`, `SAMPLE_PERIOD`, `SAMPLE_PHASE`, `rig_instant(md)` and `rig_sample_c(kc, t, y, md, ck) -> RigRegime`
+//!   `RIG_SAMPLED`, `SAMPLE_PERIOD`, `SAMPLE_PHASE`, `rig_instant(rg)` and `rig_sample_c(kc, t, y, rg, ck) -> RigRegime`
 //!   (every held state from its update, the next instant counted), with
 //!   `rig_sample` computing the clocks at `t`; the state buffer keeps the
 //!   held states and the index after the regimes (`SAMPLE_SNAP`, which
@@ -308,8 +308,8 @@ impl Emitter<'_> {
                 Op::In(Input::Time) => "t".into(),
                 Op::In(Input::Slot(_)) => unreachable!("slots are run constants"),
                 Op::In(Input::State(k)) => format!("y.s{k}"),
-                Op::In(Input::Regime(m)) => format!("real(md.r{m})"),
-                Op::In(Input::Held(k)) => format!("md.h{k}"),
+                Op::In(Input::Regime(m)) => format!("real(rg.r{m})"),
+                Op::In(Input::Held(k)) => format!("rg.h{k}"),
                 Op::In(Input::Table(k)) => {
                     format!("ck.tab{k}")
                 }
@@ -370,12 +370,12 @@ impl Emitter<'_> {
         // The held states and the next instant's index ride with the
         // regimes: they too change only at a switch in time, and go wherever
         // the regimes go.
-        let mut md = self.fields("r", nm.max(1), "u32");
+        let mut rg = self.fields("r", nm.max(1), "u32");
         if p.sampling.is_some() {
-            md.push_str(&self.fields("h", self.rig.held(), "real"));
-            md.push_str("    kn: u32,\n");
+            rg.push_str(&self.fields("h", self.rig.held(), "real"));
+            rg.push_str("    kn: u32,\n");
         }
-        let _ = write!(s, "struct RigRegime {{\n{md}}}\n\n");
+        let _ = write!(s, "struct RigRegime {{\n{rg}}}\n\n");
         let mut kc = String::new();
         for &i in &self.rig.slots {
             let _ = writeln!(kc, "    k{i}: real,");
@@ -444,27 +444,27 @@ impl Emitter<'_> {
             let _ = writeln!(s, "    y.s{i} = state[sb + {i}u];");
         }
         s.push_str("    return y;\n}\n\n");
-        s.push_str("fn rig_regimes_load(sb: u32) -> RigRegime {\n    var md: RigRegime;\n");
+        s.push_str("fn rig_regimes_load(sb: u32) -> RigRegime {\n    var rg: RigRegime;\n");
         for j in 0..nm {
-            let _ = writeln!(s, "    md.r{j} = u32(state[sb + {}u]);", ns + j);
+            let _ = writeln!(s, "    rg.r{j} = u32(state[sb + {}u]);", ns + j);
         }
         if p.sampling.is_some() {
             for k in 0..nh {
-                let _ = writeln!(s, "    md.h{k} = state[sb + {}u];", ns + nm + k);
+                let _ = writeln!(s, "    rg.h{k} = state[sb + {}u];", ns + nm + k);
             }
-            let _ = writeln!(s, "    md.kn = u32(state[sb + {kn}u]);");
+            let _ = writeln!(s, "    rg.kn = u32(state[sb + {kn}u]);");
         }
-        s.push_str("    return md;\n}\n\n");
+        s.push_str("    return rg;\n}\n\n");
         // The run's start (`advance`, before its first step): the packed
         // initial state and regimes, or nothing (the cleared state buffer is
         // rest in regimes 0).
-        s.push_str("fn rig_initial(base: u32, y: ptr<function, RigState>, md: ptr<function, RigRegime>) {\n");
+        s.push_str("fn rig_initial(base: u32, y: ptr<function, RigState>, rg: ptr<function, RigRegime>) {\n");
         if p.has_initial() {
             for i in 0..ns {
                 let _ = writeln!(s, "    (*y).s{i} = param(base, P_Y0_{i});");
             }
             for j in 0..nm {
-                let _ = writeln!(s, "    (*md).r{j} = u32(param(base, P_R0_{j}));");
+                let _ = writeln!(s, "    (*rg).r{j} = u32(param(base, P_R0_{j}));");
             }
         }
         // The held states' values before the first instant: run constants,
@@ -475,23 +475,23 @@ impl Emitter<'_> {
                     Op::Const(c) => (self.literal)(c),
                     _ => format!("param(base, P_K{id})"),
                 };
-                let _ = writeln!(s, "    (*md).h{k} = {v};");
+                let _ = writeln!(s, "    (*rg).h{k} = {v};");
             }
-            s.push_str("    (*md).kn = 0u;\n");
+            s.push_str("    (*rg).kn = 0u;\n");
         }
         s.push_str("}\n\n");
-        s.push_str("fn rig_state_store(sb: u32, y: RigState, md: RigRegime) {\n");
+        s.push_str("fn rig_state_store(sb: u32, y: RigState, rg: RigRegime) {\n");
         for i in 0..ns {
             let _ = writeln!(s, "    state[sb + {i}u] = y.s{i};");
         }
         for j in 0..nm {
-            let _ = writeln!(s, "    state[sb + {}u] = real(md.r{j});", ns + j);
+            let _ = writeln!(s, "    state[sb + {}u] = real(rg.r{j});", ns + j);
         }
         if p.sampling.is_some() {
             for k in 0..nh {
-                let _ = writeln!(s, "    state[sb + {}u] = md.h{k};", ns + nm + k);
+                let _ = writeln!(s, "    state[sb + {}u] = rg.h{k};", ns + nm + k);
             }
-            let _ = writeln!(s, "    state[sb + {kn}u] = real(md.kn);");
+            let _ = writeln!(s, "    state[sb + {kn}u] = real(rg.kn);");
         }
         let acc = kn + usize::from(p.sampling.is_some());
         let _ = writeln!(s, "}}\n\nconst RIG_ACC: u32 = {acc}u;\n");
@@ -528,7 +528,7 @@ impl Emitter<'_> {
 
     fn functions(&self) -> String {
         let p = self.prog();
-        let sig = "kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks";
+        let sig = "kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks";
         let mut s = String::new();
         // Derivative.
         let _ = write!(
@@ -551,7 +551,7 @@ impl Emitter<'_> {
             let _ = writeln!(s, "    r.g[{i}] = {};", self.name(tr.g));
         }
         s.push_str("    return r;\n}\n\n");
-        s.push_str("fn rig_hits(g0: RigEventValues, g1: RigEventValues, md: RigRegime) -> u32 {\n    var hits = 0u;\n");
+        s.push_str("fn rig_hits(g0: RigEventValues, g1: RigEventValues, rg: RigRegime) -> u32 {\n    var hits = 0u;\n");
         for (i, tr) in p.transitions.iter().enumerate() {
             let g = |e: &str| oriented(tr.dir, &format!("{e}.g[{i}]"));
             let _ = writeln!(
@@ -573,11 +573,11 @@ impl Emitter<'_> {
             );
         }
         s.push_str("        default: { return real(0.0); }\n    }\n}\n\n");
-        s.push_str("fn rig_fire(i: u32, md: ptr<function, RigRegime>) {\n    switch i {\n");
+        s.push_str("fn rig_fire(i: u32, rg: ptr<function, RigRegime>) {\n    switch i {\n");
         for (i, tr) in p.transitions.iter().enumerate() {
             let _ = writeln!(
                 s,
-                "        case {i}u: {{ (*md).r{} = {}u; }}",
+                "        case {i}u: {{ (*rg).r{} = {}u; }}",
                 tr.var, tr.to
             );
         }
@@ -615,7 +615,7 @@ impl Emitter<'_> {
         for (f, ty) in [("rig_deriv", "RigState"), ("rig_events", "RigEventValues")] {
             let _ = writeln!(
                 s,
-                "fn {f}(kc: RunConsts, t: real, y: RigState, md: RigRegime) -> {ty} {{\n    return {f}_c(kc, t, y, md, rig_clock(kc, t));\n}}\n"
+                "fn {f}(kc: RunConsts, t: real, y: RigState, rg: RigRegime) -> {ty} {{\n    return {f}_c(kc, t, y, rg, rig_clock(kc, t));\n}}\n"
             );
         }
         s

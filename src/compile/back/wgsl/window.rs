@@ -15,7 +15,7 @@ impl Emitter<'_> {
     /// threshold where it is `base − c` with `c` a run constant (else the base
     /// is the whole function and `c` is 0), and the transitions on one base
     /// share a window: `struct EventBases` (each base, from `rig_bases_c`), `struct
-    /// EventWindows` and `rig_window(kc, md)` (per base, the least threshold of the
+    /// EventWindows` and `rig_window(kc, rg)` (per base, the least threshold of the
     /// armed upward transitions and the greatest of the armed downward ones,
     /// found once per block: the regimes change only on a located step), and
     /// `rig_outside(w, b)` (the base at or past an end of its window).
@@ -45,7 +45,7 @@ impl Emitter<'_> {
             }
         }
         let roots: Vec<Id> = bases.iter().map(|e| e.0).collect();
-        let sig = "kc: RunConsts, t: real, y: RigState, md: RigRegime, ck: DriveClocks";
+        let sig = "kc: RunConsts, t: real, y: RigState, rg: RigRegime, ck: DriveClocks";
         let mut s = format!(
             "struct EventBases {{\n{}}}\n\nfn rig_bases_c({sig}) -> EventBases {{\n{}    var r: EventBases;\n",
             self.fields("b", roots.len().max(1), "real"),
@@ -59,7 +59,7 @@ impl Emitter<'_> {
         }
         let _ = write!(
             s,
-            "    return r;\n}}\n\nstruct EventWindows {{\n{}{}}}\n\nfn rig_window(kc: RunConsts, md: RigRegime) -> EventWindows {{\n    var w: EventWindows;\n",
+            "    return r;\n}}\n\nstruct EventWindows {{\n{}{}}}\n\nfn rig_window(kc: RunConsts, rg: RigRegime) -> EventWindows {{\n    var w: EventWindows;\n",
             self.fields("lo", roots.len().max(1), "real"),
             self.fields("hi", roots.len().max(1), "real"),
         );
@@ -104,12 +104,12 @@ impl Emitter<'_> {
     }
 }
 
-/// Whether `tr` is armed at the regimes `md` (`Transition::armed`): its
+/// Whether `tr` is armed at the regimes `rg` (`Transition::armed`): its
 /// variable at its `from` value and every pair of its guard held.
 pub(super) fn armed(tr: &Transition) -> String {
     std::iter::once((tr.var, tr.from))
         .chain(tr.guard.iter().copied())
-        .map(|(v, x)| format!("md.r{v} == {x}u"))
+        .map(|(v, x)| format!("rg.r{v} == {x}u"))
         .collect::<Vec<_>>()
         .join(" && ")
 }

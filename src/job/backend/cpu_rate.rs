@@ -7,7 +7,7 @@ use std::time::Instant;
 use serde::Serialize;
 
 use super::plan::{TRIAL_PREFIX_MIN_STEPS, TRIAL_PREFIX_STEPS, prefix_campaign, trial_candidates};
-use super::race::{make_ready, rate};
+use super::racing::{make_ready, rate};
 use super::{TrialError, trial_genomes};
 use crate::campaign::Campaign;
 use crate::eval::{CpuEvaluator, EvalError};
