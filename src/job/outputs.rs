@@ -217,7 +217,11 @@ pub fn write_outputs_watched(
     let mut warnings = campaign.warnings.clone();
     warnings.extend(outcome.warnings.iter().cloned());
     let stop = polish.and_then(|p| {
-        super::verdict::polish_stop_warning(p, campaign.search.polish.max_iterations)
+        super::verdict::polish_stop_warning(
+            p,
+            campaign.search.polish.max_iterations,
+            outcome.method,
+        )
     });
     warnings.extend(stop);
     warnings.extend(sensitive.clone());

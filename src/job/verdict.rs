@@ -112,14 +112,19 @@ pub fn flags(
 
 /// The warning of a polish that stopped short of convergence, with what to
 /// do; `max_iterations` is the campaign's `search.polish.max_iterations`.
-pub fn polish_stop_warning(p: &PolishOutcome, max_iterations: usize) -> Option<String> {
+pub fn polish_stop_warning(
+    p: &PolishOutcome,
+    max_iterations: usize,
+    method: crate::search::Method,
+) -> Option<String> {
+    let searched = method.label();
     let assumes = "the intervals assume the optimum was reached, and they can be far too narrow \
                    or off-centre where it was not";
     Some(match p.stop {
         PolishStop::Converged => return None,
         PolishStop::MaxIterations if max_iterations == 0 => format!(
             "the polish ran no iteration (\"search\": {{\"polish\": {{\"max_iterations\": 0}}}}): \
-             the result is the GA's best, and {assumes}; allow the polish iterations (default 30) \
+             the result is the {searched}'s best, and {assumes}; allow the polish iterations (default 30) \
              and run again"
         ),
         PolishStop::MaxIterations => {
@@ -142,9 +147,10 @@ pub fn polish_stop_warning(p: &PolishOutcome, max_iterations: usize) -> Option<S
              {assumes}; run the job again (or --resume) to let it finish",
             p.iterations
         ),
-        PolishStop::NoStart => "every start of the polish blew up: the result is the GA's \
-                                best and has no intervals"
-            .to_string(),
+        PolishStop::NoStart => format!(
+            "every start of the polish blew up: the result is the {searched}'s best and has no \
+             intervals"
+        ),
     })
 }
 
@@ -189,7 +195,7 @@ pub fn starts_beyond_intervals(p: &PolishOutcome, u: &Uncertainty) -> Option<Str
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::search::{GeneSpec, StartReport};
+    use crate::search::{GeneSpec, Method, StartReport};
     use nalgebra::DMatrix;
 
     fn outcome(stop: PolishStop, starts: Vec<StartReport>) -> PolishOutcome {
@@ -221,16 +227,16 @@ mod tests {
     fn every_stop_short_of_convergence_is_said_with_what_to_do() {
         let starts = vec![start(1.0, [1.0, 2.0])];
         let p = outcome(PolishStop::Converged, starts.clone());
-        assert_eq!(polish_stop_warning(&p, 30), None);
+        assert_eq!(polish_stop_warning(&p, 30, Method::Ga), None);
         let p = outcome(PolishStop::MaxIterations, starts.clone());
-        let w = polish_stop_warning(&p, 30).unwrap();
+        let w = polish_stop_warning(&p, 30, Method::Ga).unwrap();
         assert!(w.starts_with("the polish stopped at its iteration limit (30) with 1 of 1"));
         assert!(w.contains("\"max_iterations\": 60"), "{w}");
-        let w = polish_stop_warning(&p, 0).unwrap();
+        let w = polish_stop_warning(&p, 0, Method::Ga).unwrap();
         assert!(w.contains("ran no iteration"), "{w}");
         for stop in [PolishStop::Interrupted, PolishStop::NoStart] {
             assert!(stop.short());
-            assert!(polish_stop_warning(&outcome(stop, starts.clone()), 30).is_some());
+            assert!(polish_stop_warning(&outcome(stop, starts.clone()), 30, Method::Ga).is_some());
         }
     }
 

@@ -38,6 +38,14 @@ impl Method {
         }
     }
 
+    /// The method's short name in sentences ("the GA's best").
+    pub fn label(self) -> &'static str {
+        match self {
+            Method::Ga => "GA",
+            Method::Cmaes => "CMA-ES",
+        }
+    }
+
     /// One line for `--help`.
     pub fn about(self) -> &'static str {
         match self {

@@ -57,10 +57,16 @@ pub fn summary_text(s: &JobSummary, dir: &Path, steps: f64) -> String {
             }
         );
     }
+    let method: rigfit::search::Method = s
+        .search_method
+        .as_deref()
+        .and_then(|m| m.parse().ok())
+        .unwrap_or_default();
     let _ = writeln!(
         t,
         "  fitted parameters (95 % interval from the covariance at the optimum, relative \
-         to the value; elite width: spread of the GA's best 10 % relative to the value):"
+         to the value; elite width: spread of the {}'s best 10 % relative to the value):",
+        method.label()
     );
     let _ = writeln!(
         t,

@@ -59,7 +59,7 @@ pub const STILL_IMPROVING: f64 = 5e-3;
 /// different minima.
 pub const STARTS_DISAGREE: f64 = 1e-2;
 
-/// Warnings on how the search ended: stopped by a limit while the GA's best
+/// Warnings on how the search ended: stopped by a limit while the search's best
 /// was still falling, or polished starts that ended in different minima;
 /// each with the verdict's short flag for it.
 pub(super) fn search_warnings(
@@ -69,7 +69,9 @@ pub(super) fn search_warnings(
     let mut out = Vec::new();
     let limited = matches!(
         outcome.termination,
-        TerminationReason::MaxGenerations | TerminationReason::Timeout
+        TerminationReason::MaxGenerations
+            | TerminationReason::Timeout
+            | TerminationReason::MaxEvaluations
     );
     if limited && let Some(last) = outcome.history.last() {
         let window = (outcome.history.len() / 10).max(5);
@@ -102,9 +104,10 @@ pub(super) fn search_warnings(
                 "polish starts ended at different costs",
                 format!(
                     "the polish's {} starts ended at different costs (1 − R² from {best:.4e} to \
-                     {worst:.4e}): the cost has several minima near the GA's best; the result is \
+                     {worst:.4e}): the cost has several minima near the {}'s best; the result is \
                      the lowest found, and a longer search may find a lower one",
-                    costs.len()
+                    costs.len(),
+                    outcome.method.label()
                 ),
             ));
         }
