@@ -54,10 +54,10 @@ fn a_parameter_bounded_below_its_truth_is_flagged_at_its_bound() {
     );
     // Inside their ranges: no flag, two-sided intervals.
     for p in s.parameters.iter().filter(|p| p.free && p.name != "k1") {
-        if p.at_bound.is_none() {
-            if let Some([lo, hi]) = p.interval_95 {
-                assert!(lo.is_finite() && hi.is_finite(), "{}: {lo} {hi}", p.name);
-            }
+        if p.at_bound.is_none()
+            && let Some([lo, hi]) = p.interval_95
+        {
+            assert!(lo.is_finite() && hi.is_finite(), "{}: {lo} {hi}", p.name);
         }
     }
     // result.json says the same, the open end as null.

@@ -322,22 +322,22 @@ pub fn parse_csv(text: &str, file: &Path, spec: &CsvSpec) -> Result<Series, Data
                 ));
             }
         }
-        if let Some(&prev) = t.last() {
-            if vals[0] <= prev {
-                let what = format!(
-                    "time column {} ('{}')",
-                    cols[0] + 1,
-                    echo_bare(&header[cols[0]])
-                );
-                let found = format!("{} s after {} s", vals[0], prev);
-                return Err(cell_err(
-                    file,
-                    line,
-                    what,
-                    "a strictly increasing time",
-                    found,
-                ));
-            }
+        if let Some(&prev) = t.last()
+            && vals[0] <= prev
+        {
+            let what = format!(
+                "time column {} ('{}')",
+                cols[0] + 1,
+                echo_bare(&header[cols[0]])
+            );
+            let found = format!("{} s after {} s", vals[0], prev);
+            return Err(cell_err(
+                file,
+                line,
+                what,
+                "a strictly increasing time",
+                found,
+            ));
         }
         t.push(vals[0]);
         force.push(vals[1]);

@@ -161,18 +161,18 @@ pub(crate) fn parse_json<T: serde::de::DeserializeOwned>(
 ) -> Result<T, CampaignError> {
     // A byte-order mark, as editors on some systems write it, is not content.
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    if let Some((at, c)) = text.char_indices().find(|(_, c)| !c.is_whitespace()) {
-        if c != '{' {
-            let (line, column) = line_column(text, at);
-            let found = crate::base::text::echo(&text[at..].chars().take(20).collect::<String>());
-            return Err(CampaignError::Schema {
-                file: file.to_path_buf(),
-                line,
-                column,
-                path: "(top level)".into(),
-                message: format!("expected a JSON object {{…}}, found {found}"),
-            });
-        }
+    if let Some((at, c)) = text.char_indices().find(|(_, c)| !c.is_whitespace())
+        && c != '{'
+    {
+        let (line, column) = line_column(text, at);
+        let found = crate::base::text::echo(&text[at..].chars().take(20).collect::<String>());
+        return Err(CampaignError::Schema {
+            file: file.to_path_buf(),
+            line,
+            column,
+            path: "(top level)".into(),
+            message: format!("expected a JSON object {{…}}, found {found}"),
+        });
     }
     let de = &mut serde_json::Deserializer::from_str(text);
     let value = serde_path_to_error::deserialize(&mut *de).map_err(|e| {

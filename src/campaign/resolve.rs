@@ -110,16 +110,16 @@ pub(crate) fn check_value(
         };
         return Err(invalid(file, format!("{path}.min"), why, r.min.to_string()));
     }
-    if let Some(init) = r.init {
-        if !(r.min..=r.max).contains(&init) {
-            let expected = format!("a value in [{}, {}]", r.min, r.max);
-            return Err(invalid(
-                file,
-                format!("{path}.init"),
-                expected,
-                init.to_string(),
-            ));
-        }
+    if let Some(init) = r.init
+        && !(r.min..=r.max).contains(&init)
+    {
+        let expected = format!("a value in [{}, {}]", r.min, r.max);
+        return Err(invalid(
+            file,
+            format!("{path}.init"),
+            expected,
+            init.to_string(),
+        ));
     }
     Ok(Spec::Free {
         lower: r.min,

@@ -401,10 +401,10 @@ fn accurate(
             StepStop::Cap | StepStop::Tries => {}
             StepStop::Met => {}
         }
-        if c.substeps > n || setter.is_none() {
-            if let Some(err) = c.error {
-                setter = Some((e, err, t, words));
-            }
+        if (c.substeps > n || setter.is_none())
+            && let Some(err) = c.error
+        {
+            setter = Some((e, err, t, words));
         }
         n = n.max(c.substeps);
     }

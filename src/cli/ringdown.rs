@@ -80,14 +80,14 @@ pub fn ringdown(args: &RingdownArgs, out: &Output) -> Result<()> {
     };
     files.check(&[], &[&args.data], args.overwrite)?;
     let data = read_record(args)?;
-    if let (Some(start), Some(&first), Some(&last)) = (args.start, data.x.first(), data.x.last()) {
-        if !(first..last).contains(&start) {
-            let span = format!(
-                ", from {first} s to before {last} s in `{}`",
-                args.data.display()
-            );
-            return Err(start_refused(start, &span).into());
-        }
+    if let (Some(start), Some(&first), Some(&last)) = (args.start, data.x.first(), data.x.last())
+        && !(first..last).contains(&start)
+    {
+        let span = format!(
+            ", from {first} s to before {last} s in `{}`",
+            args.data.display()
+        );
+        return Err(start_refused(start, &span).into());
     }
     let opts = RingdownOptions {
         m1: args.m1,

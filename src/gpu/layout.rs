@@ -86,7 +86,7 @@ pub const BLOCK_SAMPLES: u32 = 32;
 /// (`rig_window`) 32 measured the same in f32 and 8 slower (README, "on the
 /// GPU").
 pub const RIG_BLOCK_SAMPLES: u32 = 16;
-const _: () = assert!(BLOCK_SAMPLES % RIG_BLOCK_SAMPLES == 0);
+const _: () = assert!(BLOCK_SAMPLES.is_multiple_of(RIG_BLOCK_SAMPLES));
 
 /// The grid header at the start of every run's parameter block, in order; the
 /// model's slots follow at [`RUN_HEADER`]. Each becomes `const R_<NAME>: u32`.

@@ -276,7 +276,7 @@ pub fn welch(x: &[f64], fs: f64, segment_len: Option<usize>) -> Result<Psd, Iden
         .iter()
         .enumerate()
         .map(|(k, a)| {
-            let one_sided = if k == 0 || (len % 2 == 0 && k == bins - 1) {
+            let one_sided = if k == 0 || (len.is_multiple_of(2) && k == bins - 1) {
                 1.0
             } else {
                 2.0

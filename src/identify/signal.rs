@@ -136,7 +136,7 @@ pub fn cheby1_lowpass(
     if order % 2 == 1 {
         poles.push((-mu.sinh(), 0.0));
     }
-    let dc = if order % 2 == 0 {
+    let dc = if order.is_multiple_of(2) {
         10f64.powf(-ripple_db / 20.0)
     } else {
         1.0

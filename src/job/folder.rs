@@ -89,10 +89,10 @@ impl OutputFolder {
         if path.as_os_str().as_encoded_bytes().contains(&0) {
             return Err(bad("a path cannot hold a NUL character".into()));
         }
-        if let Ok(meta) = fs::metadata(path) {
-            if !meta.is_dir() {
-                return Err(bad("it exists and is not a folder".into()));
-            }
+        if let Ok(meta) = fs::metadata(path)
+            && !meta.is_dir()
+        {
+            return Err(bad("it exists and is not a folder".into()));
         }
         let checkpoint = path.join(CHECKPOINT_FILE);
         if mode == FolderMode::Resume && !checkpoint.is_file() {

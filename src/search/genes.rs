@@ -67,13 +67,13 @@ impl GeneSpec {
                 self.lower
             )));
         }
-        if let Some(init) = self.init {
-            if !(self.lower..=self.upper).contains(&init) {
-                return Err(bad(format!(
-                    "initial value {init} is outside [{}, {}]",
-                    self.lower, self.upper
-                )));
-            }
+        if let Some(init) = self.init
+            && !(self.lower..=self.upper).contains(&init)
+        {
+            return Err(bad(format!(
+                "initial value {init} is outside [{}, {}]",
+                self.lower, self.upper
+            )));
         }
         Ok(())
     }

@@ -71,7 +71,7 @@ impl ObserverMode {
     pub fn selects(self, report: &GenerationReport, last: bool) -> bool {
         match self {
             Self::Always => true,
-            Self::Every(n) => last || report.generation % n.max(1) == 0,
+            Self::Every(n) => last || report.generation.is_multiple_of(n.max(1)),
             Self::NewBest => report.improved || report.generation == 0,
             Self::Never => false,
         }

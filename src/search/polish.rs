@@ -434,11 +434,13 @@ impl Polish {
             let (a, b) = self.stencil(j, x[j]);
             // A gene with an empty range, or a stencil run that blew up,
             // leaves its column at zero: the step does not move it.
-            if let (Some(ra), Some(rb)) = (&r[1 + 2 * j], &r[2 + 2 * j]) {
-                if b > a && ra.len() == m && rb.len() == m {
-                    for k in 0..m {
-                        jac[(k, j)] = (rb[k] - ra[k]) / (b - a);
-                    }
+            if let (Some(ra), Some(rb)) = (&r[1 + 2 * j], &r[2 + 2 * j])
+                && b > a
+                && ra.len() == m
+                && rb.len() == m
+            {
+                for k in 0..m {
+                    jac[(k, j)] = (rb[k] - ra[k]) / (b - a);
                 }
             }
         }

@@ -316,10 +316,10 @@ impl SearchSettings {
         if !(ga.crossover.eta > 0.0 && ga.crossover.eta.is_finite()) {
             return err("crossover.eta", "a value > 0", ga.crossover.eta.to_string());
         }
-        if let Some(p) = ga.mutation.probability {
-            if !prob(p) {
-                return err("mutation.probability", "a value in [0, 1]", p.to_string());
-            }
+        if let Some(p) = ga.mutation.probability
+            && !prob(p)
+        {
+            return err("mutation.probability", "a value in [0, 1]", p.to_string());
         }
         if !(ga.mutation.eta > 0.0 && ga.mutation.eta.is_finite()) {
             return err("mutation.eta", "a value > 0", ga.mutation.eta.to_string());
@@ -327,18 +327,18 @@ impl SearchSettings {
         if self.max_evaluations == Some(0) {
             return err("max_evaluations", "at least 1", "0".into());
         }
-        if let Some(t) = self.max_time_s {
-            if t.is_nan() || t <= 0.0 {
-                return err("max_time_s", "a time > 0 s", t.to_string());
-            }
+        if let Some(t) = self.max_time_s
+            && (t.is_nan() || t <= 0.0)
+        {
+            return err("max_time_s", "a time > 0 s", t.to_string());
         }
         if self.polish.starts < 1 {
             return err("polish.starts", "at least 1", "0".into());
         }
-        if let Some(f) = self.target_fitness {
-            if !f.is_finite() {
-                return err("target_fitness", "a finite number", f.to_string());
-            }
+        if let Some(f) = self.target_fitness
+            && !f.is_finite()
+        {
+            return err("target_fitness", "a finite number", f.to_string());
         }
         self.cmaes.validate()
     }

@@ -17,10 +17,10 @@ pub(super) fn grid(args: &SimulateArgs) -> Result<SimulationGrid, BadInput> {
             Err(BadInput(format!("{flag} {v}: expected {what}")))
         }
     };
-    if let Some(n) = args.samples {
-        if n < 2 {
-            return Err(BadInput(format!("--samples {n}: expected at least 2")));
-        }
+    if let Some(n) = args.samples
+        && n < 2
+    {
+        return Err(BadInput(format!("--samples {n}: expected at least 2")));
     }
     let Some(dt) = args.dt else {
         if let Some(d) = args.duration {
