@@ -194,3 +194,14 @@ fn restarts_grow_the_population_and_the_search_ends_converged() {
     assert_eq!(summary["run_stops"].as_array().unwrap().len(), 4);
     assert_eq!(summary["correlation"][0][0], 1.0);
 }
+
+#[test]
+fn the_largest_batch_is_the_last_restart_s() {
+    let mut s = settings("cmaes", 100, 10, 1);
+    assert_eq!(Method::Cmaes.largest_batch(&s), 100);
+    s.cmaes.restarts = 3;
+    assert_eq!(Method::Cmaes.largest_batch(&s), 800);
+    s.cmaes.population_increase = 1.5;
+    assert_eq!(Method::Cmaes.largest_batch(&s), 338);
+    assert_eq!(Method::Ga.largest_batch(&s), 100);
+}

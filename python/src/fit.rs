@@ -133,7 +133,9 @@ pub fn run_job<'py>(
             c.search.target_fitness = Some(t);
         }
         if let Some(m) = method {
-            c.search.method = m.parse().map_err(|e: String| errors::raise(Kind::Campaign, e))?;
+            c.search.method = m
+                .parse()
+                .map_err(|e: String| errors::raise(Kind::Campaign, e))?;
         }
         c.search.validate().map_err(|e| {
             errors::raise(Kind::Campaign, format!("{}: search.{e}", c.path.display()))

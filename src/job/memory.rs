@@ -106,7 +106,9 @@ impl MemoryEstimate {
     /// The estimate of `campaign` on the GPU path (`gpu_real`: 4 or 8 bytes per
     /// real) or, with `None`, on the CPU path.
     pub fn of(campaign: &Campaign, gpu_real: Option<usize>) -> Self {
-        let n = campaign.search.population;
+        // The largest batch the search asks for: the population, or the
+        // last restart's of CMA-ES.
+        let n = campaign.search.method.largest_batch(&campaign.search);
         let g = campaign.genes.len();
         let search = n as f64 * search_bytes_per_candidate(g);
         let per_candidate = evaluation_bytes_per_candidate(campaign, gpu_real);

@@ -253,6 +253,17 @@ impl Cmaes {
         })
     }
 
+    /// The population of the last restart `settings` allow: the largest
+    /// batch the strategy asks for.
+    pub fn largest_population(settings: &SearchSettings) -> usize {
+        let c = &settings.cmaes;
+        let mut lambda = settings.population.max(4);
+        for _ in 0..c.restarts {
+            lambda = grown(lambda, c.population_increase);
+        }
+        lambda
+    }
+
     fn dim(&self) -> usize {
         self.genes.len()
     }
@@ -274,11 +285,18 @@ impl Cmaes {
             return;
         }
         self.state.restarts += 1;
-        let grown = self.state.run.lambda as f64 * self.settings.cmaes.population_increase;
-        let lambda = (grown.round() as usize).clamp(4, MAX_POPULATION);
+        let lambda = grown(
+            self.state.run.lambda,
+            self.settings.cmaes.population_increase,
+        );
         let start: Vec<f64> = (0..self.dim()).map(|_| rng.random::<f64>()).collect();
         self.state.run = Run::new(lambda, start, self.settings.cmaes.sigma0);
     }
+}
+
+/// The population after a restart from one of `lambda`.
+fn grown(lambda: usize, increase: f64) -> usize {
+    ((lambda as f64 * increase).round() as usize).clamp(4, MAX_POPULATION)
 }
 
 /// The learning rates and weights of a run of `lambda` in `n` dimensions

@@ -56,6 +56,15 @@ impl Method {
         }
     }
 
+    /// The largest batch the method asks for under `settings`: what the
+    /// memory a job needs is sized by (CMA-ES's restarts grow its batch).
+    pub fn largest_batch(self, settings: &SearchSettings) -> usize {
+        match self {
+            Method::Ga => settings.population,
+            Method::Cmaes => Cmaes::largest_population(settings),
+        }
+    }
+
     /// The method's solver over `genes`, its settings checked.
     pub fn solver(
         self,
