@@ -41,11 +41,17 @@ pub fn summary_text(s: &JobSummary, dir: &Path, steps: f64) -> String {
             e.name, e.r2, e.one_minus_r2, e.r2_cpu_reference
         );
     }
+    let method: rigfit::search::Method = s
+        .search_method
+        .as_deref()
+        .and_then(|m| m.parse().ok())
+        .unwrap_or_default();
     if let Some(p) = &s.polish {
         let _ = writeln!(
             t,
-            "  polish: 1 − R² {:.4e} (GA) → {:.4e} in {} iterations, {} evaluations, {:.1} s{}",
+            "  polish: 1 − R² {:.4e} ({}) → {:.4e} in {} iterations, {} evaluations, {:.1} s{}",
             p.ga_fitness,
+            method.label(),
             s.fitness,
             p.iterations,
             p.evaluations,
@@ -57,11 +63,6 @@ pub fn summary_text(s: &JobSummary, dir: &Path, steps: f64) -> String {
             }
         );
     }
-    let method: rigfit::search::Method = s
-        .search_method
-        .as_deref()
-        .and_then(|m| m.parse().ok())
-        .unwrap_or_default();
     let _ = writeln!(
         t,
         "  fitted parameters (95 % interval from the covariance at the optimum, relative \
