@@ -187,6 +187,7 @@ class FitResult:
         lines = ["[[Fit Statistics]]",
                  f"    campaign           = {s['campaign']} (rig {s['rig']})",
                  f"    backend            = {s['backend']} ({s['device']}, {s['precision']})",
+                 f"    search method      = {s.get('search_method', 'ga')}",
                  f"    generations        = {s['generations']}",
                  f"    function evals     = {s['evaluations']}",
                  f"    stop reason        = {s['stop_reason']}",

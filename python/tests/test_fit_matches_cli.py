@@ -141,6 +141,7 @@ def test_cmaes_from_python_is_the_cli_s_cmaes_and_reports_its_covariance(bearing
     corr = np.array(py_json["search_summary"]["correlation"])
     assert corr.shape == (len(c.genes), len(c.genes))
     assert np.allclose(np.diag(corr), 1.0)
+    assert "search method      = cmaes" in r.fit_report()
     import pytest
     with pytest.raises(rigfit.CampaignError, match="unknown search method `de`"):
         rigfit.fit(c, seed=5, backend="cpu", method="de")
