@@ -61,9 +61,15 @@ def fit(campaign, *, seed=None, backend=None, precision=None, adapter=None, out=
     _warn(status["notes"])
     if status["interrupted"]:
         if status["checkpoint"]:
+            # The call to resume with repeats what shaped this job: a resume
+            # with other settings is refused by the checkpoint.
+            given = [("backend", backend), ("precision", precision), ("adapter", adapter),
+                     ("population", population), ("generations", generations),
+                     ("seed", seed), ("target_fitness", target_fitness), ("method", method)]
+            again = "".join(f", {k}={v!r}" for k, v in given if v is not None)
             raise Interrupted(
                 f"fit interrupted; checkpoint kept in {out}; continue with "
-                f"rigfit.fit(campaign, out={out!r}, resume=True)", checkpoint=out)
+                f"rigfit.fit(campaign, out={out!r}, resume=True{again})", checkpoint=out)
         if temporary:
             shutil.rmtree(out, ignore_errors=True)
         raise Interrupted("fit interrupted before the first generation was complete: "

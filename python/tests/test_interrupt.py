@@ -24,6 +24,7 @@ SCRIPT = textwrap.dedent("""
         rigfit.fit(c, out=sys.argv[2], backend="cpu", progress=progress)
     except rigfit.Interrupted as e:
         print("interrupted", e.checkpoint, flush=True)
+        print(e, flush=True)
         sys.exit(130)
     print("finished", flush=True)
 """)
@@ -49,6 +50,8 @@ def test_sigint_stops_the_fit_keeps_the_checkpoint_and_resumes_to_the_same_resul
     took = time.monotonic() - sent
     assert p.returncode == 130, (rest, err)
     assert rest.startswith("interrupted " + str(out)), rest
+    # The hint repeats the settings the job was given, so following it resumes.
+    assert f"rigfit.fit(campaign, out={str(out)!r}, resume=True, backend='cpu')" in rest, rest
     print(f"stopped {took:.2f} s after SIGINT")
     assert took < 2.0, f"took {took:.2f} s to stop"
     assert (out / "checkpoint.json").is_file()
