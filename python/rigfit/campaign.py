@@ -200,6 +200,12 @@ class Campaign:
     def __deepcopy__(self, memo):
         return self.copy()
 
+    @property
+    def search_method(self):
+        """The campaign's search method, ``"ga"`` or ``"cmaes"`` (``search.method``;
+        ``rigfit.fit(..., method=...)`` overrides it for one fit)."""
+        return self._info["method"]
+
     def __repr__(self):
         return (f"<rigfit.Campaign {self.name!r}: rig {self.rig}, {len(self.experiments)} "
                 f"experiment(s), {len(self.genes)} free parameter(s)>")

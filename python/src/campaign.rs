@@ -116,7 +116,7 @@ impl PyCampaign {
             "params": params, "outputs": model.output_names(), "warnings": c.warnings,
             "substeps": c.solver.substeps, "search_given": c.search_given,
             "population": c.search.population, "generations": c.search.generations,
-            "seed": c.search.seed, "output": c.output,
+            "seed": c.search.seed, "method": c.search.method.name(), "output": c.output,
         })
         .to_string()
     }

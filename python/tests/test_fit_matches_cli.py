@@ -133,6 +133,7 @@ def test_cmaes_from_python_is_the_cli_s_cmaes_and_reports_its_covariance(bearing
         "--generations", "12", "--out", tmp_path / "cli")
     cli_json = json.loads((tmp_path / "cli" / "result.json").read_text())
     c = rigfit.Campaign.from_json(bearing)
+    assert c.search_method == "ga"
     r = rigfit.fit(c, seed=5, backend="cpu", method="cmaes", generations=12)
     py_json = json.loads(r.files["result.json"])
     assert py_json["search_method"] == cli_json["search_method"] == "cmaes"
