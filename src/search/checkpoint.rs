@@ -39,6 +39,13 @@ impl Fingerprint {
         self
     }
 
+    /// Adds (or replaces) an item whose value is `value` as compact JSON
+    /// (a setting's object, the genes).
+    pub fn insert_json<T: Serialize + ?Sized>(&mut self, key: &str, value: &T) {
+        let text = serde_json::to_string(value).unwrap_or_default();
+        self.insert(key.into(), text);
+    }
+
     /// Adds (or replaces) an item in place.
     pub fn insert(&mut self, key: String, value: String) {
         match self.items.iter_mut().find(|(k, _)| *k == key) {
@@ -110,6 +117,17 @@ impl Fingerprint {
     }
 }
 
+/// How many numbers a JSON tree holds: each is written as a bit pattern of
+/// about 28 bytes, so the file's text is allocated once.
+fn numbers(v: &Value) -> usize {
+    match v {
+        Value::Number(_) => 1,
+        Value::Array(a) => a.iter().map(numbers).sum(),
+        Value::Object(m) => m.values().map(numbers).sum(),
+        _ => 0,
+    }
+}
+
 fn short(s: &str) -> String {
     const MAX: usize = 60;
     match s.char_indices().nth(MAX) {
@@ -139,10 +157,17 @@ struct FileForm {
 impl Checkpoint {
     /// Writes the checkpoint to `path` atomically (see [`atomic_write`]).
     pub fn save(&self, path: &Path) -> Result<(), SearchError> {
-        Self::save_parts(&self.fingerprint, &self.state, path)
+        Self::save_parts(
+            &self.fingerprint,
+            &self.state,
+            self.state.solver.clone(),
+            path,
+        )
     }
 
-    /// [`Self::save`] from borrowed parts, so a large population is not copied.
+    /// [`Self::save`] from borrowed parts and the method's state `solver`
+    /// (which takes the place of `state.solver`), moved into the file's tree
+    /// rather than copied: for a large population it is the one big tree.
     ///
     /// Floats are written as their bit patterns straight into the file's bytes:
     /// a JSON object per float costs hundreds of bytes in memory, which for a
@@ -150,6 +175,7 @@ impl Checkpoint {
     pub fn save_parts(
         fingerprint: &Fingerprint,
         state: &SearchState,
+        solver: Value,
         path: &Path,
     ) -> Result<(), SearchError> {
         #[derive(Serialize)]
@@ -162,8 +188,10 @@ impl Checkpoint {
             path: path.into(),
             source,
         };
-        let value = serde_json::to_value(Parts { fingerprint, state }).map_err(|e| io(e.into()))?;
-        let floats = state.history.len() * (state.best_genome.len() + 8);
+        let mut value =
+            serde_json::to_value(Parts { fingerprint, state }).map_err(|e| io(e.into()))?;
+        let floats = numbers(&value) + numbers(&solver);
+        value["state"]["solver"] = solver;
         let mut bytes = Vec::with_capacity(4096 + 28 * floats);
         let head = serde_json::json!(FORMAT);
         bytes.extend_from_slice(br#"{"format":"#);

@@ -181,12 +181,14 @@ struct State {
     costs: Vec<f64>,
 }
 
-/// The batch in hand: the normalised points asked for, and the same points in
-/// scale space.
+/// The batch in hand: the normalised points asked for, the same points in
+/// scale space, and the covariance's axes they were drawn along (which the
+/// update reuses: the covariance does not change between ask and tell).
 #[derive(Debug, Clone, Default)]
 struct Asked {
     unit: Vec<Vec<f64>>,
     scaled: Vec<Vec<f64>>,
+    axes: Option<(DMatrix<f64>, DVector<f64>)>,
 }
 
 /// CMA-ES over a fixed set of genes.
@@ -413,8 +415,7 @@ impl Solver for Cmaes {
     }
 
     fn fingerprint(&self, fp: &mut Fingerprint) {
-        let text = serde_json::to_string(&self.settings.cmaes).unwrap_or_default();
-        fp.insert("search.cmaes".into(), text);
+        fp.insert_json("search.cmaes", &self.settings.cmaes);
     }
 
     fn ask(&mut self, rng: &mut ChaCha8Rng) -> &[Vec<f64>] {
@@ -439,7 +440,11 @@ impl Solver for Cmaes {
             unit.push(point);
         }
         let scaled = unit.iter().map(|u| self.to_scaled(u)).collect();
-        self.asked = Asked { unit, scaled };
+        self.asked = Asked {
+            unit,
+            scaled,
+            axes: Some((b, d)),
+        };
         &self.asked.scaled
     }
 
@@ -449,7 +454,7 @@ impl Solver for Cmaes {
         let nf = n as f64;
         let run = &mut self.state.run;
         let rates = Rates::new(n, run.lambda);
-        let (b, d) = run.axes();
+        let (b, d) = asked.axes.unwrap_or_else(|| run.axes());
         let inv_sqrt = &b * DMatrix::from_diagonal(&d.map(|x| 1.0 / x)) * b.transpose();
         let mean = DVector::from_column_slice(&run.mean);
         let clip = nf.sqrt() + 2.0 * nf / (nf + 2.0);

@@ -73,7 +73,8 @@ pub const DIVERGED_WARN_SHARE: f64 = 0.25;
 /// ```
 pub struct Executor<C: BatchCost> {
     solver: Box<dyn Solver>,
-    settings: SearchSettings,
+    /// The solver's genes, held apart so that a batch the solver lends out
+    /// can be mapped to values while it is lent.
     genes: Vec<GeneSpec>,
     cost: C,
     observers: Vec<(Box<dyn Observer>, ObserverMode)>,
@@ -140,7 +141,6 @@ impl<C: BatchCost> Executor<C> {
     /// ([`super::Method::solver`]).
     pub fn boxed(solver: Box<dyn Solver>, cost: C) -> Self {
         Self {
-            settings: solver.settings().clone(),
             genes: solver.genes().to_vec(),
             solver,
             cost,
@@ -191,9 +191,9 @@ impl<C: BatchCost> Executor<C> {
     /// seed, the method and its settings ([`Solver::fingerprint`]). Stopping
     /// limits are left out so a resumed search may run longer.
     pub fn full_fingerprint(&self) -> Fingerprint {
-        let s = &self.settings;
+        let s = self.settings();
         let mut fp = self.fingerprint.clone();
-        fp.insert("search.genes".into(), json(&self.genes));
+        fp.insert_json("search.genes", &self.genes);
         fp.insert("search.population".into(), s.population.to_string());
         fp.insert("search.seed".into(), s.seed.to_string());
         fp.insert("search.method".into(), self.solver.method().to_string());
@@ -206,9 +206,9 @@ impl<C: BatchCost> Executor<C> {
         let fingerprint = self.full_fingerprint();
         let started = Instant::now();
         let (mut state, base_elapsed) = match self.resume.take() {
-            Some((path, cp)) => {
+            Some((path, mut cp)) => {
                 cp.verify(&fingerprint, &path)?;
-                self.restore(&cp.state, &path)?;
+                self.restore(&mut cp.state, &path)?;
                 for (obs, _) in &mut self.observers {
                     obs.resumed(&cp.state.history)?;
                 }
@@ -216,7 +216,7 @@ impl<C: BatchCost> Executor<C> {
                 (cp.state, base)
             }
             None => {
-                let mut state = SearchState::start(self.settings.seed);
+                let mut state = SearchState::start(self.settings().seed);
                 // An interrupt inside the first batch has nothing to keep:
                 // it ends the search with the evaluator's error.
                 let scored = self.score(&mut state)?;
@@ -228,7 +228,7 @@ impl<C: BatchCost> Executor<C> {
             let elapsed = base_elapsed + started.elapsed().as_secs_f64();
             if let Some(reason) = self.stop_reason(&state, elapsed) {
                 state.elapsed_s = elapsed;
-                self.save(&fingerprint, &mut state)?;
+                self.save(&fingerprint, &state)?;
                 let mut outcome = self.outcome(state, reason);
                 self.run_polish(&mut outcome)?;
                 for (obs, _) in &mut self.observers {
@@ -236,9 +236,9 @@ impl<C: BatchCost> Executor<C> {
                 }
                 return Ok(outcome);
             }
-            let every = self.settings.checkpoint_every;
+            let every = self.settings().checkpoint_every;
             if every > 0 && (state.generation + 1) % every == 0 {
-                self.save(&fingerprint, &mut state)?;
+                self.save(&fingerprint, &state)?;
             }
             let gen_start = Instant::now();
             let rng_before = state.rng.clone();
@@ -318,9 +318,15 @@ impl<C: BatchCost> Executor<C> {
         Ok(())
     }
 
-    /// Puts a checkpoint's method state into the solver; a state that does not
-    /// fit (a hand-edited checkpoint the fingerprint cannot catch) is refused.
-    fn restore(&mut self, state: &SearchState, path: &Path) -> Result<(), SearchError> {
+    /// The settings the solver was built from: the limits, seed and cadence.
+    fn settings(&self) -> &SearchSettings {
+        self.solver.settings()
+    }
+
+    /// Moves a checkpoint's method state into the solver; a state that does
+    /// not fit (a hand-edited checkpoint the fingerprint cannot catch) is
+    /// refused.
+    fn restore(&mut self, state: &mut SearchState, path: &Path) -> Result<(), SearchError> {
         let bad = |reason: String| SearchError::CheckpointFormat {
             path: path.into(),
             reason,
@@ -332,7 +338,9 @@ impl<C: BatchCost> Executor<C> {
                 self.genes.len()
             )));
         }
-        self.solver.restore(state.solver.clone()).map_err(bad)
+        self.solver
+            .restore(std::mem::take(&mut state.solver))
+            .map_err(bad)
     }
 
     /// Takes a scored batch into the state and tells the observers.
@@ -388,7 +396,7 @@ impl<C: BatchCost> Executor<C> {
     }
 
     fn stop_reason(&self, state: &SearchState, elapsed: f64) -> Option<TerminationReason> {
-        let s = &self.settings;
+        let s = self.settings();
         if s.target_fitness.is_some_and(|t| state.best_cost <= t) {
             Some(TerminationReason::TargetReached)
         } else if state.generation + 1 >= s.generations {
@@ -416,14 +424,9 @@ impl<C: BatchCost> Executor<C> {
 
     /// Writes a checkpoint if one is configured, with the method's state as it
     /// stands.
-    fn save(&self, fingerprint: &Fingerprint, state: &mut SearchState) -> Result<(), SearchError> {
+    fn save(&self, fingerprint: &Fingerprint, state: &SearchState) -> Result<(), SearchError> {
         match &self.checkpoint_path {
-            Some(path) => {
-                state.solver = self.solver.state();
-                let saved = Checkpoint::save_parts(fingerprint, state, path);
-                state.solver = serde_json::Value::Null;
-                saved
-            }
+            Some(path) => Checkpoint::save_parts(fingerprint, state, self.solver.state(), path),
             None => Ok(()),
         }
     }
@@ -462,8 +465,4 @@ impl<C: BatchCost> Executor<C> {
             polish: None,
         }
     }
-}
-
-fn json<T: serde::Serialize + ?Sized>(v: &T) -> String {
-    serde_json::to_string(v).unwrap_or_default()
 }

@@ -225,10 +225,10 @@ impl Solver for GeneticAlgorithm {
     fn fingerprint(&self, fp: &mut Fingerprint) {
         let s = &self.settings.ga;
         fp.insert("search.tournament".into(), s.tournament.to_string());
-        fp.insert("search.crossover".into(), json(&s.crossover));
-        fp.insert("search.mutation".into(), json(&s.mutation));
+        fp.insert_json("search.crossover", &s.crossover);
+        fp.insert_json("search.mutation", &s.mutation);
         fp.insert("search.elitism".into(), s.elitism.to_string());
-        fp.insert("search.init".into(), json(&s.init));
+        fp.insert_json("search.init", &s.init);
     }
 
     fn ask(&mut self, rng: &mut ChaCha8Rng) -> &[Vec<f64>] {
@@ -281,11 +281,6 @@ impl Solver for GeneticAlgorithm {
         self.asked = Offspring::default();
         Ok(())
     }
-}
-
-/// A setting as the fingerprint holds it: compact JSON.
-fn json<T: Serialize>(v: &T) -> String {
-    serde_json::to_string(v).unwrap_or_default()
 }
 
 #[cfg(test)]

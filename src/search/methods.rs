@@ -110,9 +110,8 @@ pub fn first_candidates(
     genes: &[GeneSpec],
     n: usize,
 ) -> Option<Vec<Vec<f64>>> {
-    use rand::SeedableRng;
     let mut solver = settings.method.solver(settings, genes.to_vec()).ok()?;
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(settings.seed);
+    let mut rng = super::state::SearchState::start(settings.seed).rng;
     let batch = solver.ask(&mut rng);
     Some(
         batch

@@ -105,6 +105,18 @@ impl List {
 }
 
 impl LaneCode {
+    /// Every list of the program, in one order: the derivative, the events,
+    /// the report, output 0, the held states' updates.
+    pub fn lists(&self) -> [&List; 5] {
+        [
+            &self.deriv,
+            &self.events,
+            &self.report,
+            &self.measured,
+            &self.update,
+        ]
+    }
+
     /// Translates `tape`'s lists of `prog`.
     pub fn new(prog: &Program, tape: &Tape) -> Self {
         let ops = &prog.graph.ops;

@@ -211,13 +211,7 @@ impl<'p> LaneRunner<'p> {
         }
         // Registers every active lane shares: time, tables and the per-run
         // constants whose values agree (fixed parameters, literals).
-        let lists = [
-            &code.deriv,
-            &code.events,
-            &code.report,
-            &code.measured,
-            &code.update,
-        ];
+        let lists = code.lists();
         let mut shared = vec![false; code.registers];
         shared[code.time as usize] = true;
         for l in lists {

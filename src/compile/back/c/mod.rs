@@ -127,16 +127,11 @@ pub fn source(code: &LaneCode, arith: Arith, vector_bytes: usize) -> String {
     s.push_str(LANE_OPS);
     s.push_str(&vector_ops('v', "v", "m", "splat", "pick"));
     s.push_str(&lane_bits(lanes));
-    let table_regs: Vec<(u32, Reg)> = [
-        &code.deriv,
-        &code.events,
-        &code.report,
-        &code.measured,
-        &code.update,
-    ]
-    .iter()
-    .flat_map(|l| l.tables.iter().copied())
-    .collect();
+    let table_regs: Vec<(u32, Reg)> = code
+        .lists()
+        .iter()
+        .flat_map(|l| l.tables.iter().copied())
+        .collect();
     let table_of = |reg: Reg| table_regs.iter().find(|&&(_, r)| r == reg).map(|&(k, _)| k);
 
     // rig_rk4: tt[4] the derivative's times (tt[1] == tt[2] = t + h/2), tab[4 * table_stride] the

@@ -12,17 +12,11 @@ use crate::compile::program::Direction;
 /// Table values per derivative in `rig_rk4`'s `tab` (one past the highest
 /// table any list reads).
 pub fn table_stride(code: &LaneCode) -> usize {
-    [
-        &code.deriv,
-        &code.events,
-        &code.report,
-        &code.measured,
-        &code.update,
-    ]
-    .iter()
-    .flat_map(|l| l.tables.iter().map(|&(k, _)| k as usize + 1))
-    .max()
-    .unwrap_or(0)
+    code.lists()
+        .iter()
+        .flat_map(|l| l.tables.iter().map(|&(k, _)| k as usize + 1))
+        .max()
+        .unwrap_or(0)
 }
 
 /// Which instructions of `list` depend on time, tables and per-run
