@@ -23,6 +23,19 @@ if ! python3 -c 'import ensurepip, venv' >/dev/null 2>&1; then
         python3 python3-venv python3-pip
 fi
 
+# The report's browser tests (tests/test_report_in_browser.py) open report.html
+# in Debian's Chromium, driven by Playwright (pip, below; it uses this Chromium,
+# never a browser of its own download). Missing, it is installed: the tests
+# fail, never skip, without it.
+if [ ! -x /usr/bin/chromium ]; then
+    echo "test-python.sh: installing Chromium (Debian's chromium) for the report's browser tests"
+    sudo=""
+    if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+    $sudo env DEBIAN_FRONTEND=noninteractive apt-get update -q
+    $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends \
+        chromium fonts-dejavu-core
+fi
+
 export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/../target}"
 profile="${RIGFIT_WHEEL_PROFILE:-dev}"
 
@@ -36,9 +49,10 @@ venv="${RIGFIT_PYTHON_VENV:-$PWD/.venv}"
 if [ ! -x "$venv/bin/python" ]; then
     python3 -m venv "$venv"
 fi
-step "pip install (maturin, pytest, numpy, pandas, scipy, tqdm, nbclient, ...)"
+step "pip install (maturin, pytest, numpy, pandas, scipy, tqdm, nbclient, playwright, ...)"
 "$venv/bin/python" -m pip install -q --disable-pip-version-check \
-    "maturin>=1.5,<2" pytest numpy pandas scipy tqdm nbclient nbformat ipykernel matplotlib
+    "maturin>=1.5,<2" pytest numpy pandas scipy tqdm nbclient nbformat ipykernel matplotlib \
+    "playwright>=1.50,<2"
 
 step "maturin build (profile $profile)"
 rm -rf dist

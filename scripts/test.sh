@@ -4,7 +4,8 @@
 # On a fresh Debian machine it installs Mesa's lavapipe (software Vulkan) so the
 # GPU tests have an adapter, then runs rustfmt, clippy, rustdoc (its warnings,
 # broken intra-doc links among them, fail) and every test, then the
-# Python package's checks (scripts/test-python.sh: its wheel and pytest). The GPU
+# Python package's checks (scripts/test-python.sh: its wheel and pytest, and
+# report.html opened in Debian's Chromium, installed when missing). The GPU
 # tests run with RIGFIT_REQUIRE_GPU=1: no adapter is a failure, never a skip.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -23,6 +23,8 @@ fn repo() -> PathBuf {
 /// clone lies), not the search.
 const CLOCK_KEYS: &[&str] = &[
     "campaign_file",
+    // `inputs[].path`: the campaign file as the test names it, under the clone.
+    "path",
     "peak_memory_mib",
     "wall_time_s",
     "elapsed_s",

@@ -6,13 +6,19 @@ import html
 import io
 import json
 import os
+import tempfile
 
 import numpy as np
 
 from .params import Parameter, Parameters, _num
 
 #: The files a result holds besides the per-experiment CSVs and figures.
-_FIXED_FILES = ("result.json", "history.csv", "fitness.svg", "rigfit-files.json")
+_FIXED_FILES = ("result.json", "history.csv", "fitness.svg", "report.html", "rigfit-files.json")
+
+#: What every report.html rigfit writes begins with (after its doctype): a
+#: file that does not is not replaced by :meth:`FitResult.report`.
+_REPORT_MARK = b'<meta name="generator" content="rigfit'
+
 
 
 class ExperimentResult:
@@ -92,7 +98,8 @@ class FitResult:
     model outputs as arrays: in full precision from a fit, to the CSV's 7
     digits from :func:`load_result`), ``r2``, ``fitness`` (the weighted 1 − R²),
     ``summary`` (result.json as a dict), ``fit_report()``,
-    ``to_dataframe()``, ``save(folder)``. Picklable.
+    ``to_dataframe()``, ``save(folder)``, ``report(path)`` (the HTML report).
+    Picklable.
     """
 
     def __init__(self, files, arrays=None):
@@ -234,22 +241,70 @@ class FitResult:
         return "\n".join(lines)
 
     def _repr_html_(self):
+        s = self.summary
+        profiles = {p["name"]: p for p in (s.get("profiles") or {}).get("parameters", [])}
         rows = []
         for p in self.params.values():
             ci = f"[{_num(p.interval95[0])}, {_num(p.interval95[1])}]" if p.interval95 else ""
+            prof = profiles.get(p.name, {})
+            pi = prof.get("interval")
+            pci = ("[" + ", ".join("open" if v is None else _num(v) for v in pi) + "]") if pi else ""
             flag = ("at " + str(p.at_bound) + " bound") if p.at_bound else (
                 "" if p.determined in (None, True) else "not determined")
+            if prof.get("flag"):
+                flag = ", ".join(x for x in (flag, "profile: " + prof["flag"]) if x)
             rows.append(
                 "<tr>" + "".join(f"<td>{html.escape(str(v))}</td>" for v in (
-                    p.name, _num(p.value), _num(p.stderr), ci,
+                    p.name, _num(p.value), _num(p.stderr), ci, pci,
                     f"[{_num(p.min)}, {_num(p.max)}]" if p.vary else "fixed", p.unit, flag)) + "</tr>")
         r2 = ", ".join(f"{html.escape(k)}: {v:.6f}" for k, v in self.r2.items())
-        return (f"<h4>rigfit fit: {html.escape(self.summary['campaign'])}</h4>"
-                f"<p>rig {html.escape(self.summary['rig'])}, {html.escape(self.backend)} "
-                f"({html.escape(self.device)}), {self.summary['generations']} generations, "
+        verdict = (s.get("verdict") or {}).get("line", "")
+        warnings = "".join(f"<li>{html.escape(w)}</li>" for w in self.warnings)
+        validation = "".join(
+            f"<li>validation {html.escape(x['name'])}: R² {x['r2']:.6f}"
+            + (f", {x['cost_over_noise_floor']:.2f}× its noise floor"
+               if x.get("cost_over_noise_floor") is not None else "") + "</li>"
+            for x in (s.get("validation") or {}).get("experiments", []))
+        return (f"<h4>rigfit fit: {html.escape(s['campaign'])}</h4>"
+                f"<p><b>verdict:</b> {html.escape(verdict)}</p>"
+                + (f"<ul>{warnings}</ul>" if warnings else "")
+                + f"<p>rig {html.escape(s['rig'])}, {html.escape(self.backend)} "
+                f"({html.escape(self.device)}), {s['generations']} generations, "
                 f"stop: {html.escape(self.stop_reason)}; R² {r2}</p>"
-                "<table><tr><th>name</th><th>value</th><th>std error</th><th>95 % interval</th>"
-                "<th>bounds</th><th>unit</th><th></th></tr>" + "".join(rows) + "</table>")
+                + (f"<ul>{validation}</ul>" if validation else "")
+                + "<table><tr><th>name</th><th>value</th><th>std error</th>"
+                "<th>95 % interval (covariance)</th><th>95 % interval (profile)</th>"
+                "<th>bounds</th><th>unit</th><th></th></tr>" + "".join(rows) + "</table>"
+                "<p>The whole report, with figures: <code>result.report(path)</code>.</p>")
+
+    def report(self, path, overwrite=False):
+        """Writes the job's report.html (the page ``rigfit run`` writes and
+        ``rigfit report`` rebuilds: verdict, summary, figures, parameter
+        table, correlations, convergence, profiles, validation) to ``path``
+        (a file, or a folder to hold ``report.html``) and returns the path.
+
+        Like the CLI it never replaces a file it did not write: an existing
+        file is replaced only with ``overwrite=True`` and only when it is a
+        rigfit report; a symbolic link is never written through. The file
+        is written whole or not at all."""
+        path = os.fspath(path)
+        if os.path.isdir(path) and not os.path.islink(path):
+            path = os.path.join(path, "report.html")
+        page = self.files.get("report.html")
+        if page is None:
+            page = self._build_report()
+        _write_new(path, page, overwrite, _REPORT_MARK, "a rigfit report")
+        return path
+
+    def _build_report(self):
+        # A result read from a folder older than report.html: the page is
+        # built from its files, as `rigfit report` would.
+        from . import _rigfit
+        with tempfile.TemporaryDirectory(prefix="rigfit-report-") as tmp:
+            for name, data in self.files.items():
+                with open(os.path.join(tmp, name), "wb") as f:
+                    f.write(data)
+            return _rigfit.report_html(tmp).encode()
 
     def __repr__(self):
         r2 = ", ".join(f"{k} {v:.6f}" for k, v in self.r2.items())
@@ -304,8 +359,8 @@ def read_result_files(folder):
     """The files of a result folder, by name."""
     summary = json.loads(open(os.path.join(folder, "result.json"), "rb").read())
     names = list(_FIXED_FILES)
-    for x in summary["experiments"]:
-        names += [x["csv"], x.get("plot")]
+    for x in summary["experiments"] + (summary.get("validation") or {}).get("experiments", []):
+        names += [x.get("csv"), x.get("plot")]
     files = {}
     for name in names:
         if name and os.path.isfile(os.path.join(folder, name)):
@@ -320,3 +375,34 @@ def _read_csv(data):
     header = lines[0].split(",")
     table = np.loadtxt(io.StringIO("\n".join(lines[1:])), delimiter=",", ndmin=2)
     return header, table
+
+
+def _write_new(path, data, overwrite, mark, what):
+    """Writes ``data`` to ``path`` whole or not at all (a temporary file
+    beside it, then renamed over it). An existing ``path`` is replaced only
+    with ``overwrite`` and only when it holds ``mark`` near its start (it is
+    ``what``); a symbolic link is never written through nor replaced."""
+    if os.path.islink(path):
+        raise FileExistsError(f"{path} is a symbolic link; rigfit does not write through links")
+    if os.path.lexists(path):
+        if not overwrite:
+            raise FileExistsError(f"{path} already exists; pass overwrite=True to replace it")
+        with open(path, "rb") as f:
+            head = f.read(4096)
+        if mark not in head:
+            raise FileExistsError(
+                f"{path} is not {what}: rigfit replaces only files it wrote; choose another path")
+    folder = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(dir=folder, prefix="." + os.path.basename(path) + ".", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except FileNotFoundError:
+            pass
+        raise

@@ -12,6 +12,7 @@ mod fitted;
 mod identify;
 mod impedance;
 mod memory;
+mod report;
 mod transmissibility;
 
 use pyo3::prelude::*;
@@ -34,5 +35,6 @@ fn _rigfit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(transmissibility::arx_report, m)?)?;
     m.add_function(wrap_pyfunction!(transmissibility::sensitivity_report, m)?)?;
     m.add_function(wrap_pyfunction!(impedance::impedance_report, m)?)?;
+    m.add_function(wrap_pyfunction!(report::report_html, m)?)?;
     Ok(())
 }

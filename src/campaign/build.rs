@@ -189,6 +189,7 @@ pub(crate) fn build(
         raw_json: text.to_string(),
         digest,
         warnings: r.warnings,
+        validation: None,
         sources: owners.iter().map(|&o| r.sources[o].clone()).collect(),
         owners,
     })

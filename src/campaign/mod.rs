@@ -44,6 +44,7 @@ mod resolve;
 mod run_length;
 mod simulation;
 mod stability;
+mod validation;
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -168,6 +169,11 @@ pub struct Campaign {
     pub digest: u64,
     /// Things the user should hear about (resampled data, unused genes).
     pub warnings: Vec<String>,
+    /// The file's `"validation"` records, as a campaign of their own (read
+    /// for a fit only): its experiments are those records, its genes the
+    /// shared free parameters they take, never searched (a job simulates
+    /// them at the fitted values, see [`Campaign::validation_genome`]).
+    pub validation: Option<Box<Campaign>>,
     pub(crate) sources: Vec<Vec<Source>>,
 }
 
@@ -215,7 +221,7 @@ impl Campaign {
             message: e.to_string(),
         })?;
         let dir = path.parent().unwrap_or(Path::new("."));
-        build::build(&text, dir, path, simulation::Reading::Fit)
+        validation::build_fit(&text, dir, path)
     }
 
     /// Reads and validates a campaign file for a simulation on `grid`: its
@@ -237,7 +243,7 @@ impl Campaign {
     /// Validates campaign text; relative paths resolve against `base_dir` and
     /// messages name `origin` as the file.
     pub fn from_str(json: &str, base_dir: &Path, origin: &str) -> Result<Campaign, CampaignError> {
-        build::build(json, base_dir, Path::new(origin), simulation::Reading::Fit)
+        validation::build_fit(json, base_dir, Path::new(origin))
     }
 
     /// Refuses a campaign with nothing to search (for `rigfit run`).

@@ -36,6 +36,12 @@ pub struct RawCampaign {
     pub params: BTreeMap<String, RawParam>,
     /// `"experiments"`: at least one.
     pub experiments: Vec<RawExperiment>,
+    /// `"validation"`: records in the form of `experiments`, never fitted:
+    /// simulated at the fitted values and scored apart (optional). They take
+    /// the shared `params` and fixed values of their own; a free value of
+    /// their own (a range in their `params`, `offset` or `initial`) is
+    /// refused, as nothing fits it.
+    pub validation: Option<Vec<RawExperiment>>,
     /// `"solver"`: integration settings (all optional).
     #[serde(default)]
     pub solver: RawSolver,

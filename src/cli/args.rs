@@ -7,9 +7,12 @@ use super::check::CheckArgs;
 use super::fit_specimen::FitSpecimenArgs;
 use super::identify::IdentifyArgs;
 use super::modes::ModesArgs;
+use super::profile::ProfileArgs;
+use super::report::ReportArgs;
 use super::ringdown::RingdownArgs;
 use super::run::RunArgs;
 use super::simulate::SimulateArgs;
+use super::validate::ValidateArgs;
 
 /// Calibrates lumped mass-spring-damper models of mechanical test rigs to
 /// measured force histories.
@@ -123,6 +126,44 @@ pub enum Command {
         Example:\n  rigfit check campaigns/aa2024_t3_synthetic.json"
     )]
     Check(CheckArgs),
+    /// Rebuild a result folder's report.html (one self-contained page) from its files.
+    #[command(after_help = "Examples:\n  \
+        rigfit report results/aa2024\n  \
+        rigfit report results/aa2024 --out aa2024.html\n\n\
+        The page is built from the folder's files alone (result.json, the experiments'\n\
+        CSVs, history.csv): the same bytes the job wrote. It opens offline in any\n\
+        browser: the verdict and warnings, the run's summary with the data files'\n\
+        SHA-256, each experiment's fit, residual and residual spectrum (wheel to zoom,\n\
+        drag to pan), the parameter table, correlations, convergence, profiles and\n\
+        validation. A file that exists and is not a report rigfit wrote is never\n\
+        replaced.")]
+    Report(ReportArgs),
+    /// Simulate records a finished job did not fit at its fitted values, and score them.
+    #[command(after_help = "Examples:\n  \
+        rigfit validate results/my-rig my_campaign.json\n  \
+        rigfit validate results/my-rig more_records.json\n\n\
+        CAMPAIGN names the same rig as the job; its \"validation\" records are read, or,\n\
+        in a file without \"validation\", its \"experiments\". Each record is simulated\n\
+        (f64 CPU reference) at the values in RESULT_DIR/result.json, never fitted: a\n\
+        record may take the top-level params and fixed values of its own, not a free\n\
+        range. Written into RESULT_DIR: validation_<record>.csv (the fit CSVs' columns)\n\
+        and result.json's \"validation\" (R², residual RMS, noise estimate, cost over\n\
+        the noise floor), its warnings and verdict flags, then report.html again. A\n\
+        record fitted more than 2× worse over its noise floor than the worst estimation\n\
+        record is flagged: over-fitting, or a rig that does not generalise.")]
+    Validate(ValidateArgs),
+    /// Profile likelihoods of a finished job's fitted parameters, added to its result.json.
+    #[command(after_help = "Examples:\n  \
+        rigfit profile results/aa2024\n  \
+        rigfit profile results/aa2024 --backend cpu --points 16 --span 4\n\n\
+        Each free parameter is held at a grid of values across its 95 % interval and\n\
+        beyond, and the others are re-optimised there (Levenberg–Marquardt, every grid\n\
+        point of every parameter in one batch per iteration). The profile's interval is\n\
+        where Δχ² ≤ 1.96²; flat, one-sided or far-from-quadratic profiles are flagged.\n\
+        The result goes into result.json's `profiles`, its warnings and verdict, and\n\
+        report.html is rebuilt. Ctrl-C stops between iterations; the same command goes\n\
+        on from where it stopped.")]
+    Profile(ProfileArgs),
 }
 
 impl Cli {

@@ -1,7 +1,8 @@
 //! The binary's commands: arguments in, library calls, human or JSON output.
 //!
 //! One module per command, each owning its arguments next to its code:
-//! `run` (the calibration job), `simulate`, `modes`, `check`, `devices`, the
+//! `run` (the calibration job), `validate` (a job's fitted values on records
+//! it did not fit), `simulate`, `modes`, `check`, `devices`, the
 //! pre-calibration commands `fit_specimen` and `ringdown`, and `identify` (one
 //! file per method). `args` gathers them into the command line. The helpers
 //! below are shared; no command imports another.
@@ -23,10 +24,13 @@ mod identify;
 mod modes;
 mod options;
 mod output;
+mod profile;
 mod record;
+mod report;
 mod ringdown;
 mod run;
 mod simulate;
+mod validate;
 
 use std::process::ExitCode;
 
@@ -43,6 +47,7 @@ pub fn dispatch(cli: Cli) -> Result<ExitCode> {
     };
     match &cli.command {
         Command::Run(a) => return run::run(a, &out),
+        Command::Profile(a) => return profile::profile(a, &out),
         Command::Simulate(a) => simulate::simulate(a, &out)?,
         Command::Modes(a) => modes::modes(a, &out)?,
         Command::Check(a) => check::check(a, &out)?,
@@ -50,6 +55,8 @@ pub fn dispatch(cli: Cli) -> Result<ExitCode> {
         Command::FitSpecimen(a) => fit_specimen::fit_specimen(a, &out)?,
         Command::Ringdown(a) => ringdown::ringdown(a, &out)?,
         Command::Identify(a) => identify::identify(a, &out)?,
+        Command::Report(a) => report::report(a, &out)?,
+        Command::Validate(a) => validate::validate(a, &out)?,
     }
     Ok(ExitCode::SUCCESS)
 }

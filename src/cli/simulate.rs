@@ -21,6 +21,7 @@ use rigfit::eval::{Problem, simulate_history};
 
 mod grid;
 mod record;
+mod report;
 mod step;
 
 use grid::{check_memory, check_steps, grid};
@@ -83,6 +84,12 @@ pub struct SimulateArgs {
     pub substeps: Option<usize>,
     #[command(flatten)]
     pub run_length: RunLengthArgs,
+    /// Also write a report page (one self-contained HTML file) of the model
+    /// against the record: the fit and residual over time, the residual's
+    /// spectrum. Needs a record (not --dt) and no --noise. An existing file
+    /// is replaced only if it is a report rigfit wrote.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
 }
 
 /// Simulates one experiment with the campaign's values and writes a CSV.
@@ -147,6 +154,16 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
             ))
             .into());
         }
+    }
+    if let Some(page) = &args.report
+        && (args.noise.is_some() || !grid.reads_records())
+    {
+        return Err(BadInput(format!(
+            "--report `{}`: expected a simulation against the record (without --noise and \
+             --dt): a report sets the model against what was measured",
+            page.display()
+        ))
+        .into());
     }
     let x = &raw.experiments[owner];
     let drive_column = match &x.drive {
@@ -264,6 +281,9 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
         None => history_csv(&c, &h, drive.as_ref()),
     };
     write_file(&args.out, text.as_bytes())?;
+    if let Some(page) = &args.report {
+        report::write_page(page, &c, e, &h)?;
+    }
     let o = exp.output;
     let peak = h.outputs[o].iter().fold(0.0_f64, |m, f| m.max(f.abs()));
     let noise_json = args.noise.as_ref().map(|sigmas| {

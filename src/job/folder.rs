@@ -37,7 +37,23 @@ pub fn output_files(campaign: &Campaign) -> Vec<String> {
         files.push(format!("{stem}.csv"));
         files.push(format!("fit_{stem}.svg"));
     }
-    files.extend(["history.csv", "fitness.svg", CHECKPOINT_FILE].map(String::from));
+    for e in campaign
+        .validation
+        .iter()
+        .flat_map(|v| &v.problem.experiments)
+    {
+        files.push(super::validation_csv_name(&e.name));
+    }
+    files.extend(
+        [
+            "history.csv",
+            "fitness.svg",
+            crate::report::html::REPORT_FILE,
+            CHECKPOINT_FILE,
+            super::PROFILE_CHECKPOINT_FILE,
+        ]
+        .map(String::from),
+    );
     files
 }
 

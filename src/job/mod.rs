@@ -9,6 +9,7 @@ mod cost;
 mod folder;
 pub mod memory;
 mod outputs;
+mod reopen;
 pub mod sensitivity;
 mod verdict;
 
@@ -21,7 +22,16 @@ pub use folder::{FolderMode, LOCK_FILE, MANIFEST_FILE, OutputFolder, output_file
 pub use outputs::{
     ExperimentFit, JobSummary, ParamSummary, PolishSummary, write_outputs, write_outputs_watched,
 };
-pub use verdict::Verdict;
+pub use outputs::{
+    FLAG_PREFIX, VALIDATION_FACTOR, ValidationFit, ValidationSummary, WARNING_PREFIX,
+    simulate_validation, summarise_validation, validation_csv_name,
+};
+pub use reopen::{
+    RESULT_FILE, Reopened, fitted_campaign, reopen, update_result, update_result_keys,
+};
+pub use verdict::{
+    PROFILE_FLAG_PREFIX, Verdict, attach_profiles, replace_flags, replace_profile_warnings,
+};
 
 use crate::campaign::Campaign;
 use crate::eval::Evaluator;
@@ -33,6 +43,10 @@ use crate::search::{
 
 /// Name of the checkpoint file inside the output folder.
 pub const CHECKPOINT_FILE: &str = "checkpoint.json";
+
+/// Name of the profiles' checkpoint inside the output folder (while the
+/// profile likelihoods run, after the polish).
+pub const PROFILE_CHECKPOINT_FILE: &str = "profiles.checkpoint.json";
 
 /// How to run a job.
 #[derive(Debug, Clone)]
@@ -148,6 +162,19 @@ pub enum JobError {
         /// The files written before it, in order.
         written: Vec<String>,
     },
+    /// A finished job's `result.json` cannot be read back ([`reopen`]).
+    #[error("`{}`: {json_path}: {reason}", path.display())]
+    ResultFile {
+        /// The file.
+        path: PathBuf,
+        /// JSON path of what is missing or wrong (`params.k1`), or `(file)`.
+        json_path: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The campaign a finished job is read back with is refused.
+    #[error(transparent)]
+    Campaign(#[from] crate::campaign::CampaignError),
 }
 
 /// The files an interrupted output writing had written, as its message says.
@@ -169,7 +196,9 @@ impl JobError {
             | Self::NoCheckpoint { .. }
             | Self::OutputPath { .. }
             | Self::ForeignFile { .. }
-            | Self::OutputLocked { .. } => true,
+            | Self::OutputLocked { .. }
+            | Self::ResultFile { .. }
+            | Self::Campaign(_) => true,
             Self::Search(e) => e.blames_input(),
             _ => false,
         }
@@ -313,6 +342,7 @@ pub fn run_observed(
             p.best_cost
         );
     }
+    let profiles = profile_stage(campaign, &genes, &mut cost, &outcome, opts)?;
     let fallback = cost.fallback_note();
     let mut evaluator = cost.into_evaluator();
     // An interrupted search's interim outputs are written with the flag
@@ -335,13 +365,104 @@ pub fn run_observed(
     if interrupted {
         opts.interrupt.store(true, Ordering::SeqCst);
     }
-    let summary = written?;
+    let mut summary = written?;
+    if let Some(profiles) = profiles {
+        with_profiles(&mut summary, profiles, &opts.out)?;
+    }
     if outcome.termination != TerminationReason::Interrupted {
-        // The results are complete: the checkpoint has served its purpose.
+        // The results are complete: the checkpoints have served their purpose.
         let _ = std::fs::remove_file(&checkpoint);
+        let _ = std::fs::remove_file(opts.out.join(PROFILE_CHECKPOINT_FILE));
         observe_cpu_rate(campaign, &summary, opts);
     }
     Ok(summary)
+}
+
+/// The profile likelihoods the campaign asks for (`"search": {"profiles":
+/// …}`), after a polish that gave intervals, through the search's own cost,
+/// at the point the outputs report; progress on stderr unless quiet. An
+/// interrupt stops them as one within the polish's residuals does
+/// ([`crate::eval::EvalError::Cancelled`]): their checkpoint is kept, and a
+/// resumed job polishes again and goes on from it.
+fn profile_stage(
+    campaign: &Campaign,
+    genes: &[GeneSpec],
+    cost: &mut CampaignCost<'_>,
+    outcome: &crate::search::SearchOutcome,
+    opts: &JobOptions,
+) -> Result<Option<crate::search::ProfileOutcome>, JobError> {
+    let Some(settings) = campaign.search.profiles else {
+        return Ok(None);
+    };
+    let polished = outcome
+        .polish
+        .as_ref()
+        .filter(|p| p.best_cost.is_finite() && p.best_cost <= outcome.best_cost * (1.0 + 1e-9));
+    let (Some(p), Some(u)) = (
+        outcome.polish.as_ref(),
+        outcome.polish.as_ref().and_then(|p| p.uncertainty.as_ref()),
+    ) else {
+        return Ok(None);
+    };
+    if outcome.termination == TerminationReason::Interrupted {
+        return Ok(None);
+    }
+    let best = polished.map_or(&outcome.best_genome, |_| &p.best_genome);
+    let elite: Vec<Option<[f64; 2]>> = genes
+        .iter()
+        .map(|g| {
+            let s = outcome.elite_spread.iter().find(|s| s.name == g.name);
+            s.map(|s| [s.min, s.max])
+        })
+        .collect();
+    let units = campaign.genes.iter().map(|g| g.unit.clone()).collect();
+    let step = polish(campaign, genes, cost.precision());
+    let profiles = crate::search::Profiles::from_polish(settings, &step)
+        .units(units)
+        .elite_ranges(&elite)
+        .interrupt(opts.interrupt.clone())
+        .checkpoint_to(opts.out.join(PROFILE_CHECKPOINT_FILE), opts.resume);
+    let quiet = opts.quiet;
+    let out = profiles.run_observed(&mut *cost, best, u, &mut |i| {
+        if !quiet {
+            eprintln!("rigfit: {i}");
+        }
+        Ok(())
+    })?;
+    if out.stop == crate::search::PolishStop::Interrupted {
+        return Err(SearchError::Eval(crate::eval::EvalError::Cancelled).into());
+    }
+    log::info!(
+        "profiles: {} iterations, {} evaluations in {:.1} s ({})",
+        out.iterations,
+        out.evaluations,
+        out.wall_time_s,
+        out.stop
+    );
+    Ok(Some(out))
+}
+
+/// `summary` with the profiles, their warnings and verdict flags, written
+/// again as `result.json`.
+fn with_profiles(
+    summary: &mut JobSummary,
+    profiles: crate::search::ProfileOutcome,
+    out: &std::path::Path,
+) -> Result<(), JobError> {
+    summary.warnings = verdict::replace_profile_warnings(&summary.warnings, &profiles);
+    summary
+        .verdict
+        .replace_flags(verdict::PROFILE_FLAG_PREFIX, &profiles.flags());
+    summary.profiles = Some(profiles);
+    let json = serde_json::to_string_pretty(&*summary).expect("summary serialises");
+    let path = out.join(RESULT_FILE);
+    crate::base::fsutil::atomic_write(&path, json.as_bytes())
+        .map_err(|source| JobError::Write { path, source })?;
+    // The page written with the outputs lacks the profiles: built again.
+    if let Err(e) = crate::report::html::write_report(out) {
+        eprintln!("rigfit: warning: report.html was not rebuilt with the profiles: {e}");
+    }
+    Ok(())
 }
 
 /// Says, once an interrupted search has stopped, that its interim results

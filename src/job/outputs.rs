@@ -12,12 +12,18 @@ use crate::eval::{Batch, Evaluator, score_one};
 use crate::report::plots;
 use crate::search::{GeneSpec, SearchOutcome, write_history_csv};
 
+mod provenance;
 mod rows;
 mod summary;
+mod validation;
 mod warnings;
 
 pub use rows::{ExperimentRows, r_squared};
 pub use summary::{ExperimentFit, JobSummary, ParamSummary, PolishSummary};
+pub use validation::{
+    FLAG_PREFIX, VALIDATION_FACTOR, ValidationFit, ValidationSummary, WARNING_PREFIX,
+    simulate as simulate_validation, summarise as summarise_validation, validation_csv_name,
+};
 pub use warnings::{NOT_WHITE, SYSTEMATIC_MISFIT};
 
 use rows::experiment_csv;
@@ -188,6 +194,9 @@ pub fn write_outputs_watched(
         });
     }
 
+    let (validation, validation_warnings, validation_flags) =
+        validate_records(campaign, best, &experiments, &write, stop)?.ok_or_else(interrupted)?;
+
     check()?;
     let history_path = out.join("history.csv");
     write_history_csv(&history_path, &outcome.history, genes)?;
@@ -236,12 +245,15 @@ pub fn write_outputs_watched(
     let step = |x: &ExperimentFit| x.integration_error.warning(&x.name, &x.unit);
     warnings.extend(experiments.iter().filter_map(step));
     warnings.extend(fallback);
+    warnings.extend(validation_warnings);
     let mut more: Vec<String> = sensitivity.iter().filter_map(|s| s.flag()).collect();
     if apart.is_some() {
         more.push("polish starts disagree beyond their intervals".into());
     }
     more.extend(search.iter().map(|(flag, _)| flag.to_string()));
-    let flags = super::verdict::flags(polish, &parameters, &experiments, more);
+    let mut flags = super::verdict::flags(polish, &parameters, &experiments, more);
+    // Last, as `rigfit validate` puts them.
+    flags.extend(validation_flags);
     let ratio = campaign
         .problem
         .noise_floor()
@@ -253,6 +265,7 @@ pub fn write_outputs_watched(
         verdict,
         campaign: campaign.name.clone(),
         campaign_file: campaign.path.display().to_string(),
+        inputs: provenance::input_digests(campaign),
         rig: campaign.model.id().into(),
         seed: campaign.search.seed,
         backend: info.backend,
@@ -273,8 +286,11 @@ pub fn write_outputs_watched(
         experiments,
         params,
         parameters,
+        natural_frequencies_hz: provenance::natural_frequencies(campaign, &full),
         diverged_runs: outcome.history.iter().map(|r| r.diverged_runs).sum(),
         sensitivity,
+        validation,
+        profiles: None,
         warnings,
         peak_memory_mib: super::memory::peak_resident_memory()
             .map(|b| (b / super::memory::MIB * 10.0).round() / 10.0),
@@ -282,7 +298,27 @@ pub fn write_outputs_watched(
     let json = serde_json::to_string_pretty(&summary).expect("summary serialises");
     check()?;
     write("result.json", json.as_bytes())?;
+    write_report(out, write);
     Ok(summary)
+}
+
+/// Writes report.html, built from the files just written
+/// ([`crate::report::html::build_report`]). A report that cannot be built or
+/// written is a warning on stderr, not a failed job: the numbers are
+/// already written, and `rigfit report DIR` can build it again.
+fn write_report(out: &Path, write: impl Fn(&str, &[u8]) -> Result<(), JobError>) {
+    use crate::report::html::{REPORT_FILE, build_report};
+    let failed = match build_report(out) {
+        Ok(html) => write(REPORT_FILE, html.as_bytes())
+            .err()
+            .map(|e| e.to_string()),
+        Err(e) => Some(e.to_string()),
+    };
+    if let Some(e) = failed {
+        let note = format!("{REPORT_FILE} was not written: {e}");
+        log::warn!("{note}");
+        eprintln!("rigfit: warning: {note}");
+    }
 }
 
 /// Records at least this long have their integration error estimated on a
@@ -324,4 +360,51 @@ fn watched_integration_error(
             }
         }
     }
+}
+
+/// The campaign's validation records ([`Campaign::validation`]) simulated
+/// at `best` and written as `validation_<stem>.csv`: their summary for
+/// `result.json`, its warnings and flags (none without validation records);
+/// `None` once `stop` is raised.
+#[expect(clippy::type_complexity, reason = "the three parts, used apart")]
+fn validate_records(
+    campaign: &Campaign,
+    best: &[f64],
+    experiments: &[ExperimentFit],
+    write: &dyn Fn(&str, &[u8]) -> Result<(), JobError>,
+    stop: &std::sync::atomic::AtomicBool,
+) -> Result<Option<(Option<ValidationSummary>, Vec<String>, Vec<String>)>, JobError> {
+    let Some(v) = campaign.validation.as_deref() else {
+        return Ok(Some((None, Vec::new(), Vec::new())));
+    };
+    let fitted = |name: &str| {
+        let g = campaign.genes.iter().position(|g| g.name == name)?;
+        best.get(g).copied()
+    };
+    let genome = match v.validation_genome(&fitted) {
+        Ok(g) => g,
+        Err(name) => {
+            let w = format!(
+                "{WARNING_PREFIX}simulation skipped: the validation records take `{name}` from \
+                 the top-level params, but the fit did not search it (every estimation record \
+                 sets its own)"
+            );
+            return Ok(Some((None, vec![w], Vec::new())));
+        }
+    };
+    let Some(fits) = validation::simulate(v, &genome, stop) else {
+        return Ok(None);
+    };
+    let mut list = Vec::new();
+    for (fit, text) in fits {
+        write(&fit.csv, text.as_bytes())?;
+        list.push(fit);
+    }
+    let estimation: Vec<Option<f64>> = experiments
+        .iter()
+        .map(|x| x.cost_over_noise_floor)
+        .collect();
+    let (summary, mut warnings, flags) = validation::summarise(list, &estimation);
+    warnings.splice(0..0, v.warnings.iter().cloned());
+    Ok(Some((Some(summary), warnings, flags)))
 }

@@ -58,11 +58,7 @@ impl Verdict {
         } else {
             format!("{free} parameters fitted, none checked (no polish, no intervals)")
         };
-        let flagged = if flags.is_empty() {
-            "nothing flagged".to_string()
-        } else {
-            format!("flagged: {}", flags.join("; "))
-        };
+        let flagged = flagged_text(&flags);
         Self {
             line: format!("{floor}; {counted}; {flagged}"),
             cost_over_noise_floor: ratio,
@@ -72,6 +68,98 @@ impl Verdict {
             flags,
         }
     }
+}
+
+/// The verdict line's last part: `"nothing flagged"` or `"flagged: a; b"`.
+fn flagged_text(flags: &[String]) -> String {
+    if flags.is_empty() {
+        "nothing flagged".to_string()
+    } else {
+        format!("flagged: {}", flags.join("; "))
+    }
+}
+
+/// A written verdict (`result.json`'s `verdict`) with its flags that start
+/// with `prefix` replaced by `flags`, and its line to match (what
+/// `rigfit validate` does to a finished job's verdict).
+pub fn replace_flags(verdict: &mut serde_json::Value, prefix: &str, flags: &[String]) {
+    let mut all = strings(&verdict["flags"]);
+    all.retain(|f| !f.starts_with(prefix));
+    all.extend(flags.iter().cloned());
+    if let Some(line) = verdict["line"].as_str() {
+        let head = ["; nothing flagged", "; flagged: "]
+            .iter()
+            .filter_map(|m| line.find(m))
+            .min()
+            .map_or(line, |k| &line[..k]);
+        verdict["line"] = format!("{head}; {}", flagged_text(&all)).into();
+    }
+    verdict["flags"] = all.into();
+}
+
+/// The strings of a JSON array (none for anything else).
+fn strings(v: &serde_json::Value) -> Vec<String> {
+    v.as_array()
+        .map(|a| {
+            a.iter()
+                .filter_map(|f| f.as_str().map(String::from))
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// The verdict flags of the profiles start with this (`"profile of c1:
+/// one-sided"`); a new profile replaces them.
+pub const PROFILE_FLAG_PREFIX: &str = "profile of ";
+
+impl Verdict {
+    /// The verdict with its flags that start with `prefix` replaced by
+    /// `flags`, and its line to match ([`replace_flags`]).
+    pub fn replace_flags(&mut self, prefix: &str, flags: &[String]) {
+        let mut json = serde_json::json!({"line": self.line, "flags": self.flags});
+        replace_flags(&mut json, prefix, flags);
+        if let Some(line) = json["line"].as_str() {
+            self.line = line.to_string();
+        }
+        self.flags = strings(&json["flags"]);
+    }
+}
+
+/// `warnings` with the profiles' earlier warnings (`"<name>: profile …"`
+/// of one of their parameters) replaced by theirs.
+pub fn replace_profile_warnings(
+    warnings: &[String],
+    profiles: &crate::search::ProfileOutcome,
+) -> Vec<String> {
+    let ours = |w: &String| {
+        profiles
+            .parameters
+            .iter()
+            .any(|p| w.starts_with(&format!("{}: profile ", p.name)))
+    };
+    let mut all: Vec<String> = warnings.iter().filter(|w| !ours(w)).cloned().collect();
+    all.extend(profiles.warnings());
+    all
+}
+
+/// A written `result.json` (parsed) with `profiles` set, and the profiles'
+/// warnings and verdict flags in place of any earlier ones.
+pub fn attach_profiles(result: &mut serde_json::Value, profiles: &crate::search::ProfileOutcome) {
+    let warnings: Vec<String> = result["warnings"]
+        .as_array()
+        .map(|a| {
+            a.iter()
+                .filter_map(|w| w.as_str().map(String::from))
+                .collect()
+        })
+        .unwrap_or_default();
+    result["warnings"] = replace_profile_warnings(&warnings, profiles).into();
+    replace_flags(
+        &mut result["verdict"],
+        PROFILE_FLAG_PREFIX,
+        &profiles.flags(),
+    );
+    result["profiles"] = serde_json::to_value(profiles).expect("the profiles serialise");
 }
 
 /// The short flags of a job: the polish's stop, parameters at a bound,
@@ -273,5 +361,24 @@ mod tests {
         );
         let w = starts_beyond_intervals(&apart, &u).unwrap();
         assert!(w.contains("start 1 ended at b = 2.5"), "{w}");
+    }
+
+    #[test]
+    fn replaced_flags_keep_the_others_and_the_line_follows() {
+        let v = Verdict::new(Some(1.02), &[], true, vec!["k at its lower bound".into()]);
+        let mut json = serde_json::to_value(&v).unwrap();
+        let new = ["validation w: 3.0× the fit's misfit".to_string()];
+        replace_flags(&mut json, "validation ", &new);
+        replace_flags(&mut json, "validation ", &new);
+        assert_eq!(json["flags"].as_array().unwrap().len(), 2);
+        let line = json["line"].as_str().unwrap();
+        assert!(
+            line.ends_with("flagged: k at its lower bound; validation w: 3.0× the fit's misfit"),
+            "{line}"
+        );
+        let clean = Verdict::new(Some(1.02), &[], true, Vec::new());
+        let mut json = serde_json::to_value(&clean).unwrap();
+        replace_flags(&mut json, "validation ", &[]);
+        assert_eq!(json["line"], clean.line.as_str());
     }
 }

@@ -43,6 +43,7 @@ mod methods;
 mod observers;
 pub mod operators;
 mod polish;
+pub mod profile;
 mod progress;
 pub mod report;
 mod settings;
@@ -65,6 +66,7 @@ pub use polish::{
     FnResiduals, Polish, PolishIteration, PolishOutcome, PolishStop, ResidualCost, StartReport,
     distinct_starts,
 };
+pub use profile::{ProfileOutcome, ProfileSettings, Profiles};
 pub use progress::ProgressObserver;
 pub use report::{EliteSpread, GenerationReport, SearchOutcome, TerminationReason};
 pub use settings::{

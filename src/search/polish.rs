@@ -247,7 +247,7 @@ impl Polish {
         let mut evaluations = 0u64;
         let x0: Vec<Vec<f64>> = starts.iter().map(|s| self.to_scaled(s)).collect();
         let mut runs: Vec<Option<Run>> = self
-            .linearise(&mut cost, &x0, &mut evaluations)?
+            .linearise(&mut cost, &x0, &[], &mut evaluations)?
             .into_iter()
             .zip(x0)
             .map(|(lin, x)| lin.map(|lin| Run::new(x, lin)))
@@ -284,7 +284,7 @@ impl Polish {
             if trials.is_empty() {
                 break;
             }
-            let lins = self.linearise(&mut cost, &trials, &mut evaluations)?;
+            let lins = self.linearise(&mut cost, &trials, &[], &mut evaluations)?;
             for ((i, x), lin) in moving.into_iter().zip(trials).zip(lins) {
                 if let Some(run) = runs[i].as_mut() {
                     run.update(x, lin);
@@ -366,7 +366,24 @@ impl Polish {
         })
     }
 
-    fn to_scaled(&self, values: &[f64]) -> Vec<f64> {
+    /// The genes polished.
+    pub(super) fn genes(&self) -> &[GeneSpec] {
+        &self.genes
+    }
+
+    /// The finite-difference step ([`Self::relative_step`]).
+    pub(super) fn step(&self) -> f64 {
+        self.step
+    }
+
+    /// Whether the interrupt flag is raised.
+    pub(super) fn interrupted(&self) -> bool {
+        self.interrupt
+            .as_ref()
+            .is_some_and(|f| f.load(Ordering::SeqCst))
+    }
+
+    pub(super) fn to_scaled(&self, values: &[f64]) -> Vec<f64> {
         self.genes
             .iter()
             .zip(values)
@@ -384,19 +401,28 @@ impl Polish {
         ((x - h).max(lo), (x + h).min(hi))
     }
 
+    /// The genes whose stencil a point with gene `fixed` held scores.
+    fn stenciled(&self, fixed: Option<usize>) -> impl Iterator<Item = usize> {
+        (0..self.genes.len()).filter(move |&j| Some(j) != fixed)
+    }
+
     /// Scores each point and its stencil in one batch; returns each point's
     /// cost, `JᵀJ` and `Jᵀr`, or `None` where the point itself blew up.
-    fn linearise(
+    /// `fixed[i]` (missing: none) is a gene point `i` holds: it gets no
+    /// stencil and a zero Jacobian column, so [`Self::trial`] never moves it.
+    pub(super) fn linearise(
         &self,
         cost: &mut impl ResidualCost,
         points: &[Vec<f64>],
+        fixed: &[Option<usize>],
         evaluations: &mut u64,
     ) -> Result<Vec<Option<Linear>>, SearchError> {
         let n = self.genes.len();
+        let held = |i: usize| fixed.get(i).copied().flatten();
         let mut batch = Vec::with_capacity(points.len() * (2 * n + 1));
-        for x in points {
+        for (i, x) in points.iter().enumerate() {
             batch.push(x.clone());
-            for j in 0..n {
+            for j in self.stenciled(held(i)) {
                 let (a, b) = self.stencil(j, x[j]);
                 for s in [a, b] {
                     let mut y = x.clone();
@@ -418,23 +444,32 @@ impl Polish {
             });
         }
         *evaluations += values.len() as u64;
-        Ok(res
-            .chunks(2 * n + 1)
-            .zip(points)
-            .map(|(r, x)| self.linear(r, x, &blocks))
-            .collect())
+        let mut rest = &res[..];
+        let mut lins = Vec::with_capacity(points.len());
+        for (i, x) in points.iter().enumerate() {
+            let (r, tail) = rest.split_at(1 + 2 * self.stenciled(held(i)).count());
+            rest = tail;
+            lins.push(self.linear(r, x, held(i), &blocks));
+        }
+        Ok(lins)
     }
 
-    fn linear(&self, r: &[Option<Vec<f64>>], x: &[f64], blocks: &[usize]) -> Option<Linear> {
+    fn linear(
+        &self,
+        r: &[Option<Vec<f64>>],
+        x: &[f64],
+        fixed: Option<usize>,
+        blocks: &[usize],
+    ) -> Option<Linear> {
         let n = self.genes.len();
         let r0 = r[0].as_ref()?;
         let m = r0.len();
         let mut jac = DMatrix::zeros(m, n);
-        for j in 0..n {
+        for (p, j) in self.stenciled(fixed).enumerate() {
             let (a, b) = self.stencil(j, x[j]);
             // A gene with an empty range, or a stencil run that blew up,
             // leaves its column at zero: the step does not move it.
-            if let (Some(ra), Some(rb)) = (&r[1 + 2 * j], &r[2 + 2 * j])
+            if let (Some(ra), Some(rb)) = (&r[1 + 2 * p], &r[2 + 2 * p])
                 && b > a
                 && ra.len() == m
                 && rb.len() == m
@@ -477,7 +512,7 @@ impl Polish {
 
     /// The damped Gauss–Newton step from `run`, projected into the bounds;
     /// `None` when the start has converged or cannot move.
-    fn trial(&self, run: &mut Run) -> Option<Vec<f64>> {
+    pub(super) fn trial(&self, run: &mut Run) -> Option<Vec<f64>> {
         let n = self.genes.len();
         let (a, g) = (run.lin.jtj.clone(), run.lin.jtr.clone());
         if run.lin.cost <= 0.0 {
@@ -535,25 +570,25 @@ impl Polish {
 
 /// A point's cost and its linearisation.
 #[derive(Debug, Clone)]
-struct Linear {
-    cost: f64,
+pub(super) struct Linear {
+    pub(super) cost: f64,
     jtj: DMatrix<f64>,
     jtr: DVector<f64>,
     residuals: usize,
     /// `JᵀJ` and the residuals' sum of squares block by block (for the
     /// covariance).
-    blocks: Vec<ResidualBlock>,
+    pub(super) blocks: Vec<ResidualBlock>,
 }
 
 /// One start's Levenberg–Marquardt state (Nielsen's damping update).
 #[derive(Debug, Clone)]
-struct Run {
-    x: Vec<f64>,
-    lin: Linear,
-    lambda: f64,
-    nu: f64,
+pub(super) struct Run {
+    pub(super) x: Vec<f64>,
+    pub(super) lin: Linear,
+    pub(super) lambda: f64,
+    pub(super) nu: f64,
     predicted: f64,
-    done: bool,
+    pub(super) done: bool,
     /// Cost decreases of the last [`PACE_WINDOW`] accepted steps.
     decreases: Vec<f64>,
 }
@@ -578,14 +613,21 @@ fn retire_the_hopeless(runs: &mut [Option<Run>], left: usize) {
 }
 
 impl Run {
-    fn new(x: Vec<f64>, lin: Linear) -> Self {
+    pub(super) fn new(x: Vec<f64>, lin: Linear) -> Self {
+        Self::restore(x, lin, 1e-3, 2.0, false)
+    }
+
+    /// A run as a checkpoint left it: its point (re-linearised), damping
+    /// and whether it had ended. Its pace is not kept: only the polish's
+    /// retiring of hopeless starts reads it.
+    pub(super) fn restore(x: Vec<f64>, lin: Linear, lambda: f64, nu: f64, done: bool) -> Self {
         Self {
             x,
             lin,
-            lambda: 1e-3,
-            nu: 2.0,
+            lambda,
+            nu,
             predicted: 0.0,
-            done: false,
+            done,
             decreases: Vec::new(),
         }
     }
@@ -603,7 +645,7 @@ impl Run {
     }
 
     /// Takes the trial `x` if it lowered the cost.
-    fn update(&mut self, x: Vec<f64>, lin: Option<Linear>) {
+    pub(super) fn update(&mut self, x: Vec<f64>, lin: Option<Linear>) {
         match lin {
             Some(lin) if lin.cost < self.lin.cost && self.predicted > 0.0 => {
                 let actual = self.lin.cost - lin.cost;

@@ -4,6 +4,7 @@ use serde::{Deserialize, Serialize};
 
 use super::cmaes::CmaesSettings;
 use super::methods::Method;
+use super::profile::{ProfileSettings, deserialize_profiles};
 
 /// How the first generation is drawn.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -98,6 +99,9 @@ pub struct SearchSettings {
     pub checkpoint_every: usize,
     /// The local polish after the search, and the parameter uncertainty it gives.
     pub polish: PolishSettings,
+    /// Profile likelihoods after the polish (`None`: none; see
+    /// [`super::Profiles`]).
+    pub profiles: Option<ProfileSettings>,
     /// The genetic algorithm's operators.
     pub ga: GaSettings,
     /// CMA-ES's settings.
@@ -133,6 +137,12 @@ struct SearchFile {
     checkpoint_every: usize,
     #[serde(default)]
     polish: PolishSettings,
+    #[serde(
+        default,
+        deserialize_with = "deserialize_profiles",
+        skip_serializing_if = "Option::is_none"
+    )]
+    profiles: Option<ProfileSettings>,
     #[serde(default, skip_serializing_if = "CmaesSettings::is_default")]
     cmaes: CmaesSettings,
 }
@@ -150,6 +160,7 @@ impl From<SearchFile> for SearchSettings {
             max_time_s: f.max_time_s,
             checkpoint_every: f.checkpoint_every,
             polish: f.polish,
+            profiles: f.profiles,
             ga: GaSettings {
                 tournament: f.tournament,
                 crossover: f.crossover,
@@ -180,6 +191,7 @@ impl From<SearchSettings> for SearchFile {
             max_time_s: s.max_time_s,
             checkpoint_every: s.checkpoint_every,
             polish: s.polish,
+            profiles: s.profiles,
             cmaes: s.cmaes,
         }
     }
@@ -334,6 +346,13 @@ impl SearchSettings {
         }
         if self.polish.starts < 1 {
             return err("polish.starts", "at least 1", "0".into());
+        }
+        if let Some((field, expected, found)) = self.profiles.and_then(|p| p.invalid()) {
+            let field = match field {
+                "points" => "profiles.points",
+                _ => "profiles.span",
+            };
+            return err(field, expected, found);
         }
         if let Some(f) = self.target_fitness
             && !f.is_finite()

@@ -314,9 +314,14 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         Err(JobError::Search(SearchError::Eval(EvalError::Cancelled)))
             if dir.join(job::CHECKPOINT_FILE).exists() =>
         {
-            // Stopped within the polish's residuals: the search's last
-            // checkpoint stands, and a resume polishes again from it.
-            out.note("interrupted during the polish: no interim result");
+            // Stopped within the polish's residuals or the profiles: the
+            // search's last checkpoint stands (and the profiles' own), and a
+            // resume polishes again from it and goes on.
+            if dir.join(job::PROFILE_CHECKPOINT_FILE).exists() {
+                out.note("interrupted during the profiles: their checkpoint is kept");
+            } else {
+                out.note("interrupted during the polish: no interim result");
+            }
             out.note(&interrupted_hint(&dir, "continue"));
             return Ok(ExitCode::from(EXIT_INTERRUPTED));
         }

@@ -41,6 +41,9 @@ pub fn summary_text(s: &JobSummary, dir: &Path, steps: f64) -> String {
             e.name, e.r2, e.one_minus_r2, e.r2_cpu_reference
         );
     }
+    for v in s.validation.iter().flat_map(|v| &v.experiments) {
+        let _ = writeln!(t, "  {}", v.line());
+    }
     let method: rigfit::search::Method = s
         .search_method
         .as_deref()
@@ -139,6 +142,9 @@ pub fn summary_text(s: &JobSummary, dir: &Path, steps: f64) -> String {
             p.name, p.value, p.unit, bounds, interval, width
         );
     }
+    if let Some(profiles) = &s.profiles {
+        profile_lines(&mut t, profiles);
+    }
     for w in &s.warnings {
         let _ = writeln!(t, "  warning: {w}");
     }
@@ -149,8 +155,40 @@ pub fn summary_text(s: &JobSummary, dir: &Path, steps: f64) -> String {
     }
     files.push("history.csv".into());
     files.push("fitness.svg".into());
+    if dir.join(rigfit::report::html::REPORT_FILE).is_file() {
+        files.push(rigfit::report::html::REPORT_FILE.into());
+    }
     let _ = write!(t, "  results in {}: {}", dir.display(), files.join(", "));
     t
+}
+
+/// The profiles' 95 % intervals beside the covariance's, relative to the
+/// value, with each parameter's flag.
+fn profile_lines(t: &mut String, profiles: &rigfit::search::ProfileOutcome) {
+    let _ = writeln!(
+        t,
+        "  profile likelihoods ({} iterations, {} evaluations, {:.1} s): 95 % interval where \
+         Δχ² ≤ {:.2}, relative to the value:",
+        profiles.iterations,
+        profiles.evaluations,
+        profiles.wall_time_s,
+        profiles.parameters.first().map_or(0.0, |p| p.threshold)
+    );
+    for p in &profiles.parameters {
+        let rel = |x: Option<f64>| {
+            x.map(|x| 100.0 * (x / p.value - 1.0))
+                .filter(|r| r.is_finite())
+                .map_or("open".to_string(), |r| format!("{r:+.3} %"))
+        };
+        let interval = p.interval.map_or("open / open".to_string(), |[lo, hi]| {
+            format!("{} / {}", rel(lo), rel(hi))
+        });
+        let flag = p
+            .flag
+            .map(|f| format!("  {}", f.as_str()))
+            .unwrap_or_default();
+        let _ = writeln!(t, "    {:<18} {:>25}{flag}", p.name, interval);
+    }
 }
 
 /// `; RK4 integration error ≈ 1.2e-3 N, 0.01 % of the residual RMS (1 RK4

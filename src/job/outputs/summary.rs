@@ -61,6 +61,9 @@ pub struct ParamSummary {
     pub value: f64,
     /// Whether the search fitted it.
     pub free: bool,
+    /// `"log"` for a free parameter searched on a log scale (absent: linear).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub scale: Option<String>,
     /// Search bounds (free parameters).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub bounds: Option<[f64; 2]>,
@@ -127,6 +130,26 @@ pub struct PolishSummary {
     pub correlation: Vec<Vec<Option<f64>>>,
 }
 
+/// One file a campaign was read from, in `result.json`'s `inputs`.
+#[derive(Debug, Clone, Serialize)]
+pub struct InputDigest {
+    /// The path as the campaign names it (relative to the campaign's folder
+    /// where it lies inside it).
+    pub path: String,
+    /// SHA-256 of its bytes, lowercase hex.
+    pub sha256: String,
+}
+
+/// One experiment's natural frequencies, in `result.json`'s
+/// `natural_frequencies_hz`.
+#[derive(Debug, Clone, Serialize)]
+pub struct NaturalFrequencies {
+    /// The experiment (as in `experiments[].name`).
+    pub experiment: String,
+    /// Undamped natural frequencies (Hz), lowest first.
+    pub hz: Vec<f64>,
+}
+
 /// The content of `result.json`.
 #[derive(Debug, Clone, Serialize)]
 pub struct JobSummary {
@@ -139,6 +162,11 @@ pub struct JobSummary {
     pub campaign: String,
     /// Campaign file.
     pub campaign_file: String,
+    /// Every file the campaign was read from (the campaign file, its rig
+    /// file if it names one, each data file), with its SHA-256 when the
+    /// outputs were written.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub inputs: Vec<InputDigest>,
     /// The rig's id.
     pub rig: String,
     /// Search seed.
@@ -186,12 +214,26 @@ pub struct JobSummary {
     pub params: BTreeMap<String, f64>,
     /// Every parameter with unit, bounds and elite spread.
     pub parameters: Vec<ParamSummary>,
+    /// The rig's undamped natural frequencies (Hz) at the fitted values, per
+    /// experiment (linearised as `rigfit modes` does); an experiment whose
+    /// linearisation fails has none, and none at all leaves the key out.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub natural_frequencies_hz: Vec<NaturalFrequencies>,
     /// Runs that blew up over the whole search.
     pub diverged_runs: usize,
     /// Whether the record is predictable at the fitted values (after a
     /// polish): see [`crate::job::sensitivity`].
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sensitivity: Option<crate::job::sensitivity::Sensitivity>,
+    /// The campaign's validation records at the fitted values (absent
+    /// without them): see [`super::ValidationSummary`].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub validation: Option<super::ValidationSummary>,
+    /// Profile likelihoods of the free parameters (absent unless the
+    /// campaign asks for them, `"search": {"profiles": …}`, or `rigfit
+    /// profile` added them): see [`crate::search::Profiles`].
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub profiles: Option<crate::search::ProfileOutcome>,
     /// Notes: search warnings, CPU fallback.
     pub warnings: Vec<String>,
     /// Peak resident memory of the process up to writing this file (MiB),
@@ -252,6 +294,9 @@ pub(super) fn parameter_tables(
             unit: unit.to_string(),
             value,
             free: g.is_some(),
+            scale: g
+                .filter(|&i| campaign.genes[i].scale == crate::base::Scale::Log)
+                .map(|_| "log".to_string()),
             bounds: g.map(|i| [campaign.genes[i].lower, campaign.genes[i].upper]),
             elite_range: spread.map(|s| [s.min, s.max]),
             elite_relative_width: spread.map(|s| s.relative_width),
