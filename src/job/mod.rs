@@ -360,15 +360,13 @@ pub fn run_observed(
         &opts.out,
         fallback,
         backend_trial,
+        profiles,
         &opts.interrupt,
     );
     if interrupted {
         opts.interrupt.store(true, Ordering::SeqCst);
     }
-    let mut summary = written?;
-    if let Some(profiles) = profiles {
-        with_profiles(&mut summary, profiles, &opts.out)?;
-    }
+    let summary = written?;
     if outcome.termination != TerminationReason::Interrupted {
         // The results are complete: the checkpoints have served their purpose.
         let _ = std::fs::remove_file(&checkpoint);
@@ -440,29 +438,6 @@ fn profile_stage(
         out.stop
     );
     Ok(Some(out))
-}
-
-/// `summary` with the profiles, their warnings and verdict flags, written
-/// again as `result.json`.
-fn with_profiles(
-    summary: &mut JobSummary,
-    profiles: crate::search::ProfileOutcome,
-    out: &std::path::Path,
-) -> Result<(), JobError> {
-    summary.warnings = verdict::replace_profile_warnings(&summary.warnings, &profiles);
-    summary
-        .verdict
-        .replace_flags(verdict::PROFILE_FLAG_PREFIX, &profiles.flags());
-    summary.profiles = Some(profiles);
-    let json = serde_json::to_string_pretty(&*summary).expect("summary serialises");
-    let path = out.join(RESULT_FILE);
-    crate::base::fsutil::atomic_write(&path, json.as_bytes())
-        .map_err(|source| JobError::Write { path, source })?;
-    // The page written with the outputs lacks the profiles: built again.
-    if let Err(e) = crate::report::html::write_report(out) {
-        eprintln!("rigfit: warning: report.html was not rebuilt with the profiles: {e}");
-    }
-    Ok(())
 }
 
 /// Says, once an interrupted search has stopped, that its interim results

@@ -54,6 +54,7 @@ pub fn write_outputs(
         out,
         fallback,
         backend_trial,
+        None,
         &never,
     )
 }
@@ -64,7 +65,7 @@ pub fn write_outputs(
 /// files written before it. result.json is written last.
 #[expect(
     clippy::too_many_arguments,
-    reason = "write_outputs' arguments and the flag that stops it"
+    reason = "write_outputs' arguments, the profiles and the flag that stops it"
 )]
 pub fn write_outputs_watched(
     campaign: &Campaign,
@@ -74,6 +75,7 @@ pub fn write_outputs_watched(
     out: &Path,
     fallback: Option<String>,
     backend_trial: Option<super::backend::BackendTrial>,
+    profiles: Option<crate::search::ProfileOutcome>,
     stop: &std::sync::atomic::AtomicBool,
 ) -> Result<JobSummary, JobError> {
     let polish = outcome.polish.as_ref();
@@ -260,7 +262,7 @@ pub fn write_outputs_watched(
         .map(|floor| fitness / floor)
         .filter(|k| k.is_finite());
     let verdict = super::Verdict::new(ratio, &parameters, uncertainty.is_some(), flags);
-    let summary = JobSummary {
+    let mut summary = JobSummary {
         rigfit_version: env!("CARGO_PKG_VERSION").into(),
         verdict,
         campaign: campaign.name.clone(),
@@ -295,6 +297,13 @@ pub fn write_outputs_watched(
         peak_memory_mib: super::memory::peak_resident_memory()
             .map(|b| (b / super::memory::MIB * 10.0).round() / 10.0),
     };
+    if let Some(profiles) = profiles {
+        summary.warnings = super::verdict::replace_profile_warnings(&summary.warnings, &profiles);
+        summary
+            .verdict
+            .replace_flags(super::verdict::PROFILE_FLAG_PREFIX, &profiles.flags());
+        summary.profiles = Some(profiles);
+    }
     let json = serde_json::to_string_pretty(&summary).expect("summary serialises");
     check()?;
     write("result.json", json.as_bytes())?;

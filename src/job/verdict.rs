@@ -145,14 +145,7 @@ pub fn replace_profile_warnings(
 /// A written `result.json` (parsed) with `profiles` set, and the profiles'
 /// warnings and verdict flags in place of any earlier ones.
 pub fn attach_profiles(result: &mut serde_json::Value, profiles: &crate::search::ProfileOutcome) {
-    let warnings: Vec<String> = result["warnings"]
-        .as_array()
-        .map(|a| {
-            a.iter()
-                .filter_map(|w| w.as_str().map(String::from))
-                .collect()
-        })
-        .unwrap_or_default();
+    let warnings = strings(&result["warnings"]);
     result["warnings"] = replace_profile_warnings(&warnings, profiles).into();
     replace_flags(
         &mut result["verdict"],
