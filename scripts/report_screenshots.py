@@ -23,19 +23,26 @@ CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networki
                  "--disable-quic"]
 
 
-def screenshots(report, folder):
-    """Writes the two screenshots of ``report`` into ``folder``; returns their paths."""
+def screenshots(report, folder, browser=None):
+    """Writes the two screenshots of ``report`` into ``folder`` and returns
+    their paths; in ``browser`` (a Playwright browser) when given, else in
+    a Chromium of its own."""
     folder = pathlib.Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     first, table = folder / "report-first-screen.png", folder / "report-parameters.png"
-    with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
-        page = browser.new_page(viewport={"width": 1280, "height": 900})
-        page.goto(pathlib.Path(report).resolve().as_uri())
-        page.wait_for_load_state("load")
-        page.screenshot(path=str(first))
-        page.locator("table#parameters").screenshot(path=str(table))
-        browser.close()
+    if browser is None:
+        with sync_playwright() as p:
+            own = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+            try:
+                return screenshots(report, folder, own)
+            finally:
+                own.close()
+    page = browser.new_page(viewport={"width": 1280, "height": 900})
+    page.goto(pathlib.Path(report).resolve().as_uri())
+    page.wait_for_load_state("load")
+    page.screenshot(path=str(first))
+    page.locator("table#parameters").screenshot(path=str(table))
+    page.close()
     return first, table
 
 

@@ -54,7 +54,8 @@ def test_result_saves_what_run_writes_loads_and_pickles(bearing, tmp_path):
     names = sorted(p.name for p in (tmp_path / "saved").iterdir())
     manifest = json.loads((tmp_path / "saved" / "rigfit-files.json").read_text())
     listed = manifest["files"] if isinstance(manifest, dict) else manifest
-    assert set(names) == (set(listed) - {"checkpoint.json"}) | {"rigfit-files.json"}
+    checkpoints = {"checkpoint.json", "profiles.checkpoint.json"}
+    assert set(names) == (set(listed) - checkpoints) | {"rigfit-files.json"}
     import pytest
     with pytest.raises(FileExistsError):
         r.save(folder)

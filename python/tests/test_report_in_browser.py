@@ -161,9 +161,9 @@ def test_zoom_changes_the_visible_time_range(job, browser):
     assert o.errors == [], o.errors
 
 
-def test_screenshots_of_the_first_screen_and_the_parameter_table(job, tmp_path):
+def test_screenshots_of_the_first_screen_and_the_parameter_table(job, browser, tmp_path):
     where = pathlib.Path(os.environ.get("RIGFIT_SCREENSHOTS", tmp_path))
-    for shot in screenshots(job / "report.html", where):
+    for shot in screenshots(job / "report.html", where, browser):
         # A PNG with something on it (a blank page compresses to a few KB).
         data = shot.read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n"

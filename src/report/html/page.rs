@@ -404,7 +404,7 @@ fn profiles(h: &mut String, r: &ResultFile) {
             let _ = write!(
                 h,
                 "<figure class=\"profile\" data-kind=\"profile\" data-index=\"{i}\">\n<svg role=\"img\" aria-label=\"Profile of {n}: Δχ² (or the cost) against its value, with the 95 % threshold; the table below gives the intervals\" viewBox=\"0 0 420 240\"></svg>\n\
-                 <figcaption><b>{n}</b>: 95 % interval {}{}</figcaption>\n</figure>\n",
+                 <figcaption><b>{n}</b>: 95 % interval {}{} (drawn up to 10× the threshold)</figcaption>\n</figure>\n",
                 interval(p.interval),
                 p.flag
                     .as_deref()

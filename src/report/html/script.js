@@ -274,6 +274,19 @@
     var x0 = Math.min.apply(null, p.x), x1 = Math.max.apply(null, p.x);
     if (!(x1 > x0)) { x0 = (x0 || 1) * 0.9; x1 = (x1 || 1) * 1.1; }
     var ys = extent(list, -Infinity, Infinity, false);
+    // The part that decides the interval: the held values up to ten times
+    // the threshold, and one beyond on each side (the rest is clipped; the
+    // caption says so, and result.json has every point).
+    var q = p.threshold, near = [];
+    if (q !== null && q > 0) {
+      p.x.forEach(function (x, k) { if (p.y[k] !== null && p.y[k] <= 10 * q) near.push(k); });
+    }
+    if (near.length > 1) {
+      var a = Math.max(0, near[0] - 1), b = Math.min(p.x.length - 1, near[near.length - 1] + 1);
+      if (p.x[b] > p.x[a]) { x0 = p.x[a]; x1 = p.x[b]; }
+      var top = Math.min(ys[1], 10 * q);
+      ys = [-0.05 * top, top];
+    }
     var saved = W; W = 420;
     var f = frame({ x0: x0, x1: x1, y0: ys[0], y1: ys[1], height: 240, xlabel: p.name, ylabel: p.ylabel });
     var body = ['<path d="' + path(f, p.x, p.y, -Infinity, Infinity, false) + '" fill="none" stroke="#1f5fa8" stroke-width="1.8"/>'];
