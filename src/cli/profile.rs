@@ -74,6 +74,16 @@ pub fn profile(a: &ProfileArgs, out: &Output) -> Result<ExitCode> {
         ))
         .into());
     }
+    // Held until result.json is written: no job or second profile runs in
+    // the folder meanwhile.
+    let files = [
+        job::RESULT_FILE,
+        job::PROFILE_CHECKPOINT_FILE,
+        rigfit::report::html::REPORT_FILE,
+    ]
+    .map(String::from);
+    let _folder = job::OutputFolder::open(&a.dir, &files, &c.inputs, job::FolderMode::Overwrite)
+        .map_err(|e| BadInput(e.to_string()))?;
     let best = genes
         .iter()
         .map(|g| {
