@@ -12,9 +12,9 @@ use clap::{Args, ValueEnum};
 use super::exit::{BadInput, EXIT_INTERRUPTED};
 use super::output::Output;
 use rigfit::campaign::Campaign;
-use rigfit::eval::{Backend, Precision, PrecisionChoice};
+use rigfit::eval::{Backend, PrecisionChoice};
 use rigfit::job::{self, CampaignCost, JobError};
-use rigfit::search::{Polish, PolishSettings, PolishStop, Profiles};
+use rigfit::search::{PolishSettings, PolishStop, Profiles};
 
 /// Where the profiles' candidates are scored.
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -153,10 +153,6 @@ pub fn profile(a: &ProfileArgs, out: &Output) -> Result<ExitCode> {
         settings.points,
         settings.span
     ));
-    let eps = match info.precision {
-        Precision::F32 => f64::from(f32::EPSILON),
-        Precision::F64 => f64::EPSILON,
-    };
     let require_gpu = backend == Backend::Gpu;
     let mut cost =
         CampaignCost::new(&c, evaluator, require_gpu, a.threads).with_interrupt(interrupt.clone());
@@ -165,7 +161,7 @@ pub fn profile(a: &ProfileArgs, out: &Output) -> Result<ExitCode> {
         max_iterations: 0,
         ..PolishSettings::default()
     };
-    let polish = Polish::new(at, genes.clone()).relative_step(eps.cbrt());
+    let polish = job::polish_with(at, &genes, info.precision);
     let fit = polish.run(&mut cost, std::slice::from_ref(&best))?;
     let Some(uncertainty) = fit.uncertainty else {
         return Err(anyhow::anyhow!(

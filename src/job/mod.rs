@@ -38,7 +38,7 @@ use crate::eval::Evaluator;
 use crate::eval::Precision;
 use crate::search::{
     Executor, Fingerprint, GeneSpec, HistoryCsvObserver, Observer, ObserverMode, Polish,
-    ProgressObserver, SearchError, TerminationReason,
+    PolishSettings, ProgressObserver, SearchError, TerminationReason,
 };
 
 /// Name of the checkpoint file inside the output folder.
@@ -489,9 +489,16 @@ fn observe_cpu_rate(campaign: &Campaign, summary: &JobSummary, opts: &JobOptions
 /// with the same bits. Its finite-difference step suits the evaluator's
 /// arithmetic.
 fn polish(campaign: &Campaign, genes: &[GeneSpec], precision: Precision) -> Polish {
+    polish_with(campaign.search.polish, genes, precision)
+}
+
+/// A polish of `genes` with `settings` whose finite-difference step suits
+/// an evaluator of `precision` (`cbrt(ε)` of its arithmetic): the job's, and
+/// `rigfit profile`'s covariance at a finished job's fitted point.
+pub fn polish_with(settings: PolishSettings, genes: &[GeneSpec], precision: Precision) -> Polish {
     let eps = match precision {
         Precision::F32 => f64::from(f32::EPSILON),
         Precision::F64 => f64::EPSILON,
     };
-    Polish::new(campaign.search.polish, genes.to_vec()).relative_step(eps.cbrt())
+    Polish::new(settings, genes.to_vec()).relative_step(eps.cbrt())
 }

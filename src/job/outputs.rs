@@ -26,7 +26,7 @@ pub use validation::{
 };
 pub use warnings::{NOT_WHITE, SYSTEMATIC_MISFIT};
 
-use rows::experiment_csv;
+use rows::{ResidualFloor, experiment_csv};
 use summary::{parameter_tables, polish_summary};
 use warnings::{
     at_bound_warnings, lag_one_autocorrelation, misfit_warnings, not_determined_where_sensitive,
@@ -158,16 +158,9 @@ pub fn write_outputs_watched(
         let svg = plots::fit_svg(&title, &t_rec, &exp.measured[..n], &series)?;
         write(&plot, svg.as_bytes())?;
         check()?;
-        let residuals = crate::eval::window_residuals(exp, hist).filter(|r| r.len() > 1);
-        let residual_rms = residuals
-            .as_ref()
-            .map(|r| (r.iter().map(|x| x * x).sum::<f64>() / r.len() as f64).sqrt());
-        let residual_autocorrelation = residuals.as_deref().and_then(lag_one_autocorrelation);
-        let noise_estimate = exp.noise_estimate();
-        let cost_over_noise_floor = match (residual_rms, noise_estimate) {
-            (Some(r), Some(n)) if n > 0.0 => Some((r / n).powi(2)),
-            _ => None,
-        };
+        let floor = ResidualFloor::of(exp, hist);
+        let residual_rms = floor.rms;
+        let residual_autocorrelation = floor.residuals.as_deref().and_then(lag_one_autocorrelation);
         experiments.push(ExperimentFit {
             name: exp.name.clone(),
             r2,
@@ -177,8 +170,8 @@ pub fn write_outputs_watched(
             unit: outputs
                 .get(exp.output)
                 .map_or(String::new(), |o| o.1.clone()),
-            noise_estimate,
-            cost_over_noise_floor,
+            noise_estimate: floor.noise_estimate,
+            cost_over_noise_floor: floor.cost_over_noise_floor,
             residual_autocorrelation,
             integration_error: watched_integration_error(
                 campaign,

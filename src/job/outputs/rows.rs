@@ -20,6 +20,42 @@ pub fn r_squared(exp: &crate::eval::ExperimentData, hist: &History) -> f64 {
     1.0 - ss_res / ss_tot
 }
 
+/// A record's residual over its fit window set against its noise: what a
+/// fitted record and a validation record both report.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ResidualFloor {
+    /// The residuals over the fit window (`None` for fewer than two).
+    pub residuals: Option<Vec<f64>>,
+    /// Their RMS, in the measured output's unit.
+    pub rms: Option<f64>,
+    /// The record's noise estimated from the record itself.
+    pub noise_estimate: Option<f64>,
+    /// The mean square residual as a multiple of the floor that noise
+    /// implies, `(rms / noise)²`.
+    pub cost_over_noise_floor: Option<f64>,
+}
+
+impl ResidualFloor {
+    /// `exp`'s residual in `hist` against `exp`'s noise.
+    pub fn of(exp: &crate::eval::ExperimentData, hist: &History) -> Self {
+        let residuals = crate::eval::window_residuals(exp, hist).filter(|r| r.len() > 1);
+        let rms = residuals
+            .as_ref()
+            .map(|r| (r.iter().map(|x| x * x).sum::<f64>() / r.len() as f64).sqrt());
+        let noise_estimate = exp.noise_estimate();
+        let cost_over_noise_floor = match (rms, noise_estimate) {
+            (Some(r), Some(n)) if n > 0.0 => Some((r / n).powi(2)),
+            _ => None,
+        };
+        Self {
+            residuals,
+            rms,
+            noise_estimate,
+            cost_over_noise_floor,
+        }
+    }
+}
+
 /// An experiment's rows as its CSV holds them, in full precision: record
 /// and model time, the measurement, every model output, the residual of the
 /// measured output and whether the sample is in the fit window.

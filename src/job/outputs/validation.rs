@@ -10,7 +10,7 @@
 
 use serde::Serialize;
 
-use super::rows::{ExperimentRows, experiment_csv, r_squared};
+use super::rows::{ExperimentRows, ResidualFloor, experiment_csv, r_squared};
 use crate::campaign::{Campaign, file_stem};
 
 /// A validation record's cost over its noise floor may be this many times
@@ -112,26 +112,18 @@ pub fn simulate(
         let hist = crate::eval::simulate_history(&v.problem, e, params, *offset);
         let rows = ExperimentRows::of(exp, &hist, *offset);
         let text = experiment_csv(exp, &rows, outputs, stop)?;
-        let residuals = crate::eval::window_residuals(exp, &hist).filter(|r| r.len() > 1);
-        let residual_rms = residuals
-            .as_ref()
-            .map(|r| (r.iter().map(|x| x * x).sum::<f64>() / r.len() as f64).sqrt());
-        let noise_estimate = exp.noise_estimate();
-        let cost_over_noise_floor = match (residual_rms, noise_estimate) {
-            (Some(r), Some(n)) if n > 0.0 => Some((r / n).powi(2)),
-            _ => None,
-        };
+        let floor = ResidualFloor::of(exp, &hist);
         let r2 = r_squared(exp, &hist);
         let fit = ValidationFit {
             name: exp.name.clone(),
             r2,
             one_minus_r2: 1.0 - r2,
-            residual_rms,
+            residual_rms: floor.rms,
             unit: outputs
                 .get(exp.output)
                 .map_or(String::new(), |o| o.1.clone()),
-            noise_estimate,
-            cost_over_noise_floor,
+            noise_estimate: floor.noise_estimate,
+            cost_over_noise_floor: floor.cost_over_noise_floor,
             csv: validation_csv_name(&exp.name),
             rows,
         };
