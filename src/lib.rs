@@ -15,3 +15,4 @@ pub mod model;
 pub mod report;
 pub mod rig;
 pub mod search;
+pub mod series;

@@ -9,6 +9,7 @@ use super::identify::IdentifyArgs;
 use super::modes::ModesArgs;
 use super::profile::ProfileArgs;
 use super::report::ReportArgs;
+use super::series::SeriesArgs;
 use super::ringdown::RingdownArgs;
 use super::run::RunArgs;
 use super::simulate::SimulateArgs;
@@ -164,6 +165,23 @@ pub enum Command {
         report.html is rebuilt. Ctrl-C stops between iterations; the same command goes\n\
         on from where it stopped.")]
     Profile(ProfileArgs),
+    /// Run a lab's test series: one campaign and a table of tests (or a list of campaigns), here or as a Slurm array.
+    #[command(after_help = "Examples:\n  \
+        rigfit series rates.series.json\n  \
+        rigfit series rates.series.json --slurm /scratch/rates --throttle 8\n  \
+        rigfit series /scratch/rates --task 3\n  \
+        rigfit series /scratch/rates --summary\n\n\
+        The series file names a campaign and a CSV table with one row per test: its\n\
+        name (\"test\"), its record (\"record\" or \"record.<experiment>\"), its seed, fixed\n\
+        values (\"value.<param>\") and bounds (\"min.<param>\", \"max.<param>\"), and any\n\
+        other column as a covariate (rate, temperature, specimen). Or it lists campaign\n\
+        files (\"campaigns\", with * and ? in file names). Each test's campaign is written\n\
+        to <folder>/campaigns/<test>.json and its job to <folder>/tests/<test>/, exactly\n\
+        as `rigfit run` on that file writes it. Tests run side by side (--jobs) on one\n\
+        device; a test already done is skipped, an interrupted one resumes. The summary\n\
+        (summary.csv, summary.html) lists every test, failed and missing ones with\n\
+        their error. See docs/guide/series.md.")]
+    Series(SeriesArgs),
 }
 
 impl Cli {

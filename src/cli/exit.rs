@@ -31,6 +31,8 @@ pub fn exit_code(err: &anyhow::Error) -> u8 {
                 .is_some_and(JobError::blames_input)
             || e.downcast_ref::<SearchError>()
                 .is_some_and(SearchError::blames_input)
+            || e.downcast_ref::<rigfit::series::SeriesError>()
+                .is_some_and(rigfit::series::SeriesError::blames_input)
     });
     if bad_input {
         EXIT_BAD_INPUT

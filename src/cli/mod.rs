@@ -29,6 +29,7 @@ mod record;
 mod report;
 mod ringdown;
 mod run;
+mod series;
 mod simulate;
 mod validate;
 
@@ -48,6 +49,7 @@ pub fn dispatch(cli: Cli) -> Result<ExitCode> {
     match &cli.command {
         Command::Run(a) => return run::run(a, &out),
         Command::Profile(a) => return profile::profile(a, &out),
+        Command::Series(a) => return series::series(a, &out),
         Command::Simulate(a) => simulate::simulate(a, &out)?,
         Command::Modes(a) => modes::modes(a, &out)?,
         Command::Check(a) => check::check(a, &out)?,

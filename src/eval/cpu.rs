@@ -16,7 +16,7 @@ use super::{
 #[derive(Debug)]
 pub struct CpuEvaluator {
     problem: Problem,
-    pool: rayon::ThreadPool,
+    pool: Arc<rayon::ThreadPool>,
     cancel: Option<Arc<AtomicBool>>,
     precision: Precision,
     /// The thread of [`Timed::prepare_soon`]'s builds, joined on drop.
@@ -63,14 +63,21 @@ impl CpuEvaluator {
                     "the system refused to start {threads} threads: {e}"
                 ))
             })?;
-        Ok(Self {
+        Ok(Self::on_pool(problem, Arc::new(pool)))
+    }
+
+    /// An evaluator on a pool it shares with others: the jobs of a series
+    /// run side by side ([`crate::series`]), their batches on the same
+    /// threads. The same bits as on a pool of its own.
+    pub fn on_pool(problem: Problem, pool: Arc<rayon::ThreadPool>) -> Self {
+        Self {
             problem,
             pool,
             cancel: None,
             precision: Precision::F64,
             early_builds: None,
             beside_builds: None,
-        })
+        }
     }
 
     /// The pool a batch runs on: while the C compiler of

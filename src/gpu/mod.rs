@@ -327,6 +327,19 @@ pub fn open_evaluator_on(
         }
         Err(e) => return Err(e),
     };
+    Ok(Opened {
+        evaluator: evaluator_on_context(ctx, problem, precision)?,
+        note: None,
+    })
+}
+
+/// The GPU evaluator of `problem` on a device already opened: the jobs of a
+/// series share one ([`crate::series`]); [`open_evaluator_on`] opens its own.
+pub fn evaluator_on_context(
+    ctx: GpuContext,
+    problem: Problem,
+    precision: PrecisionChoice,
+) -> Result<Box<dyn Timed>, GpuError> {
     let precision = resolve_precision(&ctx, precision)?;
     let evaluator: Box<dyn Timed> = if kernel_groups(&problem)?.len() > 1 {
         Box::new(GpuByDrive::new(
@@ -343,8 +356,5 @@ pub fn open_evaluator_on(
             GpuOptions::default(),
         )?)
     };
-    Ok(Opened {
-        evaluator,
-        note: None,
-    })
+    Ok(evaluator)
 }
