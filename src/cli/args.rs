@@ -9,9 +9,9 @@ use super::identify::IdentifyArgs;
 use super::modes::ModesArgs;
 use super::profile::ProfileArgs;
 use super::report::ReportArgs;
-use super::series::SeriesArgs;
 use super::ringdown::RingdownArgs;
 use super::run::RunArgs;
+use super::series::SeriesArgs;
 use super::simulate::SimulateArgs;
 use super::validate::ValidateArgs;
 

@@ -56,6 +56,31 @@ pub struct SeriesArgs {
     pub threads: usize,
     #[command(flatten)]
     pub run_length: RunLengthArgs,
+    /// With --slurm: one GPU per task (--gres=gpu:1); each task takes the GPU
+    /// Slurm gave it, matched by PCI bus id.
+    #[arg(long, requires = "slurm")]
+    pub gpus: bool,
+    /// With --slurm: at most K tasks at once (%K).
+    #[arg(long, value_name = "K", requires = "slurm")]
+    pub throttle: Option<usize>,
+    /// With --slurm: pack short tests into one task up to this many
+    /// estimated minutes (0: one test a task).
+    #[arg(long, value_name = "M", default_value_t = 0.0, requires = "slurm")]
+    pub pack_minutes: f64,
+    /// With --slurm: each task's time limit, as sbatch --time takes it.
+    #[arg(long, value_name = "T", default_value = "2:00:00", requires = "slurm")]
+    pub time: String,
+    /// With --slurm: the partition (default: the cluster's).
+    #[arg(long, requires = "slurm")]
+    pub partition: Option<String>,
+    /// With --slurm: the cluster's MaxArraySize (scontrol show config);
+    /// larger series are split into several arrays.
+    #[arg(long, value_name = "N", default_value_t = rigfit::series::slurm::DEFAULT_MAX_ARRAY_SIZE, requires = "slurm")]
+    pub max_array_size: usize,
+    /// With --slurm: CPUs per task (default: --threads where given, else 1
+    /// for GPU tasks and 2 for CPU tasks); a task uses that many threads.
+    #[arg(long, value_name = "N", requires = "slurm")]
+    pub cpus_per_task: Option<usize>,
 }
 
 fn backend(s: &str) -> Result<Backend, String> {
@@ -150,7 +175,7 @@ pub fn series(a: &SeriesArgs, out: &Output) -> Result<ExitCode> {
         backend: a.backend,
         precision: a.precision,
         adapter,
-        threads: a.threads,
+        threads: task_threads(a),
         interrupt: interrupt.clone(),
         task: a.task,
         max_steps: a.run_length.max_steps,
@@ -205,14 +230,96 @@ fn runs_json(runs: &[TestRun], manifest: &Manifest) -> serde_json::Value {
 
 /// `--summary`, and the end of a local run.
 fn summary(root: &Path, out: &Output) -> Result<ExitCode> {
-    let _ = (root, out);
+    let summary = rigfit::series::summary::write_summary(root)?;
+    out.say(|| {
+        format!(
+            "{summary}\nsummary: {} and {}",
+            root.join(rigfit::series::SUMMARY_CSV).display(),
+            root.join(rigfit::series::SUMMARY_HTML).display()
+        )
+    });
     Ok(ExitCode::SUCCESS)
 }
 
 /// `--slurm DIR`.
-fn plan(a: &SeriesArgs, root: &Path, manifest: Manifest, out: &Output) -> Result<ExitCode> {
-    let _ = (a, root, manifest, out);
+fn plan(a: &SeriesArgs, root: &Path, mut manifest: Manifest, out: &Output) -> Result<ExitCode> {
+    let rigfit = std::env::current_exe().context("finding the rigfit binary the tasks run")?;
+    let mut task_args = vec![
+        "--backend".to_string(),
+        word(a.backend),
+        "--precision".into(),
+        format!("{:?}", a.precision).to_lowercase(),
+        "--jobs".into(),
+        a.jobs.to_string(),
+        "--threads".into(),
+        a.threads.to_string(),
+        "--max-steps".into(),
+        a.run_length.max_steps.to_string(),
+    ];
+    if let Some(adapter) = &a.adapter {
+        task_args.extend(["--adapter".to_string(), adapter.clone()]);
+    }
+    let opts = rigfit::series::slurm::PlanOptions {
+        gpus: a.gpus,
+        throttle: a.throttle,
+        pack_seconds: a.pack_minutes * 60.0,
+        time_limit: a.time.clone(),
+        partition: a.partition.clone(),
+        max_array_size: a.max_array_size,
+        rigfit,
+        cpus_per_task: a.cpus_per_task.unwrap_or(match (a.threads, a.gpus) {
+            (0, true) => 1,
+            (0, false) => 2,
+            (n, _) => n,
+        }),
+        task_args,
+        ..Default::default()
+    };
+    let plan = rigfit::series::slurm::write_plan(root, &mut manifest, &opts)?;
+    out.json(&serde_json::json!({
+        "series": manifest.name,
+        "tests": manifest.tests.len(),
+        "tasks": manifest.tasks.len(),
+        "arrays": plan.arrays.iter().map(|p| p.script.display().to_string()).collect::<Vec<_>>(),
+        "summary": plan.summary.display().to_string(),
+        "submit": plan.submit.display().to_string(),
+    }))?;
+    out.say(|| {
+        format!(
+            "Slurm plan for \"{}\": {} tests in {} tasks, {} array{} and a summary job after them.\n\
+             Submit it with:\n  bash {}",
+            manifest.name,
+            manifest.tests.len(),
+            manifest.tasks.len(),
+            plan.arrays.len(),
+            if plan.arrays.len() == 1 { "" } else { "s" },
+            plan.submit.display()
+        )
+    });
     Ok(ExitCode::SUCCESS)
+}
+
+/// The CPU threads: `--threads`, or in a Slurm task without it the CPUs
+/// Slurm gave the task (`SLURM_CPUS_PER_TASK`), never every core of a node
+/// it shares.
+fn task_threads(a: &SeriesArgs) -> usize {
+    let slurm = std::env::var("SLURM_CPUS_PER_TASK")
+        .ok()
+        .and_then(|v| v.trim().parse::<usize>().ok());
+    match (a.threads, slurm) {
+        (0, Some(n)) if n > 0 => n,
+        (n, _) => n,
+    }
+}
+
+/// A backend as the command line writes it.
+fn word(b: Backend) -> String {
+    match b {
+        Backend::Auto => "auto",
+        Backend::Cpu => "cpu",
+        Backend::Gpu => "gpu",
+    }
+    .into()
 }
 
 /// Ctrl-C, SIGTERM and SIGUSR1 (Slurm's warning before a task's time limit)

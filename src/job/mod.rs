@@ -7,6 +7,7 @@
 pub mod backend;
 mod cost;
 mod folder;
+pub mod islands;
 pub mod memory;
 mod outputs;
 mod reopen;
@@ -175,6 +176,14 @@ pub enum JobError {
     /// The campaign a finished job is read back with is refused.
     #[error(transparent)]
     Campaign(#[from] crate::campaign::CampaignError),
+    /// Islands that cannot be gathered or run as asked.
+    #[error("islands in `{}`: {reason}", path.display())]
+    Islands {
+        /// The output folder.
+        path: PathBuf,
+        /// What is wrong.
+        reason: String,
+    },
 }
 
 /// The files an interrupted output writing had written, as its message says.
@@ -198,6 +207,7 @@ impl JobError {
             | Self::ForeignFile { .. }
             | Self::OutputLocked { .. }
             | Self::ResultFile { .. }
+            | Self::Islands { .. }
             | Self::Campaign(_) => true,
             Self::Search(e) => e.blames_input(),
             _ => false,
@@ -330,6 +340,22 @@ pub fn run_observed(
         exec = exec.resume_from(&checkpoint)?;
     }
     let outcome = exec.run()?;
+    conclude(campaign, cost, outcome, &genes, opts, backend_trial, true)
+}
+
+/// After the search and its polish: the profiles, the outputs, and the
+/// checkpoints removed once the results are complete; the CPU's rate kept
+/// for `check` when `remember_rate` (a job whose search ran here).
+fn conclude(
+    campaign: &Campaign,
+    mut cost: CampaignCost<'_>,
+    outcome: crate::search::SearchOutcome,
+    genes: &[GeneSpec],
+    opts: &JobOptions,
+    backend_trial: Option<backend::BackendTrial>,
+    remember_rate: bool,
+) -> Result<JobSummary, JobError> {
+    let checkpoint = opts.out.join(CHECKPOINT_FILE);
     if let Some(p) = &outcome.polish {
         log::info!(
             "polish: {} starts, {} iterations, {} evaluations in {:.1} s ({:?}): 1 − R² {:.4e} → {:.4e}",
@@ -342,7 +368,7 @@ pub fn run_observed(
             p.best_cost
         );
     }
-    let profiles = profile_stage(campaign, &genes, &mut cost, &outcome, opts)?;
+    let profiles = profile_stage(campaign, genes, &mut cost, &outcome, opts)?;
     let fallback = cost.fallback_note();
     let mut evaluator = cost.into_evaluator();
     // An interrupted search's interim outputs are written with the flag
@@ -356,7 +382,7 @@ pub fn run_observed(
         campaign,
         evaluator.as_mut(),
         &outcome,
-        &genes,
+        genes,
         &opts.out,
         fallback,
         backend_trial,
@@ -371,7 +397,9 @@ pub fn run_observed(
         // The results are complete: the checkpoints have served their purpose.
         let _ = std::fs::remove_file(&checkpoint);
         let _ = std::fs::remove_file(opts.out.join(PROFILE_CHECKPOINT_FILE));
-        observe_cpu_rate(campaign, &summary, opts);
+        if remember_rate {
+            observe_cpu_rate(campaign, &summary, opts);
+        }
     }
     Ok(summary)
 }

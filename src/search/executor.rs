@@ -12,6 +12,7 @@ use super::SearchError;
 use super::checkpoint::{Checkpoint, Fingerprint};
 use super::cost::BatchCost;
 use super::genes::{GeneSpec, genome_values};
+use super::islands::Migration;
 use super::observers::{Observer, ObserverMode};
 use super::polish::{
     Polish, PolishIteration, PolishOutcome, PolishStop, ResidualCost, distinct_starts,
@@ -83,6 +84,7 @@ pub struct Executor<C: BatchCost> {
     checkpoint_path: Option<PathBuf>,
     resume: Option<(PathBuf, Checkpoint)>,
     polish: Option<PolishStage<C>>,
+    migration: Option<Box<dyn Migration>>,
 }
 
 /// The polish to run after the search: set by [`Executor::then_polish`], which
@@ -150,6 +152,7 @@ impl<C: BatchCost> Executor<C> {
             checkpoint_path: None,
             resume: None,
             polish: None,
+            migration: None,
         }
     }
 
@@ -162,6 +165,14 @@ impl<C: BatchCost> Executor<C> {
     /// A flag that stops the search (with a checkpoint, if configured) when set.
     pub fn interrupt(mut self, flag: Arc<AtomicBool>) -> Self {
         self.interrupt = Some(flag);
+        self
+    }
+
+    /// Calls `migration` after every generation whose search goes on, before
+    /// the next checkpoint (an island's exchange, [`super::islands`]); a
+    /// candidate it brings in that beats the best becomes the best.
+    pub fn migrate(mut self, migration: impl Migration + 'static) -> Self {
+        self.migration = Some(Box::new(migration));
         self
     }
 
@@ -220,7 +231,9 @@ impl<C: BatchCost> Executor<C> {
                 // An interrupt inside the first batch has nothing to keep:
                 // it ends the search with the evaluator's error.
                 let scored = self.score(&mut state)?;
-                self.record(&mut state, scored, started, started.elapsed().as_secs_f64())?;
+                let elapsed = started.elapsed().as_secs_f64();
+                self.record(&mut state, scored, started, elapsed)?;
+                self.run_migration(&mut state, elapsed)?;
                 (state, 0.0)
             }
         };
@@ -256,7 +269,40 @@ impl<C: BatchCost> Executor<C> {
             state.generation += 1;
             let elapsed = base_elapsed + started.elapsed().as_secs_f64();
             self.record(&mut state, scored, gen_start, elapsed)?;
+            self.run_migration(&mut state, elapsed)?;
         }
+    }
+
+    /// Polishes `outcome` (a search run elsewhere: the best of several
+    /// islands) with the configured polish, under this executor's interrupt
+    /// flag and observers, which are then told the outcome; what
+    /// [`Self::run`] does after its own search.
+    pub fn polish_outcome(mut self, outcome: SearchOutcome) -> Result<SearchOutcome, SearchError> {
+        let mut outcome = outcome;
+        self.run_polish(&mut outcome)?;
+        for (obs, _) in &mut self.observers {
+            obs.finish(&outcome)?;
+        }
+        Ok(outcome)
+    }
+
+    /// The migration after a generation, if the search goes on: taken in
+    /// before the next checkpoint, so that a resumed search never repeats it.
+    fn run_migration(&mut self, state: &mut SearchState, elapsed: f64) -> Result<(), SearchError> {
+        if self.migration.is_none() || self.stop_reason(state, elapsed).is_some() {
+            return Ok(());
+        }
+        if let Some(m) = self.migration.as_mut() {
+            m.migrate(state.generation, self.solver.as_mut())?;
+        }
+        let (population, costs) = self.solver.population();
+        if let Some(&best) = ranking(costs).first()
+            && costs[best] < state.best_cost
+        {
+            state.best_cost = costs[best];
+            state.best_genome = population[best].clone();
+        }
+        Ok(())
     }
 
     /// Asks the method for a batch, scores it and tells the method its costs

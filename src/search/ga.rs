@@ -262,6 +262,20 @@ impl Solver for GeneticAlgorithm {
         (&self.now.population, &self.now.costs)
     }
 
+    fn immigrate(&mut self, genomes: &[Vec<f64>], costs: &[f64]) -> bool {
+        let n = genomes.len().min(costs.len());
+        if self.now.population.len() <= n {
+            return n == 0;
+        }
+        // The worst go, the last-ranked first; ties keep ranking's order.
+        let order = ranking(&self.now.costs);
+        for (k, &slot) in order.iter().rev().take(n).enumerate() {
+            self.now.population[slot] = genomes[k].clone();
+            self.now.costs[slot] = costs[k];
+        }
+        true
+    }
+
     fn state(&self) -> Value {
         serde_json::to_value(&self.now).unwrap_or(Value::Null)
     }
@@ -328,6 +342,28 @@ mod tests {
         let off = ga.next_generation(&mut rng, &pop, &costs);
         assert_eq!(off.elites, [4, 9]);
         assert_eq!(off.elites.len() + off.children.len(), 10);
+    }
+
+    #[test]
+    fn migrants_replace_the_worst() {
+        let mut ga = GeneticAlgorithm::new(settings(), genes()).unwrap();
+        let mut rng = ChaCha8Rng::seed_from_u64(0);
+        assert!(
+            !ga.immigrate(&[vec![0.5]], &[0.0]),
+            "nothing to replace yet"
+        );
+        let n = ga.ask(&mut rng).len();
+        let costs: Vec<f64> = (0..n).map(|i| i as f64).collect();
+        ga.tell(&mut rng, &costs);
+        assert!(ga.immigrate(&[vec![0.25], vec![0.75]], &[-2.0, -1.0]));
+        let (pop, costs) = Solver::population(&ga);
+        assert_eq!(costs[n - 1], -2.0);
+        assert_eq!(pop[n - 1], [0.25]);
+        assert_eq!(costs[n - 2], -1.0);
+        assert_eq!(
+            &costs[..n - 2],
+            (0..n - 2).map(|i| i as f64).collect::<Vec<_>>()
+        );
     }
 
     #[test]

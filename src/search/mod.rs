@@ -39,6 +39,7 @@ mod error;
 mod executor;
 mod ga;
 pub mod genes;
+pub mod islands;
 mod methods;
 mod observers;
 pub mod operators;
@@ -58,6 +59,7 @@ pub use error::SearchError;
 pub use executor::{DIVERGED_WARN_SHARE, Executor};
 pub use ga::{GeneticAlgorithm, Offspring};
 pub use genes::GeneSpec;
+pub use islands::{IslandSettings, Migration};
 pub use methods::{Method, first_candidates};
 pub use observers::{
     HISTORY_COLUMNS, HistoryCsvObserver, Observer, ObserverMode, history_csv, write_history_csv,

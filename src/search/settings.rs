@@ -3,6 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::cmaes::CmaesSettings;
+use super::islands::IslandSettings;
 use super::methods::Method;
 use super::profile::{ProfileSettings, deserialize_profiles};
 
@@ -102,6 +103,9 @@ pub struct SearchSettings {
     /// Profile likelihoods after the polish (`None`: none; see
     /// [`super::Profiles`]).
     pub profiles: Option<ProfileSettings>,
+    /// Islands: several seeded searches trading their best candidates
+    /// (`None`: one search; see [`super::islands`]).
+    pub islands: Option<IslandSettings>,
     /// The genetic algorithm's operators.
     pub ga: GaSettings,
     /// CMA-ES's settings.
@@ -143,6 +147,8 @@ struct SearchFile {
         skip_serializing_if = "Option::is_none"
     )]
     profiles: Option<ProfileSettings>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    islands: Option<IslandSettings>,
     #[serde(default, skip_serializing_if = "CmaesSettings::is_default")]
     cmaes: CmaesSettings,
 }
@@ -161,6 +167,7 @@ impl From<SearchFile> for SearchSettings {
             checkpoint_every: f.checkpoint_every,
             polish: f.polish,
             profiles: f.profiles,
+            islands: f.islands,
             ga: GaSettings {
                 tournament: f.tournament,
                 crossover: f.crossover,
@@ -192,6 +199,7 @@ impl From<SearchSettings> for SearchFile {
             checkpoint_every: s.checkpoint_every,
             polish: s.polish,
             profiles: s.profiles,
+            islands: s.islands,
             cmaes: s.cmaes,
         }
     }
@@ -358,6 +366,21 @@ impl SearchSettings {
             && !f.is_finite()
         {
             return err("target_fitness", "a finite number", f.to_string());
+        }
+        if let Some(islands) = &self.islands {
+            if let Some((field, expected, found)) = islands.invalid(self.population) {
+                return err(field, &expected, found);
+            }
+            if self.method != Method::Ga {
+                // CMA-ES's state is a distribution, not a population a
+                // migrant could join.
+                let found = format!("method \"{}\"", self.method);
+                return err(
+                    "islands",
+                    "the GA (method \"ga\"); CMA-ES cannot take migrants",
+                    found,
+                );
+            }
         }
         self.cmaes.validate()
     }

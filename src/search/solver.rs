@@ -71,6 +71,15 @@ pub trait Solver {
     /// not fit (a hand-edited or foreign checkpoint).
     fn restore(&mut self, state: Value) -> Result<(), String>;
 
+    /// Takes in candidates from another search (an island's neighbour,
+    /// [`super::islands`]), scale space and inside the bounds, with their
+    /// costs, best first: they replace as many of the worst the method
+    /// holds. Called between a `tell` and the next `ask`. `false` when the
+    /// method cannot take them (the default).
+    fn immigrate(&mut self, _genomes: &[Vec<f64>], _costs: &[f64]) -> bool {
+        false
+    }
+
     /// What the method learned that a user should see beside the polish's
     /// results (CMA-ES's covariance), for `result.json`.
     fn summary(&self) -> Option<Value> {

@@ -9,7 +9,7 @@
 //! for the same campaign, and its `result.json` is there) is skipped; one
 //! interrupted resumes from its checkpoint.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Instant;
@@ -61,7 +61,7 @@ pub struct TestRun {
 /// The device the tests share.
 enum Device {
     Cpu(Arc<rayon::ThreadPool>),
-    Gpu(GpuContext),
+    Gpu(Box<GpuContext>),
 }
 
 /// Runs the tests `which` (indices into `manifest.tests`) of the series in
@@ -101,7 +101,7 @@ pub fn run_tests(
             let selector = opts.adapter.as_ref().map(|a| a.0.as_str());
             let ctx = GpuContext::select(selector)
                 .map_err(|e| SeriesError::Task(format!("opening the GPU: {e}")))?;
-            Device::Gpu(ctx)
+            Device::Gpu(Box::new(ctx))
         }
         _ => {
             let pool = rayon::ThreadPoolBuilder::new()
@@ -268,7 +268,7 @@ fn run_one(
 /// error with its causes.
 fn run_job(
     campaign_file: &Path,
-    out: &PathBuf,
+    out: &Path,
     device: &Device,
     backend: Backend,
     opts: &RunOptions,
@@ -278,6 +278,17 @@ fn run_job(
     c.require_search().map_err(|e| chain(&e))?;
     c.require_genes().map_err(|e| chain(&e))?;
     c.check_run_length(opts.max_steps).map_err(|e| chain(&e))?;
+    // The memory available now leaves out what the tests beside it hold.
+    let memory = crate::job::memory::MemoryEstimate::of_job(&c, backend, opts.precision);
+    if let Some(available) = crate::job::memory::available_memory()
+        && memory.total > available
+    {
+        return Err(format!(
+            "the job needs about {} and {} are available now (the tests beside it included); run the series with fewer --jobs, or this test alone",
+            crate::job::memory::human_bytes(memory.total),
+            crate::job::memory::human_bytes(available)
+        ));
+    }
     let mut evaluator: Box<dyn Evaluator> = match device {
         Device::Cpu(pool) => {
             let mut cpu = CpuEvaluator::on_pool(c.problem.clone(), pool.clone());
@@ -288,7 +299,7 @@ fn run_job(
             Box::new(cpu)
         }
         Device::Gpu(ctx) => {
-            crate::gpu::evaluator_on_context(ctx.clone(), c.problem.clone(), opts.precision)
+            crate::gpu::evaluator_on_context((**ctx).clone(), c.problem.clone(), opts.precision)
                 .map_err(|e| chain(&e))?
         }
     };
@@ -308,7 +319,7 @@ fn run_job(
         OutputFolder::open(out, &job::output_files(&c), &c.inputs, mode).map_err(|e| chain(&e))?;
     evaluator.set_cancel(opts.interrupt.clone());
     let job_opts = JobOptions {
-        out: out.clone(),
+        out: out.to_path_buf(),
         resume,
         quiet: true,
         interrupt: opts.interrupt.clone(),

@@ -20,7 +20,7 @@ use rigfit::eval::{Backend, EvalError, PrecisionChoice};
 use rigfit::job::backend::{OpenError, OpenNote, TrialWatch};
 use rigfit::job::memory::human_bytes;
 use rigfit::job::{self, FolderMode, JobError, JobOptions, OutputFolder};
-use rigfit::search::{Method, SearchError};
+use rigfit::search::{IslandSettings, Method, SearchError};
 
 /// Evaluator backend on the command line.
 #[derive(Debug, Clone, Copy, ValueEnum)]
@@ -86,6 +86,21 @@ pub struct RunArgs {
     /// candidates were scored).
     #[arg(long)]
     pub max_evaluations: Option<u64>,
+    /// Run K islands: K seeded searches that trade their best candidates
+    /// every few generations, then the best polished (overrides the
+    /// campaign's search.islands.count; see docs/guide/command-line.md,
+    /// "Islands").
+    #[arg(long, value_name = "K")]
+    pub islands: Option<usize>,
+    /// Run island I of the islands alone (a process or array task of its
+    /// own), writing only its files under <out>/islands/; `--gather` then
+    /// polishes the best of them.
+    #[arg(long, value_name = "I", conflicts_with = "gather")]
+    pub island: Option<usize>,
+    /// Gather islands run with `--island I`: polish the best of those that
+    /// finished and write the job's outputs.
+    #[arg(long)]
+    pub gather: bool,
     /// CPU threads for the CPU evaluator (0: all cores).
     #[arg(long, default_value_t = 0)]
     pub threads: usize,
@@ -140,6 +155,19 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     if let Some(n) = a.max_evaluations {
         c.search.max_evaluations = Some(n);
     }
+    if let Some(k) = a.islands {
+        c.search.islands = Some(match c.search.islands {
+            Some(s) => IslandSettings { count: k, ..s },
+            None => IslandSettings::with_count(k),
+        });
+    }
+    if c.search.islands.is_none() && (a.island.is_some() || a.gather) {
+        let flag = if a.gather { "--gather" } else { "--island" };
+        return Err(BadInput(format!(
+            "{flag} needs islands: pass --islands K or set search.islands in the campaign"
+        ))
+        .into());
+    }
     c.search.validate().map_err(|e| {
         // Blame the flag that set the value, not the campaign file.
         let flag = match e.field {
@@ -147,6 +175,7 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
             "generations" => a.generations.map(|n| format!("--generations {n}")),
             "target_fitness" => a.target_fitness.map(|t| format!("--target-fitness {t}")),
             "max_evaluations" => a.max_evaluations.map(|n| format!("--max-evaluations {n}")),
+            "islands.count" | "islands" => a.islands.map(|n| format!("--islands {n}")),
             "tournament" | "elitism" => a.population.map(|n| {
                 format!(
                     "--population {n}: the campaign's search.{} = {} needs a larger population",
@@ -273,9 +302,22 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         (false, true) => FolderMode::Overwrite,
         (false, false) => FolderMode::New,
     };
+    // Islands keep no checkpoint in the folder itself: each island resumes
+    // its own, in its folder (which it locks; `--island I` locks only that).
+    let islands = c.search.islands.is_some();
+    let main_mode = match mode {
+        FolderMode::Resume if islands => FolderMode::Overwrite,
+        m => m,
+    };
+    let files = match a.island {
+        Some(_) => Vec::new(),
+        None => job::output_files(&c),
+    };
     // Held to the end of the job: the lock keeps other jobs out of the folder.
-    let _folder = OutputFolder::open(&dir, &job::output_files(&c), &c.inputs, mode).map_err(
-        |e| -> anyhow::Error {
+    let _folder = (a.island.is_none())
+        .then(|| OutputFolder::open(&dir, &files, &c.inputs, main_mode))
+        .transpose()
+        .map_err(|e| -> anyhow::Error {
             match (&e, &a.out) {
                 (JobError::OutputPath { .. }, None) => {
                     BadInput(format!("{}: output: {e}", a.campaign.display())).into()
@@ -283,8 +325,7 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
                 (JobError::OutputPath { .. }, Some(_)) => BadInput(format!("--out: {e}")).into(),
                 _ => e.into(),
             }
-        },
-    )?;
+        })?;
 
     let info = evaluator.info();
     out.note(&format!(
@@ -310,6 +351,9 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         require_gpu: backend == Backend::Gpu || rigfit::gpu::gpu_required(),
         threads: a.threads,
     };
+    if islands {
+        return run_islands(a, &c, evaluator, &opts, backend_trial, mode, out);
+    }
     let summary = match job::run_chosen(&c, evaluator, &opts, backend_trial) {
         Err(JobError::Search(SearchError::Eval(EvalError::Cancelled)))
             if dir.join(job::CHECKPOINT_FILE).exists() =>
@@ -353,6 +397,75 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         }
         out.note(&interrupted_hint(&dir, "continue"));
         return Ok(ExitCode::from(EXIT_INTERRUPTED));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `rigfit run` with islands: all of them on threads then the gather, one
+/// of them alone (`--island I`), or the gather alone (`--gather`).
+fn run_islands(
+    a: &RunArgs,
+    c: &Campaign,
+    evaluator: Box<dyn rigfit::eval::Evaluator>,
+    opts: &JobOptions,
+    backend_trial: Option<rigfit::job::backend::BackendTrial>,
+    mode: FolderMode,
+    out: &Output,
+) -> Result<ExitCode> {
+    use rigfit::job::islands;
+    let dir = &opts.out;
+    let interrupted = |what: &str| -> Result<ExitCode> {
+        out.note(&format!(
+            "interrupted {what}: the islands' checkpoints are kept in {}; continue with: {}",
+            dir.join(islands::ISLANDS_DIR).display(),
+            this_command(true)
+        ));
+        Ok(ExitCode::from(EXIT_INTERRUPTED))
+    };
+    let cancelled =
+        |e: &JobError| matches!(e, JobError::Search(SearchError::Eval(EvalError::Cancelled)));
+    let summary = if let Some(i) = a.island {
+        let record = match islands::run_island(c, evaluator, opts, i, mode) {
+            Err(e) if cancelled(&e) => return interrupted("in the first generation"),
+            other => other?,
+        };
+        if record.status == islands::IslandStatus::Interrupted {
+            return interrupted("during the search");
+        }
+        let o = &record.outcome;
+        out.json(&serde_json::json!({
+            "island": i,
+            "seed": record.seed,
+            "best_cost": o.best_cost,
+            "evaluations": o.evaluations,
+            "generations": o.generations,
+            "exchanges": record.exchanges,
+        }))?;
+        out.say(|| {
+            format!(
+                "island {i} (seed {}): best 1 − R² {:.4e} after {} generations, {} evaluations; \
+                 gather the islands with --gather once they have ended\n",
+                record.seed, o.best_cost, o.generations, o.evaluations
+            )
+        });
+        return Ok(ExitCode::SUCCESS);
+    } else if a.gather {
+        match islands::gather(c, evaluator, opts, backend_trial) {
+            Err(e) if cancelled(&e) => return interrupted("during the polish"),
+            other => other?,
+        }
+    } else {
+        match islands::run_islands(c, evaluator, opts, backend_trial, mode) {
+            Ok(Some(s)) => s,
+            Ok(None) => return interrupted("during the search"),
+            Err(e) if cancelled(&e) => return interrupted("during the polish"),
+            Err(e) => return Err(e.into()),
+        }
+    };
+    out.json(&summary)?;
+    out.say(|| summary::summary_text(&summary, dir, job::steps_per_candidate(c)));
+    if opts.interrupt.load(Ordering::SeqCst) {
+        return interrupted("as the outputs were written");
     }
     Ok(ExitCode::SUCCESS)
 }

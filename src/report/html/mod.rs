@@ -19,7 +19,7 @@ mod experiment;
 pub mod figures;
 mod heatmap;
 pub mod input;
-mod page;
+pub(crate) mod page;
 mod parameters;
 pub mod spectrum;
 

@@ -13,7 +13,8 @@ use super::input::{self, ResultFile};
 use super::parameters::parameters;
 use super::{GENERATOR, ReportError, figures, heatmap};
 
-const STYLE: &str = include_str!("style.css");
+/// The report's stylesheet, which the series' summary page shares.
+pub(crate) const STYLE: &str = include_str!("style.css");
 const SCRIPT: &str = include_str!("script.js");
 
 /// `s` with `& < > "` escaped for HTML text and attributes.
