@@ -109,6 +109,10 @@ fn precision(s: &str) -> Result<PrecisionChoice, String> {
 
 /// Runs `rigfit series`.
 pub fn series(a: &SeriesArgs, out: &Output) -> Result<ExitCode> {
+    // First: a SIGUSR1 that comes while the series is read must not end the
+    // process (its default action) but stop it with what it has.
+    let interrupt = Arc::new(AtomicBool::new(false));
+    install_interrupt_handler(&interrupt)?;
     let given_folder = a.series.is_dir();
     if given_folder && a.slurm.is_some() {
         return Err(BadInput(format!(
@@ -158,8 +162,6 @@ pub fn series(a: &SeriesArgs, out: &Output) -> Result<ExitCode> {
     if a.slurm.is_some() {
         return plan(a, &root, manifest, out);
     }
-    let interrupt = Arc::new(AtomicBool::new(false));
-    install_interrupt_handler(&interrupt)?;
     let which: Vec<usize> = match a.task {
         Some(n) => manifest.task(n)?.to_vec(),
         None => (0..manifest.tests.len()).collect(),

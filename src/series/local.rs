@@ -296,6 +296,11 @@ fn run_job(
                 // As `rigfit run`: f32 lanes where the rig has them, else f64.
                 let _ = cpu.use_f32();
             }
+            if job::backend::worth_building_early(&c) {
+                // As `rigfit run`: the lanes' native code built from the start.
+                use crate::eval::Timed as _;
+                cpu.prepare_soon();
+            }
             Box::new(cpu)
         }
         Device::Gpu(ctx) => {

@@ -36,8 +36,8 @@ mod table;
 pub use error::SeriesError;
 pub use file::{SeriesFile, SeriesSource};
 pub use manifest::{
-    CAMPAIGNS_DIR, MANIFEST_FILE, Manifest, STATUS_DIR, SUMMARY_CSV, SUMMARY_HTML, TESTS_DIR,
-    TestEntry, TestState, TestStatus,
+    CAMPAIGNS_DIR, GENERATOR, MANIFEST_FILE, Manifest, STATUS_DIR, SUMMARY_CSV, SUMMARY_HTML,
+    TESTS_DIR, TestEntry, TestState, TestStatus,
 };
 pub use prepare::prepare;
 pub use table::{Overrides, TestRow};

@@ -73,6 +73,7 @@ pub use cache::{
 pub use cpu_rate::{CHECK_TRIAL_STEPS, CpuTrial, CpuTrialError, cpu_trial};
 pub use open::{
     AutoPick, JobEvaluator, OpenError, OpenNote, open_job_evaluator, open_job_evaluator_watched,
+    worth_building_early,
 };
 pub use plan::{
     CHECK_RACE_STEPS, TRIAL_LONG_RECORD_STEPS, TRIAL_PART, TRIAL_PART_FROM_STEPS,

@@ -336,7 +336,7 @@ pub fn open_job_evaluator_watched(
 /// Whether the job's search alone, at its full length, runs the CPU lanes
 /// long enough to build their native code
 /// ([`crate::compile::back::native::NATIVE_AFTER`]).
-fn worth_building_early(campaign: &Campaign) -> bool {
+pub fn worth_building_early(campaign: &Campaign) -> bool {
     let s = &campaign.search;
     (s.population * s.generations) as f64 * crate::job::steps_per_candidate(campaign)
         >= crate::compile::back::native::NATIVE_AFTER as f64

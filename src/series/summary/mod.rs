@@ -8,7 +8,7 @@
 //! files, each done test's `result.json`), so that a series run here and
 //! the same series run as a Slurm array summarise to the same parameter
 //! cells. [`write_summary`] writes the table ([`SUMMARY_CSV`], see
-//! [`table`]) and the page ([`SUMMARY_HTML`], see [`page`]).
+//! `table.rs`) and the page ([`SUMMARY_HTML`], see `page.rs`).
 
 use std::path::Path;
 
