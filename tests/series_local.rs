@@ -64,6 +64,33 @@ fn record() -> String {
         .to_string()
 }
 
+/// Runs test `id`'s campaign of the series in `root` with `rigfit run` and
+/// checks that the series' job gave the same bits.
+fn same_as_its_rigfit_run(d: &Path, root: &Path, id: &str) {
+    let campaign = root.join(format!("campaigns/{id}.json"));
+    let alone = d.join(format!("alone-{id}"));
+    let o = rigfit(
+        &[
+            "-q",
+            "run",
+            campaign.to_str().unwrap(),
+            "--backend",
+            "cpu",
+            "--out",
+            alone.to_str().unwrap(),
+        ],
+        d,
+    );
+    assert!(o.status.success(), "{}", text(&o));
+    let a = json(&alone.join("result.json"));
+    let b = json(&root.join(format!("tests/{id}/result.json")));
+    assert_eq!(
+        a["params"], b["params"],
+        "{id}: the series' job differs from its rigfit run"
+    );
+    assert_eq!(a["fitness"], b["fitness"]);
+}
+
 const SMALL: &str = r#"{"population": 24, "generations": 4, "profiles": false}"#;
 
 #[test]
@@ -100,28 +127,7 @@ fn each_test_is_its_own_rigfit_run_and_failures_are_kept() {
     for id in ["a1", "a2"] {
         let status = json(&root.join(format!("status/{id}.json")));
         assert_eq!(status["state"], "done", "{id}: {status}");
-        let campaign = root.join(format!("campaigns/{id}.json"));
-        let alone = d.join(format!("alone-{id}"));
-        let o = rigfit(
-            &[
-                "-q",
-                "run",
-                campaign.to_str().unwrap(),
-                "--backend",
-                "cpu",
-                "--out",
-                alone.to_str().unwrap(),
-            ],
-            d,
-        );
-        assert!(o.status.success(), "{}", text(&o));
-        let a = json(&alone.join("result.json"));
-        let b = json(&root.join(format!("tests/{id}/result.json")));
-        assert_eq!(
-            a["params"], b["params"],
-            "{id}: the series' job differs from its rigfit run"
-        );
-        assert_eq!(a["fitness"], b["fitness"]);
+        same_as_its_rigfit_run(d, &root, id);
     }
     let gone = json(&root.join("status/gone.json"));
     assert_eq!(gone["state"], "failed");
@@ -202,28 +208,7 @@ fn sigusr1_keeps_checkpoints_and_the_same_command_resumes_to_the_same_bits() {
     assert!(checkpoint.exists());
     let resumed = rigfit(&args, d);
     assert!(resumed.status.success(), "{}", text(&resumed));
-    let alone = d.join("alone");
-    let campaign = d.join("S/campaigns/long.json");
-    let o = rigfit(
-        &[
-            "-q",
-            "run",
-            campaign.to_str().unwrap(),
-            "--backend",
-            "cpu",
-            "--out",
-            alone.to_str().unwrap(),
-        ],
-        d,
-    );
-    assert!(o.status.success(), "{}", text(&o));
-    let a = json(&alone.join("result.json"));
-    let b = json(&d.join("S/tests/long/result.json"));
-    assert_eq!(
-        a["params"], b["params"],
-        "a resumed test differs from an uninterrupted run"
-    );
-    assert_eq!(a["fitness"], b["fitness"]);
+    same_as_its_rigfit_run(d, &d.join("S"), "long");
 }
 
 #[test]

@@ -8,6 +8,7 @@
 //! below are shared; no command imports another.
 //! - `output`: stdout, stderr and the files a command writes;
 //! - `exit`: exit codes, the binary's input error and the error report;
+//! - `interrupt`: Ctrl-C, SIGTERM and SIGUSR1 as a flag the work checks;
 //! - `options`: options several commands share;
 //! - `campaign_file`: loading a campaign for the commands that do not search;
 //! - `record`: the CSV records of pre-calibration and identification;
@@ -21,6 +22,7 @@ pub mod exit;
 mod fit_specimen;
 mod fragment;
 mod identify;
+mod interrupt;
 mod modes;
 mod options;
 mod output;

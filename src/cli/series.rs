@@ -112,7 +112,14 @@ pub fn series(a: &SeriesArgs, out: &Output) -> Result<ExitCode> {
     // First: a SIGUSR1 that comes while the series is read must not end the
     // process (its default action) but stop it with what it has.
     let interrupt = Arc::new(AtomicBool::new(false));
-    install_interrupt_handler(&interrupt)?;
+    // Ctrl-C, SIGTERM and SIGUSR1 (Slurm's warning before a task's time
+    // limit) stop every test at its next check with its checkpoint kept.
+    #[cfg(unix)]
+    super::interrupt::install_usr1(&interrupt).context("installing the SIGUSR1 handler")?;
+    super::interrupt::install(
+        &interrupt,
+        "every test stops at its next check and keeps its checkpoint",
+    );
     let given_folder = a.series.is_dir();
     if given_folder && a.slurm.is_some() {
         return Err(BadInput(format!(
@@ -322,29 +329,4 @@ fn word(b: Backend) -> String {
         Backend::Gpu => "gpu",
     }
     .into()
-}
-
-/// Ctrl-C, SIGTERM and SIGUSR1 (Slurm's warning before a task's time limit)
-/// raise `flag`: every test stops at its next check and keeps its
-/// checkpoint; a third Ctrl-C or SIGTERM ends the process at once.
-fn install_interrupt_handler(flag: &Arc<AtomicBool>) -> Result<()> {
-    use std::io::Write as _;
-    use std::sync::atomic::AtomicUsize;
-    #[cfg(unix)]
-    signal_hook::flag::register(signal_hook::consts::SIGUSR1, flag.clone())
-        .context("installing the SIGUSR1 handler")?;
-    let flag = flag.clone();
-    let count = AtomicUsize::new(0);
-    let _ = ctrlc::set_handler(move || {
-        let n = count.fetch_add(1, Ordering::SeqCst) + 1;
-        if n >= 3 {
-            std::process::exit(i32::from(EXIT_INTERRUPTED));
-        }
-        flag.store(true, Ordering::SeqCst);
-        let _ = writeln!(
-            std::io::stderr(),
-            "\nrigfit: interrupted; every test stops at its next check and keeps its checkpoint"
-        );
-    });
-    Ok(())
 }

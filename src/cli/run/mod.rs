@@ -219,7 +219,10 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
     // within a second or two, and the job winds down as its hint says; a
     // third ends the process at once.
     let interrupt = Arc::new(AtomicBool::new(false));
-    install_interrupt_handler(&interrupt);
+    super::interrupt::install(
+        &interrupt,
+        "stopping at the next check (within a second or two)",
+    );
     out.note(&first_line(&c, a));
     for w in &c.warnings {
         out.note(&format!("warning: {w}"));
@@ -479,34 +482,6 @@ fn interrupted_hint(dir: &std::path::Path, what: &str) -> String {
         dir.display(),
         this_command(true)
     )
-}
-
-/// Sends Ctrl-C and SIGTERM to `flag`: the first two raise it (the job
-/// stops what runs and winds down; a second stops the interim outputs an
-/// interrupted search writes, [`job::run_observed`]), a third ends the
-/// process at once (the folder's lock is released with it; the lock file is
-/// left, unlocked). Messages go to stderr, never failing on a closed one.
-fn install_interrupt_handler(flag: &Arc<AtomicBool>) {
-    use std::io::Write as _;
-    use std::sync::atomic::AtomicUsize;
-    let flag = flag.clone();
-    let count = AtomicUsize::new(0);
-    let _ = ctrlc::set_handler(move || {
-        let n = count.fetch_add(1, Ordering::SeqCst) + 1;
-        if n >= 3 {
-            std::process::exit(i32::from(EXIT_INTERRUPTED));
-        }
-        flag.store(true, Ordering::SeqCst);
-        let _ = writeln!(
-            std::io::stderr(),
-            "\nrigfit: interrupted; stopping at the next check (within a second or two){}",
-            if n == 1 {
-                ""
-            } else {
-                "; once more ends at once"
-            }
-        );
-    });
 }
 
 /// A line printed on stderr once `after` has passed, unless dropped before:
