@@ -40,7 +40,7 @@ pub struct SeriesArgs {
     #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u16).range(1..=256))]
     pub jobs: u16,
     /// Evaluator backend of every test: auto (measured once, on the first
-    /// test), cpu or gpu (default: auto).
+    /// test), cpu or gpu.
     #[arg(long, value_parser = backend, default_value = "auto")]
     pub backend: Backend,
     /// Precision: auto, f32 or f64.
