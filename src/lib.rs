@@ -7,6 +7,7 @@
 pub mod base;
 pub mod campaign;
 pub mod compile;
+pub mod design;
 pub mod eval;
 pub mod gpu;
 pub mod identify;

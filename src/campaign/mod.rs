@@ -346,6 +346,31 @@ impl Campaign {
         param_file::apply(self, path)
     }
 
+    /// Sets `values` by name as [`Campaign::apply_param_file`] sets a file's
+    /// (`None`: +∞); refusals name `file` and the JSON path `under` followed
+    /// by the name (`under`: `"variables."`, or `""` at the top level). For
+    /// `rigfit sweep`, whose design points are values, not files.
+    pub fn apply_values(
+        &mut self,
+        values: &std::collections::BTreeMap<String, Option<f64>>,
+        file: &Path,
+        under: &str,
+    ) -> Result<(), CampaignError> {
+        param_file::apply_values(self, values, file, under, true)
+    }
+
+    /// [`Campaign::apply_values`] without choosing the step again: for a
+    /// caller that sets `problem.substeps` itself (`rigfit sweep` with a
+    /// fixed step, as `rigfit simulate --substeps` runs).
+    pub fn set_values(
+        &mut self,
+        values: &std::collections::BTreeMap<String, Option<f64>>,
+        file: &Path,
+        under: &str,
+    ) -> Result<(), CampaignError> {
+        param_file::apply_values(self, values, file, under, false)
+    }
+
     /// Whether gene `g` (an index into [`Campaign::genes`]) acts in experiment
     /// `e`: a shared gene does not act where the experiment sets the parameter
     /// itself.

@@ -88,22 +88,36 @@ enum Key {
 
 /// Applies the file at `path` to `c` (see [`Campaign::apply_param_file`]).
 pub(crate) fn apply(campaign: &mut Campaign, path: &Path) -> Result<(), CampaignError> {
-    // Work on a copy so that a refused file leaves the campaign as it was.
-    let mut next = campaign.clone();
-    let c = &mut next;
     let text = crate::base::fsutil::read_description(path).map_err(|e| CampaignError::Io {
         file: path.to_path_buf(),
         message: e.to_string(),
     })?;
     let (values, under) = read_values(&text, path)?;
+    apply_values(campaign, &values, path, under, true)
+}
+
+/// Applies `values` (by name, as a parameter file holds them; `None`: +∞)
+/// to `campaign` as [`apply`] applies a file's: messages name `path` and the
+/// JSON path `under` + name (see [`Campaign::apply_values`]); the step is
+/// chosen again when `choose_step`.
+pub(crate) fn apply_values(
+    campaign: &mut Campaign,
+    values: &BTreeMap<String, Option<f64>>,
+    path: &Path,
+    under: &str,
+    choose_step: bool,
+) -> Result<(), CampaignError> {
+    // Work on a copy so that refused values leave the campaign as it was.
+    let mut next = campaign.clone();
+    let c = &mut next;
     let top = if under.is_empty() {
         "(top level)"
     } else {
-        "params"
+        under.trim_end_matches('.')
     };
     let rig = c.model.clone();
     let model: &CompiledRig = &rig;
-    for (key, &value) in &values {
+    for (key, &value) in values {
         // `null` is +∞, as in a campaign (a result.json writes it for a
         // specimen that never breaks).
         let value = value.unwrap_or(f64::INFINITY);
@@ -159,7 +173,9 @@ pub(crate) fn apply(campaign: &mut Campaign, path: &Path) -> Result<(), Campaign
             }
         }
     }
-    c.choose_step_again(c.solver.tolerance, path, top)?;
+    if choose_step {
+        c.choose_step_again(c.solver.tolerance, path, top)?;
+    }
     *campaign = next;
     Ok(())
 }

@@ -13,6 +13,7 @@ use super::ringdown::RingdownArgs;
 use super::run::RunArgs;
 use super::series::SeriesArgs;
 use super::simulate::SimulateArgs;
+use super::sweep::SweepArgs;
 use super::validate::ValidateArgs;
 
 /// Calibrates lumped mass-spring-damper models of mechanical test rigs to
@@ -79,6 +80,23 @@ pub enum Command {
         With --dt (and --samples or --duration) no record is read: the run starts at\n\
         t = 0, and a drive column comes from --drive FILE.")]
     Simulate(SimulateArgs),
+    /// Run the rig over a grid of design changes and write each run's metrics (ringing, peak, overshoot, …).
+    #[command(after_help = "Examples:\n  \
+        rigfit sweep adapter_damping.sweep.json --out table.csv\n  \
+        rigfit sweep adapter_damping.sweep.json --out table.csv --overwrite --threads 4 --json\n\n\
+        The sweep file names a campaign (paths relative to the sweep file), optionally\n\
+        \"params\": a parameter file of calibrated values as simulate --params takes it,\n\
+        \"experiment\" (default: the first), \"variables\": {name: grid} with a grid\n\
+        {\"values\": [...]}, {\"linear\": [from, to, n]} or {\"log\": [from, to, n]}, and\n\
+        \"metrics\": [{\"name\", \"metric\", \"output\", ...}] of peak, max, min, mean, rms,\n\
+        overshoot, rise_time, settling_time, first_crossing (\"threshold\"), energy,\n\
+        ringing and ringing_hz (\"against\": another output, or \"window_s\": a moving\n\
+        average), over the experiment's fit window. Every point of the full grid is\n\
+        simulated as `rigfit simulate --params` would run it (its step included, or\n\
+        \"substeps\": N for all, as simulate --substeps N), on all CPU cores, in chunks\n\
+        of bounded memory. The CSV: point, each variable, each\n\
+        metric (empty where not defined). See docs/guide/design.md.")]
+    Sweep(SweepArgs),
     /// Natural frequencies and mode shapes of the linearised rig.
     #[command(after_help = "Example:\n  rigfit modes campaigns/aa2024_t3_synthetic.json")]
     Modes(ModesArgs),

@@ -2,7 +2,8 @@
 //!
 //! One module per command, each owning its arguments next to its code:
 //! `run` (the calibration job), `validate` (a job's fitted values on records
-//! it did not fit), `simulate`, `modes`, `check`, `devices`, the
+//! it did not fit), `simulate`, `sweep` (design points' metrics), `modes`,
+//! `check`, `devices`, the
 //! pre-calibration commands `fit_specimen` and `ringdown`, and `identify` (one
 //! file per method). `args` gathers them into the command line. The helpers
 //! below are shared; no command imports another.
@@ -33,6 +34,7 @@ mod ringdown;
 mod run;
 mod series;
 mod simulate;
+mod sweep;
 mod validate;
 
 use std::process::ExitCode;
@@ -53,6 +55,7 @@ pub fn dispatch(cli: Cli) -> Result<ExitCode> {
         Command::Profile(a) => return profile::profile(a, &out),
         Command::Series(a) => return series::series(a, &out),
         Command::Simulate(a) => simulate::simulate(a, &out)?,
+        Command::Sweep(a) => sweep::sweep(a, &out)?,
         Command::Modes(a) => modes::modes(a, &out)?,
         Command::Check(a) => check::check(a, &out)?,
         Command::Devices => devices::devices(&out)?,
