@@ -89,6 +89,8 @@ fn sine_about_a_mean_statistics_and_ringing() {
         against: Some(1),
         window_samples: None,
         threshold: None,
+        gate: None,
+        formula: None,
     };
     let eval = |kind| metric(kind).evaluate(&t, &outputs, dt);
     close(eval(MetricKind::Peak), 5.0, 1e-12, "peak");

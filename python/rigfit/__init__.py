@@ -17,10 +17,12 @@ from .errors import CampaignError, DataError, DeviceError, Error, GpuFallbackWar
 from .fitting import fit
 from .params import Parameter, Parameters
 from .result import ExperimentResult, FitResult, load_result
+from .sweep import sweep
 
 __all__ = [
     "Campaign", "CampaignError", "DataError", "DeviceError", "Error", "ExperimentResult",
     "FitResult", "GpuFallbackWarning", "Interrupted", "Objective", "Parameter", "Parameters",
     "__version__", "arx", "fit", "fit_specimen", "frf", "idim", "identify", "impedance",
     "load_result", "nimiso", "rfs", "ringdown", "sensitivity", "shipped_rigs", "simulate",
+    "sweep",
 ]

@@ -13,6 +13,7 @@ mod identify;
 mod impedance;
 mod memory;
 mod report;
+mod sweep;
 mod transmissibility;
 
 use pyo3::prelude::*;
@@ -36,5 +37,6 @@ fn _rigfit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(transmissibility::sensitivity_report, m)?)?;
     m.add_function(wrap_pyfunction!(impedance::impedance_report, m)?)?;
     m.add_function(wrap_pyfunction!(report::report_html, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::sweep, m)?)?;
     Ok(())
 }

@@ -17,6 +17,8 @@ use rigfit::base::data::Column;
 use rigfit::base::text::number;
 use rigfit::campaign::raw::{RawCampaign, RawDrive};
 use rigfit::campaign::{Campaign, SimulationGrid};
+use rigfit::design::prediction::prediction_bands;
+use rigfit::design::uncertainty::Posterior;
 use rigfit::eval::{Problem, simulate_history};
 
 mod grid;
@@ -90,6 +92,15 @@ pub struct SimulateArgs {
     /// is replaced only if it is a report rigfit wrote.
     #[arg(long)]
     pub report: Option<PathBuf>,
+    /// Prediction bands: run the experiment again at N draws of the fitted
+    /// parameters from the covariance in --params (a result.json), and add
+    /// each output's median and central 95 % band over them as columns
+    /// <output>_<unit>.median, .lo and .hi.
+    #[arg(long, value_name = "N", requires = "params", conflicts_with = "noise")]
+    pub bands: Option<usize>,
+    /// Seed of the --bands draws.
+    #[arg(long, default_value_t = 1, requires = "bands")]
+    pub bands_seed: u64,
 }
 
 /// Simulates one experiment with the campaign's values and writes a CSV.
@@ -206,6 +217,35 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
         args.overwrite,
     )?;
 
+    let bands = match args.bands {
+        None => None,
+        Some(n) => {
+            let file = args.params.as_deref().expect("clap requires --params");
+            if !(2..=rigfit::design::file::MAX_DRAWS).contains(&n) {
+                return Err(BadInput(format!(
+                    "--bands {n}: expected from 2 to {} draws",
+                    rigfit::design::file::MAX_DRAWS
+                ))
+                .into());
+            }
+            let posterior = Posterior::from_result(file)
+                .map_err(|why| BadInput(format!("--bands: `{}`: {why}", file.display())))?;
+            check_memory(
+                args,
+                n.saturating_mul(c.problem.experiments[e].window.end),
+                1 + c.model.output_names().len() + c.model.state_names().len(),
+            )?;
+            Some(prediction_bands(
+                &c,
+                e,
+                &posterior,
+                n,
+                args.bands_seed,
+                rigfit::design::file::BAND_LEVEL,
+                file,
+            )?)
+        }
+    };
     let mut problem: Problem = c.problem.clone();
     problem.substeps = substeps;
     let (params, offset) = (c.base[e].clone(), c.base_offsets[e]);
@@ -278,7 +318,7 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
             );
             s
         }
-        None => history_csv(&c, &h, drive.as_ref()),
+        None => history_csv(&c, &h, drive.as_ref(), bands.as_deref()),
     };
     write_file(&args.out, text.as_bytes())?;
     if let Some(page) = &args.report {
@@ -309,6 +349,7 @@ pub fn simulate(args: &SimulateArgs, out: &Output) -> Result<()> {
         "noise": noise_json,
         "drive_column": drive.as_ref().map(|d| column_label(d.0)),
         "peak": {"output": out_name, "unit": unit, "abs_max": peak},
+        "bands": args.bands.map(|n| serde_json::json!({"draws": n, "seed": args.bands_seed, "level": rigfit::design::file::BAND_LEVEL})),
     }))?;
     out.say(|| {
         let noise = args

@@ -26,7 +26,11 @@ use serde::de::{MapAccess, Visitor};
 
 use super::DesignError;
 use super::grid::{DesignGrid, RawGrid};
-use super::metrics::{Metric, MetricKind};
+use super::metrics::{Formula, Metric, MetricKind};
+use super::points::{Drawn, Points};
+use super::sample::{Distribution, Method, unit_points};
+use super::sobol::saltelli_design;
+use super::uncertainty::Posterior;
 use crate::campaign::{Campaign, SimulationGrid};
 
 /// The sweep file as written.
@@ -41,20 +45,145 @@ pub struct RawSweep {
     /// The experiment simulated (default: the campaign's first).
     #[serde(default)]
     pub experiment: Option<String>,
-    /// Design variables and their grids, in the file's order.
+    /// Design variables and their grids or distributions, in the file's
+    /// order.
     pub variables: Variables,
+    /// How points are drawn from the variables' distributions.
+    #[serde(default)]
+    pub sampling: Option<RawSampling>,
+    /// The calibration's uncertainty carried into every point.
+    #[serde(default)]
+    pub uncertainty: Option<RawUncertainty>,
     /// The metrics computed of every run.
     pub metrics: Vec<RawMetric>,
-    /// RK4 steps per sample for every point, as `rigfit simulate
-    /// --substeps` takes it (default: each point's own step, as `rigfit
-    /// simulate` chooses it without noise).
+    /// The step: RK4 steps per sample for every point, as `rigfit simulate
+    /// --substeps` takes it, `"each"` (each point's own, as `rigfit
+    /// simulate` chooses it without noise) or `"shared"` (one chosen at the
+    /// design's corners).
     #[serde(default)]
-    pub substeps: Option<u64>,
+    pub substeps: Option<RawStep>,
+}
+
+/// `"substeps"`: a count, `"each"` or `"shared"`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+pub enum RawStep {
+    /// RK4 steps per sample.
+    Count(u64),
+    /// `"each"` or `"shared"`.
+    Named(String),
+}
+
+/// `"sampling"`: how points are drawn from the variables' distributions.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawSampling {
+    /// `"random"`, `"latin"` or `"sobol"`.
+    pub method: Method,
+    /// How many points (the base count `n` of Saltelli's design).
+    pub points: u64,
+    /// The draw's seed (default 1).
+    #[serde(default = "one")]
+    pub seed: u64,
+    /// Sobol sensitivity indices of every metric: the points become
+    /// Saltelli's design, `n (k + 2)` runs for `k` variables.
+    #[serde(default)]
+    pub indices: bool,
+}
+
+/// `"uncertainty"`: draws of the fitted parameters run at every point.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawUncertainty {
+    /// Draws per point (default [`DEFAULT_DRAWS`]).
+    #[serde(default = "default_draws")]
+    pub samples: u64,
+    /// The draws' seed (default 1).
+    #[serde(default = "one")]
+    pub seed: u64,
+}
+
+fn one() -> u64 {
+    1
+}
+
+fn default_draws() -> u64 {
+    DEFAULT_DRAWS as u64
+}
+
+/// Draws of the fitted parameters per design point by default.
+pub const DEFAULT_DRAWS: usize = 64;
+
+/// Most draws per point.
+pub const MAX_DRAWS: usize = 100_000;
+
+/// The level of the uncertainty's bands.
+pub const BAND_LEVEL: f64 = 0.95;
+
+/// One variable as written: a grid or a distribution.
+#[derive(Debug, Clone, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "snake_case")]
+pub enum RawVariable {
+    /// `{"values": [...]}`.
+    Values(Vec<f64>),
+    /// `{"linear": [from, to, n]}`.
+    Linear((f64, f64, f64)),
+    /// `{"log": [from, to, n]}`.
+    Log((f64, f64, f64)),
+    /// `{"uniform": [lo, hi]}`.
+    Uniform([f64; 2]),
+    /// `{"loguniform": [lo, hi]}`.
+    Loguniform([f64; 2]),
+    /// `{"normal": [mean, sd]}`.
+    Normal([f64; 2]),
+    /// `{"lognormal": [median, sigma of ln]}`.
+    Lognormal([f64; 2]),
+    /// `{"triangular": [lo, mode, hi]}`.
+    Triangular([f64; 3]),
+}
+
+impl RawVariable {
+    /// The grid or the distribution.
+    pub fn split(&self) -> Result<RawGrid, Distribution> {
+        match self.clone() {
+            Self::Values(v) => Ok(RawGrid::Values(v)),
+            Self::Linear(r) => Ok(RawGrid::Linear(r)),
+            Self::Log(r) => Ok(RawGrid::Log(r)),
+            Self::Uniform(r) => Err(Distribution::Uniform(r)),
+            Self::Loguniform(r) => Err(Distribution::Loguniform(r)),
+            Self::Normal(r) => Err(Distribution::Normal(r)),
+            Self::Lognormal(r) => Err(Distribution::Lognormal(r)),
+            Self::Triangular(r) => Err(Distribution::Triangular(r)),
+        }
+    }
+}
+
+/// How a sweep chooses its step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Step {
+    /// Each point's own, as `rigfit simulate --params` chooses it.
+    Each,
+    /// One step for every point: the finest the step rule chooses at the
+    /// design's corners, held at each point to the stability rule's count.
+    Shared,
+    /// The count given, as `rigfit simulate --substeps` runs it.
+    Fixed(usize),
+}
+
+/// The calibration's uncertainty as the sweep carries it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Uncertainty {
+    /// The fitted parameters the draws set (those the design does not).
+    pub names: Vec<String>,
+    /// The draws, each a value per name.
+    pub draws: Vec<Vec<f64>>,
+    /// The bands' level.
+    pub level: f64,
 }
 
 /// `{"name": grid, …}` in the file's order; a name given twice is refused.
 #[derive(Debug)]
-pub struct Variables(pub Vec<(String, RawGrid)>);
+pub struct Variables(pub Vec<(String, RawVariable)>);
 
 impl<'de> Deserialize<'de> for Variables {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
@@ -65,14 +194,14 @@ impl<'de> Deserialize<'de> for Variables {
                 f.write_str("an object of parameter names and their grids")
             }
             fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Variables, A::Error> {
-                let mut out: Vec<(String, RawGrid)> = Vec::new();
+                let mut out: Vec<(String, RawVariable)> = Vec::new();
                 while let Some(key) = map.next_key::<String>()? {
                     if out.iter().any(|(k, _)| *k == key) {
                         return Err(serde::de::Error::custom(format!(
                             "variable '{key}' given twice"
                         )));
                     }
-                    let grid = map.next_value::<RawGrid>()?;
+                    let grid = map.next_value::<RawVariable>()?;
                     out.push((key, grid));
                 }
                 Ok(Variables(out))
@@ -90,8 +219,12 @@ pub struct RawMetric {
     pub name: String,
     /// What it computes.
     pub metric: MetricKind,
-    /// The rig output it reads.
-    pub output: String,
+    /// The rig output it reads (not for an expression).
+    #[serde(default)]
+    pub output: Option<String>,
+    /// The formula of an `"expression"` metric.
+    #[serde(default)]
+    pub expression: Option<String>,
     /// The reference output of `ringing`, `ringing_hz`.
     #[serde(default)]
     pub against: Option<String>,
@@ -102,6 +235,22 @@ pub struct RawMetric {
     /// The level of `first_crossing` (output's unit).
     #[serde(default)]
     pub threshold: Option<f64>,
+    /// Read only the span where another output is near its largest (the
+    /// plateau).
+    #[serde(default)]
+    pub gate: Option<RawGate>,
+}
+
+/// `"gate": {"output": name, "above": fraction}`: the span from the first to
+/// the last sample where the output's magnitude is at least `above` times
+/// its largest.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RawGate {
+    /// The output that opens the gate.
+    pub output: String,
+    /// The fraction of its largest magnitude, in (0, 1].
+    pub above: f64,
 }
 
 /// A validated sweep: the campaign as every design point starts from, the
@@ -120,15 +269,16 @@ pub struct Sweep {
     pub runs: Vec<usize>,
     /// The variables' names, in the file's order.
     pub variables: Vec<String>,
-    /// Their values.
-    pub grid: DesignGrid,
+    /// The design points.
+    pub points: Points,
     /// The metrics, in the file's order.
     pub metrics: Vec<Metric>,
     /// Every file read: the sweep file, the campaign's, the parameter file.
     pub inputs: Vec<PathBuf>,
-    /// One step (RK4 steps per sample) for every point, where the file sets
-    /// it; `None`: each point's own.
-    pub substeps: Option<usize>,
+    /// How the step is chosen.
+    pub step: Step,
+    /// The calibration's uncertainty, where the file asks for it.
+    pub uncertainty: Option<Uncertainty>,
 }
 
 /// Most design points one sweep may have.
@@ -143,7 +293,14 @@ impl Sweep {
             file: path.to_path_buf(),
             message: e.to_string(),
         })?;
-        let raw: RawSweep = parse(&text, path)?;
+        Self::from_text(&text, path)
+    }
+
+    /// [`Sweep::load`] of a sweep file's text, as if read from `path`: its
+    /// paths are relative to `path`'s folder and its messages name `path`
+    /// (the Python package's sweep given as a dict).
+    pub fn from_text(text: &str, path: &Path) -> Result<Sweep, DesignError> {
+        let raw: RawSweep = parse(text, path)?;
         let dir = path.parent().unwrap_or(Path::new("."));
         let invalid = |at: String, expected: String, found: String| DesignError::Invalid {
             file: path.to_path_buf(),
@@ -172,45 +329,88 @@ impl Sweep {
             )
         })?;
         let experiment = runs[0];
-        if raw.variables.0.is_empty() {
-            return Err(invalid(
-                "variables".into(),
-                "at least one design variable {\"name\": grid}".into(),
-                "{}".into(),
-            ));
-        }
-        let mut axes = Vec::new();
-        for (name, g) in &raw.variables.0 {
-            let values = g
-                .values()
-                .map_err(|(e, f)| invalid(format!("variables.{name}"), e, f))?;
-            axes.push(values);
-        }
-        let grid = DesignGrid { axes };
-        let points = grid.points().filter(|&n| n <= MAX_POINTS).ok_or_else(|| {
-            invalid(
-                "variables".into(),
-                format!("at most {MAX_POINTS} design points"),
-                "more".into(),
-            )
-        })?;
-        debug_assert!(points >= 1);
         let variables: Vec<String> = raw.variables.0.iter().map(|(n, _)| n.clone()).collect();
+        let points = design_points(&raw, &invalid)?;
+        let count = points.len();
+        debug_assert!(count >= 1);
         // The first point, applied on a copy: unknown names and values the
         // model refuses are refused here, naming the sweep file.
-        let first = point_values(&variables, &grid.point(0));
+        let first = point_values(&variables, &points.point(0));
         c.clone().apply_values(&first, path, "variables.")?;
         let most = crate::campaign::MAX_AUTO_SUBSTEPS;
-        let substeps = match raw.substeps {
-            Some(n) if n == 0 || n as usize > most => {
+        let step = match &raw.substeps {
+            Some(RawStep::Count(n)) if *n == 0 || *n as usize > most => {
                 return Err(invalid(
                     "substeps".into(),
-                    format!("RK4 steps per sample from 1 to {most}"),
+                    format!("RK4 steps per sample from 1 to {most}, \"each\" or \"shared\""),
                     n.to_string(),
                 ));
             }
-            n => n.map(|n| n as usize),
+            Some(RawStep::Count(n)) => Step::Fixed(*n as usize),
+            Some(RawStep::Named(s)) if s == "each" => Step::Each,
+            Some(RawStep::Named(s)) if s == "shared" => Step::Shared,
+            Some(RawStep::Named(s)) => {
+                return Err(invalid(
+                    "substeps".into(),
+                    format!("RK4 steps per sample from 1 to {most}, \"each\" or \"shared\""),
+                    format!("\"{s}\""),
+                ));
+            }
+            // A plain grid runs as `rigfit simulate --params` runs each
+            // point; drawn points and uncertainty's draws share one step.
+            None if matches!(points, Points::Grid(_)) && raw.uncertainty.is_none() => Step::Each,
+            None => Step::Shared,
         };
+        let uncertainty = match &raw.uncertainty {
+            None => None,
+            Some(u) => {
+                let Some(result) = &raw.params else {
+                    return Err(invalid(
+                        "params".into(),
+                        "a calibration's result.json: \"uncertainty\" draws its fitted \
+                         parameters from the covariance there"
+                            .into(),
+                        "no \"params\"".into(),
+                    ));
+                };
+                if u.samples < 2 || u.samples as usize > MAX_DRAWS {
+                    return Err(invalid(
+                        "uncertainty.samples".into(),
+                        format!("from 2 to {MAX_DRAWS} draws per point"),
+                        u.samples.to_string(),
+                    ));
+                }
+                let posterior = Posterior::from_result(&dir.join(result))
+                    .map_err(|why| {
+                        invalid(
+                            "params".into(),
+                            "a result.json with a polish's covariance".into(),
+                            why,
+                        )
+                    })?
+                    .without(&variables);
+                let draws = posterior.draws(u.samples as usize, u.seed);
+                let names = posterior.names;
+                if !names.is_empty() {
+                    let first_draw = point_values(&names, &draws[0]);
+                    c.clone().set_values(&first_draw, path, "uncertainty.")?;
+                }
+                Some(Uncertainty {
+                    names,
+                    draws,
+                    level: BAND_LEVEL,
+                })
+            }
+        };
+        let runs_total =
+            count.saturating_mul(1 + uncertainty.as_ref().map_or(0, |u| u.draws.len()));
+        if runs_total > MAX_POINTS {
+            return Err(invalid(
+                "variables".into(),
+                format!("at most {MAX_POINTS} runs (design points × (1 + draws))"),
+                runs_total.to_string(),
+            ));
+        }
         let dt = c.problem.experiments[experiment].dt;
         let outputs: Vec<String> = c.model.output_names().iter().map(|o| o.0.clone()).collect();
         let mut metrics = Vec::new();
@@ -247,7 +447,29 @@ impl Sweep {
                     )
                 })
             };
-            let output = output_of("output", &m.output)?;
+            if m.metric == MetricKind::Expression {
+                metrics.push(formula_metric(m, i, &metrics, &variables, &invalid)?);
+                continue;
+            }
+            if m.expression.is_some() {
+                return Err(invalid(
+                    at("expression"),
+                    "an expression only with \"metric\": \"expression\"".into(),
+                    "an expression".into(),
+                ));
+            }
+            let Some(output_name) = &m.output else {
+                return Err(invalid(
+                    at("output"),
+                    format!(
+                        "the output it reads, of rig {} ({})",
+                        c.model.id(),
+                        outputs.join(", ")
+                    ),
+                    "none".into(),
+                ));
+            };
+            let output = output_of("output", output_name)?;
             let against = m
                 .against
                 .as_deref()
@@ -317,6 +539,19 @@ impl Sweep {
                 }
                 (_, None) => None,
             };
+            let gate = match &m.gate {
+                None => None,
+                Some(g) => {
+                    if !(g.above > 0.0 && g.above <= 1.0) {
+                        return Err(invalid(
+                            at("gate.above"),
+                            "a fraction in (0, 1] of the gate output's largest magnitude".into(),
+                            g.above.to_string(),
+                        ));
+                    }
+                    Some((output_of("gate.output", &g.output)?, g.above))
+                }
+            };
             metrics.push(Metric {
                 name: m.name.clone(),
                 kind: m.metric,
@@ -324,6 +559,8 @@ impl Sweep {
                 against,
                 window_samples,
                 threshold,
+                gate,
+                formula: None,
             });
         }
         if metrics.is_empty() {
@@ -339,17 +576,223 @@ impl Sweep {
             experiment,
             runs,
             variables,
-            grid,
+            points,
             metrics,
             inputs,
-            substeps,
+            step,
+            uncertainty,
         })
     }
 
     /// The number of design points.
     pub fn points(&self) -> usize {
-        self.grid.points().unwrap_or(0)
+        self.points.len()
     }
+
+    /// Runs per design point: the point itself, and one per draw of the
+    /// calibration's uncertainty.
+    pub fn runs_per_point(&self) -> usize {
+        1 + self.uncertainty.as_ref().map_or(0, |u| u.draws.len())
+    }
+}
+
+/// An `"expression"` metric (`metrics[i]`): its formula parsed, every name
+/// it reads one of the metrics before it or a design variable.
+fn formula_metric(
+    m: &RawMetric,
+    i: usize,
+    before: &[Metric],
+    variables: &[String],
+    invalid: &dyn Fn(String, String, String) -> DesignError,
+) -> Result<Metric, DesignError> {
+    let at = |key: &str| format!("metrics[{i}].{key}");
+    for (key, given) in [
+        ("output", m.output.is_some()),
+        ("against", m.against.is_some()),
+        ("window_s", m.window_s.is_some()),
+        ("threshold", m.threshold.is_some()),
+        ("gate", m.gate.is_some()),
+    ] {
+        if given {
+            return Err(invalid(
+                at(key),
+                format!("no \"{key}\": an expression reads the metrics before it"),
+                format!("\"{key}\""),
+            ));
+        }
+    }
+    let Some(text) = &m.expression else {
+        return Err(invalid(
+            at("expression"),
+            "a formula of the metrics before it (\"100 * ring / peak\")".into(),
+            "none".into(),
+        ));
+    };
+    let expr = crate::compile::front::expr::parse(text).map_err(|e| {
+        invalid(
+            at("expression"),
+            format!("a formula ({} at character {})", e.message, e.column),
+            crate::base::text::echo(text),
+        )
+    })?;
+    let mut used = Vec::new();
+    expr.names(&mut used);
+    let mut names = Vec::new();
+    for (n, column) in used {
+        let found = match before.iter().position(|x| x.name == n) {
+            Some(k) => Ok(k),
+            None => match variables.iter().position(|v| *v == n) {
+                Some(j) => Err(j),
+                None => {
+                    let mut known: Vec<&str> = before.iter().map(|x| x.name.as_str()).collect();
+                    known.extend(variables.iter().map(String::as_str));
+                    return Err(invalid(
+                        at("expression"),
+                        format!(
+                            "names of the metrics before it or of design variables ({})",
+                            known.join(", ")
+                        ),
+                        format!("'{n}' at character {column}"),
+                    ));
+                }
+            },
+        };
+        names.push((n, found));
+    }
+    Ok(Metric {
+        name: m.name.clone(),
+        kind: MetricKind::Expression,
+        output: 0,
+        against: None,
+        window_samples: None,
+        threshold: None,
+        gate: None,
+        formula: Some(Formula { expr, names }),
+    })
+}
+
+/// The design points the file asks for: the product of grids, or points
+/// drawn from distributions as `"sampling"` says.
+fn design_points(
+    raw: &RawSweep,
+    invalid: &dyn Fn(String, String, String) -> DesignError,
+) -> Result<Points, DesignError> {
+    if raw.variables.0.is_empty() {
+        return Err(invalid(
+            "variables".into(),
+            "at least one design variable {\"name\": grid or distribution}".into(),
+            "{}".into(),
+        ));
+    }
+    let split: Vec<(&String, Result<RawGrid, Distribution>)> = raw
+        .variables
+        .0
+        .iter()
+        .map(|(n, v)| (n, v.split()))
+        .collect();
+    let drawn = split.iter().filter(|(_, v)| v.is_err()).count();
+    if drawn > 0 && drawn < split.len() {
+        let (name, _) = split.iter().find(|(_, v)| v.is_ok()).expect("a grid");
+        return Err(invalid(
+            format!("variables.{name}"),
+            "every variable a distribution (the others are) or every one a grid".into(),
+            "a grid".into(),
+        ));
+    }
+    if drawn == 0 {
+        if raw.sampling.is_some() {
+            return Err(invalid(
+                "sampling".into(),
+                "no \"sampling\" for a grid: it draws from distributions \
+                 ({\"uniform\": [lo, hi]}, …)"
+                    .into(),
+                "\"sampling\"".into(),
+            ));
+        }
+        let mut axes = Vec::new();
+        for (name, g) in &split {
+            let g = g.as_ref().expect("a grid");
+            let values = g
+                .values()
+                .map_err(|(e, f)| invalid(format!("variables.{name}"), e, f))?;
+            axes.push(values);
+        }
+        let grid = DesignGrid { axes };
+        grid.points().filter(|&n| n <= MAX_POINTS).ok_or_else(|| {
+            invalid(
+                "variables".into(),
+                format!("at most {MAX_POINTS} design points"),
+                "more".into(),
+            )
+        })?;
+        return Ok(Points::Grid(grid));
+    }
+    let Some(sampling) = &raw.sampling else {
+        return Err(invalid(
+            "sampling".into(),
+            "{\"method\": \"random\", \"latin\" or \"sobol\", \"points\": n}: how to draw \
+             the variables' distributions"
+                .into(),
+            "none".into(),
+        ));
+    };
+    let mut distributions = Vec::new();
+    for (name, d) in &split {
+        let d = *d.as_ref().expect_err("a distribution");
+        d.check()
+            .map_err(|(e, f)| invalid(format!("variables.{name}"), e, f))?;
+        distributions.push(d);
+    }
+    let k = distributions.len();
+    let n = sampling.points;
+    let rows = if sampling.indices {
+        n.checked_mul(k as u64 + 2)
+    } else {
+        Some(n)
+    };
+    if n < 2 || rows.is_none_or(|r| r > MAX_POINTS as u64) {
+        return Err(invalid(
+            "sampling.points".into(),
+            format!(
+                "from 2 to {} points{}",
+                if sampling.indices {
+                    MAX_POINTS / (k + 2)
+                } else {
+                    MAX_POINTS
+                },
+                if sampling.indices {
+                    " (Saltelli's design runs n (k + 2))"
+                } else {
+                    ""
+                }
+            ),
+            n.to_string(),
+        ));
+    }
+    let n = n as usize;
+    let unit = if sampling.indices {
+        saltelli_design(sampling.method, n, k, sampling.seed)
+    } else {
+        unit_points(sampling.method, n, k, sampling.seed)
+    }
+    .map_err(|why| invalid("sampling".into(), why, format!("{k} variables")))?;
+    let values = unit
+        .iter()
+        .map(|u| {
+            u.iter()
+                .zip(&distributions)
+                .map(|(&u, d)| d.quantile(u))
+                .collect()
+        })
+        .collect();
+    Ok(Points::Drawn(Drawn {
+        method: sampling.method,
+        base: n,
+        seed: sampling.seed,
+        distributions,
+        values,
+        indices: sampling.indices,
+    }))
 }
 
 /// A design point's values by variable name, as the campaign takes them.

@@ -46,6 +46,10 @@ pub enum MetricKind {
     /// The ringing's dominant frequency (Hz): the largest peak of the
     /// amplitude spectrum of `x − r` (see [`dominant_frequency`]).
     RingingHz,
+    /// A formula of the metrics before it, by name, and of the design
+    /// variables whose names are plain identifiers (`"100 * ring / peak"`;
+    /// the functions and operators of a rig's expression laws).
+    Expression,
 }
 
 impl MetricKind {
@@ -247,7 +251,13 @@ pub fn dominant_frequency(d: &[f64], dt: f64) -> Option<f64> {
     let delta = if k + 1 < amp.len() && amp[k - 1] > 0.0 && amp[k + 1] > 0.0 {
         let (a, b, c) = (amp[k - 1].ln(), amp[k].ln(), amp[k + 1].ln());
         let den = a - 2.0 * b + c;
-        if den < 0.0 { 0.5 * (a - c) / den } else { 0.0 }
+        // Within half a bin of the largest: amplitudes equal to rounding
+        // leave `den` a hair below 0 and the quotient unbounded.
+        if den < 0.0 {
+            (0.5 * (a - c) / den).clamp(-0.5, 0.5)
+        } else {
+            0.0
+        }
     } else {
         0.0
     };
@@ -271,9 +281,81 @@ pub struct Metric {
     pub window_samples: Option<usize>,
     /// The level of `first_crossing` (output's unit).
     pub threshold: Option<f64>,
+    /// The formula of an [`MetricKind::Expression`] metric, and the names it
+    /// reads resolved: `Ok(i)` the `i`-th metric, `Err(j)` the `j`-th design
+    /// variable.
+    pub formula: Option<Formula>,
+    /// The gate: the metric reads only the span from the first to the last
+    /// sample where output `.0`'s magnitude is at least `.1` times its
+    /// largest (the plateau of a test, `"gate": {"output", "above"}`).
+    pub gate: Option<(usize, f64)>,
+}
+
+/// A formula metric: its parsed expression and where each name it reads
+/// comes from.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Formula {
+    /// The expression.
+    pub expr: crate::compile::front::expr::Expr,
+    /// Each name it reads: `Ok(i)` the `i`-th metric (before it), `Err(j)`
+    /// the `j`-th design variable.
+    pub names: Vec<(String, Result<usize, usize>)>,
+}
+
+impl Formula {
+    /// Its value from the run's earlier metrics and the point's variables;
+    /// `None` where a metric it reads is not defined or the value is not
+    /// finite.
+    pub fn value(&self, metrics: &[Option<f64>], variables: &[f64]) -> Option<f64> {
+        let undefined = std::cell::Cell::new(false);
+        let v = self.expr.eval(&|n: &str| match self
+            .names
+            .iter()
+            .find(|(k, _)| k == n)
+            .map(|(_, at)| *at)
+        {
+            Some(Ok(i)) => metrics.get(i).copied().flatten().unwrap_or_else(|| {
+                undefined.set(true);
+                f64::NAN
+            }),
+            Some(Err(j)) => variables.get(j).copied().unwrap_or(f64::NAN),
+            None => {
+                undefined.set(true);
+                f64::NAN
+            }
+        });
+        (!undefined.get() && v.is_finite()).then_some(v)
+    }
+}
+
+/// The span `[first, last + 1)` of the samples where `|g|` is at least
+/// `fraction` of its largest magnitude; `None` where `g` is zero throughout.
+pub fn gated_span(g: &[f64], fraction: f64) -> Option<std::ops::Range<usize>> {
+    let top = peak(g)?;
+    if top <= 0.0 {
+        return None;
+    }
+    let level = fraction * top;
+    let first = g.iter().position(|v| v.abs() >= level)?;
+    let last = g.iter().rposition(|v| v.abs() >= level)?;
+    Some(first..last + 1)
 }
 
 impl Metric {
+    /// [`Metric::evaluate`] over the gate's span where the metric has a gate
+    /// (times still measured from the window's first sample); `None` where
+    /// the gate output never rises.
+    pub fn evaluate_gated(&self, t: &[f64], outputs: &[&[f64]], dt: f64) -> Option<f64> {
+        match self.gate {
+            None => self.evaluate(t, outputs, dt),
+            Some((o, fraction)) => {
+                let span = gated_span(outputs[o], fraction)?;
+                let cut: Vec<&[f64]> = outputs.iter().map(|x| &x[span.clone()]).collect();
+                self.evaluate(&t[span], &cut, dt)
+            }
+        }
+    }
+
     /// The metric of one run: `t` the window's times (s), `outputs` every
     /// output over the same samples, `dt` the sample interval (s).
     pub fn evaluate(&self, t: &[f64], outputs: &[&[f64]], dt: f64) -> Option<f64> {
@@ -289,6 +371,8 @@ impl Metric {
             MetricKind::SettlingTime => settling_time(t, x),
             MetricKind::FirstCrossing => first_crossing(t, x, self.threshold?),
             MetricKind::Energy => energy(t, x),
+            // Computed from the other metrics ([`Formula::value`]).
+            MetricKind::Expression => None,
             MetricKind::Ringing | MetricKind::RingingHz => {
                 let owned;
                 let reference: &[f64] = match (self.against, self.window_samples) {
@@ -353,5 +437,19 @@ mod tests {
         });
         let f = dominant_frequency(&x, 1e-4).expect("a peak");
         assert!((f / 123.4 - 1.0).abs() < 1e-6, "{f}");
+    }
+
+    #[test]
+    fn dominant_frequency_stays_within_half_a_bin_of_a_flat_peak() {
+        // Two bins of equal height beside the largest: the parabola's
+        // denominator is 0 to rounding, the refinement held to ±½ bin.
+        let (_, x) = sampled(64, 1e-3, |s| {
+            (2.0 * std::f64::consts::PI * 200.0 * s).sin() + 1e-3 * (s * 1e4).cos()
+        });
+        let f = dominant_frequency(&x, 1e-3).expect("a peak");
+        assert!(f > 0.0 && (f - 200.0).abs() < 20.0, "{f}");
+        let gated = gated_span(&[0.0, 1.0, 3.0, 2.0, 0.5, 0.0], 0.5).expect("a span");
+        assert_eq!(gated, 2..4);
+        assert_eq!(gated_span(&[0.0; 4], 0.5), None);
     }
 }

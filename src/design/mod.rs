@@ -3,25 +3,41 @@
 //!
 //! A sweep file ([`mod@file`]) names a campaign, optionally a parameter file of
 //! calibrated values, the design variables with their grids ([`grid`]) and the
-//! metrics ([`metrics`]). Every design point is simulated as `rigfit simulate
-//! --params` would simulate it, on the experiment's record grid with the step
-//! that command takes without noise; the points run together on the CPU
-//! lanes in chunks of bounded memory, and each run's metrics are computed as
-//! its chunk finishes ([`run`]).
+//! metrics ([`metrics`]), or their distributions ([`sample`]) drawn as
+//! random, Latin hypercube or Sobol points ([`points`]), laid out as
+//! Saltelli's design where Sobol indices ([`mod@sobol`]) are asked. Every design
+//! point is simulated as `rigfit simulate --params` would simulate it, on the
+//! experiment's record grid; the points run together on the CPU lanes or a
+//! GPU ([`device`]) in chunks of bounded memory, and each run's metrics are
+//! computed as its chunk finishes ([`run`]). With a calibration's
+//! `result.json`, each point also runs at draws of the fitted parameters from
+//! the polish's covariance ([`uncertainty`]), giving each metric a median and
+//! a 95 % band. Pictures of the table are drawn as SVG ([`picture`]).
 
+pub mod device;
+pub mod figures;
 pub mod file;
 pub mod grid;
 pub mod metrics;
+pub mod picture;
+pub mod points;
+pub mod prediction;
 pub mod run;
+pub mod sample;
+pub mod sensitivity;
+pub mod sobol;
+pub mod uncertainty;
 
 use std::path::PathBuf;
 
 use crate::campaign::CampaignError;
 
-pub use file::{Sweep, point_values};
+pub use device::GpuRuns;
+pub use file::{Step, Sweep, point_values};
 pub use grid::{DesignGrid, RawGrid};
 pub use metrics::{Metric, MetricKind};
-pub use run::{Row, RunOptions, Table, run_sweep};
+pub use points::Points;
+pub use run::{Band, Engine, Row, RunOptions, Table, run_sweep};
 
 /// Why a sweep was refused or could not run. Every message names the sweep
 /// file and the JSON path, or the campaign's own file.
@@ -77,6 +93,9 @@ pub enum DesignError {
         /// The campaign's refusal.
         source: Box<CampaignError>,
     },
+    /// The GPU could not run the sweep's runs.
+    #[error("GPU: {0}")]
+    Device(String),
     /// The histories of one chunk would not fit in memory.
     #[error(
         "the sweep needs about {needed_mib:.0} MiB for the histories of {points} run(s) at once \

@@ -14,6 +14,7 @@ use rigfit::base::noise::gaussian;
 use rigfit::base::text::echo;
 use rigfit::campaign::Campaign;
 use rigfit::campaign::raw::RawData;
+use rigfit::design::prediction::OutputBand;
 use rigfit::eval::History;
 
 /// What one column of a synthetic record holds.
@@ -169,11 +170,13 @@ pub(super) fn write_record(
 }
 
 /// The history without noise: `t_s`, every output and state by the rig's own
-/// names, then the drive column by the campaign's name for it.
+/// names, then the drive column by the campaign's name for it, then each
+/// output's prediction band (median, lo, hi) where `bands` holds them.
 pub(super) fn history_csv(
     c: &Campaign,
     h: &History,
     drive: Option<&(&Column, Vec<f64>)>,
+    bands: Option<&[OutputBand]>,
 ) -> String {
     let mut s = String::from("t_s");
     let mut names = vec!["t_s".to_string()];
@@ -194,6 +197,13 @@ pub(super) fn history_csv(
         };
         let _ = write!(s, ",{name}");
     }
+    if bands.is_some() {
+        for (name, unit) in c.model.output_names() {
+            for end in ["median", "lo", "hi"] {
+                let _ = write!(s, ",{name}_{unit}.{end}");
+            }
+        }
+    }
     s.push('\n');
     for k in 0..h.t.len() {
         let _ = write!(s, "{:.9e}", h.t[k]);
@@ -202,6 +212,9 @@ pub(super) fn history_csv(
         }
         if let Some((_, d)) = drive {
             let _ = write!(s, ",{:e}", d[k]);
+        }
+        for b in bands.unwrap_or_default() {
+            let _ = write!(s, ",{:.9e},{:.9e},{:.9e}", b.median[k], b.lo[k], b.hi[k]);
         }
         s.push('\n');
     }
