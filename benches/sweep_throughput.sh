@@ -32,7 +32,7 @@ cat > "$work/bench.sweep.json" <<JSON
  "uncertainty": {"samples": $draws, "seed": 1}}
 JSON
 cpu=$("$bin" -q --json sweep "$work/bench.sweep.json" --out "$work/cpu.csv" --backend cpu)
-gpu=$("$bin" -q --json sweep "$work/bench.sweep.json" --out "$work/gpu.csv" --backend gpu 2>&1 || true)
+gpu=$("$bin" -q --json sweep "$work/bench.sweep.json" --out "$work/gpu.csv" --backend gpu 2> "$work/gpu.err" || cat "$work/gpu.err")
 # The loop: as many `rigfit simulate` processes as the first $loop points
 # have runs (1 + draws each), at the sweep's step, each point's values
 # written out as a parameter file (a draw's run costs what the point's does).
@@ -67,10 +67,14 @@ print(f"processor: {model}")
 print(f"{'path':<34}{'runs':>9}{'wall s':>10}{'runs/s':>10}")
 print(f"{'sweep, CPU lanes (' + cpu['device'] + ')':<34}{runs:>9}{cpu['wall_s']:>10.1f}{cpu['runs_per_s']:>10.0f}")
 try:
-    gpu = json.loads(gpu_text.strip().splitlines()[-1])
+    gpu = json.loads(gpu_text)
     print(f"{'sweep, GPU':<34}{gpu['runs']:>9}{gpu['wall_s']:>10.1f}{gpu['runs_per_s']:>10.0f}   {gpu['device']}")
 except Exception:
     print(f"sweep, GPU: did not run ({gpu_text.strip()[:200]})")
 print(f"{'loop of rigfit simulate (scaled)':<34}{runs:>9}{per * runs:>10.0f}{1 / per:>10.1f}   timed over {loop * (draws + 1)} processes")
 print(f"CPU sweep against the loop: {per * runs / cpu['wall_s']:.0f}× faster")
+try:
+    print(f"GPU sweep against the CPU sweep: {cpu['wall_s'] / gpu['wall_s']:.2f}×")
+except Exception:
+    pass
 PY

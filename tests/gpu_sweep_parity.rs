@@ -1,12 +1,12 @@
 //! A sweep on the GPU gives the CPU's rows within the precision's tolerance:
 //! the shipped tensile campaign's adapter sweep (slack-adapter damping × load
-//! cell mass, with the calibration's uncertainty) runs on the f64 CPU lanes
-//! and on the GPU's history kernel (f32, and f64 where the adapter has it);
-//! every metric of every row agrees with the CPU's to the documented
-//! tolerance (docs/guide/design.md): relative 1e-9 in f64, and in f32
-//! relative 2e-3 of the metric's scale over the sweep (a ringing is a
-//! difference of two nearly equal forces, so its f32 error is relative to
-//! the force, not to itself), frequencies to one bin of their spectrum.
+//! cell mass, a shared step) runs on the f64 CPU lanes and on the GPU's
+//! history kernel (f32, and f64 where the adapter has it); every metric of
+//! every row agrees with the CPU's to the documented tolerance
+//! (docs/guide/design.md): 1e-12 of the metric's scale over the sweep in
+//! f64, 1e-4 in f32 (a ringing is a difference of two nearly equal forces, so
+//! its f32 error is relative to the force, not to itself), frequencies to
+//! one bin of their spectrum. Lavapipe measured 7.9e-16 and 7.9e-7.
 //! Without an adapter the test fails when `RIGFIT_REQUIRE_GPU=1` (CI).
 
 mod gpu_common;
@@ -39,6 +39,7 @@ fn sweep_file(dir: &Path) -> std::path::PathBuf {
 
 fn compare(cpu: &Table, gpu: &Table, what: &str, rel: f64, dt: f64, samples: f64) {
     assert_eq!(cpu.rows.len(), gpu.rows.len());
+    let mut worst = 0.0_f64;
     for (m, name) in cpu.metrics.iter().enumerate() {
         let scale = cpu
             .rows
@@ -54,6 +55,9 @@ fn compare(cpu: &Table, gpu: &Table, what: &str, rel: f64, dt: f64, samples: f64
             } else {
                 rel * scale
             };
+            if !name.ends_with("_hz") {
+                worst = worst.max((x - y).abs() / scale);
+            }
             assert!(
                 (x - y).abs() <= tol,
                 "{what}: point {} {name}: CPU {x}, GPU {y} (difference {:e}, tolerance {tol:e})",
@@ -62,6 +66,7 @@ fn compare(cpu: &Table, gpu: &Table, what: &str, rel: f64, dt: f64, samples: f64
             );
         }
     }
+    eprintln!("{what}: largest difference from the CPU {worst:.3e} of a metric's scale");
 }
 
 #[test]
@@ -82,7 +87,7 @@ fn gpu_sweep_rows_agree_with_the_cpu() {
         &|_, _| {},
     )
     .unwrap();
-    compare(&cpu, &g32, "f32", 2e-3, dt, samples);
+    compare(&cpu, &g32, "f32", 1e-4, dt, samples);
     let mut f64 = GpuRuns::open(None, PrecisionChoice::Auto).unwrap();
     if f64.precision().unwrap() == rigfit::eval::Precision::F64 {
         let g64 = run_sweep(
@@ -92,7 +97,7 @@ fn gpu_sweep_rows_agree_with_the_cpu() {
             &|_, _| {},
         )
         .unwrap();
-        compare(&cpu, &g64, "f64", 1e-9, dt, samples);
+        compare(&cpu, &g64, "f64", 1e-12, dt, samples);
     } else {
         eprintln!("the adapter has no f64: the f32 comparison alone ran");
     }

@@ -9,6 +9,8 @@
 //! it: at least 180 and at most 199 of 200 (outside that range a well
 //! calibrated band is rarer than 1 in 1 000).
 
+mod sweep_common;
+
 use std::path::Path;
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
@@ -20,21 +22,7 @@ use rigfit::design::{Engine, RunOptions, Sweep, run_sweep};
 use rigfit::eval::CpuEvaluator;
 use rigfit::job::{self, JobOptions};
 
-const RIG: &str = r#"{
-  "id": "sdof_step",
-  "doc": "One mass on a spring and a viscous damper, a unit force step from t = 0.",
-  "params": [
-    {"name": "m", "unit": "kg", "doc": "mass"},
-    {"name": "k", "unit": "N/m", "doc": "stiffness"},
-    {"name": "c", "unit": "N·s/m", "doc": "damping"}
-  ],
-  "nodes": [{"name": "mass", "mass": "m"}],
-  "elements": [{"name": "support", "between": ["ground", "mass"],
-    "spring": {"law": "linear", "k": "k"}, "damper": {"law": "viscous", "c": "c"}}],
-  "drives": [{"node": "mass", "law": {"type": "force_table", "t": [0.0, 10.0], "value": [1.0, 1.0]}}],
-  "outputs": [{"name": "x", "unit": "m", "sum": [{"displacement": "mass"}]}],
-  "reach": {"elongation": 0.01, "rate": 1.0}
-}"#;
+use sweep_common::SDOF_STEP_RIG as RIG;
 
 /// The truth: 10 Hz undamped, ζ = 0.1 at m = 1 kg.
 const K: f64 = 3947.841760435743;

@@ -6,24 +6,12 @@
 //! the design (n (k + 2)); bad sampling and mixed variables are refused with
 //! their JSON path before any run.
 
+mod sweep_common;
+
 use std::path::Path;
 use std::process::Command;
 
-const RIG: &str = r#"{
-  "id": "sdof_step",
-  "doc": "One mass on a spring and a viscous damper, a unit force step from t = 0.",
-  "params": [
-    {"name": "m", "unit": "kg", "doc": "mass"},
-    {"name": "k", "unit": "N/m", "doc": "stiffness"},
-    {"name": "c", "unit": "N·s/m", "doc": "damping"}
-  ],
-  "nodes": [{"name": "mass", "mass": "m"}],
-  "elements": [{"name": "support", "between": ["ground", "mass"],
-    "spring": {"law": "linear", "k": "k"}, "damper": {"law": "viscous", "c": "c"}}],
-  "drives": [{"node": "mass", "law": {"type": "force_table", "t": [0.0, 10.0], "value": [1.0, 1.0]}}],
-  "outputs": [{"name": "x", "unit": "m", "sum": [{"displacement": "mass"}]}],
-  "reach": {"elongation": 0.01, "rate": 1.0}
-}"#;
+use sweep_common::SDOF_STEP_RIG as RIG;
 
 fn setup(d: &Path) {
     std::fs::write(d.join("rig.json"), RIG).unwrap();

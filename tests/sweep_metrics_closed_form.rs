@@ -6,6 +6,8 @@
 //! mean), a decaying exponential's energy, and a lightly damped sine's
 //! frequency; then a one-mass rig's step response through `rigfit sweep`.
 
+mod sweep_common;
+
 use std::f64::consts::PI;
 
 use rigfit::design::metrics::{
@@ -165,21 +167,7 @@ fn lightly_damped_sine_frequency() {
 fn a_one_mass_rig_through_the_sweep() {
     let dir = tempfile::tempdir().expect("temp dir");
     let d = dir.path();
-    let rig = r#"{
-      "id": "sdof_step",
-      "doc": "One mass on a spring and a viscous damper, a unit force step from t = 0.",
-      "params": [
-        {"name": "m", "unit": "kg", "doc": "mass"},
-        {"name": "k", "unit": "N/m", "doc": "stiffness"},
-        {"name": "c", "unit": "N·s/m", "doc": "damping"}
-      ],
-      "nodes": [{"name": "mass", "mass": "m"}],
-      "elements": [{"name": "support", "between": ["ground", "mass"],
-        "spring": {"law": "linear", "k": "k"}, "damper": {"law": "viscous", "c": "c"}}],
-      "drives": [{"node": "mass", "law": {"type": "force_table", "t": [0.0, 10.0], "value": [1.0, 1.0]}}],
-      "outputs": [{"name": "x", "unit": "m", "sum": [{"displacement": "mass"}]}],
-      "reach": {"elongation": 0.01, "rate": 1.0}
-    }"#;
+    let rig = sweep_common::SDOF_STEP_RIG;
     std::fs::write(d.join("rig.json"), rig).expect("rig");
     // A placeholder record: 2 s at 0.1 ms (never scored).
     let mut rec = String::from("t_s,x_m\n");

@@ -59,27 +59,41 @@ impl GpuRuns {
             .iter()
             .map(|p| vec![Vec::new(); p.runs.len()])
             .collect();
-        for (substeps, runs) in by_step {
+        // A batch's histories fit the device's largest storage binding and
+        // buffer: each run's samples × (time, outputs, states) in f64 at
+        // most, the records' layout.
+        let limits = self.ctx.device.limits();
+        let most = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        let c = &sweep.campaign;
+        let per_run = (c.problem.experiments[sweep.experiment].window.end as u64)
+            * (1 + c.model.output_names().len() + c.model.state_names().len()) as u64
+            * 8;
+        let batch_runs = ((most / per_run.max(1)) as usize / 2).max(1);
+        for (substeps, all) in by_step {
             let evaluator = self.evaluator(sweep, substeps)?;
-            let mut batch = Batch {
-                candidates: runs.len(),
-                params: vec![Vec::new()],
-                offsets: vec![Vec::with_capacity(runs.len())],
-            };
-            for &(k, r) in &runs {
-                let (params, offset) = &prepared[k].runs[r];
-                batch.params[0].extend_from_slice(params);
-                batch.offsets[0].push(*offset);
-            }
-            let which: Vec<usize> = (0..runs.len()).collect();
-            let histories = evaluator
-                .histories(&batch, &which)
-                .map_err(|e| DesignError::Device(e.to_string()))?;
-            for (&(k, r), h) in runs.iter().zip(histories) {
-                let h = h.into_iter().next().ok_or_else(|| {
-                    DesignError::Device("the GPU returned no history for a run".into())
-                })?;
-                out[k][r] = metrics_of(sweep, &h, &prepared[k].values);
+            for runs in all.chunks(batch_runs) {
+                let mut batch = Batch {
+                    candidates: runs.len(),
+                    params: vec![Vec::new()],
+                    offsets: vec![Vec::with_capacity(runs.len())],
+                };
+                for &(k, r) in runs {
+                    let (params, offset) = &prepared[k].runs[r];
+                    batch.params[0].extend_from_slice(params);
+                    batch.offsets[0].push(*offset);
+                }
+                let which: Vec<usize> = (0..runs.len()).collect();
+                let histories = evaluator
+                    .histories(&batch, &which)
+                    .map_err(|e| DesignError::Device(e.to_string()))?;
+                for (&(k, r), h) in runs.iter().zip(histories) {
+                    let h = h.into_iter().next().ok_or_else(|| {
+                        DesignError::Device("the GPU returned no history for a run".into())
+                    })?;
+                    out[k][r] = metrics_of(sweep, &h, &prepared[k].values);
+                }
             }
         }
         Ok(out)
