@@ -13,14 +13,16 @@ from ._rigfit import __version__
 from .campaign import Campaign, shipped_rigs
 from .ensemble import Objective, simulate
 from .identify import arx, fit_specimen, frf, idim, impedance, nimiso, rfs, ringdown, sensitivity
-from .errors import CampaignError, DataError, DeviceError, Error, GpuFallbackWarning, Interrupted
+from .errors import (ArgumentTypeError, CampaignError, DataError, DeviceError, Error,
+                     GpuFallbackWarning, Interrupted)
 from .fitting import fit
 from .params import Parameter, Parameters
 from .result import ExperimentResult, FitResult, load_result
 from .sweep import sweep
 
 __all__ = [
-    "Campaign", "CampaignError", "DataError", "DeviceError", "Error", "ExperimentResult",
+    "ArgumentTypeError", "Campaign", "CampaignError", "DataError", "DeviceError", "Error",
+    "ExperimentResult",
     "FitResult", "GpuFallbackWarning", "Interrupted", "Objective", "Parameter", "Parameters",
     "__version__", "arx", "fit", "fit_specimen", "frf", "idim", "identify", "impedance",
     "load_result", "nimiso", "rfs", "ringdown", "sensitivity", "shipped_rigs", "simulate",

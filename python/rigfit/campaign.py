@@ -2,13 +2,15 @@
 checks and one-line errors as ``rigfit check``), with records set from numpy
 or any DataFrame without a CSV on disk."""
 
+import difflib
 import json
+import math
 import os
 
 import numpy as np
 
 from . import _rigfit
-from .errors import DataError
+from .errors import CampaignError, DataError
 from .params import Parameter, Parameters
 
 
@@ -45,7 +47,8 @@ class Campaign:
         file, the records) resolve against ``base_dir`` (default: the
         current folder); messages name ``origin`` as the file."""
         base_dir = os.path.abspath(os.fspath(base_dir) if base_dir is not None else os.getcwd())
-        inner = _rigfit.Campaign.from_text(json.dumps(campaign), base_dir, origin)
+        text = json.dumps(_plain_json(campaign, "", origin), allow_nan=False)
+        inner = _rigfit.Campaign.from_text(text, base_dir, origin)
         return cls(inner, base_dir, origin)
 
     def to_dict(self):
@@ -138,7 +141,12 @@ class Campaign:
         for x in self._info["experiments"]:
             if x["name"] == name:
                 return {k: x[k] for k in ("samples", "dt", "t_first", "fit_window", "weight")}
-        raise KeyError(name)
+        names = self.experiments
+        close = difflib.get_close_matches(str(name), names, n=1)
+        hint = f"; did you mean '{close[0]}'?" if close else ""
+        raise CampaignError(
+            f"{self._origin}: experiments: no experiment {str(name)!r}; the campaign has "
+            f"{', '.join(repr(n) for n in names) or 'none'}{hint}")
 
     # -- records from memory ---------------------------------------------
     def set_data(self, name, frame, *, time_column=None, column=None):
@@ -207,14 +215,65 @@ class Campaign:
         return self._info["method"]
 
     def __repr__(self):
-        return (f"<rigfit.Campaign {self.name!r}: rig {self.rig}, {len(self.experiments)} "
-                f"experiment(s), {len(self.genes)} free parameter(s)>")
+        # An experiment recorded on several channels shows in `experiments`
+        # once per channel ("hx.x", "hx.y"); the campaign's experiments are
+        # those of its JSON.
+        try:
+            raw = json.loads(self._inner.raw_json).get("experiments") or []
+            count = len(raw) if isinstance(raw, list) else len(self.experiments)
+        except (ValueError, AttributeError):
+            count = len(self.experiments)
+        channels = len(self.experiments)
+        extra = f" ({channels} channels)" if channels != count else ""
+        return (f"<rigfit.Campaign {self.name!r}: rig {self.rig}, {count} "
+                f"experiment(s){extra}, {len(self.genes)} free parameter(s)>")
 
 
 def shipped_rigs():
     """The shipped rigs, id → the rig description (a dict; ``"rig": id`` in a
     campaign uses one, ``"rig": {...}`` takes one inline, edited or not)."""
     return {rid: json.loads(text) for rid, text in _rigfit.shipped_rigs()}
+
+
+def _plain_json(value, where, origin):
+    """``value`` as plain JSON values: numpy scalars and arrays become
+    numbers, booleans and lists, paths become strings. Anything else that is
+    not JSON (a set, bytes, a Decimal, ...) and any NaN or infinity raise
+    :class:`CampaignError` naming its JSON path."""
+    def fail(what):
+        raise CampaignError(f"{origin}: {where or '(top level)'}: {what}")
+
+    if value is None or isinstance(value, (bool, np.bool_)):
+        return None if value is None else bool(value)
+    if isinstance(value, str):
+        return str(value)
+    if isinstance(value, (int, np.integer)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        v = float(value)
+        if not math.isfinite(v):
+            fail(f"expected a finite number, found {v!r} (not a finite number)")
+        return v
+    if isinstance(value, np.ndarray):
+        if value.dtype.kind not in "biuf":
+            fail(f"expected numbers, found a numpy array of dtype {value.dtype}")
+        return _plain_json(value.tolist(), where, origin)
+    if isinstance(value, os.PathLike):
+        path = os.fspath(value)
+        if not isinstance(path, str):
+            fail(f"expected a JSON value, found a bytes path {path!r}")
+        return path
+    if isinstance(value, dict):
+        out = {}
+        for k, v in value.items():
+            if not isinstance(k, str):
+                fail(f"expected string keys, found the key {k!r} ({type(k).__name__})")
+            out[str(k)] = _plain_json(v, f"{where}.{k}" if where else str(k), origin)
+        return out
+    if isinstance(value, (list, tuple)):
+        return [_plain_json(v, f"{where}[{i}]", origin) for i, v in enumerate(value)]
+    fail(f"expected a JSON value (number, string, boolean, null, list or dict), "
+         f"found {type(value).__name__} {value!r:.60}")
 
 
 def _rebuild(raw_json, base_dir, origin, records):

@@ -5,8 +5,9 @@ import warnings
 
 import numpy as np
 
+from . import _arguments as check
 from . import _rigfit
-from .errors import CampaignError, GpuFallbackWarning
+from .errors import CampaignError, Error, GpuFallbackWarning
 
 
 def _theta(campaign, theta, rows_are_sets=True):
@@ -21,8 +22,16 @@ def _theta(campaign, theta, rows_are_sets=True):
     return np.ascontiguousarray(a)
 
 
+def _checked(backend, precision, adapter, threads):
+    """The evaluator's keywords, checked before any work."""
+    return dict(backend=check.choice("backend", backend, ("auto", "gpu", "cpu")),
+                precision=check.choice("precision", precision, ("auto", "f32", "f64")),
+                adapter=check.adapter(adapter), threads=check.threads(threads))
+
+
 def _warn(notes):
     for note in notes:
+        note = check.reworded(note)
         warnings.warn(f"rigfit: {note}", GpuFallbackWarning, stacklevel=3)
 
 
@@ -34,9 +43,13 @@ def simulate(campaign, theta, *, backend="cpu", precision=None, adapter=None, th
     record's sample times (outputs in ``campaign.outputs`` order; an
     experiment shorter than the longest is padded with NaN). ``backend``:
     ``"cpu"`` (the f64 lanes), ``"gpu"`` or ``"auto"``."""
+    check.campaign(campaign)
+    kwargs = _checked(backend, precision, adapter, threads)
     a = _theta(campaign, theta)
-    out, notes = _rigfit.simulate(campaign._inner, a, backend=backend, precision=precision,
-                                  adapter=adapter, threads=threads)
+    try:
+        out, notes = _rigfit.simulate(campaign._inner, a, **kwargs)
+    except Error as e:
+        raise check.reword(e)
     _warn(notes)
     return out
 
@@ -46,11 +59,16 @@ class Objective:
     1e30 for a diverged run) of the free parameters, for any optimiser. See
     :meth:`rigfit.Campaign.objective`."""
 
-    def __init__(self, campaign, vectorized=True, **kwargs):
+    def __init__(self, campaign, vectorized=True, *, backend=None, precision=None, adapter=None,
+                 threads=0):
+        check.campaign(campaign)
         self.campaign = campaign
-        self.vectorized = vectorized
-        self._kwargs = kwargs
-        self._inner = _rigfit.Objective(campaign._inner, **kwargs)
+        self.vectorized = check.flag("vectorized", vectorized)
+        self._kwargs = kwargs = _checked(backend, precision, adapter, threads)
+        try:
+            self._inner = _rigfit.Objective(campaign._inner, **kwargs)
+        except Error as e:
+            raise check.reword(e)
         self.evaluations = 0
         _warn(self._inner.notes)
 

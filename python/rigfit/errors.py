@@ -15,6 +15,11 @@ class CampaignError(Error, ValueError):
     """A campaign, a setting or an argument that rigfit refuses."""
 
 
+class ArgumentTypeError(Error, TypeError):
+    """An argument of the wrong type (a str where a number is expected, a
+    path where a :class:`rigfit.Campaign` is); the message names it."""
+
+
 class DataError(Error, ValueError):
     """A measured record that rigfit refuses."""
 

@@ -5,8 +5,9 @@ import shutil
 import tempfile
 import warnings
 
+from . import _arguments as check
 from . import _rigfit
-from .errors import GpuFallbackWarning, Interrupted
+from .errors import Error, GpuFallbackWarning, Interrupted
 from .result import FitResult, read_result_files
 
 
@@ -39,7 +40,26 @@ def fit(campaign, *, seed=None, backend=None, precision=None, adapter=None, out=
     Ctrl-C stops the job within the generation in flight and raises
     :class:`rigfit.Interrupted` (a KeyboardInterrupt) whose ``checkpoint`` is
     the folder to resume from. Returns a :class:`rigfit.FitResult`.
+
+    A bad argument is refused before any work: a value with
+    :class:`rigfit.CampaignError`, a type with :class:`rigfit.ArgumentTypeError`,
+    the message naming the keyword.
     """
+    check.campaign(campaign)
+    seed = check.integer("seed", seed, maximum=check.MAX_SEED)
+    backend = check.choice("backend", backend, ("auto", "gpu", "cpu"))
+    precision = check.choice("precision", precision, ("auto", "f32", "f64"))
+    adapter = check.adapter(adapter)
+    out = check.path("out", out)
+    resume = check.flag("resume", resume)
+    overwrite = check.flag("overwrite", overwrite)
+    population = check.integer("population", population, minimum=4)
+    generations = check.integer("generations", generations, minimum=1)
+    target_fitness = check.real("target_fitness", target_fitness)
+    method = check.text("method", method)  # its value: the library's message
+    threads = check.threads(threads)
+    max_memory = check.max_memory(max_memory)
+    progress = check.progress(progress)
     temporary = out is None
     if temporary:
         out = tempfile.mkdtemp(prefix="rigfit-fit-")
@@ -52,7 +72,9 @@ def fit(campaign, *, seed=None, backend=None, precision=None, adapter=None, out=
             precision=precision, adapter=adapter, threads=threads, population=population,
             generations=generations, seed=seed, target_fitness=target_fitness,
             method=method, max_memory=max_memory, progress=callback)
-    except BaseException:
+    except BaseException as e:
+        if isinstance(e, Error):
+            check.reword(e)  # the CLI's flags in the message as keywords
         if temporary and not os.path.exists(os.path.join(out, "checkpoint.json")):
             shutil.rmtree(out, ignore_errors=True)
         raise
@@ -83,6 +105,7 @@ def fit(campaign, *, seed=None, backend=None, precision=None, adapter=None, out=
 
 def _warn(notes):
     for note in notes:
+        note = check.reworded(note)
         category = GpuFallbackWarning if "CPU" in note or "cpu" in note else UserWarning
         warnings.warn(f"rigfit: {note}", category, stacklevel=3)
 

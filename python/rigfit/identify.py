@@ -8,6 +8,7 @@ import json
 
 import numpy as np
 
+from . import _arguments as check
 from . import _rigfit
 
 
@@ -37,6 +38,8 @@ def ringdown(t, f, *, m1=None, k1=None, start=None):
     With the load cell's mass ``m1`` (kg) or stiffness ``k1`` (N/m) also the
     other and the post-fracture damping. Returns ``{"ringdown": {...}}`` as
     ``rigfit ringdown --json`` prints it."""
+    m1, k1 = check.real("m1", m1, positive=True), check.real("k1", k1, positive=True)
+    start = check.real("start", start)
     t, f = _arrays(t, f)
     return _report(_rigfit.ringdown_report(t, f, m1=m1, k1=k1, start=start))
 
@@ -45,6 +48,7 @@ def fit_specimen(e, f, *, degree=3):
     """The specimen law (linear elastic, then a plastic polynomial of
     ``degree``) fitted to quasi-static elongation ``e`` (m) and force ``f``
     (N). Returns ``{"fit": {...}}`` as ``rigfit fit-specimen --json`` prints it."""
+    degree = check.integer("degree", degree, minimum=1, maximum=5, optional=False)
     e, f = _arrays(e, f)
     return _report(_rigfit.specimen_report(e, f, degree=degree))
 
@@ -59,6 +63,12 @@ def frf(t, u, y, *, response="displacement", segment=None, modes=1, f_min=None, 
     "assumes"}`` as the CLI's ``--json`` prints them, with ``.fragment`` and
     ``.spectra``: a dict of ``freqs`` (Hz), ``h1``, ``h2`` (complex) and
     ``coherence`` arrays."""
+    response = check.text("response", response, optional=False)
+    segment = check.integer("segment", segment, minimum=1)
+    modes = check.integer("modes", modes, optional=False)
+    f_min, f_max = check.real("f_min", f_min), check.real("f_max", f_max)
+    min_coherence = check.real("min_coherence", min_coherence, optional=False)
+    names, fixed = check.strings("names", names), check.flag("fixed", fixed)
     t, u = _arrays(t, u)
     y = np.ascontiguousarray(np.asarray(y, dtype=np.float64))
     report, fragment, cols = _rigfit.frf_report(
@@ -79,6 +89,12 @@ def rfs(t, x, accel, *, mass, terms=("linear", "viscous"), alpha=None, beta=None
     ``"viscous"``, ``"cubic-damping"``, ``"power-damping"``, ``"coulomb"``),
     as ``rigfit identify rfs`` computes them. Returns ``{"dpe": {...}}`` as
     its ``--json`` prints it, with ``.fragment``."""
+    mass = check.real("mass", mass, optional=False, positive=True)
+    terms = [terms] if isinstance(terms, str) else check.strings("terms", terms)
+    alpha, beta = check.real("alpha", alpha), check.real("beta", beta)
+    cutoff = check.real("cutoff", cutoff, positive=True)
+    filter_order = check.integer("filter_order", filter_order, minimum=1, optional=False)
+    fixed = check.flag("fixed", fixed)
     t, x = _arrays(t, x)
     a = np.ascontiguousarray(np.asarray(accel, dtype=np.float64))
     return _report(_rigfit.rfs_report(t, x, a, mass=mass, terms=list(terms), alpha=alpha,
@@ -94,6 +110,12 @@ def idim(q, force, *, sample_rate=None, t=None, gain=1.0, cutoff=100.0, filter_o
     voltage times the drive's gain) sampled at ``sample_rate`` (Hz) or at the
     times ``t`` (s). Returns ``{"idim": {...}}`` as its ``--json`` prints it,
     with ``.fragment``."""
+    sample_rate = check.real("sample_rate", sample_rate, positive=True)
+    gain = check.real("gain", gain, optional=False)
+    cutoff = check.real("cutoff", cutoff, optional=False, positive=True)
+    filter_order = check.integer("filter_order", filter_order, minimum=1, optional=False)
+    decimation = check.integer("decimation", decimation, minimum=1, optional=False)
+    fixed = check.flag("fixed", fixed)
     q, force = _arrays(q, force)
     if t is not None:
         t = np.ascontiguousarray(np.asarray(t, dtype=np.float64))
@@ -109,6 +131,11 @@ def nimiso(t, x, f, *, f_min, f_max, nonlinear="cubic", segment=None, fixed=Fals
     (``"cubic"``: x³, ``"sign-velocity"``: sgn ẋ, ``"quadratic-damping"``:
     |ẋ|·ẋ) and the band ``f_min``..``f_max`` (Hz) it fits. Returns
     ``{"nimiso": {...}}`` as its ``--json`` prints it, with ``.fragment``."""
+    f_min = check.real("f_min", f_min, optional=False)
+    f_max = check.real("f_max", f_max, optional=False)
+    nonlinear = check.text("nonlinear", nonlinear, optional=False)
+    segment = check.integer("segment", segment, minimum=1)
+    fixed = check.flag("fixed", fixed)
     t, x = _arrays(t, x)
     f = np.ascontiguousarray(np.asarray(f, dtype=np.float64))
     return _report(_rigfit.nimiso_report(t, x, f, f_min=f_min, f_max=f_max, nonlinear=nonlinear,
@@ -139,10 +166,17 @@ def arx(t, u, ys, *, mass, f_min, f_max, names=("k2", "c2"), form="linear", segm
     "element", "arx"}`` as its ``--json`` prints them, with ``.fragment`` and
     ``.spectra``: ``freqs`` (Hz), ``t`` (complex, channels × lines) and
     ``coherence`` (channels × lines)."""
+    f_min = check.real("f_min", f_min, optional=False)
+    f_max = check.real("f_max", f_max, optional=False)
+    names, form = check.strings("names", names), check.text("form", form, optional=False)
+    segment = check.integer("segment", segment, minimum=1)
+    min_coherence = check.real("min_coherence", min_coherence, optional=False)
+    fixed = check.flag("fixed", fixed)
+    mass = [check.real("mass", m, optional=False, positive=True)
+            for m in np.atleast_1d(np.asarray(mass, dtype=object))]
     t, u = _arrays(t, u)
     ys = np.asarray(ys, dtype=np.float64)
     ys = [np.ascontiguousarray(y) for y in (ys[None, :] if ys.ndim == 1 else ys)]
-    mass = [float(m) for m in np.atleast_1d(mass)]
     report, fragment, spectra = _rigfit.arx_report(
         t, u, ys, mass=mass, f_min=f_min, f_max=f_max, names=list(names), form=form,
         segment=segment, min_coherence=min_coherence, fixed=fixed)
@@ -161,6 +195,10 @@ def impedance(t, x_impact, y_impact, *, f_min, f_max, mass=None, fixed=False):
     fitted over ``f_min``..``f_max`` (Hz), as ``rigfit identify impedance``
     computes them. Returns ``{"impedance": {...}}`` as its ``--json`` prints
     it, with ``.fragment`` (the ``bearing_2dof`` rig's parameters)."""
+    f_min = check.real("f_min", f_min, optional=False)
+    f_max = check.real("f_max", f_max, optional=False)
+    mass = check.real("mass", mass, positive=True)
+    fixed = check.flag("fixed", fixed)
     t = np.ascontiguousarray(np.asarray(t, dtype=np.float64))
     return _report(_rigfit.impedance_report(
         t, _channels(x_impact, "x_impact", "force, x, y"),
@@ -179,6 +217,14 @@ def sensitivity(t, base, changed, *, k1, f_min, f_max, c1=0.0, segment=None, nam
     ``{"welch", "sensitivity"}`` as its ``--json`` prints them, with
     ``.fragment``: ``name`` after the change when ``base_value`` (N/m) gives
     it before."""
+    k1 = check.real("k1", k1, optional=False, positive=True)
+    c1 = check.real("c1", c1, optional=False)
+    f_min = check.real("f_min", f_min, optional=False)
+    f_max = check.real("f_max", f_max, optional=False)
+    segment = check.integer("segment", segment, minimum=1)
+    name = check.text("name", name, optional=False)
+    base_value = check.real("base_value", base_value)
+    fixed = check.flag("fixed", fixed)
     t = np.ascontiguousarray(np.asarray(t, dtype=np.float64))
     parts = "wheel pan, unsprung, sprung"
     return _report(_rigfit.sensitivity_report(

@@ -10,6 +10,7 @@ import tempfile
 
 import numpy as np
 
+from .errors import DataError
 from .params import Parameter, Parameters, _num
 
 #: The files a result holds besides the per-experiment CSVs and figures.
@@ -31,14 +32,15 @@ class ExperimentResult:
     they are the CSV's, to 7 significant digits (``full_precision`` says
     which)."""
 
-    def __init__(self, summary, csv_bytes, arrays=None):
+    def __init__(self, summary, csv_bytes, arrays=None, _label=None):
         self.summary = summary
         self.name = summary["name"]
         self.r2 = summary["r2"]
         self.one_minus_r2 = summary["one_minus_r2"]
         self.residual_rms = summary.get("residual_rms")
         self.unit = summary.get("unit", "")
-        header, table = _read_csv(csv_bytes)
+        label = _label or summary.get("csv") or "the experiment's CSV"
+        header, table = _read_csv(csv_bytes, label)
         self.columns = header
         model_cols = [i for i, h in enumerate(header) if h.startswith("model_")]
         self.output_columns = [header[i] for i in model_cols]
@@ -53,11 +55,17 @@ class ExperimentResult:
             self.residual = np.asarray(arrays["residual"], dtype=float)
             self.in_fit_window = np.asarray(arrays["in_fit_window"], dtype=bool)
             return
+        residual = [i for i, h in enumerate(header) if h.startswith("residual_")]
+        if (table.shape[1] != len(header) or len(header) < 5 or not model_cols or not residual
+                or header[-1] != "in_fit_window"):
+            raise DataError(
+                f"{label}: expected the columns t, t_model, measured, model_*, residual_*, "
+                f"in_fit_window, found {','.join(header)} ({table.shape[1]} per row)")
         self.t = table[:, 0]
         self.t_model = table[:, 1]
         self.measured = table[:, 2]
         self.model = table[:, model_cols]
-        self.residual = table[:, header.index(next(h for h in header if h.startswith("residual_")))]
+        self.residual = table[:, residual[0]]
         self.in_fit_window = table[:, -1].astype(bool)
 
     def _arrays(self):
@@ -102,11 +110,12 @@ class FitResult:
     Picklable.
     """
 
-    def __init__(self, files, arrays=None):
+    def __init__(self, files, arrays=None, _folder=None):
         #: file name -> bytes, exactly as ``rigfit run`` wrote them.
         self.files = dict(files)
         arrays = arrays or {}
         self.summary = json.loads(self.files["result.json"])
+        label = (lambda n: os.path.join(_folder, n)) if _folder is not None else (lambda n: n)
         s = self.summary
         self.params = Parameters()
         for p in s["parameters"]:
@@ -124,7 +133,7 @@ class FitResult:
         self.correlation = (np.array([[np.nan if v is None else v for v in row] for row in corr], dtype=float)
                             if corr else None)
         self.experiments = {
-            x["name"]: ExperimentResult(x, self.files[x["csv"]], arrays.get(x["name"]))
+            x["name"]: ExperimentResult(x, self.files[x["csv"]], arrays.get(x["name"]), label(x["csv"]))
             for x in s["experiments"]
         }
         self.fitness = s["fitness"]
@@ -349,31 +358,113 @@ def load_result(path):
     """Reads the result ``rigfit run`` (or :meth:`FitResult.save`) left in a
     folder (or its ``result.json``). Its experiments' arrays are read from
     the CSVs, so they carry the CSVs' 7 significant digits (a fit held in
-    memory, or pickled, keeps its full-precision arrays)."""
+    memory, or pickled, keeps its full-precision arrays). A damaged folder
+    (result.json missing or not a rigfit result, a CSV it names missing or
+    unreadable, a file named outside the folder) raises
+    :class:`rigfit.DataError` naming the file."""
     path = os.fspath(path)
     folder = os.path.dirname(path) if os.path.isfile(path) else path
-    return FitResult(read_result_files(folder))
+    files = read_result_files(folder)
+    where = os.path.join(folder, "result.json")
+    try:
+        return FitResult(files, _folder=folder)
+    except DataError:
+        raise
+    except (KeyError, IndexError, TypeError, ValueError, AttributeError, StopIteration) as e:
+        what = f"missing key {e}" if isinstance(e, KeyError) else f"{type(e).__name__}: {e}"
+        raise DataError(f"{where}: not a rigfit result ({what})") from None
+
+
+def _inside(folder, name, what):
+    """The path of ``name`` in ``folder``; a name that leads outside it (an
+    absolute path, ``..``, a symbolic link out of it) raises DataError."""
+    where = os.path.join(folder, "result.json")
+    if not isinstance(name, str) or not name or "\0" in name:
+        raise DataError(f"{where}: {what}: expected a file name, found {name!r}")
+    if os.path.isabs(name) or os.path.normpath(name).split(os.sep)[0] == os.pardir:
+        raise DataError(
+            f"{where}: {what}: {name!r} is outside the result folder; rigfit reads only the "
+            "folder's own files")
+    full = os.path.join(folder, name)
+    root = os.path.realpath(folder)
+    real = os.path.realpath(full)
+    if os.path.commonpath([root, real]) != root:
+        raise DataError(
+            f"{full}: leads outside the result folder (to {real}); rigfit reads only the "
+            "folder's own files")
+    return full
+
+
+def _read_file(full):
+    try:
+        with open(full, "rb") as f:
+            return f.read()
+    except OSError as e:
+        raise DataError(f"{full}: cannot be read ({e.strerror or e})") from None
 
 
 def read_result_files(folder):
-    """The files of a result folder, by name."""
-    summary = json.loads(open(os.path.join(folder, "result.json"), "rb").read())
-    names = list(_FIXED_FILES)
-    for x in summary["experiments"] + (summary.get("validation") or {}).get("experiments", []):
-        names += [x.get("csv"), x.get("plot")]
-    files = {}
-    for name in names:
-        if name and os.path.isfile(os.path.join(folder, name)):
-            with open(os.path.join(folder, name), "rb") as f:
-                files[name] = f.read()
+    """The files of a result folder, by name. Raises :class:`rigfit.DataError`
+    naming the file for a missing or damaged result.json, a CSV it names
+    that is missing, or a name leading outside the folder."""
+    folder = os.fspath(folder)
+    where = os.path.join(folder, "result.json")
+    if not os.path.isfile(where):
+        raise DataError(f"{where}: no result.json here: not a rigfit result folder")
+    raw = _read_file(_inside(folder, "result.json", "result.json"))
+    try:
+        summary = json.loads(raw.decode("utf-8"))
+    except UnicodeDecodeError as e:
+        raise DataError(f"{where}: not UTF-8 text (byte {e.start})") from None
+    except ValueError as e:
+        raise DataError(f"{where}: malformed JSON: {e}") from None
+    if not isinstance(summary, dict):
+        raise DataError(f"{where}: expected a JSON object, found {type(summary).__name__}")
+    experiments = summary.get("experiments")
+    if not isinstance(experiments, list):
+        raise DataError(f"{where}: experiments: expected a list, found {experiments!r:.60}")
+    validation = summary.get("validation") or {}
+    if not isinstance(validation, dict) or not isinstance(validation.get("experiments", []), list):
+        raise DataError(f"{where}: validation: expected an object with an experiments list")
+    listed = [("experiments", i, x) for i, x in enumerate(experiments)] + [
+        ("validation.experiments", i, x) for i, x in enumerate(validation.get("experiments", []))]
+    required, optional = [], list(_FIXED_FILES[1:])
+    for key, i, x in listed:
+        if not isinstance(x, dict):
+            raise DataError(f"{where}: {key}[{i}]: expected an object, found {x!r:.60}")
+        if "csv" not in x:
+            raise DataError(f"{where}: {key}[{i}]: missing key 'csv'")
+        required.append((f"{key}[{i}].csv", x["csv"]))
+        if x.get("plot") is not None:
+            optional.append(x["plot"])
+    files = {"result.json": raw}
+    for what, name in required:
+        full = _inside(folder, name, what)
+        if not os.path.isfile(full):
+            raise DataError(f"{full}: missing (result.json names it at {what})")
+        files[name] = _read_file(full)
+    for name in optional:
+        full = _inside(folder, name, name)
+        if name not in files and os.path.isfile(full):
+            files[name] = _read_file(full)
     return files
 
 
-def _read_csv(data):
-    text = data.decode() if isinstance(data, bytes) else data
+def _read_csv(data, label="the CSV"):
+    try:
+        text = data.decode() if isinstance(data, bytes) else data
+    except UnicodeDecodeError as e:
+        raise DataError(f"{label}: not UTF-8 text (byte {e.start})") from None
     lines = [l for l in text.splitlines() if l and not l.startswith("#")]
+    if not lines:
+        raise DataError(f"{label}: expected a header and rows, found no lines")
     header = lines[0].split(",")
-    table = np.loadtxt(io.StringIO("\n".join(lines[1:])), delimiter=",", ndmin=2)
+    try:
+        table = np.loadtxt(io.StringIO("\n".join(lines[1:])), delimiter=",", ndmin=2)
+    except ValueError as e:
+        raise DataError(f"{label}: expected rows of numbers ({e})") from None
+    if table.size == 0:
+        table = table.reshape(0, len(header))
     return header, table
 
 
