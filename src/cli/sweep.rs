@@ -138,11 +138,9 @@ pub fn sweep(args: &SweepArgs, out: &Output) -> Result<()> {
     let mut gpu = match args.backend {
         SweepBackend::Cpu => None,
         SweepBackend::Gpu => {
-            let precision = match args.precision {
-                None | Some(PrecisionArg::Auto) => PrecisionChoice::Auto,
-                Some(PrecisionArg::F32) => PrecisionChoice::F32,
-                Some(PrecisionArg::F64) => PrecisionChoice::F64,
-            };
+            let precision = args
+                .precision
+                .map_or(PrecisionChoice::Auto, PrecisionChoice::from);
             Some(GpuRuns::open(args.adapter.as_deref(), precision).context("--backend gpu")?)
         }
     };
@@ -187,7 +185,9 @@ pub fn sweep(args: &SweepArgs, out: &Output) -> Result<()> {
         None
     };
     let svg = match &args.picture {
-        Some(_) => Some(picture(&sweep, &table, metric).context("drawing --picture")?),
+        Some(_) => {
+            Some(picture(&sweep, &table, metric, indices.as_ref()).context("drawing --picture")?)
+        }
         None => None,
     };
     write_file(&args.out, table.csv().as_bytes())?;

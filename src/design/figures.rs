@@ -7,7 +7,7 @@ use super::file::Sweep;
 use super::picture::{BandLine, IndexBar, band_svg, heat_map_svg, indices_svg};
 use super::points::Points;
 use super::run::Table;
-use super::sensitivity::sobol_table;
+use super::sensitivity::{IndexTable, sobol_table};
 use crate::report::plots::PlotError;
 
 /// Most lines one picture draws (combinations of the variables after the
@@ -82,8 +82,15 @@ pub fn metric_label(sweep: &Sweep, metric: usize) -> String {
     }
 }
 
-/// The SVG of metric `metric` (an index into the sweep's metrics).
-pub fn picture(sweep: &Sweep, table: &Table, metric: usize) -> Result<String, PlotError> {
+/// The SVG of metric `metric` (an index into the sweep's metrics); `indices`
+/// the sweep's Sobol indices where the caller has them already (computed
+/// here otherwise).
+pub fn picture(
+    sweep: &Sweep,
+    table: &Table,
+    metric: usize,
+    indices: Option<&IndexTable>,
+) -> Result<String, PlotError> {
     let failed = |message: String| PlotError {
         path: "--picture".into(),
         message,
@@ -95,7 +102,14 @@ pub fn picture(sweep: &Sweep, table: &Table, metric: usize) -> Result<String, Pl
     let value = |r: usize| table.rows[r].metrics[metric].unwrap_or(f64::NAN);
     match &sweep.points {
         Points::Drawn(_) => {
-            let ix = sobol_table(sweep, table).map_err(failed)?;
+            let computed;
+            let ix = match indices {
+                Some(ix) => ix,
+                None => {
+                    computed = sobol_table(sweep, table).map_err(failed)?;
+                    &computed
+                }
+            };
             let indices = ix.metrics[metric]
                 .1
                 .as_ref()

@@ -355,8 +355,8 @@ pub fn run_sweep(
             Engine::Cpu => cpu_metrics(sweep, &prepared),
             Engine::Gpu(g) => g.metrics(sweep, &prepared)?,
         };
-        for (k, (p, m)) in prepared.iter().zip(metrics).enumerate() {
-            rows.push(row(sweep, done + k, p.substeps, m));
+        for (k, (p, m)) in prepared.into_iter().zip(metrics).enumerate() {
+            rows.push(row(sweep, done + k, p, m));
         }
         done = end;
         progress(done, total);
@@ -371,7 +371,7 @@ pub fn run_sweep(
 
 /// Point `point`'s row from the metrics of its runs (its own, then the
 /// draws').
-fn row(sweep: &Sweep, point: usize, substeps: usize, runs: Vec<Vec<Option<f64>>>) -> Row {
+fn row(sweep: &Sweep, point: usize, p: PreparedPoint, runs: Vec<Vec<Option<f64>>>) -> Row {
     let bands = match &sweep.uncertainty {
         None => Vec::new(),
         Some(u) => (0..sweep.metrics.len())
@@ -383,10 +383,10 @@ fn row(sweep: &Sweep, point: usize, substeps: usize, runs: Vec<Vec<Option<f64>>>
     };
     Row {
         point,
-        values: sweep.points.point(point),
+        values: p.values,
         metrics: runs.into_iter().next().unwrap_or_default(),
         bands,
-        substeps,
+        substeps: p.substeps,
     }
 }
 
@@ -415,7 +415,6 @@ fn cpu_metrics(sweep: &Sweep, prepared: &[PreparedPoint]) -> Vec<Vec<Vec<Option<
         })
         .collect();
     let base = &sweep.campaign.problem;
-    let values: Vec<Vec<f64>> = prepared.iter().map(|p| p.values.clone()).collect();
     let computed: Vec<(RunKey, Vec<Option<f64>>)> = groups
         .par_iter()
         .flat_map_iter(|&(substeps, offset, ks)| {
@@ -428,7 +427,7 @@ fn cpu_metrics(sweep: &Sweep, prepared: &[PreparedPoint]) -> Vec<Vec<Vec<Option<
             let hs = simulate_histories(&problem, sweep.experiment, &params, offset);
             ks.iter()
                 .zip(hs)
-                .map(|(&kr, h)| (kr, metrics_of(sweep, &h, &values[kr.0])))
+                .map(|(&kr, h)| (kr, metrics_of(sweep, &h, &prepared[kr.0].values)))
                 .collect::<Vec<_>>()
         })
         .collect();

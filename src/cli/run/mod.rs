@@ -44,6 +44,16 @@ pub enum PrecisionArg {
     F64,
 }
 
+impl From<PrecisionArg> for PrecisionChoice {
+    fn from(p: PrecisionArg) -> Self {
+        match p {
+            PrecisionArg::Auto => Self::Auto,
+            PrecisionArg::F32 => Self::F32,
+            PrecisionArg::F64 => Self::F64,
+        }
+    }
+}
+
 /// `rigfit run`.
 #[derive(Debug, Args)]
 pub struct RunArgs {
@@ -200,12 +210,9 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
         Some(BackendArg::Cpu) => Backend::Cpu,
         None => c.solver.backend,
     };
-    let precision = match a.precision {
-        Some(PrecisionArg::Auto) => PrecisionChoice::Auto,
-        Some(PrecisionArg::F32) => PrecisionChoice::F32,
-        Some(PrecisionArg::F64) => PrecisionChoice::F64,
-        None => c.solver.precision,
-    };
+    let precision = a
+        .precision
+        .map_or(c.solver.precision, PrecisionChoice::from);
     let memory = limits::check_memory(
         &c,
         &a.campaign,

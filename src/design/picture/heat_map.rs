@@ -295,13 +295,7 @@ pub fn heat_map_svg(
         }
     }
     if z_range.is_none() {
-        svg.text(
-            (frame.left() + frame.right()) / 2.0,
-            (frame.top() + frame.bottom()) / 2.0,
-            LABEL_SIZE,
-            "middle",
-            "no finite values to draw",
-        );
+        frame.say_nothing_to_draw(&mut svg);
     }
     frame.axes(&mut svg);
 

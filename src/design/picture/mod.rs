@@ -317,6 +317,17 @@ struct Frame<'a> {
 }
 
 impl Frame<'_> {
+    /// The note in the middle of a plot with nothing finite to draw.
+    fn say_nothing_to_draw(&self, svg: &mut Svg) {
+        svg.text(
+            (self.left() + self.right()) / 2.0,
+            (self.top() + self.bottom()) / 2.0,
+            LABEL_SIZE,
+            "middle",
+            "no finite values to draw",
+        );
+    }
+
     fn left(&self) -> f64 {
         self.x.a.min(self.x.b)
     }
