@@ -4,13 +4,19 @@
 # tests need (maturin, pytest, numpy, pandas, SciPy, tqdm, nbclient, ...), then
 # pytest. scripts/test.sh runs it after the Rust tests; every failure fails it.
 #
-# The crate is its own workspace (python/Cargo.lock) but builds in the root's
-# target folder with the dev profile (dependencies and the library at
-# opt-level 2, as the root's tests build them; no LTO), so the dependencies
-# `cargo clippy` and `cargo test` compiled are reused where their features
-# agree; those PyO3 adds features to (syn, serde, naga, wgpu, ...) and the
-# library are built once more. (The `test` profile would build the module
-# with the test harness, without its PyInit symbol.)
+# The crate (rigfit-python) is a member of the root workspace: one Cargo.lock,
+# one target folder, the root's profiles. It is not a default member, so the
+# root's `cargo test` and `cargo clippy` never build it; this script checks it
+# with `-p rigfit-python`. The wheel is built with the dev profile
+# (dependencies and, by the root's [profile.dev.package.rigfit], the library
+# at opt-level 2, as the root's tests build them; no LTO). None of what `cargo
+# test` compiled is reused (measured 2026-11-29: the test profile has no debug
+# info, the dev profile line tables), so its ~194 units are built once more.
+# (The `test` profile would build the module with the test harness, without
+# its PyInit symbol.)
+#
+# RIGFIT_WHEEL is set to the wheel it built: tests/test_wheel_install.py
+# installs it into a fresh virtual environment of its own (numpy from PyPI).
 set -euo pipefail
 cd "$(dirname "$0")/../python"
 
@@ -40,24 +46,30 @@ export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/../target}"
 profile="${RIGFIT_WHEEL_PROFILE:-dev}"
 
 step() { echo "test-python.sh: [${SECONDS} s] $*"; }
-step "cargo fmt --check (python/)"
-cargo fmt --all --check
-step "cargo clippy (python/)"
-cargo clippy --all-targets --locked -- -D warnings
+step "cargo fmt --check (rigfit-python)"
+cargo fmt -p rigfit-python --check
+step "cargo clippy (rigfit-python)"
+cargo clippy -p rigfit-python --all-targets --locked -- -D warnings
 
 venv="${RIGFIT_PYTHON_VENV:-$PWD/.venv}"
 if [ ! -x "$venv/bin/python" ]; then
     python3 -m venv "$venv"
 fi
-step "pip install (maturin, pytest, numpy, pandas, scipy, tqdm, nbclient, playwright, ...)"
+step "pip install (maturin, pytest, numpy, pandas, scipy, lmfit, tqdm, nbclient, mypy, playwright, ...)"
 "$venv/bin/python" -m pip install -q --disable-pip-version-check \
-    "maturin>=1.5,<2" pytest numpy pandas scipy tqdm nbclient nbformat ipykernel matplotlib \
-    "playwright>=1.50,<2"
+    "maturin>=1.5,<2" pytest numpy pandas scipy lmfit tqdm nbclient nbformat ipykernel matplotlib \
+    mypy "playwright>=1.50,<2"
 
 step "maturin build (profile $profile)"
 rm -rf dist
 "$venv/bin/maturin" build --locked --profile "$profile" --out dist
-"$venv/bin/python" -m pip install -q --disable-pip-version-check --force-reinstall --no-deps dist/rigfit-*.whl
+wheels=(dist/rigfit-*.whl)
+if [ "${#wheels[@]}" -ne 1 ] || [ ! -f "${wheels[0]}" ]; then
+    echo "test-python.sh: expected one wheel in python/dist, found: ${wheels[*]}" >&2
+    exit 1
+fi
+export RIGFIT_WHEEL="$PWD/${wheels[0]}"
+"$venv/bin/python" -m pip install -q --disable-pip-version-check --force-reinstall --no-deps "$RIGFIT_WHEEL"
 
 # The tests hold the package to the CLI that `cargo test` built.
 export RIGFIT_BIN="${RIGFIT_BIN:-$CARGO_TARGET_DIR/debug/rigfit}"

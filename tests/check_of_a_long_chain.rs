@@ -93,3 +93,54 @@ fn check_of_a_1000_mass_chain_finishes() {
     assert!(out.status.success(), "{err}");
     assert!(String::from_utf8_lossy(&out.stdout).contains("valid"));
 }
+
+/// The chain with a stick-slip contact between its driven end and ground.
+fn switched_chain(n: usize) -> Value {
+    let mut rig = chain(n);
+    rig["params"].as_array_mut().unwrap().extend([
+        json!({"name": "f_c", "unit": "N"}),
+        json!({"name": "k_t", "unit": "N/m"}),
+    ]);
+    rig["elements"].as_array_mut().unwrap().push(json!({
+        "name": "contact", "between": [format!("n{}", n - 1), "ground"],
+        "friction": {"law": "stick_slip", "f_c": "f_c", "k_t": "k_t"}
+    }));
+    rig
+}
+
+#[test]
+fn check_of_a_1000_mass_chain_with_a_switch_bounds_the_step_estimate_by_its_work() {
+    // With a switch, the step-doubling estimate asked for ever more substeps,
+    // each trial a run of the whole chain on the reference: its steps were
+    // bounded (1e6) but not their cost, 100 times a small rig's per step, and
+    // `check` took minutes. The bound is now on work: steps × states.
+    let tmp = tempfile::tempdir().unwrap();
+    let dir: &Path = tmp.path();
+    std::fs::write(dir.join("chain.json"), switched_chain(1000).to_string()).unwrap();
+    let mut csv = String::from("t_s,x_m\n");
+    for i in 0..200 {
+        let t = f64::from(i) * 0.01;
+        csv += &format!("{t},{}\n", 1e-3 * (t * 7.0).sin() + 1e-5 * f64::from(i % 3));
+    }
+    std::fs::write(dir.join("d.csv"), csv).unwrap();
+    let c = json!({
+        "name": "chain", "rig": "chain.json",
+        "params": {"m": 1.0, "k": {"min": 1e3, "max": 1e4}, "c": 1.0, "f_c": 1e-3, "k_t": 1e6},
+        "experiments": [{"name": "e", "data": {"file": "d.csv", "time_column": "t_s", "force_column": "x_m"}, "drive": "velocity"}]
+    });
+    std::fs::write(dir.join("c.json"), c.to_string()).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_rigfit"))
+        .args(["check", "c.json", "--no-measure"])
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    let said = format!("{}{err}", String::from_utf8_lossy(&out.stdout));
+    assert!(out.status.success(), "{said}");
+    let limit = rigfit::campaign::estimate_max_steps(2001);
+    assert!(limit <= 1e4, "{limit}");
+    assert!(
+        said.contains("for a rig of 2001 states"),
+        "the estimate was not bounded by the rig's size: {said}"
+    );
+}

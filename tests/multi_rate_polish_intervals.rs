@@ -123,7 +123,10 @@ fn campaign_with_truth(
         json["experiments"][e]["data"]["file"] = file.clone().into();
         let mut s = String::from("t_s,force_N\n");
         for k in 0..*n {
-            s += &format!("{:e},{}\n", k as f64 * 1e-6, k % 7);
+            // Placeholders of about the rig's size (the campaign is read,
+            // and its records checked against the rig, before they are
+            // replaced).
+            s += &format!("{:e},{}\n", k as f64 * 1e-6, 1000 * (k % 7));
         }
         std::fs::write(dir.join(&file), s).unwrap();
     }

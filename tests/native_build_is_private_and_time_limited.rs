@@ -19,6 +19,11 @@ fn repo() -> PathBuf {
 /// lanes from the first batch, its temporary folder `tmp`, run under
 /// `umask 000`, with the extra environment `env`.
 fn job(tmp: &Path, out: &Path, env: &[(&str, &str)]) -> Output {
+    job_command(tmp, out, env).output().unwrap()
+}
+
+/// [`job`]'s command, not yet started.
+fn job_command(tmp: &Path, out: &Path, env: &[(&str, &str)]) -> Command {
     let campaigns = repo().join("campaigns");
     let text = std::fs::read_to_string(campaigns.join("aa2024_t3_synthetic.json")).unwrap();
     let mut c: serde_json::Value = serde_json::from_str(&text).unwrap();
@@ -49,7 +54,7 @@ fn job(tmp: &Path, out: &Path, env: &[(&str, &str)]) -> Output {
     for (k, v) in env {
         cmd.env(k, v);
     }
-    cmd.output().unwrap()
+    cmd
 }
 
 fn script(dir: &Path, name: &str, body: &str) -> PathBuf {
@@ -267,4 +272,70 @@ fn a_kept_build_is_loaded_by_the_next_job_only_while_it_is_private() {
     assert_eq!(count(), 2 * built + 1, "a planted link was loaded");
     assert!(std::fs::symlink_metadata(&kept[0]).unwrap().is_file());
     assert_eq!(std::fs::read_dir(&tmp).unwrap().count(), 0);
+}
+
+/// Whether process `pid` has ended (gone, or a zombie), waiting up to 5 s.
+fn ends(pid: &str) -> bool {
+    let proc_dir = Path::new("/proc").join(pid.trim());
+    (0..100).any(|_| {
+        let state = std::fs::read_to_string(proc_dir.join("stat")).unwrap_or_default();
+        let stopped = state.is_empty() || state.contains(") Z");
+        if !stopped {
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        stopped
+    })
+}
+
+#[test]
+fn a_killed_job_takes_its_compiler_with_it() {
+    // A compiler still at work (and its own process, as cc runs cc1) when
+    // the job is killed outright (SIGKILL, a scheduler's time limit): both
+    // end with it, rather than run on for minutes at gigabytes.
+    let dir = tempfile::tempdir().unwrap();
+    let tmp = dir.path().join("tmp");
+    std::fs::create_dir(&tmp).unwrap();
+    let pids = dir.path().join("pids");
+    let cc = script(
+        dir.path(),
+        "slow-cc",
+        &format!(
+            "echo $$ >> '{p}'\nsleep 1000 &\necho $! >> '{p}'\nwait",
+            p = pids.display()
+        ),
+    );
+    let out = dir.path().join("out");
+    let mut job = job_command(
+        &tmp,
+        &out,
+        &[
+            ("RIGFIT_CC", cc.to_str().unwrap()),
+            (
+                "RIGFIT_CACHE_DIR",
+                dir.path().join("cache").to_str().unwrap(),
+            ),
+        ],
+    )
+    .stdout(std::process::Stdio::null())
+    .stderr(std::process::Stdio::null())
+    .spawn()
+    .unwrap();
+    let started = Instant::now();
+    let found = loop {
+        let text = std::fs::read_to_string(&pids).unwrap_or_default();
+        if text.lines().count() >= 2 || started.elapsed() > Duration::from_secs(120) {
+            break text;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    job.kill().unwrap();
+    job.wait().unwrap();
+    let found: Vec<&str> = found.lines().collect();
+    assert_eq!(found.len(), 2, "the compiler never started: {found:?}");
+    for pid in found {
+        assert!(
+            ends(pid),
+            "the compiler's process {pid} outlived the killed job"
+        );
+    }
 }

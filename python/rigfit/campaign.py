@@ -23,12 +23,15 @@ class Campaign:
     relative to ``base_dir`` or the rig itself inline).
     """
 
-    def __init__(self, inner, base_dir, origin, records=None):
+    def __init__(self, inner, base_dir, origin, records=None, kept=None):
         self._inner = inner
         self._base_dir = os.fspath(base_dir)
         self._origin = origin
         # experiment name -> (lent path, CSV bytes)
         self._records = dict(records or {})
+        # (path, bytes) of every record the campaign was built from, those
+        # read from disk too: a rebuild (an edit, a pickle) reads these.
+        self._kept = list(kept or [])
         self._info = json.loads(inner.info())
 
     # -- construction ---------------------------------------------------
@@ -38,26 +41,94 @@ class Campaign:
         raises :class:`rigfit.CampaignError` or :class:`rigfit.DataError`
         naming the file and the JSON path."""
         path = os.fspath(path)
-        inner = _rigfit.Campaign.load(path)
-        return cls(inner, os.path.dirname(os.path.abspath(path)), path)
+        base_dir = os.path.dirname(os.path.abspath(path))
+        inner, kept = _rigfit.Campaign.load_kept(path, base_dir)
+        return cls(inner, base_dir, path, kept=kept)
 
     @classmethod
-    def from_dict(cls, campaign, base_dir=None, origin="<dict>"):
+    def from_dict(cls, campaign, base_dir=None, origin="<dict>", *, pending=False):
         """Validates a campaign given as a dict; relative paths (the rig
         file, the records) resolve against ``base_dir`` (default: the
-        current folder); messages name ``origin`` as the file."""
+        current folder); messages name ``origin`` as the file.
+
+        ``pending=True``: an experiment whose data file does not exist is
+        built without its record, to be given by :meth:`set_data` (one made
+        by ``rigfit.simulate(campaign, params, t=...)``, say): until every
+        experiment has one, the campaign shows its parameters, genes and
+        outputs and simulates on a time grid, and anything that scores a
+        record (``rigfit.fit``, :meth:`objective`, :meth:`residuals`, a
+        simulation on the records' grids) raises
+        :class:`rigfit.CampaignError` naming the experiments still without
+        one (:attr:`pending`). The records that do exist are checked as each
+        missing one is set, and in full once none is missing."""
+        from . import _arguments as check
+        pending = check.flag("pending", pending)
         base_dir = os.path.abspath(os.fspath(base_dir) if base_dir is not None else os.getcwd())
         text = json.dumps(_plain_json(campaign, "", origin), allow_nan=False)
-        inner = _rigfit.Campaign.from_text(text, base_dir, origin)
-        return cls(inner, base_dir, origin)
+        missing = _missing_records(json.loads(text), base_dir) if pending else []
+        if missing:
+            from ._pending import pending_campaign
+            return pending_campaign(cls, text, base_dir, origin, missing)
+        inner, kept = _rigfit.Campaign.build(text, base_dir, origin)
+        return cls(inner, base_dir, origin, kept=kept)
 
     def to_dict(self):
         """The campaign's keys as validated (records set from memory show as
         ``"<memory:NAME>.csv"`` files)."""
-        return json.loads(self._inner.raw_json)
+        return json.loads(self._built.raw_json)
 
     def copy(self):
-        return Campaign(self._inner, self._base_dir, self._origin, self._records)
+        """An independent copy (the validated campaign itself is shared: it
+        never changes; an edit of either rebuilds that one)."""
+        c = Campaign(self._built, self._base_dir, self._origin, self._records, self._kept)
+        c._pending = list(self.__dict__.get("_pending") or [])
+        return c
+
+    # -- records still to come (from_dict(..., pending=True)) --------------
+    @property
+    def _inner(self):
+        # The validated campaign, for everything that computes on it; refused
+        # while an experiment has no record (its grid a placeholder).
+        pending = self.__dict__.get("_pending")
+        if pending:
+            from ._pending import no_record
+            raise CampaignError(no_record(self._origin, pending))
+        return self._built
+
+    @_inner.setter
+    def _inner(self, inner):
+        self._built = inner
+
+    def _values(self):
+        """The validated campaign even while records are pending: its rig,
+        parameters and genes are the campaign's, a pending experiment's grid
+        a placeholder."""
+        return self._built
+
+    @property
+    def pending(self):
+        """The experiments still without a record (``from_dict(...,
+        pending=True)``): :meth:`set_data` gives one."""
+        return list(self.__dict__.get("_pending") or [])
+
+    def _lent(self):
+        """(path, bytes) of every record the campaign was built from: those
+        set from memory, then those read from disk when it was built."""
+        lent = list(self._records.values())
+        paths = {os.fspath(p) for p, _ in lent}
+        return lent + [(p, b) for p, b in getattr(self, "_kept", ()) if os.fspath(p) not in paths]
+
+    def _rebuilt_from(self, raw):
+        """Rebuilds the campaign from its edited JSON ``raw`` with the very
+        records it holds (none read again from disk); on an error nothing
+        changes."""
+        text = json.dumps(raw, allow_nan=False)
+        if self.__dict__.get("_pending"):
+            from ._pending import rebuild_pending
+            return rebuild_pending(self, text, self._records, self._pending)
+        inner, kept = _rigfit.Campaign.build(text, self._base_dir, self._origin, self._lent())
+        self._inner, self._kept = inner, kept
+        self._info = json.loads(inner.info())
 
     # -- what it holds --------------------------------------------------
     @property
@@ -110,34 +181,73 @@ class Campaign:
 
     @property
     def params(self):
-        """Every parameter as lmfit-style :class:`Parameter` objects: the free
-        ones (``vary=True``, with ``min``, ``max``, ``scale``, and ``value``
+        """Every parameter as lmfit-style :class:`Parameter` objects, named as
+        ``result.json`` names them: the free ones first, in :attr:`genes`
+        order (``vary=True``, with ``min``, ``max``, ``scale``, and ``value``
         their ``init`` or the middle of their range in their scale), then the
-        fixed ones with the first experiment's value."""
-        units = {p["name"]: p["unit"] for p in self._info["params"]}
-        out = Parameters()
-        for g in self._info["genes"]:
-            lo, hi = g["lower"], g["upper"]
-            if g["init"] is not None:
-                value = g["init"]
-            elif g["scale"] == "log" and lo > 0:
-                value = float(np.sqrt(lo * hi))
-            else:
-                value = 0.5 * (lo + hi)
-            out[g["name"]] = Parameter(g["name"], value=value, min=lo, max=hi, vary=True,
-                                       scale=g["scale"], unit=g["unit"], experiment=g["experiment"],
-                                       init=g["init"])
-        names = [p["name"] for p in self._info["params"]]
-        free_bare = {g["name"].split(".")[-1] for g in self._info["genes"]}
-        for x in self._info["experiments"][:1]:
-            for name, value in zip(names, x["values"]):
-                if name not in out and name not in free_bare:
-                    out[name] = Parameter(name, value=value, unit=units[name])
-        return out
+        fixed ones: by their bare name where every experiment has one value,
+        else once per experiment (``"v2.velocity"``), and each experiment's
+        clock offset (``"v2.offset"``).
+
+        Bound to the campaign: setting ``value``, ``min``, ``max``, ``vary``
+        or ``scale`` of one of them (or ``.set(...)``, ``params[name] =
+        Parameter(...)``, ``params.add(...)``) is :meth:`set_params`: the
+        campaign is rebuilt with it, or nothing changes and
+        :class:`rigfit.CampaignError` says why. ``params.copy()`` is a
+        detached copy."""
+        view = getattr(self, "_params_view", None)
+        if view is None:
+            view = self._params_view = Parameters()
+            view._campaign = self
+        view._refresh(self._listing())
+        return view
+
+    def _listing(self):
+        from ._param_edits import listing
+        return listing(self._info, json.loads(self._built.raw_json))
+
+    def set_params(self, params=None, /, **changes):
+        """Edits parameters, lmfit-style, and rebuilds the campaign (the
+        library validating it; its records, those set from memory too, kept
+        as they are). ``params``: a :class:`Parameters` (a fit result's, to
+        start the next search at its values) or a dict; ``changes``: name =
+        edit. An edit is a number (fixed at that value), a dict of
+        ``value``, ``min``, ``max``, ``vary``, ``scale`` (the rest as it
+        is), or a :class:`Parameter`. ``vary=False`` fixes a parameter at
+        ``value`` (default: its current value) and takes it out of
+        :attr:`genes`; ``vary=True`` frees one in [``min``, ``max``] (both
+        needed for one fixed now), ``value`` then the search's start
+        (``init``; an ``init`` outside new bounds is dropped). A bare name
+        (``"m1"``) edits every experiment's value, ``"v2.velocity"``
+        experiment ``v2``'s alone. All or nothing: an unknown name (with a
+        did-you-mean) or a value the library refuses raises
+        :class:`rigfit.CampaignError` naming it, and nothing changes."""
+        from ._param_edits import edited
+        merged = {}
+        if params is not None:
+            if not hasattr(params, "items"):
+                from .errors import ArgumentTypeError
+                raise ArgumentTypeError(
+                    f"params: expected rigfit.Parameters or a dict of name -> edit, found "
+                    f"{type(params).__name__}")
+            merged.update(params.items())
+        merged.update(changes)
+        if not merged:
+            return
+        current = {p.name: p for p in self._listing()}
+        raw = edited(self.to_dict(), self._info, current, merged)
+        self._rebuilt_from(raw)
+        view = getattr(self, "_params_view", None)
+        if view is not None:
+            view._refresh(self._listing())
 
     def experiment_info(self, name):
         """Samples, sample interval (s), first time (s), fit window (sample
         indices), weight of experiment ``name``."""
+        pending = self.__dict__.get("_pending") or []
+        if str(name).split(".")[0] in pending:
+            from ._pending import no_record
+            raise CampaignError(no_record(self._origin, [str(name).split(".")[0]]))
         for x in self._info["experiments"]:
             if x["name"] == name:
                 return {k: x[k] for k in ("samples", "dt", "t_first", "fit_window", "weight")}
@@ -149,14 +259,40 @@ class Campaign:
             f"{', '.join(repr(n) for n in names) or 'none'}{hint}")
 
     # -- records from memory ---------------------------------------------
-    def set_data(self, name, frame, *, time_column=None, column=None):
+    def set_data(self, name, frame, *, time_column=None, column=None, time_scale=None,
+                 scale=None):
         """Sets experiment ``name``'s record from ``frame``: a pandas (or
         polars, pyarrow, anything with the Arrow stream interface) DataFrame,
         or a dict of name → 1-D array. Its columns are read as the campaign's
         ``data`` object says (``time_column``, ``force_column``/``column``,
         the scales, a drive column), exactly as the same columns in a CSV
         file; ``time_column``/``column`` override the names. Nothing is
-        written to disk. Raises :class:`rigfit.DataError` naming the
+        written to disk.
+
+        ``time_scale``: the multiplier of the time column to seconds (1e-3
+        for milliseconds; the data object's ``"time_scale"``). ``scale``: the
+        multiplier of the measured column to the rig output's unit (1e3 for
+        kN into N; the data object's ``"scale"``, or every channel's), or a
+        dict measured column → multiplier. Either replaces the campaign's.
+
+        A pandas index: a named index is a column of that name, read as
+        ``frame.reset_index()`` would be (so ``df.set_index("t_s")`` works
+        as it stands, and an index named as a column is refused as
+        ambiguous); an unnamed index of floats is the time when the time
+        column is named and the frame has no column of that name (refused as
+        ambiguous when it has one); an unnamed integer index (0, 1, 2, …, or
+        the rows a filter kept) is row labels, not read.
+
+        The record is checked against the rig before anything runs: a fit
+        window that keeps almost none of it (a time column in milliseconds
+        read as seconds) or a magnitude off by a power of 10³ (within 3×)
+        from everything the rig produces at the centre and corners of its
+        bounds (a force in kN against a rig in N) is refused with the
+        ``time_scale``/``scale`` that fixes it; a magnitude 100× or more off
+        otherwise, a record sampled far slower than the rig moves, or one
+        starting long after ``t = 0`` is warned of (:attr:`warnings`, and a
+        Python ``RuntimeWarning``). Raises
+        :class:`rigfit.DataError` or :class:`rigfit.CampaignError` naming the
         experiment for a record rigfit refuses."""
         raw = self.to_dict()
         index = next((i for i, x in enumerate(raw["experiments"]) if x["name"] == name), None)
@@ -168,17 +304,29 @@ class Campaign:
         data = raw["experiments"][index]["data"]
         fname = f"<memory:{name}>.csv"
         data["file"] = fname
+        names, columns, time_column = _time_index(frame, names, columns,
+                                                  time_column, data.get("time_column"))
         if time_column is not None:
             data["time_column"] = time_column
+        _set_scales(raw["experiments"][index], names, column, time_scale, scale)
+        heard = set(self.warnings)
         if column is not None:
             data.pop("force_column", None)
             data["column"] = column
         records = dict(self._records)
         records[name] = (os.path.join(self._base_dir, fname), _rigfit.record_csv(names, columns))
         lent = [records[x["name"]] for x in raw["experiments"] if x["name"] in records]
-        inner = _rigfit.Campaign.from_text(json.dumps(raw), self._base_dir, self._origin, lent)
-        self._inner, self._records = inner, records
+        if self.__dict__.get("_pending"):
+            from ._pending import rebuild_pending
+            left = [n for n in self._pending if n != name]
+            return rebuild_pending(self, json.dumps(raw), records, left)
+        # The other experiments' records as the campaign holds them, never
+        # read again from disk (which may have changed since).
+        inner, kept = _rigfit.Campaign.build(json.dumps(raw), self._base_dir, self._origin,
+                                             lent + list(self._kept))
+        self._inner, self._records, self._kept = inner, records, kept
         self._info = json.loads(inner.info())
+        _warn_new(self.warnings, heard)
 
     # -- the ensemble as a function ---------------------------------------
     def objective(self, vectorized=True, *, backend="cpu", precision=None, adapter=None, threads=0):
@@ -201,9 +349,28 @@ class Campaign:
         from .ensemble import simulate
         return simulate(self, theta, **kwargs)
 
+    def residuals(self, theta, *, backend="cpu", precision=None, adapter=None, threads=0):
+        """The residual vector of one parameter set ``theta`` (P,) in
+        :attr:`genes` order, a (N,) array, or of each row of an (S, P)
+        array, an (S, N) array, for ``scipy.optimize.least_squares`` (and
+        lmfit's ``Minimizer``: ``theta`` may be lmfit ``Parameters`` or a
+        dict, read by name). Every experiment's fit window in turn, each
+        sample's ``model − measured`` scaled by ``sqrt(w_e / (W · SS_tot,e))``,
+        so ``sum(r**2)`` is :meth:`objective`'s cost. A run that blew up
+        gives ``sqrt(1e30 / N)`` in every entry (finite, as
+        ``least_squares`` requires; its sum of squares is the objective's
+        1e30). The evaluator is opened once and kept for the next call."""
+        from .residuals import residuals
+        return residuals(self, theta, backend=backend, precision=precision, adapter=adapter,
+                         threads=threads)
+
     # -- pickling ---------------------------------------------------------
     def __reduce__(self):
-        return (_rebuild, (self._inner.raw_json, self._base_dir, self._origin, self._records))
+        # The records travel with the campaign (those read from disk too): an
+        # unpickled copy fits the data this one holds, whatever the disk
+        # holds by then.
+        return (_rebuild, (self._inner.raw_json, self._base_dir, self._origin, self._records,
+                           self._lent()))
 
     def __deepcopy__(self, memo):
         return self.copy()
@@ -219,7 +386,7 @@ class Campaign:
         # once per channel ("hx.x", "hx.y"); the campaign's experiments are
         # those of its JSON.
         try:
-            raw = json.loads(self._inner.raw_json).get("experiments") or []
+            raw = json.loads(self._built.raw_json).get("experiments") or []
             count = len(raw) if isinstance(raw, list) else len(self.experiments)
         except (ValueError, AttributeError):
             count = len(self.experiments)
@@ -276,10 +443,25 @@ def _plain_json(value, where, origin):
          f"found {type(value).__name__} {value!r:.60}")
 
 
-def _rebuild(raw_json, base_dir, origin, records):
-    lent = list(records.values())
-    inner = _rigfit.Campaign.from_text(raw_json, base_dir, origin, lent)
-    return Campaign(inner, base_dir, origin, records)
+def _missing_records(raw, base_dir):
+    """The experiments of ``raw`` whose data file does not exist (left to
+    the library to refuse when ``raw`` is malformed)."""
+    missing = []
+    for x in raw.get("experiments") or [] if isinstance(raw, dict) else []:
+        try:
+            name, file = x["name"], x["data"]["file"]
+        except (KeyError, TypeError):
+            continue
+        if isinstance(name, str) and isinstance(file, str) \
+                and not os.path.exists(os.path.join(base_dir, file)):
+            missing.append(name)
+    return missing
+
+
+def _rebuild(raw_json, base_dir, origin, records, lent=None):
+    lent = list(records.values()) if lent is None else list(lent)
+    inner, kept = _rigfit.Campaign.build(raw_json, base_dir, origin, lent)
+    return Campaign(inner, base_dir, origin, records, kept)
 
 
 def _columns_of(frame):
@@ -312,3 +494,89 @@ def _columns_of(frame):
         raise DataError("set_data: expected at least a time and a measured column, found none")
     return names, columns
 
+
+def _time_index(frame, names, columns, time_column, data_time):
+    """``names``/``columns`` with ``frame``'s pandas index where it is a
+    column (see :meth:`Campaign.set_data`), and the time column to read
+    (``None``: the data object's)."""
+    index = getattr(frame, "index", None) if not isinstance(frame, dict) else None
+    if index is None or not type(frame).__module__.startswith("pandas") \
+            or getattr(index, "nlevels", 1) != 1:
+        return names, columns, time_column
+    values = np.asarray(index)
+    if values.dtype.kind not in "iuf":
+        return names, columns, time_column
+    wanted = time_column if time_column is not None else data_time
+    label = index.name
+    if label is not None:
+        label = str(label)
+        if label in names:
+            raise DataError(
+                f"set_data: the frame's index and one of its columns are both named {label!r}: "
+                f"which is the record's? rename one (or frame.reset_index(drop=True))")
+        values = np.ascontiguousarray(values, dtype=np.float64)
+        return [label] + names, [values] + columns, time_column
+    if values.dtype.kind != "f":
+        return names, columns, time_column  # row labels
+    if not isinstance(wanted, str):
+        raise DataError(
+            "set_data: the frame has an unnamed index of floats and its time column is given by "
+            "position: is the index the time? name it (frame.index.name = 't') or pass "
+            "time_column=")
+    if wanted in names:
+        raise DataError(
+            f"set_data: the frame has an unnamed index of floats and a column {wanted!r} (the "
+            f"time column): which is the time? drop the index (frame.reset_index(drop=True)) "
+            f"or name it and pass time_column=")
+    values = np.ascontiguousarray(values, dtype=np.float64)
+    return [wanted] + names, [values] + columns, time_column
+
+
+def _set_scales(experiment, names, column, time_scale, scale):
+    """Writes ``time_scale`` and ``scale`` (a number, or a dict measured
+    column → number) into ``experiment``'s data object or channels, as a
+    campaign file would hold them."""
+    from . import _arguments as check
+    data = experiment["data"]
+    time_scale = check.real("time_scale", time_scale, positive=True)
+    if time_scale is not None:
+        data["time_scale"] = time_scale
+    if scale is None:
+        return
+    channels = experiment.get("channels") or []
+    if isinstance(scale, dict):
+        if channels:
+            targets = {str(ch.get("column")): ch for ch in channels}
+        else:
+            key = column if column is not None else data.get("column", data.get("force_column", 1))
+            if isinstance(key, int) and not isinstance(key, bool) and 0 <= key < len(names):
+                key = names[key]
+            targets = {str(key): data}
+        for col, factor in scale.items():
+            if str(col) not in targets:
+                raise CampaignError(
+                    f"scale: no measured column {col!r} in experiment "
+                    f"{experiment.get('name')!r}; its measured column(s): "
+                    f"{', '.join(repr(k) for k in targets)}")
+            _set_scale(targets[str(col)], check.real(f"scale[{col!r}]", factor, optional=False),
+                       f"scale[{col!r}]")
+        return
+    factor = check.real("scale", scale)
+    for target in channels or [data]:
+        _set_scale(target, factor, "scale")
+
+
+def _set_scale(target, factor, name):
+    if factor == 0:
+        raise CampaignError(f"{name}=0.0: expected a non-zero multiplier")
+    target.pop("force_scale", None)
+    target["scale"] = factor
+
+
+def _warn_new(warnings_now, heard):
+    """Each campaign warning not in ``heard`` as a Python warning, so that a
+    notebook shows it when the record is given."""
+    import warnings
+    for w in warnings_now:
+        if w not in heard:
+            warnings.warn(w, RuntimeWarning, stacklevel=3)

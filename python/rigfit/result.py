@@ -13,8 +13,10 @@ import numpy as np
 from .errors import DataError
 from .params import Parameter, Parameters, _num
 
-#: The files a result holds besides the per-experiment CSVs and figures.
-_FIXED_FILES = ("result.json", "history.csv", "fitness.svg", "report.html", "rigfit-files.json")
+#: The files a result holds besides the per-experiment CSVs and figures (not
+#: the folder's manifest, rigfit-files.json: that belongs to the folder, and
+#: :meth:`FitResult.save` writes the one of the folder it saves into).
+_FIXED_FILES = ("result.json", "history.csv", "fitness.svg", "report.html")
 
 #: What every report.html rigfit writes begins with (after its doctype): a
 #: file that does not is not replaced by :meth:`FitResult.report`.
@@ -161,6 +163,118 @@ class FitResult:
         return np.array([np.nan if self.params[n].stderr is None else self.params[n].stderr
                          for n in self.var_names])
 
+    # -- lmfit's fit statistics ----------------------------------------
+    @property
+    def covariance(self):
+        """The free parameters' covariance matrix (P, P) in :attr:`var_names`
+        order and their units, as lmfit's ``covar``: the polish's
+        correlation × the standard errors (``C_ij = ρ_ij σ_i σ_j``; a
+        log-scale parameter's σ is its value × the error of its log, so its
+        rows are the delta method's). ``None`` where the job ran no polish
+        or the polish did not determine it; an entry the polish left
+        undetermined (a parameter without a standard error) is NaN."""
+        if self.correlation is None or not self.var_names:
+            return None
+        sigma = self.stderr
+        if not np.isfinite(sigma).any():
+            return None
+        cov = self.correlation * np.outer(sigma, sigma)
+        cov[np.diag_indices_from(cov)] = sigma ** 2
+        return cov
+
+    def _window_counts(self):
+        # Samples of each experiment's (or channel's) fit window.
+        return {k: int(np.count_nonzero(x.in_fit_window)) for k, x in self.experiments.items()}
+
+    @property
+    def ndata(self):
+        """Data points fitted: the samples of every experiment's (every
+        channel's) fit window, the length of
+        :meth:`rigfit.Campaign.residuals`' vector."""
+        return sum(self._window_counts().values())
+
+    @property
+    def nvarys(self):
+        """The free parameters fitted."""
+        return sum(1 for p in self.params.values() if p.vary)
+
+    @property
+    def nfree(self):
+        """``ndata − nvarys``, lmfit's degrees of freedom."""
+        return self.ndata - self.nvarys
+
+    @property
+    def chisqr(self):
+        """lmfit's chi-square: the sum over every fit window of
+        ``(model − measured)²``, unweighted, in the records' own units
+        squared (a campaign whose channels have different units sums
+        each channel's in its own). From the job's residual RMS per
+        experiment (full precision) × its window's samples. The cost the
+        search minimises is :attr:`fitness` (the weighted 1 − R²), whose
+        residuals :meth:`rigfit.Campaign.residuals` gives."""
+        counts = self._window_counts()
+        total = 0.0
+        for name, x in self.experiments.items():
+            n = counts[name]
+            if x.residual_rms is not None and n > 0:
+                total += float(x.residual_rms) ** 2 * n
+            else:
+                r = x.residual[x.in_fit_window]
+                total += float(np.sum(r * r))
+        return total
+
+    @property
+    def redchi(self):
+        """lmfit's reduced chi-square, ``chisqr / (ndata − nvarys)``."""
+        nfree = self.nfree
+        return self.chisqr / nfree if nfree > 0 else float("nan")
+
+    def _log_likelihood_term(self):
+        n = self.ndata
+        chisqr = max(self.chisqr, 1e-250)
+        return n * np.log(chisqr / n) if n > 0 else float("nan")
+
+    @property
+    def aic(self):
+        """Akaike's information criterion as lmfit computes it,
+        ``ndata · ln(chisqr / ndata) + 2 · nvarys``."""
+        return float(self._log_likelihood_term() + 2 * self.nvarys)
+
+    @property
+    def bic(self):
+        """The Bayesian information criterion as lmfit computes it,
+        ``ndata · ln(chisqr / ndata) + ln(ndata) · nvarys``."""
+        n = self.ndata
+        return float(self._log_likelihood_term() + (np.log(n) if n > 0 else np.nan) * self.nvarys)
+
+    @property
+    def nfev(self):
+        """Function evaluations the job made: the search's candidates plus
+        the polish's (its Jacobian stencils included); the profiles' are
+        not counted."""
+        polish = self.summary.get("polish") or {}
+        return int(self.summary.get("evaluations", 0)) + int(polish.get("evaluations", 0))
+
+    @property
+    def success(self):
+        """Whether the job ran to its end (not interrupted) and its polish
+        converged (so the covariance and the intervals are taken at an
+        optimum)."""
+        polish = self.summary.get("polish") or {}
+        return (self.stop_reason != "interrupted" and polish.get("stop") == "converged")
+
+    @property
+    def message(self):
+        """Why the search and the polish stopped, in words."""
+        polish = self.summary.get("polish")
+        text = f"search: {self.stop_reason}"
+        if not polish:
+            return text + "; no polish was run"
+        stops = {"converged": "converged", "max_iterations": "stopped at its iteration limit",
+                 "interrupted": "was interrupted", "no_start": "had no start (every start blew up)"}
+        why = stops.get(polish.get("stop"), str(polish.get("stop")))
+        return f"{text}; polish {why} after {polish.get('iterations', 0)} iteration(s)"
+
     @property
     def history(self):
         """history.csv (one row per generation logged) as a dict of arrays."""
@@ -205,8 +319,15 @@ class FitResult:
                  f"    backend            = {s['backend']} ({s['device']}, {s['precision']})",
                  f"    search method      = {s.get('search_method', 'ga')}",
                  f"    generations        = {s['generations']}",
-                 f"    function evals     = {s['evaluations']}",
+                 f"    # function evals   = {self.nfev}",
+                 f"    # data points      = {self.ndata}",
+                 f"    # variables        = {self.nvarys}",
+                 f"    chi-square         = {self.chisqr:.6e}",
+                 f"    reduced chi-square = {self.redchi:.6e}",
+                 f"    Akaike info crit   = {self.aic:.6f}",
+                 f"    Bayesian info crit = {self.bic:.6f}",
                  f"    stop reason        = {s['stop_reason']}",
+                 f"    success            = {self.success} ({self.message})",
                  f"    1 - R² (weighted)  = {s['fitness']:.6e}"]
         for name, x in self.experiments.items():
             lines.append(f"    R² {name:<15} = {x.r2:.8f}")
@@ -322,21 +443,27 @@ class FitResult:
     # -- files --------------------------------------------------------
     def save(self, folder, overwrite=False):
         """Writes exactly the files ``rigfit run`` wrote (result.json, the
-        experiment CSVs, history.csv, the figures, rigfit-files.json) into
-        ``folder`` (created if missing); the arrays read back from them by
-        :func:`load_result` carry the CSVs' 7 significant digits. Like the CLI, it replaces files
-        there only with ``overwrite=True``."""
-        folder = os.fspath(folder)
-        os.makedirs(folder, exist_ok=True)
-        if not overwrite:
-            there = [n for n in self.files if os.path.lexists(os.path.join(folder, n))]
-            if there:
-                raise FileExistsError(
-                    f"{folder} already holds {', '.join(sorted(there))}; pass overwrite=True "
-                    "to replace them or choose another folder")
-        for name, data in self.files.items():
-            with open(os.path.join(folder, name), "wb") as f:
-                f.write(data)
+        experiment CSVs, history.csv, the figures, report.html) into
+        ``folder`` (created if missing) and returns it; the arrays read back
+        from them by :func:`load_result` carry the CSVs' 7 significant
+        digits.
+
+        By the rules of ``rigfit run``'s own outputs: a folder that already
+        holds a result is refused unless ``overwrite=True``, which replaces
+        only files rigfit wrote there (listed in its ``rigfit-files.json``);
+        a file of someone else's, a symbolic link (dangling or not) or a
+        folder a running job holds raise ``FileExistsError`` and nothing is
+        written. The files are written whole to temporaries first and
+        renamed into place only once all are complete: a write that fails
+        (a full disk) raises ``OSError`` and leaves the folder as it was."""
+        from . import _arguments as check
+        from . import _rigfit
+        folder = check.path("folder", folder, optional=False)
+        overwrite = check.flag("overwrite", overwrite)
+        try:
+            _rigfit.save_result(folder, list(self.files.items()), overwrite)
+        except OSError as e:
+            raise check.reword(e)  # the CLI's flags as keywords
         return folder
 
     def _arrays(self):

@@ -1,7 +1,7 @@
 //! `rigfit._rigfit.Campaign`: a campaign loaded and validated by the library,
 //! as `rigfit check` validates it, with records lent from memory.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use pyo3::prelude::*;
@@ -10,6 +10,14 @@ use serde_json::json;
 
 use crate::errors::{self, Kind};
 use rigfit::campaign::Campaign;
+
+/// The sample interval (s) of the grid a campaign without its records stands
+/// on ([`PyCampaign::pending`]): fine enough that no rig's stability rule
+/// asks for more steps than one per sample.
+const PENDING_DT: f64 = 1e-9;
+
+/// Records by path, as a campaign was built from them: (path, CSV bytes).
+type Records = Vec<(PathBuf, Py<PyBytes>)>;
 
 /// A validated campaign (immutable; `set_data` builds a new one).
 #[pyclass(module = "rigfit._rigfit", name = "Campaign", frozen)]
@@ -27,6 +35,23 @@ fn checked(c: Campaign) -> PyResult<PyCampaign> {
             .map_err(|e| errors::raise(Kind::Campaign, errors::chain(&e)))?;
     }
     Ok(PyCampaign { inner: Arc::new(c) })
+}
+
+/// Campaign text validated with `lent` (path, bytes) read in place of the
+/// files at those paths, the GIL released.
+fn validated(
+    py: Python<'_>,
+    json: &str,
+    base_dir: &std::path::Path,
+    origin: &str,
+    lent: &[(PathBuf, Vec<u8>)],
+) -> PyResult<PyCampaign> {
+    let c = py
+        .allow_threads(|| {
+            rigfit::base::records::with_records(lent, || Campaign::from_str(json, base_dir, origin))
+        })
+        .map_err(|e| errors::campaign(&e))?;
+    checked(c)
 }
 
 #[pymethods]
@@ -59,12 +84,73 @@ impl PyCampaign {
                 .iter()
                 .map(|(p, b)| (p.clone(), b.as_bytes().to_vec()))
                 .collect();
-            let c = py
-                .allow_threads(|| {
-                    rigfit::base::records::with_records(&lent, || {
-                        Campaign::from_str(json, &base_dir, origin)
-                    })
+            validated(py, json, &base_dir, origin, &lent)
+        })
+    }
+
+    /// `from_text` keeping its records: every data file the text names
+    /// (`experiments[].data.file`, `validation[].data.file`) that `records`
+    /// does not lend is read once, through the library's reader and its
+    /// limits, and lent, so the campaign is built from exactly the bytes
+    /// returned: (the campaign, every (path, bytes) it was built from). A
+    /// file that cannot be read is left to the library to refuse.
+    #[staticmethod]
+    #[pyo3(signature = (json, base_dir, origin, records = Vec::new()))]
+    fn build(
+        py: Python<'_>,
+        json: &str,
+        base_dir: PathBuf,
+        origin: &str,
+        records: Records,
+    ) -> PyResult<(Self, Records)> {
+        errors::guard(|| {
+            let kept = kept_records(py, json, &base_dir, records);
+            let lent: Vec<(PathBuf, Vec<u8>)> = kept
+                .iter()
+                .map(|(p, b)| (p.clone(), b.as_bytes(py).to_vec()))
+                .collect();
+            Ok((validated(py, json, &base_dir, origin, &lent)?, kept))
+        })
+    }
+
+    /// Reads a campaign file (as `load`, its data files resolved against
+    /// `base_dir`, the file's own folder) and [`PyCampaign::build`]s it.
+    #[staticmethod]
+    fn load_kept(py: Python<'_>, path: PathBuf, base_dir: PathBuf) -> PyResult<(Self, Records)> {
+        let text = errors::guard(|| {
+            rigfit::base::fsutil::read_description(&path).map_err(|e| {
+                errors::campaign(&rigfit::campaign::CampaignError::Io {
+                    file: path.clone(),
+                    message: e.to_string(),
                 })
+            })
+        })?;
+        match path.to_str() {
+            Some(origin) => Self::build(py, &text, base_dir, origin, Vec::new()),
+            // A path that is no text cannot name itself in the messages as
+            // `build` does; the library loads it (its records read again
+            // where it is rebuilt).
+            None => Ok((Self::load(py, path)?, Vec::new())),
+        }
+    }
+
+    /// Validates campaign text whose records do not all exist yet: no record
+    /// is read (each experiment stands on a two-sample grid of zeros, its
+    /// drive column a zero force), so only its rig, parameters, genes and
+    /// settings are checked; the Python layer refuses to fit or score it.
+    #[staticmethod]
+    fn pending(py: Python<'_>, json: &str, base_dir: PathBuf, origin: &str) -> PyResult<Self> {
+        errors::guard(|| {
+            // No experiment is named "" (names are non-empty): every one is
+            // a bystander of the grid, its drive column not read.
+            let grid = rigfit::campaign::SimulationGrid::Uniform {
+                dt: PENDING_DT,
+                samples: 2,
+                drive_file: None,
+                experiment: Some(String::new()),
+            };
+            let c = py
+                .allow_threads(|| Campaign::from_str_for_simulation(json, &base_dir, origin, &grid))
                 .map_err(|e| errors::campaign(&e))?;
             checked(c)
         })
@@ -112,7 +198,7 @@ impl PyCampaign {
             .collect();
         json!({
             "name": c.name, "description": c.description, "rig": model.id(),
-            "path": c.path, "inputs": c.inputs, "experiments": experiments, "genes": genes,
+            "path": c.path.to_string_lossy(), "inputs": c.inputs.iter().map(|p| p.to_string_lossy()).collect::<Vec<_>>(), "experiments": experiments, "genes": genes,
             "params": params, "outputs": model.output_names(), "warnings": c.warnings,
             "substeps": c.solver.substeps, "search_given": c.search_given,
             "population": c.search.population, "generations": c.search.generations,
@@ -120,6 +206,37 @@ impl PyCampaign {
         })
         .to_string()
     }
+}
+
+/// The data files `json` names, resolved against `base_dir`, with their
+/// bytes: lent by `records`, else read once (a file that cannot be read is
+/// left out, for the library to refuse by its rules). Records `json` does not
+/// name are dropped.
+fn kept_records(py: Python<'_>, json: &str, base_dir: &Path, records: Records) -> Records {
+    let Ok(raw) = serde_json::from_str::<serde_json::Value>(json) else {
+        return records;
+    };
+    let files = ["experiments", "validation"]
+        .iter()
+        .filter_map(|k| raw.get(*k).and_then(|v| v.as_array()))
+        .flatten()
+        .filter_map(|x| x.get("data")?.get("file")?.as_str());
+    let mut kept: Records = Vec::new();
+    for file in files {
+        let path = base_dir.join(file);
+        if kept.iter().any(|(p, _)| *p == path) {
+            continue;
+        }
+        if let Some((_, b)) = records.iter().find(|(p, _)| *p == path) {
+            kept.push((path, b.clone_ref(py)));
+            continue;
+        }
+        let read = py.allow_threads(|| rigfit::base::fsutil::read_record(&path));
+        if let Ok(bytes) = read {
+            kept.push((path, PyBytes::new(py, &bytes).unbind()));
+        }
+    }
+    kept
 }
 
 /// CSV text of named columns (the header, then one row per sample), each

@@ -11,14 +11,14 @@ use pyo3::prelude::*;
 use crate::campaign::PyCampaign;
 use crate::errors::{self, Kind};
 use rigfit::campaign::Campaign;
-use rigfit::eval::Evaluator;
+use rigfit::eval::{Batch, Evaluator, ExperimentData, Problem};
 
 /// Candidates simulated per call of the evaluator: bounds the histories held
 /// at once beside the output array.
-const CHUNK: usize = 1024;
+pub(crate) const CHUNK: usize = 1024;
 
 /// Rows of `theta` as genomes, checked against the genes.
-fn genomes(c: &Campaign, theta: ArrayView2<'_, f64>) -> PyResult<Vec<Vec<f64>>> {
+pub(crate) fn genomes(c: &Campaign, theta: ArrayView2<'_, f64>) -> PyResult<Vec<Vec<f64>>> {
     let p = c.genes.len();
     if theta.ncols() != p {
         let names: Vec<&str> = c.genes.iter().map(|g| g.name.as_str()).collect();
@@ -36,9 +36,12 @@ fn genomes(c: &Campaign, theta: ArrayView2<'_, f64>) -> PyResult<Vec<Vec<f64>>> 
 
 /// Histories of the parameter sets `theta` (S, P) in every experiment, as
 /// (S, experiments, samples, outputs); an experiment with fewer samples than
-/// the longest is padded with NaN. Also returns the notes to warn with.
+/// the longest is padded with NaN. Also returns the notes to warn with. A
+/// simulation that does not fit in `max_memory` (or the memory available
+/// now) is refused before any work ([`crate::sim_memory::check`]).
 #[pyfunction]
-#[pyo3(signature = (campaign, theta, *, backend = None, precision = None, adapter = None, threads = 0))]
+#[pyo3(signature = (campaign, theta, *, backend = None, precision = None, adapter = None, threads = 0, max_memory = None))]
+#[expect(clippy::too_many_arguments, reason = "the Python function's keywords")]
 pub fn simulate<'py>(
     py: Python<'py>,
     campaign: &PyCampaign,
@@ -47,22 +50,32 @@ pub fn simulate<'py>(
     precision: Option<&str>,
     adapter: Option<String>,
     threads: usize,
+    max_memory: Option<crate::memory::MaxMemory>,
 ) -> PyResult<(Bound<'py, PyArray4<f64>>, Vec<String>)> {
     errors::guard(|| {
         let c = &*campaign.inner;
+        let n_max = c
+            .problem
+            .experiments
+            .iter()
+            .map(|x| x.window.end)
+            .max()
+            .unwrap_or(0);
+        // Before a single parameter set is copied or a sample allocated.
+        crate::sim_memory::check(
+            c,
+            theta.shape()[0],
+            c.problem.experiments.len(),
+            n_max,
+            max_memory.as_ref(),
+        )?;
         let sets = genomes(c, theta.as_array())?;
         let b = crate::evaluator::backend(c, backend)?;
         let pr = crate::evaluator::precision(c, precision)?;
         let out = py.allow_threads(|| -> PyResult<_> {
             let mut opened = crate::evaluator::open(c, b, pr, adapter.as_deref(), threads, false)?;
             let n_exp = c.problem.experiments.len();
-            let n = c
-                .problem
-                .experiments
-                .iter()
-                .map(|x| x.window.end)
-                .max()
-                .unwrap_or(0);
+            let n = n_max;
             let n_out = c.model.output_names().len();
             let mut out = Array4::<f64>::from_elem((sets.len(), n_exp, n, n_out), f64::NAN);
             if b == rigfit::eval::Backend::Cpu {
@@ -93,47 +106,78 @@ pub fn simulate<'py>(
     })
 }
 
-/// The CPU path of [`simulate`]: the candidates split over `threads` threads
-/// (0: every core), each share advanced together in the rig's vector lanes
-/// (native code where the C compiler built it), which give the f64
-/// reference's bits (`rigfit simulate`'s) many times faster than one run
-/// after the other. Runs with different clock offsets need different grids,
-/// so each offset's runs go together.
+/// The CPU path of [`simulate`]: every experiment of the campaign, each
+/// with its own parameters in `sets`' batch ([`lanes`]).
 fn simulate_lanes(c: &Campaign, sets: &[Vec<f64>], threads: usize, out: &mut Array4<f64>) {
+    let batch = c.batch(sets);
+    let runs: Vec<(&ExperimentData, usize)> = c
+        .problem
+        .experiments
+        .iter()
+        .enumerate()
+        .map(|(e, x)| (x, e))
+        .collect();
+    let (_, _, n, n_out) = out.dim();
+    let Some(flat) = out.as_slice_mut() else {
+        unreachable!("an array just allocated has the standard layout")
+    };
+    lanes(
+        &c.problem,
+        &runs,
+        &batch,
+        c.problem.substeps,
+        threads,
+        flat,
+        (n, n_out),
+    );
+}
+
+/// Histories of the batch's candidates in `runs` (an experiment's grid and
+/// drive, and the batch experiment its parameters and clock offset come
+/// from), written into `flat` as (candidates, runs, `n` samples, `n_out`
+/// outputs): the candidates split over `threads` threads (0: every core),
+/// each share advanced together in the rig's vector lanes (native code where
+/// the C compiler built it), which give the f64 reference's bits (`rigfit
+/// simulate`'s) many times faster than one run after the other. Runs with
+/// different clock offsets need different grids, so each offset's runs go
+/// together.
+pub(crate) fn lanes(
+    problem: &Problem,
+    runs: &[(&ExperimentData, usize)],
+    batch: &Batch,
+    substeps: usize,
+    threads: usize,
+    flat: &mut [f64],
+    (n, n_out): (usize, usize),
+) {
     use std::ops::ControlFlow;
     let threads = match threads {
         0 => rigfit::eval::all_cores(),
         n => n,
     };
-    let problem = &c.problem;
-    let batch = c.batch(sets);
-    let share = sets.len().div_ceil(threads).max(1);
-    let (_, n_exp, n, n_out) = out.dim();
+    let n_exp = runs.len();
+    let share = batch.candidates.div_ceil(threads).max(1);
     // Standard layout: a share of candidates is one contiguous block, and a
     // value's place in it is computed, not looked up through a 4-D view.
-    let Some(flat) = out.as_slice_mut() else {
-        unreachable!("an array just allocated has the standard layout")
-    };
     std::thread::scope(|s| {
         for (k, part) in flat.chunks_mut(share * n_exp * n * n_out).enumerate() {
-            let batch = &batch;
             s.spawn(move || {
                 let first = k * share;
                 let count = part.len() / (n_exp * n * n_out).max(1);
-                for (e, exp) in problem.experiments.iter().enumerate() {
+                for (e, &(exp, from)) in runs.iter().enumerate() {
                     let mut groups: Vec<(u64, Vec<usize>)> = Vec::new();
                     for i in 0..count {
-                        let bits = batch.offsets[e][first + i].to_bits();
+                        let bits = batch.offsets[from][first + i].to_bits();
                         match groups.iter_mut().find(|g| g.0 == bits) {
                             Some(g) => g.1.push(i),
                             None => groups.push((bits, vec![i])),
                         }
                     }
                     for (bits, members) in groups {
-                        let grid = exp.grid(f64::from_bits(bits), problem.substeps);
+                        let grid = exp.grid(f64::from_bits(bits), substeps);
                         let params: Vec<&[f64]> = members
                             .iter()
-                            .map(|&i| batch.params_of(e, first + i))
+                            .map(|&i| batch.params_of(from, first + i))
                             .collect();
                         let report = rigfit::base::Report::Full;
                         problem.model.simulate_many(
@@ -178,11 +222,14 @@ impl Objective {
     ) -> PyResult<Self> {
         errors::guard(|| {
             let c = campaign.inner.clone();
-            let b = crate::evaluator::backend(&c, backend)?;
-            let pr = crate::evaluator::precision(&c, precision)?;
-            let opened = py.allow_threads(|| {
-                crate::evaluator::open(&c, b, pr, adapter.as_deref(), threads, false)
-            })?;
+            let opened = crate::evaluator::open_named(
+                py,
+                &c,
+                backend,
+                precision,
+                adapter.as_deref(),
+                threads,
+            )?;
             Ok(Self {
                 campaign: c,
                 evaluator: Mutex::new(opened.evaluator),

@@ -97,3 +97,19 @@ pub fn open(
         trial: opened.trial,
     })
 }
+
+/// The evaluator of a function of the ensemble (the objective, the
+/// residuals): the backend and precision by name, opened without the job's
+/// race (`auto` takes the GPU when there is one), the GIL released.
+pub fn open_named(
+    py: Python<'_>,
+    c: &Campaign,
+    backend_name: Option<&str>,
+    precision_name: Option<&str>,
+    adapter: Option<&str>,
+    threads: usize,
+) -> PyResult<Opened> {
+    let b = backend(c, backend_name)?;
+    let pr = precision(c, precision_name)?;
+    py.allow_threads(|| open(c, b, pr, adapter, threads, false))
+}

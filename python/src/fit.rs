@@ -223,11 +223,14 @@ pub fn run_job<'py>(
                 ),
             )
         })?;
-        let interrupted_by_python = match pending {
-            Some(e) if e.is_instance_of::<PyKeyboardInterrupt>(py) => true,
-            Some(e) => return Err(e),
-            None => false,
-        };
+        // A KeyboardInterrupt from Python raised the interrupt flag: the
+        // outcome says whether it stopped the search; any other error of the
+        // progress callback is the caller's to see.
+        if let Some(e) = pending
+            && !e.is_instance_of::<PyKeyboardInterrupt>(py)
+        {
+            return Err(e);
+        }
         let d = PyDict::new(py);
         d.set_item("notes", opened.notes)?;
         match outcome {
@@ -241,10 +244,20 @@ pub fn run_job<'py>(
                 d.set_item("interrupted", true)?;
                 d.set_item("checkpoint", out.join(job::CHECKPOINT_FILE).exists())?;
             }
+            // Any other error the interrupt caused (a profile or a
+            // validation run cancelled part way): interrupted as well.
+            Err(e) if interrupt.load(Ordering::SeqCst) && cancelled(&e) => {
+                d.set_item("interrupted", true)?;
+                d.set_item("checkpoint", out.join(job::CHECKPOINT_FILE).exists())?;
+            }
             Err(e) => return Err(search_error(&e)),
             Ok(summary) => {
-                let stopped = interrupt.load(Ordering::SeqCst);
-                d.set_item("interrupted", stopped || interrupted_by_python)?;
+                // A Ctrl-C that lands once the search has ended (in the
+                // polish's last step, while the files are written) stops
+                // nothing: the job is complete and its result returned.
+                let stopped = summary.stop_reason
+                    == rigfit::search::TerminationReason::Interrupted.to_string();
+                d.set_item("interrupted", stopped)?;
                 d.set_item("checkpoint", out.join(job::CHECKPOINT_FILE).exists())?;
                 d.set_item("arrays", crate::fitted::arrays(py, c, &summary)?)?;
                 d.set_item("stop_reason", summary.stop_reason)?;
@@ -252,4 +265,22 @@ pub fn run_job<'py>(
         }
         Ok(d)
     })
+}
+
+/// Whether `e` comes, through any chain of causes, from an evaluation
+/// cancelled by the interrupt flag.
+fn cancelled(e: &JobError) -> bool {
+    let mut next: Option<&(dyn std::error::Error + 'static)> = Some(e);
+    while let Some(err) = next {
+        if matches!(err.downcast_ref::<EvalError>(), Some(EvalError::Cancelled))
+            || matches!(
+                err.downcast_ref::<SearchError>(),
+                Some(SearchError::Eval(EvalError::Cancelled))
+            )
+        {
+            return true;
+        }
+        next = err.source();
+    }
+    false
 }

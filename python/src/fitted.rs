@@ -24,7 +24,12 @@ pub fn arrays<'py>(
         let n = rows.t_record.len();
         let flat: Vec<f64> = rows.model.into_iter().flatten().collect();
         let model = Array2::from_shape_vec((n, n_out), flat)
-            .expect("n × outputs values")
+            .map_err(|e| {
+                crate::errors::raise(
+                    crate::errors::Kind::Error,
+                    format!("{}: the model's outputs: {e}", fit.name),
+                )
+            })?
             .into_pyarray(py);
         let d = PyDict::new(py);
         d.set_item("t", rows.t_record.into_pyarray(py))?;

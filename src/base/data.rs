@@ -312,7 +312,7 @@ pub fn parse_csv(text: &str, file: &Path, spec: &CsvSpec) -> Result<Series, Data
             }
             vals[j] = v * scales[j];
             if !vals[j].is_finite() {
-                let found = format!("{} × {}", quote(raw), scales[j]);
+                let found = format!("{} × {:e}", quote(raw), scales[j]);
                 return Err(cell_err(
                     file,
                     line,

@@ -61,16 +61,33 @@ pub fn atomic_write_private(path: &Path, bytes: &[u8]) -> io::Result<()> {
 /// [`atomic_write`], the temporary file created with `mode` (less the
 /// umask) on Unix.
 fn atomic_write_mode(path: &Path, bytes: &[u8], mode: u32) -> io::Result<()> {
-    let tmp = temp_path_for(path)?;
-    let mut file = create_exclusive(&tmp, mode)?;
-    let result = write_synced(&mut file, bytes).and_then(|()| fs::rename(&tmp, path));
-    if let Err(e) = result {
+    let tmp = write_temporary_mode(path, bytes, mode)?;
+    if let Err(e) = fs::rename(&tmp, path) {
         // The temporary file is the one created above, never someone else's.
         let _ = fs::remove_file(&tmp);
         return Err(e);
     }
     sync_parent(path);
     Ok(())
+}
+
+/// The first half of [`atomic_write`]: `bytes` written and synced to a new
+/// temporary sibling of `path` ([`temp_path_for`]), whose path is returned
+/// for the caller to rename over `path` (or remove). Nothing is left behind
+/// when it fails. Several files written this way and renamed only once all
+/// are complete make a set of files that is replaced all or nothing.
+pub fn write_temporary(path: &Path, bytes: &[u8]) -> io::Result<PathBuf> {
+    write_temporary_mode(path, bytes, 0o666)
+}
+
+fn write_temporary_mode(path: &Path, bytes: &[u8], mode: u32) -> io::Result<PathBuf> {
+    let tmp = temp_path_for(path)?;
+    let mut file = create_exclusive(&tmp, mode)?;
+    if let Err(e) = write_synced(&mut file, bytes) {
+        let _ = fs::remove_file(&tmp);
+        return Err(e);
+    }
+    Ok(tmp)
 }
 
 /// The temporary name [`atomic_write`] uses for `path`: a hidden sibling,
@@ -234,8 +251,10 @@ fn kind_of(t: &fs::FileType) -> &'static str {
     }
 }
 
+/// Syncs the folder holding `path`, so that a rename into it survives a
+/// crash (best effort).
 #[cfg(unix)]
-fn sync_parent(path: &Path) {
+pub fn sync_parent(path: &Path) {
     let parent = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
@@ -246,8 +265,9 @@ fn sync_parent(path: &Path) {
     }
 }
 
+/// Syncs the folder holding `path` (nothing to do here).
 #[cfg(not(unix))]
-fn sync_parent(_path: &Path) {}
+pub fn sync_parent(_path: &Path) {}
 
 #[cfg(test)]
 mod tests {

@@ -564,7 +564,7 @@ fn window(
                     file.display()
                 ));
             }
-            Ok(k0..k1 + 1)
+            super::plausible::window_share(file, at, x, s, k0..k1 + 1)
         }
         _ => {
             let count = k1.map_or(0, |k1| (k1 + 1).saturating_sub(k0));

@@ -299,6 +299,7 @@ impl Campaign {
             .iter()
             .map(|&(e, _)| self.problem.scoring_model(e))
             .collect();
+        let estimate_steps = super::stability::estimate_max_steps(self.model.state_names().len());
         let mut runs: Vec<StepDoubling<'_>> = channels
             .iter()
             .zip(&models)
@@ -325,7 +326,7 @@ impl Campaign {
                         loaded,
                         fit_cap,
                         super::stability::ACCURACY_MARGIN * t,
-                        super::stability::ESTIMATE_MAX_RUN_STEPS,
+                        estimate_steps,
                     );
                     n = n.max(c.substeps);
                 }
@@ -350,8 +351,7 @@ impl Campaign {
                 let mut n = fit.saturating_mul(2).min(cap).max(loaded);
                 for (&(e, sigma), run) in channels.iter().zip(&mut runs) {
                     if let Some(f) = aim(e, sigma) {
-                        let c =
-                            run.choose(n, cap, f * sigma, super::stability::ESTIMATE_MAX_RUN_STEPS);
+                        let c = run.choose(n, cap, f * sigma, estimate_steps);
                         n = n.max(c.substeps);
                     }
                 }
@@ -363,8 +363,7 @@ impl Campaign {
             .iter()
             .zip(&mut runs)
             .map(|(&(e, sigma), run)| {
-                let found = (run.steps_of(4 * substeps)
-                    <= super::stability::ESTIMATE_MAX_RUN_STEPS)
+                let found = (run.steps_of(4 * substeps) <= estimate_steps)
                     .then(|| run.error_and_order(substeps))
                     .flatten();
                 let estimate = found.map(|f| f.0);

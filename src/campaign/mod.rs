@@ -39,6 +39,7 @@ mod initial;
 mod integration_error;
 mod names;
 mod param_file;
+mod plausible;
 pub mod raw;
 mod resolve;
 mod run_length;
@@ -55,13 +56,18 @@ pub use integration_error::{
     SYNTHETIC_NOISE_FRACTION, SimulationStep,
 };
 pub use names::{MAX_NAME_CHARS, file_stem};
+pub use plausible::{
+    LATE_START_FACTOR, MAGNITUDE_FACTOR, MAGNITUDE_MAX_STEPS, MIN_WINDOW_SAMPLES, MIN_WINDOW_SHARE,
+    UNIT_BAND,
+};
 pub use run_length::{
     CPU_STEPS_PER_S_PER_CORE, DEFAULT_MAX_STEPS, ExperimentRun, RunLength, human_duration,
 };
 pub use simulation::SimulationGrid;
 pub use stability::{
-    ACCURACY_CAP_FACTOR, ACCURACY_MARGIN, ESTIMATE_MAX_RUN_STEPS, MAX_AUTO_SUBSTEPS,
-    NOISE_FRACTION, SPREAD_FLOOR, STABILITY_LIMIT, SolverSettings,
+    ACCURACY_CAP_FACTOR, ACCURACY_MARGIN, ESTIMATE_MAX_RUN_STEPS, ESTIMATE_REFERENCE_STATES,
+    MAX_AUTO_SUBSTEPS, NOISE_FRACTION, SPREAD_FLOOR, STABILITY_LIMIT, SolverSettings,
+    estimate_max_steps,
 };
 
 use crate::base::Scale;
@@ -244,6 +250,23 @@ impl Campaign {
     /// messages name `origin` as the file.
     pub fn from_str(json: &str, base_dir: &Path, origin: &str) -> Result<Campaign, CampaignError> {
         validation::build_fit(json, base_dir, Path::new(origin))
+    }
+
+    /// Validates campaign text for a simulation on `grid`, as
+    /// [`Campaign::load_for_simulation`] reads a file: relative paths resolve
+    /// against `base_dir`, messages name `origin` as the file.
+    pub fn from_str_for_simulation(
+        json: &str,
+        base_dir: &Path,
+        origin: &str,
+        grid: &SimulationGrid,
+    ) -> Result<Campaign, CampaignError> {
+        build::build(
+            json,
+            base_dir,
+            Path::new(origin),
+            simulation::Reading::Simulate(grid),
+        )
     }
 
     /// Refuses a campaign with nothing to search (for `rigfit run`).

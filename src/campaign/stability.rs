@@ -48,9 +48,28 @@ pub const SPREAD_FLOOR: f64 = 1e-6;
 /// the substeps, and 8 times the step cuts a fourth-order error 4096-fold.
 pub const ACCURACY_CAP_FACTOR: usize = 8;
 
-/// Longest reference run (RK4 steps) the step-doubling estimate takes: about
-/// 2 s on one core; a longer record keeps the stable step and says so.
-pub const ESTIMATE_MAX_RUN_STEPS: f64 = 2e7;
+/// Longest reference run (RK4 steps) the step-doubling estimate takes; a
+/// longer run keeps the stable step and says so. The f64 reference it runs
+/// takes 5e5 to 7e5 steps/s on one core for the shipped rigs (a 2-core Xeon,
+/// 2026-11-29), so a try's three runs (7/4 of this) take about 3 s at most;
+/// at 2e7 a record starting at t = 1000 s (a 3.9e6-step prologue) held
+/// `set_data` for 54 s. The shipped campaigns' longest run is 2e5.
+pub const ESTIMATE_MAX_RUN_STEPS: f64 = 1e6;
+
+/// The rig size [`ESTIMATE_MAX_RUN_STEPS`] is reckoned for, in states: the
+/// reference's cost per step grows with the rig (a chain of 1 000 masses,
+/// 2 001 states, took about 200 µs a step against 1.5–2 µs for the shipped
+/// rigs' few), so a larger rig's estimate may take proportionally fewer
+/// steps ([`estimate_max_steps`]): its work, not its steps, is bounded.
+pub const ESTIMATE_REFERENCE_STATES: usize = 16;
+
+/// The longest reference run the step-doubling estimate takes for a rig of
+/// `states` states: [`ESTIMATE_MAX_RUN_STEPS`], scaled down for a rig larger
+/// than [`ESTIMATE_REFERENCE_STATES`].
+pub fn estimate_max_steps(states: usize) -> f64 {
+    let size = states.max(ESTIMATE_REFERENCE_STATES) as f64;
+    ESTIMATE_MAX_RUN_STEPS * ESTIMATE_REFERENCE_STATES as f64 / size
+}
 
 /// The campaign's `"solver"` object after validation.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -368,6 +387,8 @@ fn accurate(
             StepDoubling::new(model, p, &x.drive, x.grid(*off, stable), x.window.clone())
         })
         .collect();
+    let states = model.state_names().len();
+    let max_steps = estimate_max_steps(states);
     let mut n = stable;
     // (experiment, error, target, target in words) of the experiment that set n.
     let mut setter: Option<(usize, f64, f64, String)> = None;
@@ -381,11 +402,11 @@ fn accurate(
             ));
             continue;
         };
-        let c = run.choose(stable, cap, ACCURACY_MARGIN * t, ESTIMATE_MAX_RUN_STEPS);
+        let c = run.choose(stable, cap, ACCURACY_MARGIN * t, max_steps);
         match c.stop {
             StepStop::TooLong => unjudged.push(format!(
                 "'{}': a reference run at {} substeps would take {:.2e} RK4 steps (more than \
-                 {ESTIMATE_MAX_RUN_STEPS:e})",
+                 {max_steps:.2e} for a rig of {states} states)",
                 echo_bare(&x.name),
                 4 * c.substeps,
                 run.steps_of(4 * c.substeps)
@@ -414,7 +435,7 @@ fn accurate(
         .zip(&mut runs)
         .map(|(x, run)| {
             let judged = target(x, tolerance, unit(x)).is_some();
-            (judged && run.steps_of(4 * n) <= ESTIMATE_MAX_RUN_STEPS)
+            (judged && run.steps_of(4 * n) <= max_steps)
                 .then(|| run.error(n))
                 .flatten()
         })

@@ -17,6 +17,9 @@ use super::{Campaign, CampaignError, GeneTarget};
 /// [`Campaign::validation`]; their files join the campaign's inputs.
 pub(super) fn build_fit(text: &str, dir: &Path, file: &Path) -> Result<Campaign, CampaignError> {
     let mut campaign = build(text, dir, file, Reading::Fit)?;
+    // The records against the rig, before any search.
+    let heard = super::plausible::check(&campaign)?;
+    campaign.warnings.extend(heard);
     let mut json = as_json(text);
     let Some(records) = json.as_object_mut().and_then(|o| o.remove("validation")) else {
         return Ok(campaign);

@@ -12,14 +12,19 @@ use rigfit::identify::csv_input::{self, TwoColumns};
 
 /// A pre-calibration or identification error as one line that names the
 /// input file, with its causes (why the file could not be read); an option's
-/// value refused for itself is named without the file.
+/// value refused for itself (a mass below 0) is named without the file; one
+/// refused against the record (a force column that is 0 throughout, a band
+/// past its Nyquist frequency) by its command-line flag, with the file.
 pub fn in_file(path: &Path, e: IdentifyError) -> anyhow::Error {
-    // A value given on the command line is the option's fault, not the
-    // record's (a column the record lacks is both: the file is named).
-    if let IdentifyError::InvalidOption { name, .. } = &e
+    if let IdentifyError::InvalidOption { name, reason } = &e
         && *name != "column"
     {
-        return BadInput(e.to_string()).into();
+        return match flag(name) {
+            Some((flag, true)) => BadInput(format!("{}: invalid {flag}: {reason}", path.display())),
+            Some((flag, false)) => BadInput(format!("invalid {flag}: {reason}")),
+            None => BadInput(e.to_string()),
+        }
+        .into();
     }
     let mut line = format!("{}: {e}", path.display());
     let mut cause = std::error::Error::source(&e);
@@ -27,7 +32,34 @@ pub fn in_file(path: &Path, e: IdentifyError) -> anyhow::Error {
         line += &format!(": {c}");
         cause = c.source();
     }
+    if let IdentifyError::TooFewPoints { what, .. } = &e
+        && *what == "coherent lines in the band"
+    {
+        line += "; widen the band (--f-min, --f-max), lower --min-coherence (lines below it \
+                 are left out), or check that the input and output columns (--input, \
+                 --output) are the rig's excitation and its response";
+    }
     BadInput(line).into()
+}
+
+/// The command-line flag of a library option's name, where the commands
+/// that read records have one, and whether its value is judged against the
+/// record (a column, a rate, a length) rather than for itself.
+fn flag(name: &str) -> Option<(&'static str, bool)> {
+    Some(match name {
+        "force" => ("--force", true),
+        "cut-off" => ("--cutoff", true),
+        "decimation" => ("--decimation", true),
+        "sample rate" => ("--sample-rate", true),
+        "segment length" | "segment_len" => ("--segment", true),
+        "band" => ("band (--f-min, --f-max)", true),
+        "output" => ("--output", true),
+        "filter order" => ("--filter-order", false),
+        "mass" => ("--mass", false),
+        "modes" => ("--modes", false),
+        "terms" => ("--terms", false),
+        _ => return None,
+    })
 }
 
 /// Reads a two-column CSV file (x, then y).

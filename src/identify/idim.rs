@@ -158,7 +158,8 @@ pub fn estimate(q: &[f64], tau: &[f64], opts: &IdimOptions) -> Result<IdimReport
             name: "force",
             reason: format!(
                 "the force (the column times --gain) is {lo:e} N at every sample: \
-                 nothing to fit (a gain of 0, or a column that does not vary)"
+                 nothing to fit; give the column that holds the applied force or the drive \
+                 signal (--force), and a gain other than 0 (--gain)"
             ),
         });
     }

@@ -11,6 +11,8 @@ pub mod islands;
 pub mod memory;
 mod outputs;
 mod reopen;
+mod resume_key;
+mod save;
 pub mod sensitivity;
 mod verdict;
 
@@ -30,6 +32,8 @@ pub use outputs::{
 pub use reopen::{
     RESULT_FILE, Reopened, fitted_campaign, reopen, update_result, update_result_keys,
 };
+pub use resume_key::{STOPPING_LIMITS, fingerprint};
+pub use save::save_files;
 pub use verdict::{
     PROFILE_FLAG_PREFIX, Verdict, attach_profiles, replace_flags, replace_profile_warnings,
 };
@@ -38,8 +42,8 @@ use crate::campaign::Campaign;
 use crate::eval::Evaluator;
 use crate::eval::Precision;
 use crate::search::{
-    Executor, Fingerprint, GeneSpec, HistoryCsvObserver, Observer, ObserverMode, Polish,
-    PolishSettings, ProgressObserver, SearchError, TerminationReason,
+    Executor, GeneSpec, HistoryCsvObserver, Observer, ObserverMode, Polish, PolishSettings,
+    ProgressObserver, SearchError, TerminationReason,
 };
 
 /// Name of the checkpoint file inside the output folder.
@@ -138,8 +142,8 @@ pub enum JobError {
         /// What the lock file says about its holder.
         holder: String,
     },
-    /// The search failed.
-    #[error("search failed")]
+    /// The search failed, or refused its settings or checkpoint.
+    #[error("{}", search_headline(.0))]
     Search(#[from] SearchError),
     /// Writing results failed.
     #[error("writing `{}`", path.display())]
@@ -195,6 +199,18 @@ fn written_before(written: &[String]) -> String {
     }
 }
 
+/// The headline of a search's error: a checkpoint that cannot be resumed is
+/// not a failed search.
+fn search_headline(e: &SearchError) -> &'static str {
+    match e {
+        SearchError::FingerprintMismatch { .. } => {
+            "cannot resume: the campaign changed since the checkpoint was written"
+        }
+        SearchError::CheckpointFormat { .. } => "cannot resume from the checkpoint",
+        _ => "search failed",
+    }
+}
+
 impl JobError {
     /// Whether the job's input is at fault rather than the job: an output
     /// folder or checkpoint it was pointed at, or a search that refused its
@@ -213,35 +229,6 @@ impl JobError {
             _ => false,
         }
     }
-}
-
-/// What a campaign's checkpoint must agree on to be resumed.
-pub fn fingerprint(campaign: &Campaign, backend: &str, precision: &str) -> Fingerprint {
-    let mut f = Fingerprint::new()
-        .with(
-            "campaign digest (file and data)",
-            format!("{:016x}", campaign.digest),
-        )
-        .with("backend", backend)
-        .with("precision", precision)
-        .with("substeps", campaign.solver.substeps.to_string());
-    // One item per input file as well, so a refused resume names the file
-    // that changed rather than only the digest of them all.
-    for (i, path) in campaign.inputs.iter().enumerate() {
-        let what = if i == 0 {
-            "campaign file"
-        } else {
-            "input file"
-        };
-        f = f.with_file(what, path);
-    }
-    for g in &campaign.genes {
-        f = f.with(
-            format!("gene {}", g.name),
-            format!("[{:e}, {:e}] {:?}", g.lower, g.upper, g.scale),
-        );
-    }
-    f
 }
 
 /// The genes as the search sees them.

@@ -58,7 +58,11 @@ pub enum SearchError {
     },
     /// The checkpoint was written by a different campaign.
     #[error(
-        "checkpoint `{}` belongs to a different campaign; changed: {}",
+        "checkpoint `{}` was written for a different problem; changed: {}. A resumed search \
+         continues the saved population and random stream, which belong to the model, records, \
+         free parameters and search method they were made for (a description, a comment in a \
+         record and the stopping limits may change): undo the change, or start afresh without \
+         resuming",
         path.display(),
         changes.join("; ")
     )]

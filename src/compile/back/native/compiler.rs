@@ -32,11 +32,13 @@ pub const CC_TIMEOUT_S: f64 = 60.0;
 /// until it ends or `limit` passes; then stops it and everything it started.
 /// Its exit status, or why there is none.
 fn run_limited(
-    mut cmd: Command,
+    cmd: Command,
     log: &Path,
     out: Option<&Path>,
     limit: std::time::Duration,
 ) -> Result<std::process::ExitStatus, String> {
+    // Killed with this process, however it ends (tether.rs).
+    let mut cmd = super::tether::tethered(cmd);
     let create = |p: &Path| std::fs::File::create(p).map_err(|e| format!("could not be run: {e}"));
     let err = create(log)?;
     let stdout = match out {

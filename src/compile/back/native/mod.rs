@@ -32,6 +32,7 @@ pub(crate) mod compiler;
 mod load;
 mod scratch;
 mod slot;
+mod tether;
 
 use std::collections::HashMap;
 use std::path::PathBuf;

@@ -1,0 +1,92 @@
+//! The C compiler tethered to this process: killed with it, however it
+//! ends. A compiler is a tree of processes (`cc` runs `cc1`, `as`, `ld`), in
+//! a process group of its own; a signal to `cc` alone leaves `cc1` running,
+//! and nothing is told when this process is killed (SIGKILL, a time limit).
+//! On Linux the compiler runs under a small shell, the group's leader, that
+//! `setpriv` (util-linux) gives a parent-death signal: when this process
+//! dies the shell is sent SIGTERM and kills its whole group. Without
+//! `setpriv` the compiler runs as given.
+
+use std::path::PathBuf;
+use std::process::Command;
+use std::sync::OnceLock;
+
+/// The shell between `setpriv` and the compiler: the compiler in the
+/// background, its status passed on, the group killed on SIGTERM.
+const TETHER: &str = r#"trap 'kill -KILL 0' TERM; "$@" & wait $!"#;
+
+/// `cmd`, tethered where this system allows it (see the module's text).
+/// The caller puts the returned command in a process group of its own.
+pub(super) fn tethered(cmd: Command) -> Command {
+    let Some(setpriv) = setpriv() else {
+        return cmd;
+    };
+    if !runnable(cmd.get_program()) {
+        // Started as it is, so that its absence is said as itself ("could
+        // not be run"), not as the shell's "not found".
+        return cmd;
+    }
+    let mut t = Command::new(setpriv);
+    t.args(["--pdeathsig", "TERM", "--", "sh", "-c", TETHER, "sh"])
+        .arg(cmd.get_program())
+        .args(cmd.get_args());
+    for (key, value) in cmd.get_envs() {
+        match value {
+            Some(v) => t.env(key, v),
+            None => t.env_remove(key),
+        };
+    }
+    if let Some(dir) = cmd.get_current_dir() {
+        t.current_dir(dir);
+    }
+    t
+}
+
+/// Whether `program` names a file that could be run: a path, or a name
+/// found on the `PATH`.
+fn runnable(program: &std::ffi::OsStr) -> bool {
+    let path = std::path::Path::new(program);
+    if path.components().count() > 1 {
+        return path.is_file();
+    }
+    std::env::var_os("PATH")
+        .is_some_and(|dirs| std::env::split_paths(&dirs).any(|d| d.join(program).is_file()))
+}
+
+/// `setpriv` where this is Linux and it is on the `PATH` and takes
+/// `--pdeathsig`; looked up once.
+fn setpriv() -> Option<&'static PathBuf> {
+    static FOUND: OnceLock<Option<PathBuf>> = OnceLock::new();
+    FOUND
+        .get_or_init(|| {
+            if !cfg!(target_os = "linux") {
+                return None;
+            }
+            let path = std::env::var_os("PATH")?;
+            let found = std::env::split_paths(&path)
+                .map(|d| d.join("setpriv"))
+                .find(|p| p.is_file())?;
+            let works = Command::new(&found)
+                .args(["--pdeathsig", "TERM", "--", "true"])
+                .stdin(std::process::Stdio::null())
+                .stdout(std::process::Stdio::null())
+                .stderr(std::process::Stdio::null())
+                .status()
+                .is_ok_and(|s| s.success());
+            works.then_some(found)
+        })
+        .as_ref()
+}
+
+#[cfg(all(test, target_os = "linux"))]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn passes_the_arguments_and_the_exit_status_on() {
+        let mut cmd = Command::new("sh");
+        cmd.args(["-c", "test \"$1\" = 'a b' && exit 7", "sh", "a b"]);
+        let status = tethered(cmd).status().unwrap();
+        assert_eq!(status.code(), Some(7));
+    }
+}
