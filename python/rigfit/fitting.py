@@ -7,6 +7,7 @@ import warnings
 
 from . import _arguments as check
 from . import _rigfit
+from ._progress import progress_bar
 from .errors import Error, GpuFallbackWarning, Interrupted
 from .result import FitResult, read_result_files
 
@@ -119,16 +120,7 @@ def _progress(progress, campaign, generations):
         return progress, lambda: None
     if not progress:
         return None, lambda: None
-    with warnings.catch_warnings():
-        # Jupyter without ipywidgets: tqdm.auto falls back to a text bar and
-        # says so once; the text bar is what the caller gets either way.
-        warnings.simplefilter("ignore")
-        try:
-            from tqdm.auto import tqdm
-        except ImportError:
-            # Without tqdm (pip install "rigfit[progress]" brings it): a
-            # plain line on stderr, rewritten in place.
-            tqdm = _TextBar
+    tqdm = progress_bar()
     total = generations or campaign._info["generations"]
     bars = [tqdm(total=total, desc=campaign.name, unit="gen")]
 
@@ -152,34 +144,3 @@ def _progress(progress, campaign, generations):
             bar.close()
     return update, close
 
-
-class _TextBar:
-    """The little of tqdm's bar that :func:`_progress` uses, as one line on
-    stderr rewritten in place (at most ten times a second)."""
-
-    def __init__(self, total=None, desc="", unit="it"):
-        import sys
-        import time
-        self._out, self._clock = sys.stderr, time.monotonic
-        self.total, self.desc, self.unit, self.n = total, desc, unit, 0
-        self._postfix, self._shown, self._open = "", 0.0, True
-
-    def set_postfix(self, refresh=False, **values):
-        self._postfix = ", ".join(f"{k}={v}" for k, v in values.items())
-
-    def refresh(self, final=False):
-        now = self._clock()
-        if not final and now - self._shown < 0.1:
-            return
-        self._shown = now
-        of = f"/{self.total}" if self.total else ""
-        tail = f" [{self._postfix}]" if self._postfix else ""
-        self._out.write(f"\r{self.desc}: {self.n}{of} {self.unit}{tail}")
-        self._out.flush()
-
-    def close(self):
-        if self._open:
-            self._open = False
-            self.refresh(final=True)
-            self._out.write("\n")
-            self._out.flush()

@@ -9,6 +9,7 @@ import time
 import warnings
 
 from . import _rigfit
+from ._progress import progress_bar
 from .errors import CampaignError
 
 _BACKENDS = ("cpu", "gpu")
@@ -170,11 +171,7 @@ def _progress(progress):
         def call(done, total):
             progress({"done": done, "total": total, "elapsed_s": time.monotonic() - start})
         return call, lambda: None
-    with warnings.catch_warnings():
-        # Jupyter without ipywidgets: tqdm.auto falls back to a text bar and
-        # says so once; the text bar is what the caller gets either way.
-        warnings.simplefilter("ignore")
-        from tqdm.auto import tqdm
+    tqdm = progress_bar()
     bars = []
 
     def update(done, total):

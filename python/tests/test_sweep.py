@@ -157,6 +157,14 @@ def test_a_dict_is_the_file_its_paths_relative_to_the_cwd(sdof, tmp_path, monkey
     assert from_file.attrs["substeps"] == [4]
 
 
+def test_progress_true_without_tqdm_prints_a_plain_line(sdof, monkeypatch, capsys):
+    for name in ("tqdm", "tqdm.auto"):
+        monkeypatch.setitem(sys.modules, name, None)  # import fails
+    df = rigfit.sweep(_write(sdof, _grid(substeps=4)), threads=1, progress=True)
+    err = capsys.readouterr().err
+    assert f"sweep: {len(df)}/{len(df)} point" in err, err
+
+
 def test_sobol_indices_are_the_cli_indices(sdof, tmp_path):
     raw = {"campaign": "c.json", "substeps": 4,
            "variables": {"m": {"uniform": [1.0, 2.0]}, "c": {"uniform": [C, 2 * C]}},
