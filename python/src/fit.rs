@@ -272,12 +272,8 @@ pub fn run_job<'py>(
 fn cancelled(e: &JobError) -> bool {
     let mut next: Option<&(dyn std::error::Error + 'static)> = Some(e);
     while let Some(err) = next {
-        if matches!(err.downcast_ref::<EvalError>(), Some(EvalError::Cancelled))
-            || matches!(
-                err.downcast_ref::<SearchError>(),
-                Some(SearchError::Eval(EvalError::Cancelled))
-            )
-        {
+        // SearchError::Eval's source is its EvalError: the walk reaches it.
+        if matches!(err.downcast_ref::<EvalError>(), Some(EvalError::Cancelled)) {
             return true;
         }
         next = err.source();
