@@ -2,7 +2,7 @@
 # The README's test command, and exactly what CI runs (.ci/run calls it).
 #
 # On a fresh Debian machine it installs Mesa's lavapipe (software Vulkan) so the
-# GPU tests have an adapter, then runs rustfmt, clippy, rustdoc (its warnings,
+# GPU tests have an adapter, and libhdf5-dev for HDF5 records, then runs rustfmt, clippy, rustdoc (its warnings,
 # broken intra-doc links among them, fail) and every test, then the
 # Python package's checks (scripts/test-python.sh: its wheel and pytest, and
 # report.html opened in Debian's Chromium, installed when missing). The GPU
@@ -22,6 +22,17 @@ if ! have_lavapipe; then
     $sudo env DEBIAN_FRONTEND=noninteractive apt-get update -q
     $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends \
         mesa-vulkan-drivers libvulkan1
+fi
+
+# HDF5 records (and MAT v7.3) are read through the system's libhdf5 (the
+# default cargo feature `hdf5`): its headers and pkg-config file to build.
+if ! pkg-config --exists hdf5 2>/dev/null; then
+    echo "test.sh: installing libhdf5-dev (HDF5 records) and pkg-config"
+    sudo=""
+    if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+    $sudo env DEBIAN_FRONTEND=noninteractive apt-get update -q
+    $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends \
+        libhdf5-dev pkg-config
 fi
 
 export RIGFIT_REQUIRE_GPU=1

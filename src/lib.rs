@@ -13,6 +13,7 @@ pub mod gpu;
 pub mod identify;
 pub mod job;
 pub mod model;
+pub mod record;
 pub mod report;
 pub mod rig;
 pub mod search;

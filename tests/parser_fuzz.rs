@@ -135,6 +135,18 @@ proptest! {
     }
 
     #[test]
+    fn csv_decoding_survives_random_bytes(bytes in prop::collection::vec(any::<u8>(), 0..300), stated in 0..5usize, decimal in 0..3usize) {
+        use rigfit::base::data::{Decimal, decode_record};
+        use rigfit::base::encoding::Encoding;
+        let encoding = [None, Some(Encoding::Utf8), Some(Encoding::Utf16Le), Some(Encoding::Utf16Be), Some(Encoding::Windows1252)][stated];
+        let decimal = [None, Some(Decimal::Point), Some(Decimal::Comma)][decimal];
+        let spec = CsvSpec { encoding, decimal, ..CsvSpec::default() };
+        if let Ok(text) = decode_record(&bytes, Path::new("fuzz.csv"), &spec) {
+            let _ = parse_csv(&text, Path::new("fuzz.csv"), &spec);
+        }
+    }
+
+    #[test]
     fn csv_loader_survives_extreme_numbers(rows in prop::collection::vec((number(), number()), 0..40), sorted in any::<bool>(), scale in number()) {
         let mut rows = rows;
         if sorted {

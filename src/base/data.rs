@@ -4,8 +4,16 @@
 //! Accepted files:
 //! - lines starting with `#` (after leading blanks) and blank lines are skipped
 //!   anywhere;
-//! - the separator is the first of `,`, `;` or tab found on the first row; with
-//!   `;` a decimal comma (`1,5`) is also accepted;
+//! - the text is decoded by [`decode_record`]: UTF-8, UTF-16 with a byte-order
+//!   mark, or Windows-1252 (Latin-1), detected or as [`CsvSpec::encoding`]
+//!   states;
+//! - the separator is, of those found on the first row outside double quotes,
+//!   `;`, else tab, else `,`; with `;` or tab a decimal comma (`1,5`) is also
+//!   accepted unless [`CsvSpec::decimal`] says the decimal mark is `.`. A
+//!   decimal comma with `,` as the separator cannot be read: a stated one is
+//!   refused, and so is a data row that holds more fields than the header, all
+//!   of digits (`0,001,12,5` under `t,F`), with a hint
+//!   ([`DECIMAL_COMMA_HINT`]);
 //! - a header row of column names is required when a column is chosen by name;
 //!   when both columns are chosen by index the first row is a header unless every
 //!   field of it is a number;
@@ -17,6 +25,7 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+use crate::base::encoding::{Encoding, decode};
 use crate::base::text::echo_bare;
 
 /// Relative jitter of the sample interval (against the median interval) above
@@ -46,7 +55,38 @@ impl fmt::Display for Column {
     }
 }
 
-/// Which columns hold time and force, and their unit conversions.
+/// The decimal mark of a record's numbers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Decimal {
+    /// `1.5`; a comma is never a decimal mark.
+    Point,
+    /// `1,5`; the separator must then be `;` or tab, and a `.` in a number is
+    /// refused (it may be a thousands separator).
+    Comma,
+}
+
+impl<'de> serde::Deserialize<'de> for Decimal {
+    /// `"."` or `","`.
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let mark = String::deserialize(d)?;
+        match mark.as_str() {
+            "." => Ok(Decimal::Point),
+            "," => Ok(Decimal::Comma),
+            _ => Err(serde::de::Error::custom(format!(
+                "expected the decimal mark \".\" or \",\", found {}",
+                quote(&mark)
+            ))),
+        }
+    }
+}
+
+/// The hint of a file whose decimal mark and separator are both `,`.
+pub const DECIMAL_COMMA_HINT: &str = "the decimal mark and the separator are both ',' (a decimal \
+     comma in a comma-separated file): export with ';' as the separator, or with '.' as the \
+     decimal mark";
+
+/// Which columns hold time and force, their unit conversions, and how the
+/// file's text is encoded and its numbers written.
 #[derive(Debug, Clone, PartialEq)]
 pub struct CsvSpec {
     /// Time column (default: the first, index 0).
@@ -57,6 +97,12 @@ pub struct CsvSpec {
     pub time_scale: f64,
     /// Multiplier turning the force column into newtons (1e3 for kN).
     pub force_scale: f64,
+    /// The text encoding (default `None`: detected, see
+    /// [`crate::base::encoding::decode`]).
+    pub encoding: Option<Encoding>,
+    /// The decimal mark (default `None`: a point, or a comma where the
+    /// separator is `;` or tab).
+    pub decimal: Option<Decimal>,
 }
 
 impl Default for CsvSpec {
@@ -66,6 +112,8 @@ impl Default for CsvSpec {
             force: Column::Index(1),
             time_scale: 1.0,
             force_scale: 1.0,
+            encoding: None,
+            decimal: None,
         }
     }
 }
@@ -132,6 +180,30 @@ pub enum DataError {
         /// What was found.
         found: String,
     },
+    /// The bytes contradict the stated encoding (or their own byte-order
+    /// mark).
+    #[error("{}: byte {offset}: expected {expected}, found {found}", file.display())]
+    Encoding {
+        /// The data file.
+        file: PathBuf,
+        /// 0-based byte offset of the first byte that does not fit.
+        offset: usize,
+        /// What was expected there.
+        expected: String,
+        /// What was found there.
+        found: String,
+    },
+    /// The decimal mark and the separator are both `,`: the numbers cannot
+    /// be told apart.
+    #[error("{}:{line}: {found}; {DECIMAL_COMMA_HINT}", file.display())]
+    DecimalComma {
+        /// The data file.
+        file: PathBuf,
+        /// 1-based line number.
+        line: usize,
+        /// What shows the collision (a row, or the stated decimal mark).
+        found: String,
+    },
     /// The file holds fewer than two samples.
     #[error("{}: expected at least 2 samples, found {found}", file.display())]
     TooFewSamples {
@@ -139,6 +211,20 @@ pub enum DataError {
         file: PathBuf,
         /// Number of samples found.
         found: usize,
+    },
+    /// A record file in another format than CSV (TDMS, HDF5, MAT, UFF 58)
+    /// could not be read, or a channel of it is not what was expected.
+    #[error("{}: {what}: expected {expected}, found {found}", file.display())]
+    Record {
+        /// The data file.
+        file: PathBuf,
+        /// Where in the file, or which channel (`TDMS byte 1234`,
+        /// `channel 'tensile/force_N'`).
+        what: String,
+        /// What was expected.
+        expected: String,
+        /// What was found.
+        found: String,
     },
 }
 
@@ -148,7 +234,25 @@ pub fn load_csv(path: &Path, spec: &CsvSpec) -> Result<Series, DataError> {
         file: path.to_path_buf(),
         message: e.to_string(),
     })?;
-    parse_csv(&String::from_utf8_lossy(&bytes), path, spec)
+    parse_csv(&decode_record(&bytes, path, spec)?, path, spec)
+}
+
+/// The text of a record's `bytes` in `spec`'s encoding (detected when it
+/// states none; see [`crate::base::encoding::decode`]); `file` is only used in
+/// messages.
+///
+/// # Errors
+/// [`DataError::Encoding`] naming the byte where the bytes contradict the
+/// encoding.
+pub fn decode_record(bytes: &[u8], file: &Path, spec: &CsvSpec) -> Result<String, DataError> {
+    decode(bytes, spec.encoding)
+        .map(|(text, _)| text)
+        .map_err(|e| DataError::Encoding {
+            file: file.to_path_buf(),
+            offset: e.offset,
+            expected: e.expected,
+            found: e.found,
+        })
 }
 
 /// Steps per sample at or above which a record's sample interval reads as far
@@ -255,10 +359,17 @@ pub fn parse_csv(text: &str, file: &Path, spec: &CsvSpec) -> Result<Series, Data
             found: 0,
         });
     };
-    let sep = [',', ';', '\t']
-        .into_iter()
-        .find(|c| first.contains(*c))
-        .unwrap_or(',');
+    let sep = separator(first);
+    if sep == ',' && spec.decimal == Some(Decimal::Comma) && first.contains(',') {
+        return Err(DataError::DecimalComma {
+            file: file.into(),
+            line: first_line,
+            found: "the decimal mark is stated as ',' (\"decimal\": \",\") and the first row \
+                    is separated by ','"
+                .into(),
+        });
+    }
+    let number = |s: &str| parse_number(s, sep, spec.decimal);
     let split = |l: &str| -> Vec<String> {
         split_fields(l, sep)
             .into_iter()
@@ -267,7 +378,7 @@ pub fn parse_csv(text: &str, file: &Path, spec: &CsvSpec) -> Result<Series, Data
     };
     let first_fields = split(first);
     let by_name = matches!(spec.time, Column::Name(_)) || matches!(spec.force, Column::Name(_));
-    let has_header = by_name || first_fields.iter().any(|f| parse_number(f, sep).is_none());
+    let has_header = by_name || first_fields.iter().any(|f| number(f).is_none());
     let header: Vec<String> = if has_header {
         rows.next();
         first_fields
@@ -292,6 +403,9 @@ pub fn parse_csv(text: &str, file: &Path, spec: &CsvSpec) -> Result<Series, Data
     let mut force: Vec<f64> = Vec::new();
     for (line, row) in rows {
         let fields: Vec<&str> = split_fields(row, sep);
+        if sep == ',' {
+            decimal_comma_collision(&fields, header.len(), file, line)?;
+        }
         let mut vals = [0.0; 2];
         for (j, &c) in cols.iter().enumerate() {
             let what = format!("column {} ('{}')", c + 1, echo_bare(&header[c]));
@@ -305,8 +419,12 @@ pub fn parse_csv(text: &str, file: &Path, spec: &CsvSpec) -> Result<Series, Data
                 ));
             };
             let raw = raw.trim().trim_matches('"').trim();
-            let v = parse_number(raw, sep)
-                .ok_or_else(|| cell_err(file, line, what.clone(), "a number", quote(raw)))?;
+            let expected = match spec.decimal {
+                Some(Decimal::Comma) => "a number with a decimal comma (\"decimal\": \",\")",
+                _ => "a number",
+            };
+            let v = number(raw)
+                .ok_or_else(|| cell_err(file, line, what.clone(), expected, quote(raw)))?;
             if !v.is_finite() {
                 return Err(cell_err(file, line, what, "a finite number", quote(raw)));
             }
@@ -351,9 +469,73 @@ pub fn parse_csv(text: &str, file: &Path, spec: &CsvSpec) -> Result<Series, Data
     uniform(t, force, file)
 }
 
+/// The separator of a file whose first content line is `first`: of `;`, tab
+/// and `,` outside double quotes, the first found in that order (`,` when
+/// none is: a file of one column).
+pub(crate) fn separator(first: &str) -> char {
+    let mut quoted = false;
+    let mut found = [false; 3];
+    for c in first.chars() {
+        match c {
+            '"' => quoted = !quoted,
+            ';' if !quoted => found[0] = true,
+            '\t' if !quoted => found[1] = true,
+            ',' if !quoted => found[2] = true,
+            _ => {}
+        }
+    }
+    [';', '\t', ',']
+        .into_iter()
+        .zip(found)
+        .find_map(|(c, f)| f.then_some(c))
+        .unwrap_or(',')
+}
+
+/// Refuses a row of a `,`-separated file that reads as decimal commas: more
+/// fields than the header's `width` (trailing empty fields aside), every one
+/// a run of digits (`0,001,12,5` under `t,F`).
+fn decimal_comma_collision(
+    fields: &[&str],
+    width: usize,
+    file: &Path,
+    line: usize,
+) -> Result<(), DataError> {
+    if fields.len() <= width {
+        return Ok(());
+    }
+    let cells: Vec<&str> = fields
+        .iter()
+        .map(|f| f.trim().trim_matches('"').trim())
+        .collect();
+    let used = cells
+        .iter()
+        .rposition(|c| !c.is_empty())
+        .map_or(0, |i| i + 1);
+    let digits = |c: &str| {
+        let c = c.strip_prefix(['-', '+']).unwrap_or(c);
+        let (mantissa, exponent) = c.split_once(['e', 'E']).unwrap_or((c, "0"));
+        let exponent = exponent.strip_prefix(['-', '+']).unwrap_or(exponent);
+        [mantissa, exponent]
+            .iter()
+            .all(|p| !p.is_empty() && p.bytes().all(|b| b.is_ascii_digit()))
+    };
+    let cells = cells.get(..used).unwrap_or_default();
+    if used > width && cells.iter().all(|c| digits(c)) {
+        return Err(DataError::DecimalComma {
+            file: file.into(),
+            line,
+            found: format!(
+                "a row of {used} fields of digits ({}) under a header of {width} column(s)",
+                quote(&cells.join(","))
+            ),
+        });
+    }
+    Ok(())
+}
+
 /// The fields of one row: split at `sep`, except inside double quotes (a
 /// header `"force, N"` is one field).
-fn split_fields(row: &str, sep: char) -> Vec<&str> {
+pub(crate) fn split_fields(row: &str, sep: char) -> Vec<&str> {
     let mut fields = Vec::new();
     let (mut start, mut quoted) = (0, false);
     for (i, c) in row.char_indices() {
@@ -384,17 +566,23 @@ fn quote(raw: &str) -> String {
     format!("'{}'", echo_bare(raw))
 }
 
-/// A number, accepting a decimal comma when the separator is `;`.
-fn parse_number(s: &str, sep: char) -> Option<f64> {
+/// A number: with a decimal point, or with a decimal comma when the
+/// separator is `;` or tab unless `decimal` says a point; with a stated
+/// decimal comma a `.` is refused.
+pub(crate) fn parse_number(s: &str, sep: char, decimal: Option<Decimal>) -> Option<f64> {
+    let comma_ok = matches!(sep, ';' | '\t') && decimal != Some(Decimal::Point);
+    if decimal == Some(Decimal::Comma) && s.contains('.') {
+        return None;
+    }
     s.parse::<f64>().ok().or_else(|| {
-        (sep == ';' && s.contains(','))
+        (comma_ok && s.contains(','))
             .then(|| s.replace(',', ".").parse().ok())
             .flatten()
     })
 }
 
 /// Checks the sampling and resamples to the median interval when it jitters.
-fn uniform(t: Vec<f64>, force: Vec<f64>, file: &Path) -> Result<Series, DataError> {
+pub fn uniform(t: Vec<f64>, force: Vec<f64>, file: &Path) -> Result<Series, DataError> {
     let n = t.len();
     let mut d: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
     let median = super::stats::median(&mut d);
@@ -509,10 +697,60 @@ mod tests {
     }
 
     #[test]
-    fn decimal_comma_only_with_semicolons() {
-        assert_eq!(parse_number("1,5", ';'), Some(1.5));
-        assert_eq!(parse_number("1,5", ','), None);
-        assert_eq!(parse_number("-2.5e3", ','), Some(-2500.0));
+    fn decimal_comma_only_with_semicolons_or_tabs() {
+        assert_eq!(parse_number("1,5", ';', None), Some(1.5));
+        assert_eq!(parse_number("1,5", '\t', None), Some(1.5));
+        assert_eq!(parse_number("1,5", ',', None), None);
+        assert_eq!(parse_number("-2.5e3", ',', None), Some(-2500.0));
+        assert_eq!(parse_number("1,5", ';', Some(Decimal::Point)), None);
+        assert_eq!(
+            parse_number("1,5E-3", '\t', Some(Decimal::Comma)),
+            Some(1.5e-3)
+        );
+        assert_eq!(parse_number("1.234", ';', Some(Decimal::Comma)), None);
+        assert_eq!(parse_number("7", ';', Some(Decimal::Comma)), Some(7.0));
+    }
+
+    #[test]
+    fn the_separator_prefers_semicolons_then_tabs_outside_quotes() {
+        assert_eq!(separator("0,0;1,5"), ';');
+        assert_eq!(separator("0,0\t1,5"), '\t');
+        assert_eq!(separator("t,F"), ',');
+        assert_eq!(separator("\"F; kN\",t"), ',');
+        assert_eq!(separator("t"), ',');
+    }
+
+    #[test]
+    fn a_row_of_digit_runs_wider_than_the_header_is_a_decimal_comma_collision() {
+        let f = Path::new("x");
+        let e = decimal_comma_collision(&["0", "001", "-12", "5"], 2, f, 3).unwrap_err();
+        assert!(matches!(e, DataError::DecimalComma { line: 3, .. }), "{e}");
+        let e = e.to_string();
+        assert!(
+            e.contains("'0,001,-12,5'") && e.contains(DECIMAL_COMMA_HINT),
+            "{e}"
+        );
+        assert!(decimal_comma_collision(&["0", "001", "1", "5E-03"], 2, f, 3).is_err());
+        // As wide as the header, a trailing empty field, or a point: no collision.
+        assert!(decimal_comma_collision(&["0", "12"], 2, f, 3).is_ok());
+        assert!(decimal_comma_collision(&["0", "12", ""], 2, f, 3).is_ok());
+        assert!(decimal_comma_collision(&["0.5", "12", "3"], 2, f, 3).is_ok());
+    }
+
+    #[test]
+    fn decoding_a_record_names_the_file_and_byte() {
+        let spec = CsvSpec {
+            encoding: Some(Encoding::Utf8),
+            ..CsvSpec::default()
+        };
+        let e = decode_record(b"t,F\xB5", Path::new("r.csv"), &spec).unwrap_err();
+        assert!(matches!(e, DataError::Encoding { offset: 3, .. }), "{e}");
+        assert!(
+            e.to_string().starts_with("r.csv: byte 3: expected UTF-8"),
+            "{e}"
+        );
+        let text = decode_record(b"t,F\xB5", Path::new("r.csv"), &CsvSpec::default());
+        assert_eq!(text.unwrap(), "t,Fµ");
     }
 
     #[test]

@@ -5,6 +5,7 @@
 
 pub mod data;
 mod drive;
+pub mod encoding;
 pub mod fsutil;
 mod grid;
 pub mod noise;

@@ -7,11 +7,12 @@ use super::error::{invalid, parse_json};
 use super::initial;
 use super::names::{check_campaign_name, check_experiment_names};
 use super::raw::{RawCampaign, RawData, RawDrive, RawExperiment, RawParam};
+use super::record_file::{self, RecordUse, Recorded};
 use super::resolve::{check_map, check_physics, check_value, resolve};
 use super::simulation::{self, Reading};
 use super::stability::choose;
 use super::{Campaign, CampaignError, FNV_BASIS, Gene, GeneTarget, Source, acts_in, fnv1a};
-use crate::base::data::{Column, CsvSpec, Series, parse_csv};
+use crate::base::data::{Column, CsvSpec};
 use crate::base::{Drive, PiecewiseLinear};
 use crate::eval::{ExperimentData, Problem};
 use crate::model::compiled::CompiledRig;
@@ -88,6 +89,7 @@ pub(crate) fn build(
         .chain(rig_file)
         .collect();
     let mut owners = Vec::new();
+    let mut records = Vec::new();
     for (e, x) in raw.experiments.iter().enumerate() {
         let free = |i: usize| {
             genes
@@ -98,8 +100,11 @@ pub(crate) fn build(
         check_physics(file, model, &r.base[e], &lo, &hi, &r.paths[e], &free)?;
         // The record is read once for all of an experiment's channels.
         let mut record = None;
-        for (view, output, name) in super::channels::views(file, model, e, x)? {
-            let (mut exp, bytes_hash, read) = experiment(
+        for (c, (view, output, name)) in super::channels::views(file, model, e, x)?
+            .into_iter()
+            .enumerate()
+        {
+            let (mut exp, bytes_hash, read, recorded) = experiment(
                 file,
                 dir,
                 e,
@@ -118,6 +123,13 @@ pub(crate) fn build(
             }
             if output != 0 {
                 rig.scoring(output).map_err(rig_error)?;
+            }
+            if let (Some(recorded), Some(data_file)) = (recorded, &read) {
+                let used = record_file::check_units(file, model, (e, c, x), recorded, data_file)?;
+                records.push(RecordUse {
+                    experiment: name.clone(),
+                    ..used
+                });
             }
             exp.output = output;
             exp.name = name;
@@ -186,6 +198,7 @@ pub(crate) fn build(
         search: raw.search.unwrap_or_else(SearchSettings::unset),
         output,
         inputs,
+        records,
         raw_json: text.to_string(),
         digest,
         warnings: r.warnings,
@@ -323,6 +336,10 @@ fn rig_error(e: rig::RigError) -> CampaignError {
     }
 }
 
+/// An experiment's data, the digest extended with its record's bytes, the
+/// record file read and what was read of it (none on a simulation's grid).
+type Experiment = (ExperimentData, u64, Option<PathBuf>, Option<Recorded>);
+
 /// Loads and checks one experiment's data, drive, window and weight. Returns the
 /// experiment, the digest extended with the data file's bytes and the file read
 /// (none on a simulation's grid without a record and without a drive column).
@@ -337,7 +354,7 @@ fn experiment(
     (digest, record): (u64, &mut Option<Vec<u8>>),
     reading: Reading<'_>,
     warnings: &mut Vec<String>,
-) -> Result<(ExperimentData, u64, Option<PathBuf>), CampaignError> {
+) -> Result<Experiment, CampaignError> {
     let at = format!("experiments[{e}]");
     let d = &x.data;
     let data_at = format!("{at}.data");
@@ -372,6 +389,8 @@ fn experiment(
         force: d.force_column.clone().unwrap_or(Column::Index(1)),
         time_scale: d.time_scale,
         force_scale: d.force_scale,
+        encoding: d.encoding,
+        decimal: d.decimal,
     };
     // Without a record, the only file read is the one a drive column comes from.
     let column_drive = matches!(&x.drive, RawDrive::Force(t) if t.column.is_some());
@@ -413,10 +432,13 @@ fn experiment(
         }
     };
     let bytes = record.as_deref().unwrap_or_default();
-    let text = String::from_utf8_lossy(bytes);
-    let series = match reading.uniform() {
-        Some((dt, samples, _)) => simulation::uniform_series(dt, samples),
-        None => parse_csv(&text, &data_file, &spec).map_err(|s| data_err(data_at.clone(), s))?,
+    let read_as = |spec: &CsvSpec| super::record_file::read(bytes, &data_file, d, spec);
+    let (series, recorded) = match reading.uniform() {
+        Some((dt, samples, _)) => (simulation::uniform_series(dt, samples), None),
+        None => {
+            let (series, r) = read_as(&spec).map_err(|s| data_err(data_at.clone(), s))?;
+            (series, Some(r))
+        }
     };
     warnings.extend(series.warning.clone());
     if let crate::base::data::Column::Name(column) = &spec.time {
@@ -435,8 +457,8 @@ fn experiment(
                         force: column.clone(),
                         ..spec.clone()
                     };
-                    let s = parse_csv(&text, &data_file, &spec)
-                        .map_err(|s| data_err(format!("{path}.column"), s))?;
+                    let (s, _) =
+                        read_as(&spec).map_err(|s| data_err(format!("{path}.column"), s))?;
                     (s.t, s.force)
                 }
                 _ => {
@@ -479,7 +501,7 @@ fn experiment(
     };
     let window = match reading.uniform() {
         Some(_) => 0..series.t.len(),
-        None => window(file, &at, x, &series, warnings)?,
+        None => super::window::window(file, &at, x, &series, warnings)?,
     };
     let scored = &series.force[window.clone()];
     if reading.scores() && scored.iter().all(|&f| f == scored[0]) {
@@ -517,65 +539,7 @@ fn experiment(
         exp.measured.resize(samples, 0.0);
         exp.window = 0..samples;
     }
-    Ok((exp, digest, read.then_some(data_file)))
-}
-
-/// The sample range of the fit window; at least 2 samples inside the record.
-fn window(
-    file: &Path,
-    at: &str,
-    x: &RawExperiment,
-    s: &Series,
-    warnings: &mut Vec<String>,
-) -> Result<std::ops::Range<usize>, CampaignError> {
-    let n = s.t.len();
-    let (t0, tl) = (s.t[0], s.t[n - 1]);
-    let w = x.fit_window.clone().unwrap_or(super::raw::RawWindow {
-        start: None,
-        end: None,
-    });
-    let (start, end) = (w.start.unwrap_or(t0), w.end.unwrap_or(tl));
-    let path = format!("{at}.fit_window");
-    // For the messages: brief, whatever the record's time scale.
-    let num = crate::base::text::number;
-    let (t0_, tl_, start_, end_) = (num(t0), num(tl), num(start), num(end));
-    if start >= end {
-        return Err(invalid(
-            file,
-            format!("{path}.end"),
-            format!("end > start ({start_} s)"),
-            format!("{end_} s"),
-        ));
-    }
-    let tol = 1e-6;
-    let k0 = ((start - t0) / s.dt - tol).ceil().max(0.0) as usize;
-    let k1f = ((end - t0) / s.dt + tol).floor();
-    let k1 = if k1f < 0.0 {
-        None
-    } else {
-        Some((k1f as usize).min(n - 1))
-    };
-    match k1 {
-        Some(k1) if k1 > k0 => {
-            if start < t0 - tol * s.dt || end > tl + tol * s.dt {
-                warnings.push(format!(
-                    "{}: {path}: [{start_}, {end_}] s reaches beyond the record ({t0_} s to {tl_} s); \
-                     only the overlap is scored",
-                    file.display()
-                ));
-            }
-            super::plausible::window_share(file, at, x, s, k0..k1 + 1)
-        }
-        _ => {
-            let count = k1.map_or(0, |k1| (k1 + 1).saturating_sub(k0));
-            Err(invalid(
-                file,
-                path,
-                format!("a window holding at least 2 samples of the record ({t0_} s to {tl_} s)"),
-                format!("[{start_}, {end_}] s holding {count} sample(s)"),
-            ))
-        }
-    }
+    Ok((exp, digest, read.then_some(data_file), recorded))
 }
 
 /// `a/b/../c` → `a/c` without touching the file system, so messages show the

@@ -62,6 +62,7 @@ pub(crate) fn declare(
             scope: ParamScope::Experiment,
             default: Some(0.0),
             scale: Scale::Linear,
+            domain: None,
         });
     }
     Ok(())
@@ -186,6 +187,8 @@ fn from_data(
         force: d.column.clone(),
         time_scale: x.data.time_scale,
         force_scale: d.scale,
+        encoding: x.data.encoding,
+        decimal: x.data.decimal,
     };
     let data_err = |source| CampaignError::Data {
         file: file.to_path_buf(),
@@ -198,7 +201,8 @@ fn from_data(
             message: err.to_string(),
         })
     })?;
-    let series = parse_csv(&String::from_utf8_lossy(&text), &data_file, &spec).map_err(data_err)?;
+    let text = crate::base::data::decode_record(&text, &data_file, &spec).map_err(data_err)?;
+    let series = parse_csv(&text, &data_file, &spec).map_err(data_err)?;
     if series.force.len() < samples {
         return Err(invalid(
             file,

@@ -41,11 +41,13 @@ mod names;
 mod param_file;
 mod plausible;
 pub mod raw;
+pub mod record_file;
 mod resolve;
 mod run_length;
 mod simulation;
 mod stability;
 mod validation;
+mod window;
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -168,6 +170,10 @@ pub struct Campaign {
     /// if it names one, then each experiment's data file): a job never writes
     /// over them.
     pub inputs: Vec<PathBuf>,
+    /// What each problem experiment read of its record file (its format, the
+    /// channel and the unit the file records), for result.json; none for an
+    /// experiment simulated on a grid.
+    pub records: Vec<record_file::RecordUse>,
     /// The campaign text as read.
     pub raw_json: String,
     /// FNV-1a hash of the campaign text and every data file's bytes; a resumed

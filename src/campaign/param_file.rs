@@ -149,6 +149,13 @@ pub(crate) fn apply_values(
                 }
             }
         };
+        match &target {
+            Key::Shared(i) | Key::Own(_, i) => {
+                let name = model.params()[*i].name.as_str();
+                super::resolve::domain_of_value(path, &at, model, name, value)?;
+            }
+            Key::Offset(_) => {}
+        }
         match target {
             Key::Shared(i) => {
                 for (base, src) in c.base.iter_mut().zip(&c.sources) {

@@ -199,6 +199,18 @@ pub struct RawData {
     /// output 0 (default 1; 1e3 for kN into N, 1e-3 for mm into m).
     #[serde(default = "one", alias = "scale")]
     pub force_scale: f64,
+    /// `"encoding"`: the file's text encoding, one of
+    /// [`crate::base::encoding::ENCODING_NAMES`] (default: detected).
+    #[serde(default)]
+    pub encoding: Option<crate::base::encoding::Encoding>,
+    /// `"decimal"`: the numbers' decimal mark, `"."` or `","` (default: a
+    /// point, or a comma with `;` or tab separators).
+    #[serde(default)]
+    pub decimal: Option<crate::base::data::Decimal>,
+    /// `"format"`: the record's format (`"csv"`, `"tdms"`, `"hdf5"`, `"mat"`,
+    /// `"uff"`); default: told by the file's first bytes and its extension.
+    #[serde(default)]
+    pub format: Option<crate::record::Format>,
 }
 
 /// One measured channel of an experiment: a column of its record against

@@ -191,9 +191,61 @@ pub(crate) fn check_map(
                 name: name.clone(),
             });
         }
+        check_domain(file, &path, raw, model, name)?;
         out.insert(i, (check_value(file, &path, raw, Some(info))?, path));
     }
     Ok(out)
+}
+
+/// Refuses a value, bound or `init` of parameter `name` outside the physical
+/// domain its rig declares or implies ([`crate::rig::domain`]), naming
+/// `path` (`.min`, `.max` or `.init` for a range) and the declaration.
+pub(crate) fn check_domain(
+    file: &Path,
+    path: &str,
+    raw: &RawParam,
+    model: &CompiledRig,
+    name: &str,
+) -> Result<(), CampaignError> {
+    let values: Vec<(f64, String)> = match raw {
+        RawParam::Fixed(v) => vec![(*v, path.to_string())],
+        RawParam::Free(r) => std::iter::once((r.min, format!("{path}.min")))
+            .chain(std::iter::once((r.max, format!("{path}.max"))))
+            .chain(r.init.map(|v| (v, format!("{path}.init"))))
+            .collect(),
+    };
+    for (v, at) in values {
+        domain_of_value(file, &at, model, name, v)?;
+    }
+    Ok(())
+}
+
+/// Refuses value `v` of parameter `name`, set at `path` of `file`, outside
+/// its physical domain.
+pub(crate) fn domain_of_value(
+    file: &Path,
+    path: &str,
+    model: &CompiledRig,
+    name: &str,
+    v: f64,
+) -> Result<(), CampaignError> {
+    let rig = &model.desc;
+    let Some(p) = rig.params.iter().find(|p| p.name == name) else {
+        return Ok(());
+    };
+    let d = crate::rig::domain::of(rig, name);
+    // A node's mass is refused by the rig's own check ("a mass > 0"), with
+    // the same path, where no "domain" key says more.
+    let mass = p.domain.is_none() && crate::rig::domain::is_node_mass(rig, name);
+    if mass || d.domain.contains(v) {
+        return Ok(());
+    }
+    Err(invalid(
+        file,
+        path,
+        crate::rig::domain::expected(&rig.id, p, &d),
+        v.to_string(),
+    ))
 }
 
 /// Parameters of every experiment resolved into base vectors, sources and genes.

@@ -13,6 +13,8 @@
 //! noise (estimated from the record, [`crate::base::noise::noise_sigma`]) or the campaign's
 //! `solver.tolerance`, up to [`ACCURACY_CAP_FACTOR`] times the stable count.
 
+mod blame;
+
 use super::raw::RawSubsteps;
 use crate::base::text::echo_bare;
 use crate::eval::{Backend, ExperimentData, PrecisionChoice};
@@ -232,11 +234,22 @@ pub(crate) fn choose(
                 } else {
                     format!("{:.1e}", w.need_f)
                 };
+                let (lo, hi) = bounds(w.exp);
+                let t_end = run_end(x, offset(w.exp));
+                let fix =
+                    blame::remedy(model, genes, w.exp, x, (&lo, &hi, t_end), w.omega, &w.name);
                 return Err(format!(
                     "\"auto\" would need {need} substeps (more than {MAX_AUTO_SUBSTEPS}) for \
-                     experiment '{}': ω ≤ {:.3e} rad/s limited by '{}'{} at dt = {:e} s; \
-                     narrow the range of '{}'",
-                    x.name, w.omega, w.name, w.lightest, x.dt, w.name
+                     experiment '{}': ω ≤ {:.3e} rad/s limited by '{}'{} at dt = {:e} s; {}",
+                    x.name,
+                    w.omega,
+                    w.name,
+                    w.lightest,
+                    x.dt,
+                    fix.unwrap_or_else(|| format!(
+                        "use a sample interval ≤ {:.3e} s",
+                        STABILITY_LIMIT * MAX_AUTO_SUBSTEPS as f64 / w.omega
+                    ))
                 ));
             }
             let hw = w.omega * x.dt / w.need as f64;
@@ -276,12 +289,16 @@ pub(crate) fn choose(
             let hw = w.omega * x.dt / n as f64;
             if hw > STABILITY_LIMIT {
                 let dt_ok = STABILITY_LIMIT * n as f64 / w.omega;
+                let (lo, hi) = bounds(w.exp);
+                let t_end = run_end(x, offset(w.exp));
+                let fix =
+                    blame::remedy(model, genes, w.exp, x, (&lo, &hi, t_end), w.omega, &w.name)
+                        .map_or_else(String::new, |f| format!(", or {f}"));
                 return Err(format!(
                     "expected a stable RK4 step (h·ω ≤ {STABILITY_LIMIT}), found substeps = {n} \
                      giving h·ω = {hw:.2} in experiment '{}': ω ≤ {:.3e} rad/s is limited by \
-                     '{}'; use substeps ≥ {} (or \"auto\"), a sample interval ≤ {dt_ok:.3e} s, \
-                     or narrow the range of '{}'",
-                    x.name, w.omega, w.name, w.need, w.name
+                     '{}'; use substeps ≥ {} (or \"auto\") or a sample interval ≤ {dt_ok:.3e} s{fix}",
+                    x.name, w.omega, w.name, w.need
                 ));
             }
             let note = format!(

@@ -6,6 +6,7 @@ use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use super::check::CheckArgs;
 use super::fit_specimen::FitSpecimenArgs;
 use super::identify::IdentifyArgs;
+use super::inspect::InspectArgs;
 use super::modes::ModesArgs;
 use super::profile::ProfileArgs;
 use super::report::ReportArgs;
@@ -134,6 +135,19 @@ pub enum Command {
     Ringdown(RingdownArgs),
     /// Classical identification from the papers the shipped rigs come from (restoring force, FRF, inverse model).
     Identify(IdentifyArgs),
+    /// List what a record file holds (channels, units, lengths, rates): CSV, TDMS, HDF5, MAT, UFF 58.
+    #[command(after_help = "Examples:\n  \
+        rigfit inspect campaigns/formats/aa2024_t3_v2.tdms\n  \
+        rigfit inspect run7.h5 --json\n  \
+        rigfit inspect export.dat --format uff\n\n\
+        Each channel is listed with its index (0-based), its full name (TDMS\n\
+        group/channel, HDF5 /group/dataset, MAT variable or struct.field, UFF 58 the\n\
+        dataset's first ID line), the unit the file records, its sample count, its\n\
+        own timing where the file states one, and its range; then the \"data\" object a\n\
+        campaign reads it with. Campaign column keys take the full name, the index, or\n\
+        the name's last part where no other channel ends alike. See\n\
+        docs/guide/records.md.")]
+    Inspect(InspectArgs),
     /// Validate a campaign and its data without running the job, and estimate its memory and time.
     #[command(
         after_help = "The time is estimated from rates measured for this job on this machine: \

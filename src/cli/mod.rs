@@ -3,7 +3,7 @@
 //! One module per command, each owning its arguments next to its code:
 //! `run` (the calibration job), `validate` (a job's fitted values on records
 //! it did not fit), `simulate`, `sweep` (design points' metrics), `modes`,
-//! `check`, `devices`, the
+//! `check`, `devices`, `inspect` (what a record file holds), the
 //! pre-calibration commands `fit_specimen` and `ringdown`, and `identify` (one
 //! file per method). `args` gathers them into the command line. The helpers
 //! below are shared; no command imports another.
@@ -23,6 +23,7 @@ pub mod exit;
 mod fit_specimen;
 mod fragment;
 mod identify;
+mod inspect;
 mod interrupt;
 mod modes;
 mod options;
@@ -62,6 +63,7 @@ pub fn dispatch(cli: Cli) -> Result<ExitCode> {
         Command::FitSpecimen(a) => fit_specimen::fit_specimen(a, &out)?,
         Command::Ringdown(a) => ringdown::ringdown(a, &out)?,
         Command::Identify(a) => identify::identify(a, &out)?,
+        Command::Inspect(a) => inspect::inspect(a, &out)?,
         Command::Report(a) => report::report(a, &out)?,
         Command::Validate(a) => validate::validate(a, &out)?,
     }

@@ -115,22 +115,20 @@ pub(crate) fn parse_rows(text: &str, width: Option<usize>) -> Result<Table, Iden
     Ok(Table { header, columns })
 }
 
-/// The text of `path`, read as every measured record is
+/// The text of `path`, read and decoded as every measured record is
 /// ([`crate::base::fsutil::read_record`]: a regular file of at most
-/// [`crate::base::fsutil::MAX_RECORD_BYTES`]), or [`IdentifyError::Io`] naming it.
+/// [`crate::base::fsutil::MAX_RECORD_BYTES`]; UTF-8, UTF-16 with a byte-order
+/// mark or Windows-1252, detected by [`crate::base::encoding::decode`]), or
+/// [`IdentifyError::Io`] naming it.
 pub(crate) fn read_text(path: &Path) -> Result<String, IdentifyError> {
     let io = |source| IdentifyError::Io {
         path: path.to_path_buf(),
         source,
     };
     let bytes = crate::base::fsutil::read_record(path).map_err(io)?;
-    String::from_utf8(bytes).map_err(|e| {
-        let at = e.utf8_error().valid_up_to();
-        io(std::io::Error::new(
-            std::io::ErrorKind::InvalidData,
-            format!("expected UTF-8 text, found an invalid byte at offset {at}"),
-        ))
-    })
+    crate::base::encoding::decode(&bytes, None)
+        .map(|(text, _)| text)
+        .map_err(|e| io(std::io::Error::new(std::io::ErrorKind::InvalidData, e)))
 }
 
 /// A line's fields: split at commas, semicolons and tabs when it holds any,

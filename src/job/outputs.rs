@@ -254,13 +254,15 @@ pub fn write_outputs_watched(
         .noise_floor()
         .map(|floor| fitness / floor)
         .filter(|k| k.is_finite());
+    let inputs = provenance::input_digests(campaign);
     let verdict = super::Verdict::new(ratio, &parameters, uncertainty.is_some(), flags);
     let mut summary = JobSummary {
         rigfit_version: env!("CARGO_PKG_VERSION").into(),
         verdict,
         campaign: campaign.name.clone(),
         campaign_file: campaign.path.display().to_string(),
-        inputs: provenance::input_digests(campaign),
+        records: provenance::record_digests(campaign, &inputs),
+        inputs,
         rig: campaign.model.id().into(),
         seed: campaign.search.seed,
         backend: info.backend,

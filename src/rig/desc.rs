@@ -61,6 +61,12 @@ pub struct ParamDesc {
     /// Search scale (default linear).
     #[serde(default)]
     pub scale: Scale,
+    /// Physical domain (`"positive"`, `"nonnegative"` or `"any"`): a
+    /// campaign's value, bound or `init` outside it is refused. Without it,
+    /// derived from the parameter's roles, unit and scale
+    /// ([`super::domain::of`]).
+    #[serde(default)]
+    pub domain: Option<super::domain::Domain>,
 }
 
 fn rig_scope() -> ParamScope {

@@ -6,6 +6,7 @@
 //! or holds one inline (`"rig": { … }`).
 
 pub mod desc;
+pub mod domain;
 
 use std::path::{Path, PathBuf};
 
@@ -118,6 +119,9 @@ pub fn parse(text: &str, source: &RigSource) -> Result<RigDesc, RigError> {
             "the end of the file after the rig's JSON object",
             format!("more text at line {} column {}", e.line(), e.column()),
         )
+    })?;
+    domain::check_defaults(&desc).map_err(|(path, expected, v)| {
+        RigError::new(source.label(), path, expected, v.to_string())
     })?;
     Ok(desc)
 }

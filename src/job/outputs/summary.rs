@@ -140,6 +140,28 @@ pub struct InputDigest {
     pub sha256: String,
 }
 
+/// What one experiment read of its record file, in `result.json`'s
+/// `records`: the file (as `inputs` names it) with its SHA-256, its format,
+/// the channels read with the units the file records, and the rig output
+/// they were fitted to.
+#[derive(Debug, Clone, Serialize)]
+pub struct RecordDigest {
+    /// The experiment (a channel's: `<experiment>.<output>`).
+    pub experiment: String,
+    /// The record file, as in `inputs`.
+    pub path: String,
+    /// SHA-256 of its bytes, lowercase hex.
+    pub sha256: String,
+    /// Its format: `csv`, `tdms`, `hdf5`, `mat` or `uff`.
+    pub format: &'static str,
+    /// The channels read: the time channel where one was, then the measured one.
+    pub channels: Vec<crate::campaign::record_file::RecordedChannel>,
+    /// The rig output fitted to the measured channel, and its unit.
+    pub output: String,
+    /// The output's unit.
+    pub output_unit: String,
+}
+
 /// One experiment's natural frequencies, in `result.json`'s
 /// `natural_frequencies_hz`.
 #[derive(Debug, Clone, Serialize)]
@@ -167,6 +189,9 @@ pub struct JobSummary {
     /// outputs were written.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub inputs: Vec<InputDigest>,
+    /// What each experiment read of its record (format, channels, units).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub records: Vec<RecordDigest>,
     /// The rig's id.
     pub rig: String,
     /// Search seed.

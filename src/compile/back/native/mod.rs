@@ -19,18 +19,21 @@
 //! most `RIGFIT_CC_TIMEOUT` seconds
 //! ([`CC_TIMEOUT_S`] by default). One library per distinct source is built per
 //! process, and kept for the next ([`crate::compile::back::native_cache`]).
-//! Where no compiler works, or it takes too long, the ensemble interprets,
+//! Where no compiler works, or it takes too long, or the C is larger than a
+//! build is started for ([`NATIVE_MAX_C_BYTES`]), the ensemble interprets,
 //! and says why once.
 //!
 //! One job per file: the compiler's command, flags and time limit
 //! (`compiler.rs`), the private build directory and its checks
-//! (`scratch.rs`), loading a built library's functions (`load.rs`), and when
+//! (`scratch.rs`), loading a built library's functions (`load.rs`), when
 //! a program is built at all (`slot.rs`: `RIGFIT_NATIVE`, the work done,
-//! builds started early); this file builds one lane code.
+//! builds started early), and the size past which a build stops paying
+//! (`size.rs`); this file builds one lane code.
 
 pub(crate) mod compiler;
 mod load;
 mod scratch;
+mod size;
 mod slot;
 mod tether;
 
@@ -48,6 +51,7 @@ use crate::compile::exec::lanes::Isa;
 
 pub use crate::compile::exec::native_calls::{Arith, Native};
 pub use compiler::CC_TIMEOUT_S;
+pub use size::{NATIVE_AFTER_C_BYTES, NATIVE_MAX_C_BYTES, native_after};
 pub use slot::{NATIVE_AFTER, NativeSlot, check_native_lanes, start_builds};
 
 /// Why no native code could be had.
@@ -70,6 +74,19 @@ pub enum NativeError {
         cc: String,
         /// What happened (its message, shortened).
         why: String,
+    },
+    /// The program's C is larger than a native build is started for
+    /// ([`NATIVE_MAX_C_BYTES`]) and `RIGFIT_NATIVE=always` does not force it.
+    #[error(
+        "native lane code: its C is {bytes} bytes, over the {limit} (NATIVE_MAX_C_BYTES) up to \
+         which it is built, as the C compiler's time and memory grow faster than the C \
+         (RIGFIT_NATIVE=always builds it)"
+    )]
+    TooLarge {
+        /// The C source's size (bytes).
+        bytes: usize,
+        /// [`NATIVE_MAX_C_BYTES`] (bytes).
+        limit: usize,
     },
     /// The built library would not load or lacks a function.
     #[error("native lane code: loading {path}: {source}")]
@@ -117,11 +134,15 @@ impl Native {
                     how = "loaded as kept";
                     Ok(n)
                 }
-                None => compile_and_load(&scratch, &src, code, arith, isa).inspect(|_| {
-                    if let Some(key) = &key {
-                        crate::compile::back::native_cache::keep(key, &scratch.path.join(LIB));
-                    }
-                }),
+                // A kept build is loaded whatever its size (one forced
+                // before); a new one is not started past the size limit.
+                None => size::check(src.len(), slot::forced())
+                    .and_then(|()| compile_and_load(&scratch, &src, code, arith, isa))
+                    .inspect(|_| {
+                        if let Some(key) = &key {
+                            crate::compile::back::native_cache::keep(key, &scratch.path.join(LIB));
+                        }
+                    }),
             }
         });
         // Only the files written above are in it; the library stays mapped.

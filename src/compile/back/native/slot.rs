@@ -5,8 +5,12 @@
 use std::process::Command;
 use std::sync::Arc;
 
+use super::NativeError;
 use super::compiler::compiler;
+use super::size::{NATIVE_MAX_C_BYTES, native_after};
+use crate::compile::back::c;
 use crate::compile::exec::lane_code::LaneCode;
+use crate::compile::exec::lanes::Isa;
 use crate::compile::exec::native_calls::{Arith, Native};
 
 /// `RIGFIT_NATIVE`, read once per process: `None` never to build native
@@ -19,6 +23,12 @@ fn policy() -> Option<u64> {
         Ok("always") => Some(0),
         _ => Some(NATIVE_AFTER),
     })
+}
+
+/// Whether `RIGFIT_NATIVE=always` forces every build, whatever the size of
+/// its C ([`NATIVE_MAX_C_BYTES`]).
+pub(super) fn forced() -> bool {
+    policy() == Some(0)
 }
 
 /// Whether this machine builds native lane code, for `rigfit devices`: the
@@ -49,10 +59,11 @@ pub fn check_native_lanes() -> Result<(String, String), String> {
 
 /// When the lane ensemble runs native code: `RIGFIT_NATIVE=off` never,
 /// `always` from the first batch, otherwise once a program has run
-/// [`NATIVE_AFTER`] candidate-steps in this process (building takes about a
-/// quarter of a second, as long as the interpreter takes for some 4·10⁶),
-/// or once a build started early ([`start_builds`], by a job that will run
-/// that long) is done.
+/// [`NATIVE_AFTER`] candidate-steps in this process (building a small rig's
+/// C takes about a quarter of a second, as long as the interpreter takes
+/// for some 4·10⁶), more for a larger C ([`native_after`]), never for a C
+/// over [`NATIVE_MAX_C_BYTES`], or once a build started early
+/// ([`start_builds`], by a job that will run that long) is done.
 pub const NATIVE_AFTER: u64 = 4_000_000;
 
 /// One program's native build, made when [`NATIVE_AFTER`] says so, or
@@ -65,6 +76,8 @@ pub struct NativeSlot {
 #[derive(Debug, Default)]
 struct SlotInner {
     work: std::sync::atomic::AtomicU64,
+    /// The f64 C's size (bytes), measured on the first [`NativeSlot::get`].
+    c_bytes: std::sync::OnceLock<usize>,
     /// Set while a thread of [`start_builds`] builds it.
     building: std::sync::atomic::AtomicBool,
     built: std::sync::OnceLock<Option<Arc<Native>>>,
@@ -83,10 +96,16 @@ impl SlotInner {
                         Arith::F64 => format!("{e}; the lane ensemble interprets instead"),
                         Arith::F32 => format!("{e}; no f32 lanes"),
                     };
+                    // A rig too large to build is said once, for its first
+                    // program (its others differ in size alone).
+                    let key = match e {
+                        NativeError::TooLarge { .. } => format!("too large {arith:?}"),
+                        _ => what.clone(),
+                    };
                     let mut said = SAID.lock().unwrap_or_else(|p| p.into_inner());
-                    if !said.contains(&what) {
+                    if !said.contains(&key) {
                         log::warn!("{what}");
-                        said.push(what);
+                        said.push(key);
                     }
                     None
                 }
@@ -106,12 +125,28 @@ impl NativeSlot {
 
     /// The f64 build to run `work` more candidate-steps of `code` with, once
     /// the program's work in this process has reached the policy's
-    /// threshold; `None` while a thread of [`start_builds`] is building it.
+    /// threshold (for its size: [`native_after`]); `None` while a thread of
+    /// [`start_builds`] is building it. A C over [`NATIVE_MAX_C_BYTES`] is
+    /// refused (and the refusal said) on the first call, unless
+    /// `RIGFIT_NATIVE=always`.
     pub fn get(&self, code: &LaneCode, work: u64) -> Option<Arc<Native>> {
         let after = policy()?;
         if let Some(b) = self.inner.built.get() {
             return b.clone();
         }
+        let after = if after == 0 {
+            0
+        } else {
+            let bytes = *self
+                .inner
+                .c_bytes
+                .get_or_init(|| c::source(code, Arith::F64, Isa::detect().vector_bytes()).len());
+            if bytes > NATIVE_MAX_C_BYTES {
+                // Refused now, once: said in the log, and `None` kept.
+                return self.now(code, Arith::F64);
+            }
+            native_after(bytes).max(after)
+        };
         if self
             .inner
             .building

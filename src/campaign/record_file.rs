@@ -1,0 +1,209 @@
+//! An experiment's record file read in its format — CSV, TDMS, HDF5, MAT or
+//! UFF 58, as the campaign's `"format"` states or the file tells — into the
+//! series its column keys choose, with the unit the file records for that
+//! column checked against the rig output's.
+
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use super::CampaignError;
+use super::error::invalid;
+use super::raw::{RawData, RawExperiment};
+use crate::base::data::{Column, CsvSpec, DataError, Series, decode_record, parse_csv};
+use crate::model::compiled::CompiledRig;
+use crate::record::select::Selection;
+use crate::record::{Format, detect};
+
+/// What a fit read from a record, for result.json's `"records"`: the file,
+/// its format and the channel with the unit the file records for it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RecordUse {
+    /// The experiment (a channel's problem experiment: `<experiment>.<output>`).
+    pub experiment: String,
+    /// The record file.
+    pub file: PathBuf,
+    /// Its format (`csv`, `tdms`, `hdf5`, `mat`, `uff`).
+    pub format: &'static str,
+    /// The channels read: the time channel (where the time is one), then
+    /// the measured channel.
+    pub channels: Vec<RecordedChannel>,
+    /// The rig output it is fitted to.
+    pub output: String,
+    /// The rig output's unit.
+    pub output_unit: String,
+}
+
+/// One channel a fit read, in result.json's `"records"`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RecordedChannel {
+    /// Its full name in the file (a CSV's column key).
+    pub name: String,
+    /// `"time"` or `"measured"`.
+    pub role: &'static str,
+    /// The unit the file records for it, where it records one.
+    pub unit: Option<String>,
+}
+
+/// What was read of a record beside its series: its format, the channel's
+/// full name and the units the file records for it and for its time.
+#[derive(Debug, Clone)]
+pub(super) struct Recorded {
+    pub(super) format: Format,
+    pub(super) channel: String,
+    pub(super) unit: Option<String>,
+    pub(super) time_channel: Option<String>,
+    pub(super) time_unit: Option<String>,
+}
+
+/// Reads `bytes` (the record at `file`) as `d` states or the file tells, the
+/// column `spec.force` against the time `d.time_column` names.
+pub(super) fn read(
+    bytes: &[u8],
+    file: &Path,
+    d: &RawData,
+    spec: &CsvSpec,
+) -> Result<(Series, Recorded), DataError> {
+    let format = Format::of(file, bytes, d.format);
+    if format == Format::Csv {
+        let text = decode_record(bytes, file, spec)?;
+        let series = parse_csv(&text, file, spec)?;
+        let recorded = Recorded {
+            format,
+            channel: column_key(&spec.force),
+            unit: named_unit(&spec.force),
+            time_channel: Some(column_key(&spec.time)),
+            time_unit: named_unit(&spec.time),
+        };
+        return Ok((series, recorded));
+    }
+    if d.encoding.is_some() || d.decimal.is_some() {
+        return Err(DataError::Record {
+            file: file.to_path_buf(),
+            what: "\"encoding\" and \"decimal\"".into(),
+            expected: "them only for a CSV record".into(),
+            found: format!("a {format} file"),
+        });
+    }
+    let record = detect::read(format, bytes).map_err(|e| detect::data_error(e, file))?;
+    let sel = Selection {
+        time: d.time_column.as_ref(),
+        column: &spec.force,
+        time_scale: spec.time_scale,
+        scale: spec.force_scale,
+    };
+    let chosen = record.choose(&sel, file)?;
+    let recorded = Recorded {
+        format,
+        channel: chosen.channel,
+        unit: chosen.unit,
+        time_channel: chosen.time_channel,
+        time_unit: chosen.time_unit,
+    };
+    Ok((chosen.series, recorded))
+}
+
+/// A CSV column as result.json names it: its header name, or its index.
+fn column_key(column: &Column) -> String {
+    match column {
+        Column::Name(n) => n.clone(),
+        Column::Index(i) => format!("column {i} (0-based)"),
+    }
+}
+
+/// The unit a CSV column's name states in brackets (`force [kN]`).
+fn named_unit(column: &Column) -> Option<String> {
+    match column {
+        Column::Name(n) => crate::record::csv::bracketed_unit(n),
+        Column::Index(_) => None,
+    }
+}
+
+/// What experiment `e`'s channel `c` (`x` the campaign's experiment) read
+/// from `data_file`, after refusing a record whose recorded units its
+/// scales do not turn into the rig's: the measured channel's against the
+/// output's unit, the time channel's against seconds.
+pub(super) fn check_units(
+    campaign: &Path,
+    model: &CompiledRig,
+    (e, c, x): (usize, usize, &RawExperiment),
+    recorded: Recorded,
+    data_file: &Path,
+) -> Result<RecordUse, CampaignError> {
+    use crate::record::units::refusal;
+    let (output, scale, scale_at) = match &x.channels {
+        Some(chs) => {
+            let ch = &chs[c];
+            let at = format!("experiments[{e}].channels[{c}].scale");
+            (ch.output.as_str(), ch.scale, at)
+        }
+        None => {
+            let name = model.desc.outputs.first().map_or("", |o| o.name.as_str());
+            (
+                name,
+                x.data.force_scale,
+                format!("experiments[{e}].data.scale"),
+            )
+        }
+    };
+    let output_unit = model
+        .desc
+        .outputs
+        .iter()
+        .find(|o| o.name == output)
+        .map_or(String::new(), |o| o.unit.clone());
+    let time_at = format!("experiments[{e}].data.time_scale");
+    let checks = [
+        (
+            &recorded.unit,
+            output_unit.as_str(),
+            scale,
+            output,
+            scale_at,
+            "scale",
+        ),
+        (
+            &recorded.time_unit,
+            "s",
+            x.data.time_scale,
+            "time",
+            time_at,
+            "time_scale",
+        ),
+    ];
+    for (unit, expected, scale, what, at, key) in checks {
+        let Some(unit) = unit else { continue };
+        if expected.is_empty() {
+            continue;
+        }
+        if let Some(why) = refusal(unit, expected, scale, what, key) {
+            return Err(invalid(
+                campaign,
+                at,
+                format!("a \"{key}\" that turns the record's unit into the rig's"),
+                why,
+            ));
+        }
+    }
+    Ok(RecordUse {
+        experiment: x.name.clone(),
+        file: data_file.to_path_buf(),
+        format: recorded.format.key(),
+        channels: recorded
+            .time_channel
+            .map(|name| RecordedChannel {
+                name,
+                role: "time",
+                unit: recorded.time_unit,
+            })
+            .into_iter()
+            .chain([RecordedChannel {
+                name: recorded.channel,
+                role: "measured",
+                unit: recorded.unit,
+            }])
+            .collect(),
+        output: output.to_string(),
+        output_unit,
+    })
+}
