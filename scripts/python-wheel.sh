@@ -40,9 +40,9 @@ out="$(cd "$out" && pwd -P)"
 staging="$(mktemp -d "$out/.build.XXXXXX")"
 trap 'rm -rf "$staging"' EXIT
 start=$SECONDS
-# No libhdf5 can travel in a portable wheel: HDF5 records are read from
-# Python with h5py there (the campaign reads TDMS, MAT v5, UFF and CSV).
-"$tools/bin/maturin" build --locked --release --strip --zig --no-default-features \
+# No libhdf5 can travel in a portable wheel (python/Cargo.toml builds without
+# rigfit's feature `hdf5`): HDF5 records are read from Python with h5py.
+"$tools/bin/maturin" build --locked --release --strip --zig \
     --compatibility manylinux2014 --out "$staging"
 
 wheels=("$staging"/rigfit-*.whl)

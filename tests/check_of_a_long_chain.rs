@@ -4,35 +4,15 @@
 //! entries grow linearly with the chain), and the binary checks the 1 000-mass
 //! chain end to end.
 
+mod chain;
+
 use std::path::Path;
 use std::process::Command;
 
 use rigfit::compile::analysis::interval::{InputBox, Interval, all_regimes, deriv_jacobian_box};
 use serde_json::{Value, json};
 
-fn chain(n: usize) -> Value {
-    let nodes: Vec<Value> = (0..n)
-        .map(|i| json!({"name": format!("n{i}"), "mass": "m"}))
-        .collect();
-    let elements: Vec<Value> = (0..n)
-        .map(|i| {
-            let a = if i == 0 {
-                "ground".to_string()
-            } else {
-                format!("n{}", i - 1)
-            };
-            json!({"name": format!("e{i}"), "between": [a, format!("n{i}")],
-                   "spring": {"law": "linear", "k": "k"}, "damper": {"law": "viscous", "c": "c"}})
-        })
-        .collect();
-    json!({
-        "id": "chain",
-        "params": [{"name": "m", "unit": "kg"}, {"name": "k", "unit": "N/m"}, {"name": "c", "unit": "N·s/m"}],
-        "nodes": nodes, "elements": elements,
-        "drives": [{"node": format!("n{}", n - 1), "law": {"type": "sine", "quantity": "force", "amplitude": 1.0, "frequency": 1.0}}],
-        "outputs": [{"name": "x_end", "unit": "m", "sum": [{"displacement": format!("n{}", n - 1)}]}]
-    })
-}
+use chain::chain;
 
 /// Nonzero entries of the chain's Jacobian enclosure.
 fn nonzero_entries(n: usize) -> usize {

@@ -3,6 +3,8 @@
 //! is started for it; `RIGFIT_NATIVE=always` still builds it. A larger C
 //! waits for more work before it is built (`native_after`).
 
+mod chain;
+
 use std::os::unix::fs::PermissionsExt as _;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -12,33 +14,9 @@ use rigfit::compile::back::native::{NATIVE_AFTER, NATIVE_MAX_C_BYTES, native_aft
 use rigfit::compile::exec::lane_code::LaneCode;
 use rigfit::compile::exec::native_calls::Arith;
 use rigfit::compile::exec::tape::Tape;
-use serde_json::{Value, json};
 
-/// A chain of `n` masses from ground, springs and dampers between, driven
-/// at its far end.
-fn chain(n: usize) -> Value {
-    let nodes: Vec<Value> = (0..n)
-        .map(|i| json!({"name": format!("n{i}"), "mass": "m"}))
-        .collect();
-    let elements: Vec<Value> = (0..n)
-        .map(|i| {
-            let a = if i == 0 {
-                "ground".to_string()
-            } else {
-                format!("n{}", i - 1)
-            };
-            json!({"name": format!("e{i}"), "between": [a, format!("n{i}")],
-                   "spring": {"law": "linear", "k": "k"}, "damper": {"law": "viscous", "c": "c"}})
-        })
-        .collect();
-    json!({
-        "id": "chain",
-        "params": [{"name": "m", "unit": "kg"}, {"name": "k", "unit": "N/m"}, {"name": "c", "unit": "N·s/m"}],
-        "nodes": nodes, "elements": elements,
-        "drives": [{"node": format!("n{}", n - 1), "law": {"type": "sine", "quantity": "force", "amplitude": 1.0, "frequency": 1.0}}],
-        "outputs": [{"name": "x_end", "unit": "m", "sum": [{"displacement": format!("n{}", n - 1)}]}]
-    })
-}
+use chain::chain;
+use serde_json::json;
 
 /// The size of the f64 C of a chain of `n` masses (bytes).
 fn c_bytes(n: usize) -> usize {

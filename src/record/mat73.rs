@@ -16,8 +16,8 @@
 
 use std::collections::HashMap;
 
-use crate::record::{Channel, FormatError};
 use super::{Found, MOST_SPLIT, hdf5_columns, hdf5_rows};
+use crate::record::{Channel, FormatError};
 
 /// The `MATLAB_class` values of numeric arrays.
 const NUMERIC_CLASSES: [&str; 10] = [

@@ -38,7 +38,7 @@ pub(super) fn drivers(
 ) -> Vec<Driver> {
     let mut out = Vec::new();
     for i in 0..lo.len().min(hi.len()) {
-        if !(lo[i] < hi[i]) {
+        if lo[i].partial_cmp(&hi[i]) != Some(std::cmp::Ordering::Less) {
             continue;
         }
         let held = |v: f64| {
