@@ -7,7 +7,7 @@ use super::error::{invalid, parse_json};
 use super::initial;
 use super::names::{check_campaign_name, check_experiment_names};
 use super::raw::{RawCampaign, RawData, RawDrive, RawExperiment, RawParam};
-use super::record_file::{self, RecordUse, Recorded};
+use super::record_file::{self, Recorded};
 use super::resolve::{check_map, check_physics, check_value, resolve};
 use super::simulation::{self, Reading};
 use super::stability::choose;
@@ -99,7 +99,7 @@ pub(crate) fn build(
         let (lo, hi) = corners(&r.base[e], &genes, e, &r.sources[e]);
         check_physics(file, model, &r.base[e], &lo, &hi, &r.paths[e], &free)?;
         // The record is read once for all of an experiment's channels.
-        let mut record = None;
+        let mut record = record_file::Shared::default();
         for (c, (view, output, name)) in super::channels::views(file, model, e, x)?
             .into_iter()
             .enumerate()
@@ -125,11 +125,10 @@ pub(crate) fn build(
                 rig.scoring(output).map_err(rig_error)?;
             }
             if let (Some(recorded), Some(data_file)) = (recorded, &read) {
-                let used = record_file::check_units(file, model, (e, c, x), recorded, data_file)?;
-                records.push(RecordUse {
-                    experiment: name.clone(),
-                    ..used
-                });
+                let used = (e, c, x);
+                let r =
+                    record_file::check_units(file, model, used, name.clone(), recorded, data_file)?;
+                records.push(r);
             }
             exp.output = output;
             exp.name = name;
@@ -345,13 +344,14 @@ type Experiment = (ExperimentData, u64, Option<PathBuf>, Option<Recorded>);
 /// (none on a simulation's grid without a record and without a drive column).
 /// One channel of experiment `e` (`x` the channel's view of it). `record`
 /// holds the record's bytes once a first channel has read them (and added
-/// them to `digest`), for the experiment's other channels.
+/// them to `digest`), and its channels once parsed, for the experiment's
+/// other channels.
 fn experiment(
     file: &Path,
     dir: &Path,
     e: usize,
     x: &RawExperiment,
-    (digest, record): (u64, &mut Option<Vec<u8>>),
+    (digest, record): (u64, &mut record_file::Shared),
     reading: Reading<'_>,
     warnings: &mut Vec<String>,
 ) -> Result<Experiment, CampaignError> {
@@ -412,7 +412,7 @@ fn experiment(
         path,
         source: Box::new(source),
     };
-    let digest = match record {
+    let digest = match record.bytes {
         Some(_) => digest,
         None => {
             let bytes = if read {
@@ -427,12 +427,11 @@ fn experiment(
                 Vec::new()
             };
             let d = fnv1a(digest, &bytes);
-            *record = Some(bytes);
+            record.bytes = Some(bytes);
             d
         }
     };
-    let bytes = record.as_deref().unwrap_or_default();
-    let read_as = |spec: &CsvSpec| super::record_file::read(bytes, &data_file, d, spec);
+    let mut read_as = |spec: &CsvSpec| record_file::read(record, &data_file, d, spec);
     let (series, recorded) = match reading.uniform() {
         Some((dt, samples, _)) => (simulation::uniform_series(dt, samples), None),
         None => {

@@ -13,7 +13,7 @@ use super::raw::{RawData, RawExperiment};
 use crate::base::data::{Column, CsvSpec, DataError, Series, decode_record, parse_csv};
 use crate::model::compiled::CompiledRig;
 use crate::record::select::Selection;
-use crate::record::{Format, detect};
+use crate::record::{Format, Record, detect};
 
 /// What a fit read from a record, for result.json's `"records"`: the file,
 /// its format and the channel with the unit the file records for it.
@@ -56,14 +56,27 @@ pub(super) struct Recorded {
     pub(super) time_unit: Option<String>,
 }
 
-/// Reads `bytes` (the record at `file`) as `d` states or the file tells, the
-/// column `spec.force` against the time `d.time_column` names.
+/// An experiment's record as its channels and its drive column share it: its
+/// bytes, read once, and (in a format other than CSV) its channels, parsed
+/// once.
+#[derive(Debug, Default)]
+pub(super) struct Shared {
+    /// The record's bytes, once a first channel has read them.
+    pub(super) bytes: Option<Vec<u8>>,
+    /// Its channels, once a first reading has parsed them.
+    parsed: Option<Record>,
+}
+
+/// Reads the record at `file` (its bytes held by `shared`) as `d` states or
+/// the file tells, the column `spec.force` against the time `d.time_column`
+/// names.
 pub(super) fn read(
-    bytes: &[u8],
+    shared: &mut Shared,
     file: &Path,
     d: &RawData,
     spec: &CsvSpec,
 ) -> Result<(Series, Recorded), DataError> {
+    let bytes = shared.bytes.as_deref().unwrap_or_default();
     let format = Format::of(file, bytes, d.format);
     if format == Format::Csv {
         let text = decode_record(bytes, file, spec)?;
@@ -85,7 +98,12 @@ pub(super) fn read(
             found: format!("a {format} file"),
         });
     }
-    let record = detect::read(format, bytes).map_err(|e| detect::data_error(e, file))?;
+    let record = match &mut shared.parsed {
+        Some(record) => record,
+        parsed => {
+            parsed.insert(detect::read(format, bytes).map_err(|e| detect::data_error(e, file))?)
+        }
+    };
     let sel = Selection {
         time: d.time_column.as_ref(),
         column: &spec.force,
@@ -127,6 +145,7 @@ pub(super) fn check_units(
     campaign: &Path,
     model: &CompiledRig,
     (e, c, x): (usize, usize, &RawExperiment),
+    experiment: String,
     recorded: Recorded,
     data_file: &Path,
 ) -> Result<RecordUse, CampaignError> {
@@ -186,7 +205,7 @@ pub(super) fn check_units(
         }
     }
     Ok(RecordUse {
-        experiment: x.name.clone(),
+        experiment,
         file: data_file.to_path_buf(),
         format: recorded.format.key(),
         channels: recorded
