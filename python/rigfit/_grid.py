@@ -211,7 +211,7 @@ def simulate_grid(campaign, inner, a, *, t, experiment, noise, seed, drive, subs
         return values_of(role[1])
 
     names = [h for h, _ in cols]
-    record = _rigfit.record_csv(names, [column(r, lambda j: zeros) for _, r in cols])
+    record = _rigfit.record_of(names, [column(r, lambda j: zeros) for _, r in cols])
     fname = f"<grid:{name}>.csv"
     x = json.loads(json.dumps(x))
     x["data"]["file"] = fname

@@ -57,7 +57,7 @@ def pending_campaign(cls, text, base_dir, origin, missing):
 
 def rebuild_pending(campaign, text, records, left):
     """Rebuilds a pending ``campaign`` from ``text`` with ``records`` (name
-    → (path, bytes) set from memory), ``left`` the experiments still without
+    → (path, Record) set from memory), ``left`` the experiments still without
     one: in full once none is left. On an error nothing changes."""
     base_dir, origin = campaign._base_dir, campaign._origin
     if left:

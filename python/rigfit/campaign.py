@@ -27,10 +27,11 @@ class Campaign:
         self._inner = inner
         self._base_dir = os.fspath(base_dir)
         self._origin = origin
-        # experiment name -> (lent path, CSV bytes)
+        # experiment name -> (lent path, its columns: a _rigfit.Record)
         self._records = dict(records or {})
-        # (path, bytes) of every record the campaign was built from, those
-        # read from disk too: a rebuild (an edit, a pickle) reads these.
+        # (path, bytes or Record) of every record the campaign was built
+        # from, those read from disk too: a rebuild (an edit, a pickle)
+        # reads these.
         self._kept = list(kept or [])
         self._info = json.loads(inner.info())
 
@@ -112,8 +113,9 @@ class Campaign:
         return list(self.__dict__.get("_pending") or [])
 
     def _lent(self):
-        """(path, bytes) of every record the campaign was built from: those
-        set from memory, then those read from disk when it was built."""
+        """(path, bytes or Record) of every record the campaign was built
+        from: those set from memory, then those read from disk when it was
+        built."""
         lent = list(self._records.values())
         paths = {os.fspath(p) for p, _ in lent}
         return lent + [(p, b) for p, b in getattr(self, "_kept", ()) if os.fspath(p) not in paths]
@@ -313,8 +315,11 @@ class Campaign:
         if column is not None:
             data.pop("force_column", None)
             data["column"] = column
+        # The file's format and text encoding are not the arrays'.
+        for key in ("format", "encoding", "decimal"):
+            data.pop(key, None)
         records = dict(self._records)
-        records[name] = (os.path.join(self._base_dir, fname), _rigfit.record_csv(names, columns))
+        records[name] = (os.path.join(self._base_dir, fname), _rigfit.record_of(names, columns))
         lent = [records[x["name"]] for x in raw["experiments"] if x["name"] in records]
         if self.__dict__.get("_pending"):
             from ._pending import rebuild_pending

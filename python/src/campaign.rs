@@ -9,15 +9,13 @@ use pyo3::types::PyBytes;
 use serde_json::json;
 
 use crate::errors::{self, Kind};
+use crate::record::{Records, Source};
 use rigfit::campaign::Campaign;
 
 /// The sample interval (s) of the grid a campaign without its records stands
 /// on ([`PyCampaign::pending`]): fine enough that no rig's stability rule
 /// asks for more steps than one per sample.
 const PENDING_DT: f64 = 1e-9;
-
-/// Records by path, as a campaign was built from them: (path, CSV bytes).
-type Records = Vec<(PathBuf, Py<PyBytes>)>;
 
 /// A validated campaign (immutable; `set_data` builds a new one).
 #[pyclass(module = "rigfit._rigfit", name = "Campaign", frozen)]
@@ -37,19 +35,18 @@ fn checked(c: Campaign) -> PyResult<PyCampaign> {
     Ok(PyCampaign { inner: Arc::new(c) })
 }
 
-/// Campaign text validated with `lent` (path, bytes) read in place of the
-/// files at those paths, the GIL released.
+/// Campaign text validated with `records` read in place of the files at
+/// those paths, the GIL released.
 fn validated(
     py: Python<'_>,
     json: &str,
     base_dir: &std::path::Path,
     origin: &str,
-    lent: &[(PathBuf, Vec<u8>)],
+    records: &[(PathBuf, Source)],
 ) -> PyResult<PyCampaign> {
+    let lent = crate::record::lent(py, records);
     let c = py
-        .allow_threads(|| {
-            rigfit::base::records::with_records(lent, || Campaign::from_str(json, base_dir, origin))
-        })
+        .allow_threads(|| Campaign::from_str_lent(json, base_dir, origin, &lent, None))
         .map_err(|e| errors::campaign(&e))?;
     checked(c)
 }
@@ -68,8 +65,8 @@ impl PyCampaign {
     }
 
     /// Validates campaign text: relative paths resolve against `base_dir`,
-    /// messages name `origin`; `records` (path, CSV bytes) are read in place
-    /// of the files at those paths.
+    /// messages name `origin`; `records` (path, a file's bytes or a
+    /// `Record`) are read in place of the files at those paths.
     #[staticmethod]
     #[pyo3(signature = (json, base_dir, origin, records = Vec::new()))]
     fn from_text(
@@ -77,15 +74,9 @@ impl PyCampaign {
         json: &str,
         base_dir: PathBuf,
         origin: &str,
-        records: Vec<(PathBuf, Bound<'_, PyBytes>)>,
+        records: Records,
     ) -> PyResult<Self> {
-        errors::guard(|| {
-            let lent: Vec<(PathBuf, Vec<u8>)> = records
-                .iter()
-                .map(|(p, b)| (p.clone(), b.as_bytes().to_vec()))
-                .collect();
-            validated(py, json, &base_dir, origin, &lent)
-        })
+        errors::guard(|| validated(py, json, &base_dir, origin, &records))
     }
 
     /// `from_text` keeping its records: every data file the text names
@@ -105,11 +96,7 @@ impl PyCampaign {
     ) -> PyResult<(Self, Records)> {
         errors::guard(|| {
             let kept = kept_records(py, json, &base_dir, records);
-            let lent: Vec<(PathBuf, Vec<u8>)> = kept
-                .iter()
-                .map(|(p, b)| (p.clone(), b.as_bytes(py).to_vec()))
-                .collect();
-            Ok((validated(py, json, &base_dir, origin, &lent)?, kept))
+            Ok((validated(py, json, &base_dir, origin, &kept)?, kept))
         })
     }
 
@@ -233,46 +220,10 @@ fn kept_records(py: Python<'_>, json: &str, base_dir: &Path, records: Records) -
         }
         let read = py.allow_threads(|| rigfit::base::fsutil::read_record(&path));
         if let Ok(bytes) = read {
-            kept.push((path, PyBytes::new(py, &bytes).unbind()));
+            kept.push((path, Source::Bytes(PyBytes::new(py, &bytes).unbind())));
         }
     }
     kept
-}
-
-/// CSV text of named columns (the header, then one row per sample), each
-/// number written so that it reads back as the same bits.
-#[pyfunction]
-pub fn record_csv<'py>(
-    py: Python<'py>,
-    names: Vec<String>,
-    columns: Vec<numpy::PyReadonlyArray1<'py, f64>>,
-) -> PyResult<Bound<'py, PyBytes>> {
-    use std::fmt::Write as _;
-    let cols: Vec<&[f64]> = columns
-        .iter()
-        .map(|c| c.as_slice())
-        .collect::<Result<_, _>>()
-        .map_err(|e| errors::raise(Kind::Data, e.to_string()))?;
-    let n = cols.first().map_or(0, |c| c.len());
-    if names.len() != cols.len() || cols.iter().any(|c| c.len() != n) {
-        return Err(errors::raise(
-            Kind::Data,
-            "expected one name per column and columns of one length",
-        ));
-    }
-    let mut s = String::with_capacity(n * cols.len() * 16);
-    s.push_str(&names.join(","));
-    s.push('\n');
-    for k in 0..n {
-        for (j, c) in cols.iter().enumerate() {
-            if j > 0 {
-                s.push(',');
-            }
-            let _ = write!(s, "{:e}", c[k]);
-        }
-        s.push('\n');
-    }
-    Ok(PyBytes::new(py, s.as_bytes()))
 }
 
 /// The shipped rigs: (id, the rig file's JSON text), as a campaign's `"rig"`

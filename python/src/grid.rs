@@ -9,16 +9,16 @@ use std::path::PathBuf;
 use numpy::ndarray::Array3;
 use numpy::{IntoPyArray, PyArray3, PyReadonlyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::PyBytes;
 
 use crate::campaign::PyCampaign;
 use crate::errors::{self, Kind};
 use crate::memory::MaxMemory;
+use crate::record::PyRecord;
 use rigfit::campaign::{Campaign, DEFAULT_MAX_STEPS, MAX_AUTO_SUBSTEPS, SimulationGrid};
 
 /// Histories (S, samples, outputs) of the parameter sets `theta` (S, P, the
 /// campaign's genes) in campaign experiment `experiment` on the grid of
-/// `record` (path, CSV bytes: the campaign's `json` reduced to that
+/// `record` (path, its columns: the campaign's `json` reduced to that
 /// experiment names it as its data file): the grid's record is read as
 /// `rigfit simulate` reads one (not scored), the values of each set are the
 /// campaign's ([`Campaign::batch`]), the step is `substeps` (held to the
@@ -35,7 +35,7 @@ pub fn simulate_grid<'py>(
     json: &str,
     base_dir: PathBuf,
     origin: &str,
-    record: (PathBuf, Bound<'py, PyBytes>),
+    record: (PathBuf, Bound<'py, PyRecord>),
     experiment: usize,
     theta: PyReadonlyArray2<'py, f64>,
     samples: usize,
@@ -58,17 +58,13 @@ pub fn simulate_grid<'py>(
         // Before the grid's record is read or a sample allocated.
         let sets_count = theta.shape()[0];
         crate::sim_memory::check(c, sets_count, 1, samples, max_memory.as_ref())?;
-        let lent = vec![(record.0.clone(), record.1.as_bytes().to_vec())];
+        let mut lent = rigfit::record::lent::Lent::none();
+        let loan = rigfit::record::lent::Loan::Record(record.1.get().inner.clone());
+        lent.lend(record.0.clone(), loan);
         let grid = py
             .allow_threads(|| {
-                rigfit::base::records::with_records(&lent, || {
-                    Campaign::from_str_for_simulation(
-                        json,
-                        &base_dir,
-                        origin,
-                        &SimulationGrid::Record,
-                    )
-                })
+                let grid = Some(&SimulationGrid::Record);
+                Campaign::from_str_lent(json, &base_dir, origin, &lent, grid)
             })
             .map_err(|e| errors::campaign(&e))?;
         drop(lent);

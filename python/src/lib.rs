@@ -13,6 +13,7 @@ mod grid;
 mod identify;
 mod impedance;
 mod memory;
+mod record;
 mod report;
 mod residuals;
 mod save;
@@ -32,7 +33,8 @@ fn _rigfit(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<campaign::PyCampaign>()?;
     m.add_class::<ensemble::Objective>()?;
     m.add_class::<residuals::Residuals>()?;
-    m.add_function(wrap_pyfunction!(campaign::record_csv, m)?)?;
+    m.add_class::<record::PyRecord>()?;
+    m.add_function(wrap_pyfunction!(record::record_of, m)?)?;
     m.add_function(wrap_pyfunction!(campaign::shipped_rigs, m)?)?;
     m.add_function(wrap_pyfunction!(fit::run_job, m)?)?;
     m.add_function(wrap_pyfunction!(ensemble::simulate, m)?)?;

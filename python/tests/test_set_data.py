@@ -28,6 +28,25 @@ def test_dataframe_fed_experiment_equals_its_csv_fed_twin(bearing):
     b = rigfit.fit(twin, backend="cpu", seed=5)
     assert json.loads(a.files["result.json"])["params"] == json.loads(b.files["result.json"])["params"]
     assert a.files["hx.csv"] == b.files["hx.csv"] and a.files["hy.csv"] == b.files["hy.csv"]
+    # result.json names each record set from memory, with what was read.
+    summary = json.loads(a.files["result.json"])
+    inputs = {i["path"]: i["sha256"] for i in summary["inputs"]}
+    assert sorted(r["path"] for r in summary["records"]) == ["<memory:hx>.csv", "<memory:hy>.csv"]
+    for r in summary["records"]:
+        assert r["format"] == "memory" and inputs[r["path"]] == r["sha256"], r
+
+
+def test_column_names_no_csv_header_could_hold():
+    path = CAMPAIGNS / "bearing_2dof_synthetic.json"
+    c = rigfit.Campaign.from_json(path)
+    t = np.arange(500) * 2.56e-4
+    y = np.sin(2 * np.pi * 50 * t)
+    name = 'x, "hx" [m]'
+    c.set_data("hx", {"time; s": t, name: y}, time_column="time; s", column=name)
+    assert c.experiment_info("hx")["samples"] == 500
+    # The unit in its brackets is checked as a CSV header's is.
+    with pytest.raises(rigfit.CampaignError, match=r"scale"):
+        c.set_data("hx", {"t_s": t, "x [mV]": y}, time_column="t_s", column="x [mV]")
 
 
 def test_dict_of_arrays_and_a_bad_column_name():

@@ -169,12 +169,8 @@ pub fn read_description(path: &Path) -> io::Result<String> {
     })
 }
 
-/// Reads a measured record: [`read_input`] with [`MAX_RECORD_BYTES`], or the
-/// bytes lent under `path` by [`crate::base::records::with_records`].
+/// Reads a measured record: [`read_input`] with [`MAX_RECORD_BYTES`].
 pub fn read_record(path: &Path) -> io::Result<Vec<u8>> {
-    if let Some(bytes) = crate::base::records::lent(path) {
-        return Ok(bytes);
-    }
     read_input(path, MAX_RECORD_BYTES)
 }
 

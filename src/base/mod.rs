@@ -10,7 +10,6 @@ pub mod fsutil;
 mod grid;
 pub mod noise;
 mod params;
-pub mod records;
 mod sample;
 pub mod stats;
 pub mod text;

@@ -16,6 +16,7 @@ use crate::base::data::{Column, CsvSpec};
 use crate::base::{Drive, PiecewiseLinear};
 use crate::eval::{ExperimentData, Problem};
 use crate::model::compiled::CompiledRig;
+use crate::record::lent::{Lent, Loan};
 use crate::rig;
 use crate::search::SearchSettings;
 
@@ -26,6 +27,7 @@ pub(crate) fn build(
     dir: &Path,
     file: &Path,
     reading: Reading<'_>,
+    lent: &Lent,
 ) -> Result<Campaign, CampaignError> {
     let raw: RawCampaign = parse_json(text, file)?;
     check_campaign_name(file, &raw.name)?;
@@ -58,7 +60,7 @@ pub(crate) fn build(
                 file,
                 &format!("experiments[{e}].params"),
                 model,
-                &initial::as_params(file, dir, e, x)?,
+                &initial::as_params(file, (dir, lent), e, x)?,
                 true,
             )
         })
@@ -106,7 +108,7 @@ pub(crate) fn build(
         {
             let (mut exp, bytes_hash, read, recorded) = experiment(
                 file,
-                dir,
+                (dir, lent),
                 e,
                 &view,
                 (digest, &mut record),
@@ -348,7 +350,7 @@ type Experiment = (ExperimentData, u64, Option<PathBuf>, Option<Recorded>);
 /// other channels.
 fn experiment(
     file: &Path,
-    dir: &Path,
+    (dir, lent): (&Path, &Lent),
     e: usize,
     x: &RawExperiment,
     (digest, record): (u64, &mut record_file::Shared),
@@ -412,11 +414,11 @@ fn experiment(
         path,
         source: Box::new(source),
     };
-    let digest = match record.bytes {
+    let digest = match record.loan {
         Some(_) => digest,
         None => {
-            let bytes = if read {
-                crate::base::fsutil::read_record(&data_file).map_err(|err| {
+            let loan = if read {
+                lent.read(&data_file).map_err(|err| {
                     let source = crate::base::data::DataError::Io {
                         file: data_file.clone(),
                         message: err.to_string(),
@@ -424,11 +426,9 @@ fn experiment(
                     data_err(format!("{data_at}.file"), source)
                 })?
             } else {
-                Vec::new()
+                Loan::Bytes(Arc::from(&[][..]))
             };
-            let d = fnv1a(digest, &bytes);
-            record.bytes = Some(bytes);
-            d
+            record.lend(loan, digest)
         }
     };
     let mut read_as = |spec: &CsvSpec| record_file::read(record, &data_file, d, spec);

@@ -18,10 +18,11 @@ use super::CampaignError;
 use super::error::invalid;
 use super::raw::{RawExperiment, RawInitial, RawInitialData, RawParam};
 use super::resolve::check_value;
-use crate::base::data::{Column, CsvSpec, parse_csv};
+use crate::base::data::{Column, CsvSpec};
 use crate::base::{Drive, ParamScope, Scale};
 use crate::compile::front::{BASE_VELOCITY, initial_param};
 use crate::model::compiled::CompiledRig;
+use crate::record::lent::Lent;
 use crate::rig::desc::{ParamDesc, RigDesc};
 
 /// Declares `initial_<state>` for every state some experiment names, after
@@ -73,7 +74,7 @@ pub(crate) fn declare(
 /// `initial`), values from the data file read.
 pub(crate) fn as_params(
     file: &Path,
-    dir: &Path,
+    (dir, lent): (&Path, &Lent),
     e: usize,
     x: &RawExperiment,
 ) -> Result<BTreeMap<String, RawParam>, CampaignError> {
@@ -99,9 +100,14 @@ pub(crate) fn as_params(
                     other => other.clone(),
                 }
             }
-            RawInitial::Data(d) => {
-                RawParam::Fixed(from_data(file, dir, &path, x, d, is_velocity(state))?)
-            }
+            RawInitial::Data(d) => RawParam::Fixed(from_data(
+                file,
+                (dir, lent),
+                &path,
+                x,
+                d,
+                is_velocity(state),
+            )?),
         };
         params.insert(name, value);
     }
@@ -153,7 +159,7 @@ fn is_velocity(state: &str) -> bool {
 /// The initial value from the data file (see [`RawInitialData`]).
 fn from_data(
     file: &Path,
-    dir: &Path,
+    (dir, lent): (&Path, &Lent),
     path: &str,
     x: &RawExperiment,
     d: &RawInitialData,
@@ -195,14 +201,17 @@ fn from_data(
         path: format!("{path}.column"),
         source: Box::new(source),
     };
-    let text = crate::base::fsutil::read_record(&data_file).map_err(|err| {
+    let loan = lent.read(&data_file).map_err(|err| {
         data_err(crate::base::data::DataError::Io {
             file: data_file.clone(),
             message: err.to_string(),
         })
     })?;
-    let text = crate::base::data::decode_record(&text, &data_file, &spec).map_err(data_err)?;
-    let series = parse_csv(&text, &data_file, &spec).map_err(data_err)?;
+    // Read in the record's own format, as its measured channels are.
+    let mut record = super::record_file::Shared::default();
+    record.lend(loan, 0);
+    let (series, _) =
+        super::record_file::read(&mut record, &data_file, &x.data, &spec).map_err(data_err)?;
     if series.force.len() < samples {
         return Err(invalid(
             file,

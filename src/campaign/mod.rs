@@ -75,6 +75,7 @@ pub use stability::{
 use crate::base::Scale;
 use crate::eval::{Batch, DIVERGED, Problem, Scores};
 use crate::model::CompiledRig;
+use crate::record::lent::Lent;
 use crate::search::SearchSettings;
 
 /// What a gene sets.
@@ -233,7 +234,7 @@ impl Campaign {
             message: e.to_string(),
         })?;
         let dir = path.parent().unwrap_or(Path::new("."));
-        validation::build_fit(&text, dir, path)
+        validation::build_fit(&text, dir, path, &Lent::none())
     }
 
     /// Reads and validates a campaign file for a simulation on `grid`: its
@@ -249,13 +250,42 @@ impl Campaign {
             message: e.to_string(),
         })?;
         let dir = path.parent().unwrap_or(Path::new("."));
-        build::build(&text, dir, path, simulation::Reading::Simulate(grid))
+        build::build(
+            &text,
+            dir,
+            path,
+            simulation::Reading::Simulate(grid),
+            &Lent::none(),
+        )
     }
 
     /// Validates campaign text; relative paths resolve against `base_dir` and
     /// messages name `origin` as the file.
     pub fn from_str(json: &str, base_dir: &Path, origin: &str) -> Result<Campaign, CampaignError> {
-        validation::build_fit(json, base_dir, Path::new(origin))
+        validation::build_fit(json, base_dir, Path::new(origin), &Lent::none())
+    }
+
+    /// Validates campaign text as [`Campaign::from_str`] (`grid` `None`: for
+    /// a fit) or [`Campaign::from_str_for_simulation`] does, with the records
+    /// `lent` read in place of the files at those paths.
+    pub fn from_str_lent(
+        json: &str,
+        base_dir: &Path,
+        origin: &str,
+        lent: &Lent,
+        grid: Option<&SimulationGrid>,
+    ) -> Result<Campaign, CampaignError> {
+        let file = Path::new(origin);
+        match grid {
+            None => validation::build_fit(json, base_dir, file, lent),
+            Some(grid) => build::build(
+                json,
+                base_dir,
+                file,
+                simulation::Reading::Simulate(grid),
+                lent,
+            ),
+        }
     }
 
     /// Validates campaign text for a simulation on `grid`, as
@@ -272,6 +302,7 @@ impl Campaign {
             base_dir,
             Path::new(origin),
             simulation::Reading::Simulate(grid),
+            &Lent::none(),
         )
     }
 

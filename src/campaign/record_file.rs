@@ -4,6 +4,7 @@
 //! column checked against the rig output's.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use serde::Serialize;
 
@@ -12,6 +13,7 @@ use super::error::invalid;
 use super::raw::{RawData, RawExperiment};
 use crate::base::data::{Column, CsvSpec, DataError, Series, decode_record, parse_csv};
 use crate::model::compiled::CompiledRig;
+use crate::record::lent::Loan;
 use crate::record::select::Selection;
 use crate::record::{Format, Record, detect};
 
@@ -32,6 +34,10 @@ pub struct RecordUse {
     pub output: String,
     /// The rig output's unit.
     pub output_unit: String,
+    /// The SHA-256 of the record as read: its file's bytes, or (a record
+    /// lent from memory) [`Loan::digest_bytes`].
+    #[serde(skip)]
+    pub sha256: [u8; 32],
 }
 
 /// One channel a fit read, in result.json's `"records"`.
@@ -54,17 +60,37 @@ pub(super) struct Recorded {
     pub(super) unit: Option<String>,
     pub(super) time_channel: Option<String>,
     pub(super) time_unit: Option<String>,
+    pub(super) sha256: [u8; 32],
 }
 
 /// An experiment's record as its channels and its drive column share it: its
-/// bytes, read once, and (in a format other than CSV) its channels, parsed
-/// once.
+/// bytes (or its channels lent from memory), read once with their SHA-256,
+/// and (in a format other than CSV) its channels, parsed once.
 #[derive(Debug, Default)]
 pub(super) struct Shared {
-    /// The record's bytes, once a first channel has read them.
-    pub(super) bytes: Option<Vec<u8>>,
+    /// The record, once a first channel has read it.
+    pub(super) loan: Option<Loan>,
+    /// The SHA-256 of its digest bytes ([`Loan::digest_bytes`]).
+    sha256: [u8; 32],
     /// Its channels, once a first reading has parsed them.
-    parsed: Option<Record>,
+    parsed: Option<Arc<Record>>,
+}
+
+impl Shared {
+    /// Holds `loan` as the experiment's record; returns `digest` extended
+    /// with it.
+    pub(super) fn lend(&mut self, loan: Loan, digest: u64) -> u64 {
+        use sha2::Digest as _;
+        let bytes = loan.digest_bytes();
+        let digest = super::fnv1a(digest, &bytes);
+        self.sha256 = sha2::Sha256::digest(&bytes).into();
+        drop(bytes);
+        if let Loan::Record(r) = &loan {
+            self.parsed = Some(r.clone());
+        }
+        self.loan = Some(loan);
+        digest
+    }
 }
 
 /// Reads the record at `file` (its bytes held by `shared`) as `d` states or
@@ -76,8 +102,16 @@ pub(super) fn read(
     d: &RawData,
     spec: &CsvSpec,
 ) -> Result<(Series, Recorded), DataError> {
-    let bytes = shared.bytes.as_deref().unwrap_or_default();
-    let format = Format::of(file, bytes, d.format);
+    let (bytes, in_memory) = match &shared.loan {
+        Some(Loan::Record(_)) => (&[][..], true),
+        Some(loan) => (loan.bytes(), false),
+        None => (&[][..], false),
+    };
+    let format = match in_memory {
+        true => Format::Memory,
+        false => Format::of(file, bytes, d.format),
+    };
+    let sha256 = shared.sha256;
     if format == Format::Csv {
         let text = decode_record(bytes, file, spec)?;
         let series = parse_csv(&text, file, spec)?;
@@ -87,10 +121,12 @@ pub(super) fn read(
             unit: named_unit(&spec.force),
             time_channel: Some(column_key(&spec.time)),
             time_unit: named_unit(&spec.time),
+            sha256,
         };
         return Ok((series, recorded));
     }
-    if d.encoding.is_some() || d.decimal.is_some() {
+    // A record in memory replaces a file: the file's encoding is not its.
+    if !in_memory && (d.encoding.is_some() || d.decimal.is_some()) {
         return Err(DataError::Record {
             file: file.to_path_buf(),
             what: "\"encoding\" and \"decimal\"".into(),
@@ -100,12 +136,17 @@ pub(super) fn read(
     }
     let record = match &mut shared.parsed {
         Some(record) => record,
-        parsed => {
-            parsed.insert(detect::read(format, bytes).map_err(|e| detect::data_error(e, file))?)
-        }
+        parsed => parsed.insert(Arc::new(
+            detect::read(format, bytes).map_err(|e| detect::data_error(e, file))?,
+        )),
     };
     let sel = Selection {
-        time: d.time_column.as_ref(),
+        // Arrays in memory have no waveform timing: their time is a column,
+        // the first unless named, as in a CSV file.
+        time: match in_memory {
+            true => Some(&spec.time),
+            false => d.time_column.as_ref(),
+        },
         column: &spec.force,
         time_scale: spec.time_scale,
         scale: spec.force_scale,
@@ -117,6 +158,7 @@ pub(super) fn read(
         unit: chosen.unit,
         time_channel: chosen.time_channel,
         time_unit: chosen.time_unit,
+        sha256,
     };
     Ok((chosen.series, recorded))
 }
@@ -224,5 +266,6 @@ pub(super) fn check_units(
             .collect(),
         output: output.to_string(),
         output_unit,
+        sha256: recorded.sha256,
     })
 }

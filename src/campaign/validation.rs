@@ -12,11 +12,17 @@ use super::build::build;
 use super::error::invalid;
 use super::simulation::Reading;
 use super::{Campaign, CampaignError, GeneTarget};
+use crate::record::lent::Lent;
 
 /// [`build`] for a fit, with the file's `validation` records built as
 /// [`Campaign::validation`]; their files join the campaign's inputs.
-pub(super) fn build_fit(text: &str, dir: &Path, file: &Path) -> Result<Campaign, CampaignError> {
-    let mut campaign = build(text, dir, file, Reading::Fit)?;
+pub(super) fn build_fit(
+    text: &str,
+    dir: &Path,
+    file: &Path,
+    lent: &Lent,
+) -> Result<Campaign, CampaignError> {
+    let mut campaign = build(text, dir, file, Reading::Fit, lent)?;
     // The records against the rig, before any search.
     let heard = super::plausible::check(&campaign)?;
     campaign.warnings.extend(heard);
@@ -32,7 +38,7 @@ pub(super) fn build_fit(text: &str, dir: &Path, file: &Path) -> Result<Campaign,
             "an empty list",
         ));
     }
-    let v = build_as(json, records, dir, file, "validation")?;
+    let v = build_as(json, records, (dir, lent), file, "validation")?;
     let more: Vec<PathBuf> = v.inputs.iter().skip(1).cloned().collect();
     for p in more {
         if !campaign.inputs.contains(&p) {
@@ -55,10 +61,10 @@ fn load(path: &Path) -> Result<Campaign, CampaignError> {
     let _: super::raw::RawCampaign = super::error::parse_json(&text, path)?;
     let mut json = as_json(&text);
     match json.as_object_mut().and_then(|o| o.remove("validation")) {
-        Some(records) => build_as(json, records, dir, path, "validation"),
+        Some(records) => build_as(json, records, (dir, &Lent::none()), path, "validation"),
         None => {
             let records = json["experiments"].clone();
-            build_as(json, records, dir, path, "experiments")
+            build_as(json, records, (dir, &Lent::none()), path, "experiments")
         }
     }
 }
@@ -75,13 +81,13 @@ fn as_json(text: &str) -> Value {
 fn build_as(
     mut json: Value,
     records: Value,
-    dir: &Path,
+    (dir, lent): (&Path, &Lent),
     file: &Path,
     at: &str,
 ) -> Result<Campaign, CampaignError> {
     json["experiments"] = records.clone();
     let text = json.to_string();
-    let mut v = build(&text, dir, file, Reading::Fit).map_err(|e| at_validation(e, at))?;
+    let mut v = build(&text, dir, file, Reading::Fit, lent).map_err(|e| at_validation(e, at))?;
     // A free parameter of the records' own has no fitted value.
     if let Some(g) = v.genes.iter().find(|g| g.experiment.is_some()) {
         let e = g.experiment.unwrap_or_default();

@@ -43,6 +43,7 @@ impl Format {
             Format::Hdf5 => "hdf5",
             Format::Mat => "mat",
             Format::Uff => "uff",
+            Format::Memory => "memory",
         }
     }
 
@@ -91,11 +92,11 @@ pub fn read(format: Format, bytes: &[u8]) -> Result<Record, FormatError> {
         }
         Format::Mat => super::mat::read(bytes),
         Format::Uff => super::uff::read(bytes),
-        Format::Csv => Err(FormatError {
+        Format::Csv | Format::Memory => Err(FormatError {
             format,
             at: "file".into(),
             expected: "a binary record (CSV is read against its column keys)".into(),
-            found: "CSV".into(),
+            found: format.to_string(),
         }),
     }
 }

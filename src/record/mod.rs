@@ -8,6 +8,7 @@ pub(crate) mod bytes;
 pub mod csv;
 pub mod detect;
 pub mod hdf5;
+pub mod lent;
 pub mod mat;
 pub mod select;
 mod table;

@@ -15,6 +15,9 @@ pub enum Format {
     Mat,
     /// Universal file format, dataset 58 (ASCII or binary 58b).
     Uff,
+    /// Arrays a caller holds in memory (the Python package's DataFrames),
+    /// lent to a campaign without a file ([`super::lent`]).
+    Memory,
 }
 
 /// Sample timing a file states for a channel: sample `k` is at
@@ -74,6 +77,7 @@ impl fmt::Display for Format {
             Format::Hdf5 => "HDF5",
             Format::Mat => "MAT-file",
             Format::Uff => "UFF 58",
+            Format::Memory => "record in memory",
         })
     }
 }

@@ -8,26 +8,34 @@ use super::summary::{InputDigest, NaturalFrequencies, RecordDigest};
 use crate::campaign::Campaign;
 use crate::model::modes::ModeReport;
 
-/// Every file `campaign` was read from with its SHA-256, read again now
-/// (through [`crate::base::fsutil::read_record`], so a record lent from
-/// memory is hashed as lent); a file that no longer reads is left out. A
-/// path inside the campaign's folder is given relative to it, as the
-/// campaign names it.
+/// Every file `campaign` was read from with its SHA-256: a record's as it
+/// was read when the campaign was built (a record lent from memory
+/// included), any other file's read again now; a file that no longer reads
+/// is left out. A path inside the campaign's folder is given relative to
+/// it, as the campaign names it.
 pub(super) fn input_digests(campaign: &Campaign) -> Vec<InputDigest> {
     let dir = campaign.path.parent().filter(|d| !d.as_os_str().is_empty());
+    let records = campaign
+        .records
+        .iter()
+        .chain(campaign.validation.iter().flat_map(|v| v.records.iter()));
+    let read: Vec<_> = records.map(|r| (&r.file, r.sha256)).collect();
     campaign
         .inputs
         .iter()
         .enumerate()
         .filter_map(|(i, path)| {
-            let bytes = crate::base::fsutil::read_record(path).ok()?;
+            let sha256 = match read.iter().find(|(f, _)| *f == path) {
+                Some((_, sha)) => *sha,
+                None => Sha256::digest(crate::base::fsutil::read_record(path).ok()?).into(),
+            };
             let shown = match dir {
                 Some(d) if i > 0 => path.strip_prefix(d).unwrap_or(path),
                 _ => path.as_path(),
             };
             Some(InputDigest {
                 path: shown.display().to_string(),
-                sha256: hex(&Sha256::digest(&bytes)),
+                sha256: hex(&sha256),
             })
         })
         .collect()
