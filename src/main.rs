@@ -17,6 +17,11 @@ fn main() -> ExitCode {
             };
         }
     };
+    // HDF5 is read in a child rigfit, so that a crash of libhdf5 on a
+    // corrupted file is an error about that file (record/hdf5_child.rs).
+    if let Ok(exe) = std::env::current_exe() {
+        rigfit::record::hdf5_child::read_in_child(exe);
+    }
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn"))
         .format_timestamp_millis()
         .init();

@@ -177,6 +177,16 @@ fn german_campaign(dir: &Path, data: Value) -> PathBuf {
     path
 }
 
+/// `rigfit check --no-measure CAMPAIGN`, its cache under `dir`.
+fn check(campaign: &Path, dir: &Path) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_rigfit"))
+        .args(["check", "--no-measure"])
+        .arg(campaign)
+        .env("RIGFIT_CACHE_DIR", dir.join("cache"))
+        .output()
+        .unwrap()
+}
+
 #[test]
 fn a_campaign_reads_a_latin_1_record_with_decimal_commas_end_to_end() {
     let dir = tempfile::tempdir().unwrap();
@@ -184,12 +194,7 @@ fn a_campaign_reads_a_latin_1_record_with_decimal_commas_end_to_end() {
         dir.path(),
         json!({"decimal": ",", "encoding": "Windows-1252"}),
     );
-    let out = Command::new(env!("CARGO_BIN_EXE_rigfit"))
-        .args(["check", "--no-measure"])
-        .arg(&path)
-        .env("RIGFIT_CACHE_DIR", dir.path().join("cache"))
-        .output()
-        .unwrap();
+    let out = check(&path, dir.path());
     let said = String::from_utf8_lossy(&out.stdout) + String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{said}");
     // The same samples as the shipped UTF-8 record.
@@ -208,12 +213,7 @@ fn a_campaign_reads_a_latin_1_record_with_decimal_commas_end_to_end() {
 fn a_campaign_refuses_an_unknown_or_contradicted_encoding_by_its_path() {
     let dir = tempfile::tempdir().unwrap();
     let path = german_campaign(dir.path(), json!({"encoding": "ebcdic"}));
-    let out = Command::new(env!("CARGO_BIN_EXE_rigfit"))
-        .args(["check", "--no-measure"])
-        .arg(&path)
-        .env("RIGFIT_CACHE_DIR", dir.path().join("cache"))
-        .output()
-        .unwrap();
+    let out = check(&path, dir.path());
     assert!(!out.status.success());
     let e = String::from_utf8_lossy(&out.stderr);
     assert!(e.contains("experiments[0].data.encoding"), "{e}");

@@ -550,15 +550,25 @@ pub(crate) fn split_fields(row: &str, sep: char) -> Vec<&str> {
     fields
 }
 
-/// The header's columns for a message: each name escaped and cut, at most
-/// twelve of them.
+/// The header's columns for a message (see [`names_shown`]).
 fn columns_list(header: &[String]) -> String {
+    format!(
+        "{} column(s): {}",
+        header.len(),
+        names_shown(header.iter().map(String::as_str))
+    )
+}
+
+/// Names for a message: each escaped and cut, at most twelve of them, then
+/// how many more there are.
+pub(crate) fn names_shown<'a>(names: impl ExactSizeIterator<Item = &'a str>) -> String {
     const SHOWN: usize = 12;
-    let mut names: Vec<String> = header.iter().take(SHOWN).map(|h| echo_bare(h)).collect();
-    if header.len() > SHOWN {
-        names.push(format!("… {} more", header.len() - SHOWN));
+    let count = names.len();
+    let mut shown: Vec<String> = names.take(SHOWN).map(echo_bare).collect();
+    if count > SHOWN {
+        shown.push(format!("… {} more", count - SHOWN));
     }
-    format!("{} column(s): {}", header.len(), names.join(", "))
+    shown.join(", ")
 }
 
 /// A cell as messages quote it: `'x'`, escaped and cut short.

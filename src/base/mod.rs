@@ -1,7 +1,8 @@
 //! The shared vocabulary every layer above speaks: parameters and their
 //! scales, the sample grid and its walk, tables and drives, what a run reports
-//! at each sample, measured records, seeded noise, how messages quote input and
-//! how files are written. It imports nothing of the crate.
+//! at each sample, measured records, seeded noise, how messages quote input,
+//! how files are written and how a child process is tied to this one. It
+//! imports nothing of the crate.
 
 pub mod data;
 mod drive;
@@ -12,6 +13,7 @@ pub mod noise;
 mod params;
 mod sample;
 pub mod stats;
+pub(crate) mod tether;
 pub mod text;
 
 pub use drive::{Drive, PiecewiseLinear};

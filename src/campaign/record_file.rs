@@ -23,9 +23,11 @@ use crate::record::{Format, Record, detect};
 pub struct RecordUse {
     /// The experiment (a channel's problem experiment: `<experiment>.<output>`).
     pub experiment: String,
-    /// The record file.
+    /// The record file (result.json gives it as `inputs` does).
+    #[serde(skip)]
     pub file: PathBuf,
-    /// Its format (`csv`, `tdms`, `hdf5`, `mat`, `uff`).
+    /// Its format (`csv`, `tdms`, `hdf5`, `mat`, `uff`; `memory` for arrays
+    /// lent from memory).
     pub format: &'static str,
     /// The channels read: the time channel (where the time is one), then
     /// the measured channel.

@@ -214,6 +214,10 @@ pub enum Command {
         (summary.csv, summary.html) lists every test, failed and missing ones with\n\
         their error. See docs/guide/series.md.")]
     Series(SeriesArgs),
+    /// Read an HDF5 file from stdin for a parent rigfit (not for people: the
+    /// answer on stdout is binary).
+    #[command(name = rigfit::record::hdf5_child::SUBCOMMAND, hide = true)]
+    ReadHdf5,
 }
 
 impl Cli {

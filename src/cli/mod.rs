@@ -5,7 +5,8 @@
 //! it did not fit), `simulate`, `sweep` (design points' metrics), `modes`,
 //! `check`, `devices`, `inspect` (what a record file holds), the
 //! pre-calibration commands `fit_specimen` and `ringdown`, and `identify` (one
-//! file per method). `args` gathers them into the command line. The helpers
+//! file per method), and the hidden `__read-hdf5` (`read_hdf5`: HDF5 read
+//! for a parent rigfit). `args` gathers them into the command line. The helpers
 //! below are shared; no command imports another.
 //! - `output`: stdout, stderr and the files a command writes;
 //! - `exit`: exit codes, the binary's input error and the error report;
@@ -29,6 +30,7 @@ mod modes;
 mod options;
 mod output;
 mod profile;
+mod read_hdf5;
 mod record;
 mod report;
 mod ringdown;
@@ -55,6 +57,7 @@ pub fn dispatch(cli: Cli) -> Result<ExitCode> {
         Command::Run(a) => return run::run(a, &out),
         Command::Profile(a) => return profile::profile(a, &out),
         Command::Series(a) => return series::series(a, &out),
+        Command::ReadHdf5 => return read_hdf5::read_hdf5(),
         Command::Simulate(a) => simulate::simulate(a, &out)?,
         Command::Sweep(a) => sweep::sweep(a, &out)?,
         Command::Modes(a) => modes::modes(a, &out)?,

@@ -261,7 +261,7 @@ pub fn write_outputs_watched(
         verdict,
         campaign: campaign.name.clone(),
         campaign_file: campaign.path.display().to_string(),
-        records: provenance::record_digests(campaign, &inputs),
+        records: provenance::record_digests(campaign),
         inputs,
         rig: campaign.model.id().into(),
         seed: campaign.search.seed,

@@ -25,6 +25,10 @@
 //! libhdf5 reads files, not memory, through the safe API: the bytes go to a
 //! private temporary file (mode 0600, created new in the system's temporary
 //! folder) that is removed on every path out of [`read`].
+//!
+//! Where the program has asked for it ([`super::hdf5_child::read_in_child`],
+//! as the `rigfit` binary does), [`read`] reads in a child process, so that
+//! a crash inside libhdf5 is an error about the file; otherwise in process.
 
 use super::{Format, FormatError, Record};
 
@@ -33,6 +37,8 @@ use super::{Format, FormatError, Record};
 #[path = "mat73.rs"]
 mod mat73;
 
+#[cfg(feature = "hdf5")]
+pub(super) use library::MOST_FILTER_RATIO;
 #[cfg(feature = "hdf5")]
 use library::{Found, MOST_SPLIT, hdf5_columns, hdf5_rows};
 
@@ -57,8 +63,20 @@ pub fn is_hdf5(bytes: &[u8]) -> bool {
 }
 
 /// Reads an HDF5 file's (or a MATLAB v7.3 MAT-file's) numeric datasets as
-/// channels.
+/// channels: in a child process where one is asked for (see the module's
+/// text), else in this one.
 pub fn read(bytes: &[u8]) -> Result<Record, FormatError> {
+    #[cfg(feature = "hdf5")]
+    if let Some(exe) = super::hdf5_child::child_exe()
+        && is_hdf5(bytes)
+    {
+        return super::hdf5_child::read(exe, bytes);
+    }
+    read_in_process(bytes)
+}
+
+/// Reads as [`read`] does, in this process whatever was asked for.
+pub(crate) fn read_in_process(bytes: &[u8]) -> Result<Record, FormatError> {
     if !is_hdf5(bytes) {
         return Err(file_error(format!(
             "no HDF5 signature at byte 0, 512, 1024, 2048, … of its {} bytes",
@@ -131,7 +149,7 @@ mod library {
 
     /// The largest ratio of a filtered (compressed) dataset's samples to the
     /// file's bytes that is accepted: DEFLATE's maximum compression ratio.
-    const MOST_FILTER_RATIO: usize = 1032;
+    pub(in crate::record) const MOST_FILTER_RATIO: usize = 1032;
 
     /// The longest fixed-length string attribute read, in bytes.
     const MOST_TEXT: usize = 256;

@@ -8,6 +8,7 @@ pub(crate) mod bytes;
 pub mod csv;
 pub mod detect;
 pub mod hdf5;
+pub mod hdf5_child;
 pub mod lent;
 pub mod mat;
 pub mod select;

@@ -12,7 +12,7 @@
 use std::path::Path;
 
 use super::{Channel, Record, Waveform};
-use crate::base::data::{Column, DataError, Series, uniform};
+use crate::base::data::{Column, DataError, Series, names_shown, uniform};
 use crate::base::text::echo_bare;
 
 /// The measured channel of a record chosen and sampled uniformly.
@@ -78,7 +78,7 @@ impl Record {
                         file: file.to_path_buf(),
                         what: format!("column {column}"),
                         expected: "one channel: name it in full".into(),
-                        found: names(many.iter().map(|&i| &self.channels[i])),
+                        found: names_shown(many.iter().map(|&i| self.channels[i].name.as_str())),
                     }),
                 }
             }
@@ -90,7 +90,7 @@ impl Record {
         format!(
             "{} channel(s): {}",
             self.channels.len(),
-            names(self.channels.iter())
+            names_shown(self.channels.iter().map(|c| c.name.as_str()))
         )
     }
 
@@ -202,16 +202,6 @@ fn scaled(c: &Channel, scale: f64, file: &Path) -> Result<Vec<f64>, DataError> {
         out.push(s);
     }
     Ok(out)
-}
-
-fn names<'a>(channels: impl Iterator<Item = &'a Channel>) -> String {
-    const SHOWN: usize = 12;
-    let all: Vec<String> = channels.map(|c| echo_bare(&c.name)).collect();
-    let mut shown: Vec<String> = all.iter().take(SHOWN).cloned().collect();
-    if all.len() > SHOWN {
-        shown.push(format!("… {} more", all.len() - SHOWN));
-    }
-    shown.join(", ")
 }
 
 #[cfg(test)]

@@ -42,29 +42,22 @@ pub(super) fn input_digests(campaign: &Campaign) -> Vec<InputDigest> {
 }
 
 /// What each experiment read of its record, with the record's SHA-256 as
-/// `inputs` gives it (`inputs` being [`input_digests`]'s list); a record
-/// whose file no longer reads is left out.
-pub(super) fn record_digests(campaign: &Campaign, inputs: &[InputDigest]) -> Vec<RecordDigest> {
+/// read when the campaign was built.
+pub(super) fn record_digests(campaign: &Campaign) -> Vec<RecordDigest> {
     let dir = campaign.path.parent().filter(|d| !d.as_os_str().is_empty());
     campaign
         .records
         .iter()
-        .filter_map(|r| {
+        .map(|r| {
             let shown = match dir {
                 Some(d) => r.file.strip_prefix(d).unwrap_or(&r.file),
                 None => r.file.as_path(),
             };
-            let shown = shown.display().to_string();
-            let input = inputs.iter().find(|i| i.path == shown)?;
-            Some(RecordDigest {
-                experiment: r.experiment.clone(),
-                path: shown,
-                sha256: input.sha256.clone(),
-                format: r.format,
-                channels: r.channels.clone(),
-                output: r.output.clone(),
-                output_unit: r.output_unit.clone(),
-            })
+            RecordDigest {
+                path: shown.display().to_string(),
+                sha256: hex(&r.sha256),
+                read: r.clone(),
+            }
         })
         .collect()
 }

@@ -146,20 +146,15 @@ pub struct InputDigest {
 /// they were fitted to.
 #[derive(Debug, Clone, Serialize)]
 pub struct RecordDigest {
-    /// The experiment (a channel's: `<experiment>.<output>`).
-    pub experiment: String,
     /// The record file, as in `inputs`.
     pub path: String,
-    /// SHA-256 of its bytes, lowercase hex.
+    /// SHA-256 of its bytes (a record lent from memory: of its names and
+    /// values), lowercase hex.
     pub sha256: String,
-    /// Its format: `csv`, `tdms`, `hdf5`, `mat` or `uff`.
-    pub format: &'static str,
-    /// The channels read: the time channel where one was, then the measured one.
-    pub channels: Vec<crate::campaign::record_file::RecordedChannel>,
-    /// The rig output fitted to the measured channel, and its unit.
-    pub output: String,
-    /// The output's unit.
-    pub output_unit: String,
+    /// What was read of it: the experiment, the format, the channels with
+    /// the units the file records, the rig output fitted and its unit.
+    #[serde(flatten)]
+    pub read: crate::campaign::record_file::RecordUse,
 }
 
 /// One experiment's natural frequencies, in `result.json`'s

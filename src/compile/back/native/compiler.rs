@@ -37,8 +37,8 @@ fn run_limited(
     out: Option<&Path>,
     limit: std::time::Duration,
 ) -> Result<std::process::ExitStatus, String> {
-    // Killed with this process, however it ends (tether.rs).
-    let mut cmd = super::tether::tethered(cmd);
+    // Killed with this process, however it ends (base/tether.rs).
+    let mut cmd = crate::base::tether::tethered(cmd);
     let create = |p: &Path| std::fs::File::create(p).map_err(|e| format!("could not be run: {e}"));
     let err = create(log)?;
     let stdout = match out {

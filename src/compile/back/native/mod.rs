@@ -35,7 +35,6 @@ mod load;
 mod scratch;
 mod size;
 mod slot;
-mod tether;
 
 use std::collections::HashMap;
 use std::path::PathBuf;

@@ -1,23 +1,31 @@
-//! The C compiler tethered to this process: killed with it, however it
-//! ends. A compiler is a tree of processes (`cc` runs `cc1`, `as`, `ld`), in
-//! a process group of its own; a signal to `cc` alone leaves `cc1` running,
-//! and nothing is told when this process is killed (SIGKILL, a time limit).
-//! On Linux the compiler runs under a small shell, the group's leader, that
-//! `setpriv` (util-linux) gives a parent-death signal: when this process
-//! dies the shell is sent SIGTERM and kills its whole group. Without
-//! `setpriv` the compiler runs as given.
+//! A child process tethered to this process: killed with it, however it
+//! ends. A child may be a tree of processes (the C compiler: `cc` runs
+//! `cc1`, `as`, `ld`), in a process group of its own; a signal to `cc` alone
+//! leaves `cc1` running, and nothing is told when this process is killed
+//! (SIGKILL, a time limit). On Linux the child runs under a small shell, the
+//! group's leader, that `setpriv` (util-linux) gives a parent-death signal:
+//! when this process dies the shell is sent SIGTERM and kills its whole
+//! group. Without `setpriv` the child runs as given.
+//!
+//! The shell hands the child its own standard input (a shell gives a
+//! background command `/dev/null` otherwise) and passes its exit status on;
+//! a child killed by signal N is, as shells say it, an exit status of
+//! 128 + N. The C compiler's build (`compile::back::native`) and the HDF5
+//! reader's child (`record::hdf5_child`) run tethered.
 
 use std::path::PathBuf;
 use std::process::Command;
 use std::sync::OnceLock;
 
-/// The shell between `setpriv` and the compiler: the compiler in the
-/// background, its status passed on, the group killed on SIGTERM.
-const TETHER: &str = r#"trap 'kill -KILL 0' TERM; "$@" & wait $!"#;
+/// The shell between `setpriv` and the child: the child in the background
+/// with the shell's standard input (through descriptor 3), its status passed
+/// on, the group killed on SIGTERM.
+const TETHER: &str = r#"trap 'kill -KILL 0' TERM; exec 3<&0; "$@" <&3 3<&- & exec 3<&-; wait $!"#;
 
 /// `cmd`, tethered where this system allows it (see the module's text).
-/// The caller puts the returned command in a process group of its own.
-pub(super) fn tethered(cmd: Command) -> Command {
+/// The caller puts the returned command in a process group of its own, and
+/// sets its standard input and output on it (those of `cmd` are not kept).
+pub(crate) fn tethered(cmd: Command) -> Command {
     let Some(setpriv) = setpriv() else {
         return cmd;
     };
@@ -88,5 +96,35 @@ mod tests {
         cmd.args(["-c", "test \"$1\" = 'a b' && exit 7", "sh", "a b"]);
         let status = tethered(cmd).status().unwrap();
         assert_eq!(status.code(), Some(7));
+    }
+
+    #[test]
+    fn hands_the_child_its_standard_input() {
+        use std::io::Write;
+        use std::process::Stdio;
+        let mut cmd = Command::new("sh");
+        cmd.args(["-c", "tr a-z A-Z"]);
+        let mut child = tethered(cmd)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .spawn()
+            .unwrap();
+        child.stdin.take().unwrap().write_all(b"abc").unwrap();
+        let out = child.wait_with_output().unwrap();
+        assert!(out.status.success());
+        assert_eq!(out.stdout, b"ABC");
+    }
+
+    #[test]
+    fn a_child_killed_by_a_signal_is_128_and_its_number() {
+        let mut cmd = Command::new("sh");
+        cmd.args(["-c", "kill -SEGV $$"]);
+        let status = tethered(cmd).status().unwrap();
+        use std::os::unix::process::ExitStatusExt;
+        if setpriv().is_some() {
+            assert_eq!(status.code(), Some(128 + 11));
+        } else {
+            assert_eq!(status.signal(), Some(11));
+        }
     }
 }
