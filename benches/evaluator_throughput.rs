@@ -23,6 +23,9 @@
 //! `RIGFIT_BENCH_CAMPAIGN=campaigns/emps_closed_loop.json` measures another
 //! campaign's problem instead of the shipped example (a rig driven by a
 //! measured column, say);
+//! `RIGFIT_BENCH_THREADS=128x32,…` adds GPU rows whose fitness kernel has that
+//! workgroup size and that many vote lanes (`GpuOptions::threads`; the rows'
+//! names end in `-wg128v32`);
 //! `RIGFIT_BENCH_CPU_TIME=1` adds candidate-steps per CPU-second of the process
 //! (its CPU-time clock, all threads, lavapipe's included).
 //! `RIGFIT_LANES_ISA=avx2 GALLIUM_OVERRIDE_CPU_CAPS=avx` runs both paths as on
@@ -50,7 +53,7 @@ use std::time::{Duration, Instant};
 use criterion::{BenchmarkId, Criterion, Throughput};
 use rigfit::campaign::Campaign;
 use rigfit::eval::{Batch, CpuEvaluator, Evaluator, Precision, Problem};
-use rigfit::gpu::{GpuContext, GpuEvaluator, GpuOptions};
+use rigfit::gpu::{GpuContext, GpuEvaluator, GpuOptions, Threads};
 
 const POPULATIONS: [usize; 3] = [1024, 4096, 16384];
 /// Timed evaluations per table cell; the table shows the fastest.
@@ -121,12 +124,35 @@ fn evaluators() -> Vec<Row> {
             if ctx.has_f64() {
                 precisions.push(("f64", Precision::F64));
             }
-            for (specialise, suffix) in [(true, ""), (false, "-generic")] {
+            // The kernel's layouts to compare (`RIGFIT_BENCH_THREADS`, e.g.
+            // "64x8,128x32": workgroup size x vote lanes), the default first.
+            let mut layouts = vec![("".to_string(), Threads::default())];
+            for l in env_list("RIGFIT_BENCH_THREADS").unwrap_or_default() {
+                let parsed = l.split_once('x').and_then(|(w, v)| {
+                    Some(Threads {
+                        workgroup: w.trim().parse().ok()?,
+                        vote_lanes: v.trim().parse().ok()?,
+                    })
+                });
+                match parsed {
+                    Some(t) if t != Threads::default() => {
+                        layouts.push((format!("-wg{}v{}", t.workgroup, t.vote_lanes), t))
+                    }
+                    Some(_) => {}
+                    None => panic!("RIGFIT_BENCH_THREADS: expected WORKGROUPxVOTE, found {l:?}"),
+                }
+            }
+            let variants = [(true, ""), (false, "-generic")];
+            for ((specialise, suffix), (lname, threads)) in variants
+                .iter()
+                .flat_map(|v| layouts.iter().map(move |l| (*v, l.clone())))
+            {
                 for &(pname, precision) in &precisions {
-                    let name: &'static str = format!("gpu-{pname}{suffix}").leak();
+                    let name: &'static str = format!("gpu-{pname}{suffix}{lname}").leak();
                     let c = ctx.clone();
                     let options = GpuOptions {
                         specialise,
+                        threads,
                         ..GpuOptions::default()
                     };
                     v.push((

@@ -8,9 +8,20 @@
 # at the same populations where Python has numba-cuda or JAX. Output is Markdown.
 #
 # Environment:
+#   RIGFIT_GPU_KIT          a folder made by scripts/gpu-kit.sh: run its stripped
+#                           binaries and build nothing (a GPU machine without cargo or
+#                           a registry); its Vulkan loader is unpacked where the
+#                           machine has none
 #   RIGFIT_GPU_BENCH_POPS   populations, comma-separated
 #                           (default 4096,16384,65536,262144,1048576,4194304)
 #   RIGFIT_GPU_BENCH_PROFILE cargo profile for the bench (default: bench, i.e. release)
+#   RIGFIT_GPU_BENCH_CAMPAIGNS  shipped campaigns to time end to end with --backend
+#                           gpu, cpu and auto (comma-separated names under campaigns/,
+#                           "all" for every one; default: none)
+#   RIGFIT_GPU_BENCH_SKIP   parts to leave out, comma-separated: kernels, peers
+#   RIGFIT_GPU_BENCH_THREADS  fitness-kernel layouts to add as rows, WORKGROUPxVOTE,
+#                           comma-separated (default 32x32,128x32,256x32: a warp of
+#                           32 votes together; the default rows are 64x8)
 #   RIGFIT_PEERS            folder of the peer scripts (default: benches/peers,
 #                           relative to the repository root)
 #   RIGFIT_ADAPTER          which adapter (index, PCI bus id or piece of the name)
@@ -21,6 +32,7 @@ cd "$(dirname "$0")/.."
 pops="${RIGFIT_GPU_BENCH_POPS:-4096,16384,65536,262144,1048576,4194304}"
 profile="${RIGFIT_GPU_BENCH_PROFILE:-bench}"
 peers="${RIGFIT_PEERS:-benches/peers}"
+skip=",${RIGFIT_GPU_BENCH_SKIP:-},"
 steps=2500
 if [ -z "${XDG_RUNTIME_DIR:-}" ]; then
     XDG_RUNTIME_DIR="$(mktemp -d)"
@@ -28,24 +40,55 @@ if [ -z "${XDG_RUNTIME_DIR:-}" ]; then
 fi
 export RIGFIT_REQUIRE_GPU=1
 
-run_profile="$profile"
-if [ "$profile" = bench ]; then run_profile=release; fi
-echo "gpu-bench: building (profile $profile)" >&2
-cargo build --profile "$run_profile" --bin rigfit >&2
-cargo bench --profile "$profile" --bench evaluator_throughput --no-run >&2
+kit="${RIGFIT_GPU_KIT:-}"
+if [ -n "$kit" ]; then
+    if [ ! -f "$kit/KIT" ] || [ ! -x "$kit/rigfit" ] || [ ! -x "$kit/evaluator_throughput" ]; then
+        echo "gpu-bench: $kit is not a kit made by scripts/gpu-kit.sh" >&2
+        exit 2
+    fi
+    if ! ldconfig -p 2>/dev/null | grep -q libvulkan; then
+        echo "gpu-bench: no Vulkan loader here; unpacking the kit's" >&2
+        for f in "$kit"/gl/*.deb; do dpkg -x "$f" /; done
+        ldconfig
+    fi
+    rigfit_bin="$kit/rigfit"
+    # The bench reads its campaign relative to the folder it was built in: give it
+    # this checkout's, absolute.
+    export RIGFIT_BENCH_CAMPAIGN="${RIGFIT_BENCH_CAMPAIGN:-$PWD/campaigns/aa2024_t3_synthetic.json}"
+    bench_table() { "$kit/evaluator_throughput"; }
+    built="$(head -1 "$kit/COMMIT")"
+    commit="$built (kit)"
+    if [ "$(git rev-parse HEAD 2>/dev/null || echo "$built")" != "$built" ]; then
+        echo "gpu-bench: warning: the kit was built from $built, this checkout is $(git rev-parse HEAD)" >&2
+    fi
+else
+    run_profile="$profile"
+    if [ "$profile" = bench ]; then run_profile=release; fi
+    echo "gpu-bench: building (profile $profile)" >&2
+    cargo build --profile "$run_profile" --bin rigfit >&2
+    cargo bench --profile "$profile" --bench evaluator_throughput --no-run >&2
+    rigfit_bin="target/$run_profile/rigfit"
+    bench_table() { cargo bench --profile "$profile" --bench evaluator_throughput; }
+    commit="$(git rev-parse --short HEAD 2>/dev/null || echo unknown)$(git diff --quiet 2>/dev/null || echo ' (modified)')"
+fi
 
 echo "## rigfit GPU throughput"
 echo
 echo "- date: $(date -u +%Y-%m-%dT%H:%MZ)"
-echo "- commit: $(git rev-parse --short HEAD 2>/dev/null || echo unknown)$(git diff --quiet 2>/dev/null || echo ' (modified)')"
+echo "- commit: $commit"
 echo "- adapters (\`rigfit devices\`):"
-cargo run -q --profile "$run_profile" --bin rigfit -- devices | sed -n 's/^  \(\[.*\)$/  - \1/p'
+"$rigfit_bin" devices | sed -n 's/^  \(\[.*\)$/  - \1/p'
+if command -v nvidia-smi >/dev/null 2>&1; then
+    echo "- driver: $(nvidia-smi --query-gpu=name,driver_version --format=csv,noheader | head -1)"
+fi
 echo
 
 # rigfit's table: GPU rows only, every variant.
-RIGFIT_BENCH_TABLE_ONLY=1 RIGFIT_BENCH_ROWS=gpu RIGFIT_BENCH_POPS="$pops" \
-    cargo bench --profile "$profile" --bench evaluator_throughput 2>/dev/null \
-    | sed -n '/^Shipped example/,$p'
+if [[ "$skip" != *,kernels,* ]]; then
+    RIGFIT_BENCH_TABLE_ONLY=1 RIGFIT_BENCH_ROWS=gpu RIGFIT_BENCH_POPS="$pops" \
+        RIGFIT_BENCH_THREADS="${RIGFIT_GPU_BENCH_THREADS-32x32,128x32,256x32}" \
+        bench_table 2>/dev/null | sed -n '/^Shipped example/,$p'
+fi
 
 # The peers, where Python can run them.
 peer_ok() {
@@ -59,7 +102,9 @@ rows=""
 if [ ! -d "$peers" ]; then
     echo "gpu-bench: no peer folder at $peers (set RIGFIT_PEERS)" >&2
 fi
-for f in cuda_ensemble.py cuda_ensemble_tuned.py jax_ensemble.py; do
+peer_files="cuda_ensemble.py cuda_ensemble_tuned.py jax_ensemble.py"
+if [[ "$skip" == *,peers,* ]]; then peer_files=""; fi
+for f in $peer_files; do
     [ -f "$peers/$f" ] || continue
     if ! peer_ok "$f"; then
         echo "gpu-bench: $f skipped (Python lacks $(case $f in cuda_*) echo numba-cuda;; *) echo JAX;; esac))" >&2
@@ -85,5 +130,41 @@ if [ -n "$rows" ]; then
     echo
     echo "(peers: candidate-steps/s of the fastest of their own timed runs; python3 FILE POPULATION STEPS PRECISION)"
 else
-    echo "(no CUDA/JAX peer ran: Python has neither numba-cuda with a GPU nor JAX)"
+    echo "(no CUDA/JAX peer ran: left out, or Python has neither numba-cuda with a GPU nor JAX)"
+fi
+
+# The shipped campaigns end to end, on each path and with `auto`.
+campaigns="${RIGFIT_GPU_BENCH_CAMPAIGNS:-}"
+if [ "$campaigns" = all ]; then
+    campaigns=$(for f in campaigns/*.json; do
+        case "$f" in *_reference_params.json) ;; *) basename "$f" .json ;; esac
+    done | paste -sd, -)
+fi
+if [ -n "$campaigns" ]; then
+    echo
+    echo "### Shipped campaigns end to end (wall s of \`rigfit run --backend B\`)"
+    echo
+    echo "| campaign | gpu | cpu | auto (its choice) |"
+    echo "|---|---|---|---|"
+    tmp=$(mktemp -d)
+    for c in ${campaigns//,/ }; do
+        row="| $c |"
+        for b in gpu cpu auto; do
+            out="$tmp/$c-$b"
+            start=$(date +%s.%N)
+            if "$rigfit_bin" --quiet run "campaigns/$c.json" --backend "$b" --out "$out" \
+                > "$out.log" 2>&1; then
+                cell=$(awk "BEGIN { printf \"%.1f\", $(date +%s.%N) - $start }")
+                if [ "$b" = auto ]; then
+                    chose=$(sed -n 's/^  "backend": "\([a-z]*\)".*/\1/p' "$out/result.json" | head -1)
+                    cell="$cell (${chose:-?})"
+                fi
+            else
+                cell="failed: $(tail -1 "$out.log" | cut -c1-60)"
+            fi
+            row="$row $cell |"
+        done
+        echo "$row"
+    done
+    rm -rf "$tmp"
 fi

@@ -4,7 +4,9 @@
 //! the same bits, on every shipped rig campaign in both precisions (force
 //! tables sit in the same buffer after the records), and a record too long for
 //! the uniform binding falls back to the storage buffer and still matches the
-//! CPU reference.
+//! CPU reference. The kernel's other layouts, meant for speed alone
+//! (`GpuOptions::threads`), give the same bits at any workgroup size and the
+//! same fitness, to within the kernels' tolerance, with other vote groups.
 mod oracle;
 mod tensile_common;
 
@@ -17,7 +19,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rigfit::campaign::Campaign;
 use rigfit::eval::{CpuEvaluator, Evaluator, Precision, Problem};
-use rigfit::gpu::{GpuContext, GpuEvaluator, GpuOptions};
+use rigfit::gpu::{GpuContext, GpuEvaluator, GpuOptions, Threads};
 use rigfit::job::gene_specs;
 
 /// The campaigns under `campaigns/`, each shortened to at most 400 samples
@@ -140,4 +142,73 @@ fn a_record_longer_than_the_uniform_binding_is_read_from_storage() {
             );
         }
     }
+}
+
+#[test]
+fn every_workgroup_size_gives_the_same_bits_and_every_vote_group_the_same_fitness() {
+    let Some(ctx) = common::gpu() else { return };
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    // (workgroup, vote lanes, bit for bit): the vote groups are the same runs
+    // at any workgroup size; other vote groups send other steps through the
+    // crossed-step code, whose step without a switch rounds as the flat
+    // loop's does only to within the kernels' tolerance.
+    let layouts = [
+        (128, 8, true),
+        (16, 8, true),
+        (64, 32, false),
+        (64, 1, false),
+    ];
+    for c in campaigns() {
+        let batch = c.batch(&genomes(&c));
+        for precision in precisions(&ctx) {
+            let reference = evaluator(&ctx, &c.problem, precision, true)
+                .fitness(&batch)
+                .unwrap();
+            let tol = match precision {
+                Precision::F64 => rigfit::gpu::F64_HISTORY_TOLERANCE,
+                Precision::F32 => rigfit::gpu::F32_HISTORY_TOLERANCE,
+            };
+            for (workgroup, vote_lanes, exact) in layouts {
+                let threads = Threads {
+                    workgroup,
+                    vote_lanes,
+                };
+                let options = GpuOptions {
+                    threads,
+                    ..GpuOptions::default()
+                };
+                let mut e =
+                    GpuEvaluator::new(ctx.clone(), c.problem.clone(), precision, options).unwrap();
+                let got = e.fitness(&batch).unwrap();
+                let what = format!(
+                    "{} {precision:?} {threads:?}",
+                    c.problem.experiments[0].name
+                );
+                if exact {
+                    assert_eq!(bits(&reference.values), bits(&got.values), "{what}");
+                    continue;
+                }
+                for (&r, &g) in reference.values.iter().zip(&got.values) {
+                    assert!(
+                        (g - r).abs() <= 1e3 * tol * r.max(1e-3),
+                        "{what}: {g} vs {r}"
+                    );
+                }
+            }
+        }
+    }
+    // A layout the kernels cannot take is refused before any work.
+    let c = &campaigns()[0];
+    let options = GpuOptions {
+        threads: Threads {
+            workgroup: 48,
+            vote_lanes: 8,
+        },
+        ..GpuOptions::default()
+    };
+    let e = GpuEvaluator::new(ctx.clone(), c.problem.clone(), Precision::F32, options);
+    let Err(e) = e else {
+        panic!("a workgroup of 48 was taken")
+    };
+    assert!(e.to_string().contains("power of two"), "{e}");
 }

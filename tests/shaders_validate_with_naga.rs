@@ -48,6 +48,7 @@ fn sources() -> Vec<(String, Precision, Kernel, String)> {
                         force_drive,
                         record_vec4s,
                         exact_tables,
+                        threads: Default::default(),
                     };
                     let src = match kernel {
                         Kernel::ExpProbe => shaders::probe_source(precision),
@@ -137,6 +138,7 @@ fn shared_constants_reach_the_shader_unchanged() {
             force_drive: true,
             record_vec4s: None,
             exact_tables: false,
+            threads: Default::default(),
         };
         let src = shaders::source(&model, Precision::F32, Kernel::Fitness, shape, &[]);
         let m = shaders::reflect(&src, Precision::F32, Kernel::Fitness)
@@ -188,4 +190,33 @@ fn the_fitness_kernel_skips_the_switches_behind_the_break() {
         "{fitness:?}"
     );
     assert_eq!(hits(Kernel::History), vec![1; 5]);
+}
+
+#[test]
+fn the_fitness_kernels_threads_reach_its_source() {
+    use rigfit::gpu::Threads;
+    for (id, model) in gpu_models() {
+        for (workgroup, vote_lanes) in [(256, 32), (8, 1)] {
+            let shape = ProblemShape {
+                threads: Threads {
+                    workgroup,
+                    vote_lanes,
+                },
+                ..Default::default()
+            };
+            for precision in [Precision::F32, Precision::F64] {
+                let src = shaders::source(&model, precision, Kernel::Fitness, shape, &[]);
+                let m = shaders::reflect(&src, precision, Kernel::Fitness)
+                    .unwrap_or_else(|e| panic!("{id} {workgroup}x{vote_lanes}: {e}"));
+                assert_eq!(m.workgroup_size[0], workgroup, "{id}");
+                let vote = format!("const VOTE_LANES: u32 = {vote_lanes}u;");
+                assert!(src.contains(&vote), "{id}: no {vote}");
+                // The history kernel keeps its own workgroup size.
+                let src = shaders::source(&model, precision, Kernel::History, shape, &[]);
+                let h = shaders::reflect(&src, precision, Kernel::History).unwrap();
+                assert_eq!(h.workgroup_size[0], 16, "{id}");
+                assert!(src.contains(&vote), "{id}: history: no {vote}");
+            }
+        }
+    }
 }

@@ -25,7 +25,7 @@ use super::fitness_pass::Specialised;
 use super::pack::{PackedProblem, pack_problem, real_size, to_real_bytes};
 use super::pipeline::{self, Binding, Kernelled, Pending, Prepared};
 use super::run_buffers::RunBuffers;
-use super::shaders::{Kernel, ProblemShape, RECORD_BINDING};
+use super::shaders::{Kernel, ProblemShape, RECORD_BINDING, Threads};
 use super::specialise;
 use super::{GpuContext, GpuError};
 
@@ -50,6 +50,10 @@ pub struct GpuOptions {
     /// binding (see [`super::shaders::datum_fn`]); `false` reads them from
     /// the storage buffer, as a longer record does. The same bits either way.
     pub uniform_record: bool,
+    /// The fitness kernel's workgroup size and vote groups (see
+    /// [`Threads`]: the same fitness with any, to within the kernels'
+    /// tolerance).
+    pub threads: Threads,
 }
 
 impl Default for GpuOptions {
@@ -59,6 +63,7 @@ impl Default for GpuOptions {
             specialise: true,
             max_runs_per_pass: None,
             uniform_record: true,
+            threads: Threads::default(),
         }
     }
 }
@@ -128,6 +133,12 @@ impl GpuEvaluator {
         options: GpuOptions,
     ) -> Result<Self, GpuError> {
         let model = super::gpu_model(&problem)?;
+        if let Some(why) = options.threads.refusal() {
+            return Err(GpuError::Device {
+                during: "choosing the fitness kernel's threads".into(),
+                message: why,
+            });
+        }
         if precision == Precision::F64 && !ctx.has_f64() {
             return Err(GpuError::NoF64(ctx.describe()));
         }
@@ -140,6 +151,7 @@ impl GpuEvaluator {
             force_drive: force,
             record_vec4s: record_vec4s(&ctx, &packed, precision, options),
             exact_tables: exact_tables(&problem, &model),
+            threads: options.threads,
         };
         // Each kernel on an explicit layout, so that its specialised variants
         // share one bind group with it. Both are validated here; the generic

@@ -101,6 +101,7 @@ pub use context::{
 pub use evaluator::{GpuEvaluator, GpuOptions};
 pub use pack::{from_real_bytes, real_size, to_real_bytes};
 pub use probe::{Probed, probe_exp, probe_math};
+pub use shaders::Threads;
 
 use crate::eval::{Backend, CpuEvaluator, Precision, PrecisionChoice, Problem, Scores, Timed};
 use crate::model::GpuModel;

@@ -117,6 +117,73 @@ pub struct ProblemShape {
     /// mask, so without the constant each lookup paid for the search paths
     /// too: on the EMPS record that was 95 % of the kernel's time.
     pub exact_tables: bool,
+    /// The fitness kernel's workgroup size and vote groups.
+    pub threads: Threads,
+}
+
+/// How the compiled rigs' fitness kernel lays its runs on a GPU's threads: the
+/// workgroup size (`rig_fitness.wgsl`'s `@workgroup_size`) and the lanes that
+/// leave the flat step loop together when one of them crosses a switch
+/// (`shared/rig_run.wgsl`'s `VOTE_LANES`). Meant for speed alone (8 lanes suit
+/// lavapipe's 256-bit groups, a warp of 32 may suit an NVIDIA GPU's): the
+/// workgroup size changes no bit, and other vote groups send other steps
+/// through the crossed-step code, whose step without a switch agrees with the
+/// flat loop's to within the kernels' tolerance, not always to the bit
+/// (`tests/gpu_uniform_record.rs`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Threads {
+    /// Invocations per workgroup: a power of two from 8 to 256.
+    pub workgroup: u32,
+    /// Lanes per vote group: a power of two from 1 to `workgroup`.
+    pub vote_lanes: u32,
+}
+
+impl Default for Threads {
+    fn default() -> Self {
+        Threads {
+            workgroup: 64,
+            vote_lanes: 8,
+        }
+    }
+}
+
+impl Threads {
+    /// Why the kernels cannot take these threads, if they cannot.
+    pub fn refusal(self) -> Option<String> {
+        let Threads {
+            workgroup,
+            vote_lanes,
+        } = self;
+        if !(workgroup.is_power_of_two() && (8..=256).contains(&workgroup)) {
+            return Some(format!(
+                "expected a workgroup size that is a power of two from 8 to 256, found {workgroup}"
+            ));
+        }
+        if !(vote_lanes.is_power_of_two() && vote_lanes <= workgroup) {
+            return Some(format!(
+                "expected vote lanes that are a power of two up to the workgroup size \
+                 {workgroup}, found {vote_lanes}"
+            ));
+        }
+        None
+    }
+
+    /// `part` (a kernel file's text) with these threads in place of the
+    /// defaults written in the files.
+    fn apply(self, part: &str) -> String {
+        let d = Threads::default();
+        part.replace(
+            &format!("@compute @workgroup_size({})\nfn fitness_main", d.workgroup),
+            &format!(
+                "@compute @workgroup_size({})\nfn fitness_main",
+                self.workgroup
+            ),
+        )
+        .replace(
+            &format!("const VOTE_LANES: u32 = {}u;", d.vote_lanes),
+            &format!("const VOTE_LANES: u32 = {}u;", self.vote_lanes),
+        )
+    }
 }
 
 /// The binding of `record` in the fitness kernels' layout (after
@@ -280,6 +347,9 @@ pub fn source(
                 .to_string(),
             );
         }
+    }
+    if shape.threads != Threads::default() {
+        parts = parts.iter().map(|p| shape.threads.apply(p)).collect();
     }
     parts.join("\n")
 }

@@ -6,14 +6,14 @@
 //! Rust can catch that. A program that sets [`read_in_child`] (the `rigfit`
 //! binary does, at start) has [`super::hdf5::read`] start that program again
 //! as `rigfit __read-hdf5` ([`SUBCOMMAND`]), tethered to the caller
-//! ([`crate::base::tether`]): the file's bytes go to its standard input, it
+//! (`base::tether`): the file's bytes go to its standard input, it
 //! reads them in its own process and writes its [`answer`] to its standard
 //! output. A child that dies by a signal, or ends without a whole answer, is
 //! a [`FormatError`] of the file. Where nothing sets the switch (the library
 //! used directly: the Python package, the tests) HDF5 is read in process.
 //!
 //! The answer is binary, so that every `f64` (NaN payloads, -0.0, ±inf)
-//! comes back with its bits: the tag [`MAGIC`], then `0` and a record or `1`
+//! comes back with its bits: the tag `MAGIC`, then `0` and a record or `1`
 //! and an error. A record is its format, its channel count and each channel
 //! (name, unit, timing, values); an error its format and three texts. Counts
 //! and lengths are `u64`, numbers their IEEE bits, both little-endian; a

@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# Prepares, on a machine without a GPU, what scripts/gpu-bench.sh needs on a GPU
+# machine that has neither a compiler nor a package registry: the stripped release
+# `rigfit` and throughput bench, and the Vulkan loader's Debian packages, in the
+# folder .gpukit/ (git ignores it). Then, on the GPU machine, in a checkout of the
+# same commit with .gpukit/ beside it:
+#
+#     RIGFIT_GPU_KIT=.gpukit scripts/gpu-bench.sh > table.md
+#
+# builds nothing: it unpacks the loader where the machine has none, and runs the kit's
+# binaries and the CUDA/JAX peers. .gpukit/COMMIT names the commit the binaries were
+# built from; gpu-bench.sh prints it and warns when the checkout differs.
+#
+# Environment:
+#   RIGFIT_GPU_KIT_NO_GL=1   leave the loader packages out (a machine that has them)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+kit=.gpukit
+if [ -e "$kit" ] && [ ! -f "$kit/KIT" ]; then
+    echo "gpu-kit: $kit exists and is not a kit this script made; move it away first" >&2
+    exit 2
+fi
+rm -rf "$kit"
+mkdir -p "$kit/gl"
+echo "made by scripts/gpu-kit.sh" > "$kit/KIT"
+
+echo "gpu-kit: building rigfit and the throughput bench (release)" >&2
+cargo build --release --locked --bin rigfit >&2
+bench=$(cargo bench --locked --bench evaluator_throughput --no-run --message-format=json 2>/dev/null |
+    python3 -c '
+import json, sys
+for line in sys.stdin:
+    m = json.loads(line)
+    if m.get("reason") == "compiler-artifact" and m.get("executable") \
+            and m["target"]["name"] == "evaluator_throughput":
+        print(m["executable"])')
+if [ -z "$bench" ]; then
+    echo "gpu-kit: cargo named no evaluator_throughput executable" >&2
+    exit 1
+fi
+cp target/release/rigfit "$kit/rigfit"
+cp "$bench" "$kit/evaluator_throughput"
+strip "$kit/rigfit" "$kit/evaluator_throughput"
+git rev-parse HEAD > "$kit/COMMIT"
+git diff --quiet HEAD || echo "modified" >> "$kit/COMMIT"
+
+if [ -z "${RIGFIT_GPU_KIT_NO_GL:-}" ]; then
+    echo "gpu-kit: downloading the Vulkan loader packages (amd64)" >&2
+    lists=$(mktemp -d)
+    mkdir -p "$lists/partial"
+    o=(-oAPT::Architecture=amd64 -oAPT::Architectures=amd64 "-oDir::State::Lists=$lists")
+    apt-get "${o[@]}" update >&2
+    (cd "$kit/gl" && apt-get "${o[@]}" download libvulkan1 >&2)
+    rm -rf "$lists"
+fi
+du -sh "$kit" >&2
+echo "gpu-kit: ready in $kit (commit $(head -1 "$kit/COMMIT"))" >&2
