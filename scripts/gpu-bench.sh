@@ -16,8 +16,9 @@
 #                           (default 4096,16384,65536,262144,1048576,4194304)
 #   RIGFIT_GPU_BENCH_PROFILE cargo profile for the bench (default: bench, i.e. release)
 #   RIGFIT_GPU_BENCH_CAMPAIGNS  shipped campaigns to time end to end with --backend
-#                           gpu, cpu and auto (comma-separated names under campaigns/,
-#                           "all" for every one; default: none)
+#                           gpu, cpu and auto by scripts/backend-table.sh
+#                           (comma-separated names under campaigns/, "all" for
+#                           every one; default: none)
 #   RIGFIT_GPU_BENCH_SKIP   parts to leave out, comma-separated: kernels, peers
 #   RIGFIT_GPU_BENCH_THREADS  fitness-kernel layouts to add as rows, WORKGROUPxVOTE,
 #                           comma-separated (default 32x32,128x32,256x32: a warp of
@@ -133,38 +134,18 @@ else
     echo "(no CUDA/JAX peer ran: left out, or Python has neither numba-cuda with a GPU nor JAX)"
 fi
 
-# The shipped campaigns end to end, on each path and with `auto`.
+# The shipped campaigns end to end, on each path and with `auto`
+# (scripts/backend-table.sh, with this run's binary).
 campaigns="${RIGFIT_GPU_BENCH_CAMPAIGNS:-}"
-if [ "$campaigns" = all ]; then
-    campaigns=$(for f in campaigns/*.json; do
-        case "$f" in *_reference_params.json) ;; *) basename "$f" .json ;; esac
-    done | paste -sd, -)
-fi
 if [ -n "$campaigns" ]; then
     echo
-    echo "### Shipped campaigns end to end (wall s of \`rigfit run --backend B\`)"
+    echo "### Shipped campaigns end to end"
     echo
-    echo "| campaign | gpu | cpu | auto (its choice) |"
-    echo "|---|---|---|---|"
-    tmp=$(mktemp -d)
-    for c in ${campaigns//,/ }; do
-        row="| $c |"
-        for b in gpu cpu auto; do
-            out="$tmp/$c-$b"
-            start=$(date +%s.%N)
-            if "$rigfit_bin" --quiet run "campaigns/$c.json" --backend "$b" --out "$out" \
-                > "$out.log" 2>&1; then
-                cell=$(awk "BEGIN { printf \"%.1f\", $(date +%s.%N) - $start }")
-                if [ "$b" = auto ]; then
-                    chose=$(sed -n 's/^  "backend": "\([a-z]*\)".*/\1/p' "$out/result.json" | head -1)
-                    cell="$cell (${chose:-?})"
-                fi
-            else
-                cell="failed: $(tail -1 "$out.log" | cut -c1-60)"
-            fi
-            row="$row $cell |"
-        done
-        echo "$row"
-    done
-    rm -rf "$tmp"
+    if [ "$campaigns" = all ]; then
+        scripts/backend-table.sh "$rigfit_bin"
+    else
+        list=""
+        for c in ${campaigns//,/ }; do list="$list campaigns/$c.json"; done
+        RIGFIT_TABLE_CAMPAIGNS="${list# }" scripts/backend-table.sh "$rigfit_bin"
+    fi
 fi
