@@ -23,7 +23,7 @@
 use std::path::PathBuf;
 use std::sync::OnceLock;
 
-use super::{Format, FormatError, Record};
+use super::{Format, FormatError, Record, bits};
 
 /// The hidden subcommand of the `rigfit` binary that reads HDF5 for its parent.
 pub const SUBCOMMAND: &str = "__read-hdf5";
@@ -68,46 +68,17 @@ fn format_code(format: Format) -> u8 {
 /// The answer for `result`.
 fn encode(result: &Result<Record, FormatError>) -> Vec<u8> {
     let mut out = MAGIC.to_vec();
-    let count = |out: &mut Vec<u8>, n: usize| out.extend_from_slice(&(n as u64).to_le_bytes());
-    let number = |out: &mut Vec<u8>, x: f64| out.extend_from_slice(&x.to_bits().to_le_bytes());
-    let text = |out: &mut Vec<u8>, s: &str| {
-        count(out, s.len());
-        out.extend_from_slice(s.as_bytes());
-    };
     match result {
         Ok(record) => {
             out.push(0);
             out.push(format_code(record.format));
-            count(&mut out, record.channels.len());
-            for c in &record.channels {
-                text(&mut out, &c.name);
-                match &c.unit {
-                    Some(unit) => {
-                        out.push(1);
-                        text(&mut out, unit);
-                    }
-                    None => out.push(0),
-                }
-                match c.timing {
-                    Some(w) => {
-                        out.push(1);
-                        number(&mut out, w.start);
-                        number(&mut out, w.increment);
-                    }
-                    None => out.push(0),
-                }
-                count(&mut out, c.values.len());
-                out.reserve(8 * c.values.len());
-                for &v in &c.values {
-                    number(&mut out, v);
-                }
-            }
+            bits::channels(&mut out, &record.channels);
         }
         Err(e) => {
             out.push(1);
             out.push(format_code(e.format));
             for s in [&e.at, &e.expected, &e.found] {
-                text(&mut out, s);
+                bits::text(&mut out, s);
             }
         }
     }

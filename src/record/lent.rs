@@ -64,10 +64,9 @@ impl Lent {
 
 impl Loan {
     /// The bytes a digest of this record is taken over: a file's own, or a
-    /// record's channels in a fixed layout (each channel's name, unit and
-    /// timing, then its values as little-endian `f64` bits, every length
-    /// given before what it counts), so two records digest alike exactly
-    /// when they hold the same names, units, timings and bits.
+    /// record's channels in the layout of `record/bits.rs`, so two records
+    /// digest alike exactly when they hold the same names, units, timings
+    /// and bits.
     pub fn digest_bytes(&self) -> std::borrow::Cow<'_, [u8]> {
         match self {
             Loan::Bytes(b) => std::borrow::Cow::Borrowed(b),
@@ -112,32 +111,7 @@ pub fn record_of(names: Vec<String>, columns: Vec<Vec<f64>>) -> Option<Record> {
 fn canonical(r: &Record) -> Vec<u8> {
     let values: usize = r.channels.iter().map(|c| c.values.len()).sum();
     let mut out = Vec::with_capacity(8 * values + 64 * r.channels.len());
-    let text = |out: &mut Vec<u8>, s: &str| {
-        out.extend_from_slice(&(s.len() as u64).to_le_bytes());
-        out.extend_from_slice(s.as_bytes());
-    };
-    for c in &r.channels {
-        text(&mut out, &c.name);
-        match &c.unit {
-            Some(u) => {
-                out.push(1);
-                text(&mut out, u);
-            }
-            None => out.push(0),
-        }
-        match c.timing {
-            Some(w) => {
-                out.push(1);
-                out.extend_from_slice(&w.start.to_bits().to_le_bytes());
-                out.extend_from_slice(&w.increment.to_bits().to_le_bytes());
-            }
-            None => out.push(0),
-        }
-        out.extend_from_slice(&(c.values.len() as u64).to_le_bytes());
-        for v in &c.values {
-            out.extend_from_slice(&v.to_bits().to_le_bytes());
-        }
-    }
+    super::bits::channels(&mut out, &r.channels);
     out
 }
 

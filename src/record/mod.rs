@@ -4,6 +4,7 @@
 //! their values, their units where the file records one, and their sample
 //! timing where the file gives it as a waveform (start and increment).
 
+mod bits;
 pub(crate) mod bytes;
 pub mod csv;
 pub mod detect;
