@@ -46,11 +46,6 @@ impl Lent {
         self.loans.iter().find(|(p, _)| p == path).map(|(_, l)| l)
     }
 
-    /// Whether nothing is lent.
-    pub fn is_empty(&self) -> bool {
-        self.loans.is_empty()
-    }
-
     /// The record at `path`: lent, or read from its file through
     /// [`crate::base::fsutil::read_record`] (a regular file within the
     /// record size limit).
