@@ -14,7 +14,7 @@
 //! reader's child (`record::hdf5_child`) run tethered.
 
 use std::path::PathBuf;
-use std::process::Command;
+use std::process::{Child, Command};
 use std::sync::OnceLock;
 
 /// The shell between `setpriv` and the child: the child in the background
@@ -22,10 +22,29 @@ use std::sync::OnceLock;
 /// on, the group killed on SIGTERM.
 const TETHER: &str = r#"trap 'kill -KILL 0' TERM; exec 3<&0; "$@" <&3 3<&- & exec 3<&-; wait $!"#;
 
-/// `cmd`, tethered where this system allows it (see the module's text).
-/// The caller puts the returned command in a process group of its own, and
-/// sets its standard input and output on it (those of `cmd` are not kept).
+/// `cmd`, tethered where this system allows it (see the module's text), in
+/// a process group of its own ([`stop`] ends the group). The caller sets its
+/// standard input and output on the returned command (those of `cmd` are
+/// not kept).
 pub(crate) fn tethered(cmd: Command) -> Command {
+    let mut t = tether(cmd);
+    #[cfg(unix)]
+    std::os::unix::process::CommandExt::process_group(&mut t, 0);
+    t
+}
+
+/// Stops a child started from [`tethered`] and everything it started (its
+/// process group). The caller still waits for it.
+pub(crate) fn stop(child: &mut Child) {
+    #[cfg(unix)]
+    {
+        let group = rustix::process::Pid::from_child(child);
+        let _ = rustix::process::kill_process_group(group, rustix::process::Signal::KILL);
+    }
+    let _ = child.kill();
+}
+
+fn tether(cmd: Command) -> Command {
     let Some(setpriv) = setpriv() else {
         return cmd;
     };

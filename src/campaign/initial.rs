@@ -209,7 +209,7 @@ fn from_data(
     })?;
     // Read in the record's own format, as its measured channels are.
     let mut record = super::record_file::Shared::default();
-    record.lend(loan, 0);
+    record.hold(loan);
     let (series, _) =
         super::record_file::read(&mut record, &data_file, &x.data, &spec).map_err(data_err)?;
     if series.force.len() < samples {

@@ -79,18 +79,24 @@ pub(super) struct Shared {
 }
 
 impl Shared {
-    /// Holds `loan` as the experiment's record; returns `digest` extended
-    /// with it.
+    /// Holds `loan` as the experiment's record, for reading alone (no
+    /// digest taken).
+    pub(super) fn hold(&mut self, loan: Loan) {
+        if let Loan::Record(r) = &loan {
+            self.parsed = Some(r.clone());
+        }
+        self.loan = Some(loan);
+    }
+
+    /// Holds `loan` as the experiment's record and takes its SHA-256;
+    /// returns `digest` extended with it.
     pub(super) fn lend(&mut self, loan: Loan, digest: u64) -> u64 {
         use sha2::Digest as _;
         let bytes = loan.digest_bytes();
         let digest = super::fnv1a(digest, &bytes);
         self.sha256 = sha2::Sha256::digest(&bytes).into();
         drop(bytes);
-        if let Loan::Record(r) = &loan {
-            self.parsed = Some(r.clone());
-        }
-        self.loan = Some(loan);
+        self.hold(loan);
         digest
     }
 }

@@ -234,8 +234,6 @@ mod parent {
         cmd.stdin(Stdio::piped())
             .stdout(Stdio::piped())
             .stderr(Stdio::piped());
-        #[cfg(unix)]
-        std::os::unix::process::CommandExt::process_group(&mut cmd, 0);
         let mut child = cmd.spawn().map_err(|e| {
             failed(format!(
                 "no process to read it: `{} {SUBCOMMAND}` could not be started: {e}",
@@ -245,7 +243,7 @@ mod parent {
         let (Some(mut stdin), Some(mut stdout), Some(mut stderr)) =
             (child.stdin.take(), child.stdout.take(), child.stderr.take())
         else {
-            stop(&mut child);
+            crate::base::tether::stop(&mut child);
             return Err(failed("no pipes to the process reading it".to_string()));
         };
         let most = most_answer(bytes.len());
@@ -266,7 +264,7 @@ mod parent {
             let mut answer = Vec::new();
             let read = (&mut stdout).take(most as u64 + 1).read_to_end(&mut answer);
             if read.is_err() || answer.len() > most {
-                stop(&mut child);
+                crate::base::tether::stop(&mut child);
             }
             drop(stdout);
             let status = child.wait();
@@ -282,16 +280,6 @@ mod parent {
             Some(result) if status.success() => result,
             _ => Err(failed(ended(status, answer.len(), &said))),
         }
-    }
-
-    /// Stops the child and whatever it started.
-    fn stop(child: &mut std::process::Child) {
-        #[cfg(unix)]
-        {
-            let group = rustix::process::Pid::from_child(child);
-            let _ = rustix::process::kill_process_group(group, rustix::process::Signal::KILL);
-        }
-        let _ = child.kill();
     }
 
     /// How a child without a whole answer ended, for the error's `found`.

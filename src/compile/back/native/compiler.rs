@@ -48,8 +48,6 @@ fn run_limited(
     cmd.stdin(std::process::Stdio::null())
         .stdout(stdout)
         .stderr(err);
-    #[cfg(unix)]
-    std::os::unix::process::CommandExt::process_group(&mut cmd, 0);
     let mut child = cmd.spawn().map_err(|e| format!("could not be run: {e}"))?;
     let started = std::time::Instant::now();
     let mut pause = std::time::Duration::from_millis(1);
@@ -62,13 +60,7 @@ fn run_limited(
             }
             other => {
                 // The compiler's own processes (cc1, as, ld) go with it.
-                #[cfg(unix)]
-                {
-                    let group = rustix::process::Pid::from_child(&child);
-                    let _ =
-                        rustix::process::kill_process_group(group, rustix::process::Signal::KILL);
-                }
-                let _ = child.kill();
+                crate::base::tether::stop(&mut child);
                 let _ = child.wait();
                 return Err(match other {
                     Err(e) => format!("could not be waited for: {e}"),
