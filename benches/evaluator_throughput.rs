@@ -25,7 +25,14 @@
 //! measured column, say);
 //! `RIGFIT_BENCH_THREADS=128x32,…` adds GPU rows whose fitness kernel has that
 //! workgroup size and that many vote lanes (`GpuOptions::threads`; the rows'
-//! names end in `-wg128v32`);
+//! names end in `-wg128v32`), and `RIGFIT_BENCH_KNOBS=unchecked,storage,chunk512`
+//! rows with one other option each (`GpuOptions::runtime_checks` off, the
+//! record read from storage, 512 steps per dispatch; names end in
+//! `-unchecked`, …);
+//! `RIGFIT_BENCH_STATS=1` prints, instead of timing, the driver's statistics of
+//! each GPU row's fitness kernel (registers per thread and the like, where the
+//! driver offers `VK_KHR_pipeline_executable_properties`: an NVIDIA driver
+//! does, lavapipe does not);
 //! `RIGFIT_BENCH_CPU_TIME=1` adds candidate-steps per CPU-second of the process
 //! (its CPU-time clock, all threads, lavapipe's included).
 //! `RIGFIT_LANES_ISA=avx2 GALLIUM_OVERRIDE_CPU_CAPS=avx` runs both paths as on
@@ -45,6 +52,8 @@ mod cpu_time;
 mod machine;
 #[path = "common/population.rs"]
 mod population;
+#[path = "common/vk_stats.rs"]
+mod vk_stats;
 use cpu_time::process_cpu_seconds;
 use population::{env_list, seeded_batch, steps};
 use std::path::Path;
@@ -96,18 +105,27 @@ fn batch(n: usize) -> Batch {
 
 type Factory = Box<dyn Fn() -> Box<dyn Evaluator>>;
 
-/// A table row: its name and its evaluator.
-type Row = (&'static str, Factory);
+/// What a GPU row runs: its device, precision and options.
+struct GpuRow {
+    ctx: GpuContext,
+    precision: Precision,
+    options: GpuOptions,
+}
+
+/// A table row: its name, its evaluator and, for a GPU row, what it runs.
+type Row = (&'static str, Factory, Option<GpuRow>);
 
 fn evaluators() -> Vec<Row> {
     let mut v: Vec<Row> = vec![
         (
             "cpu-1-thread",
             Box::new(|| Box::new(CpuEvaluator::new(problem(), 1))),
+            None,
         ),
         (
             "cpu-all-threads",
             Box::new(|| Box::new(CpuEvaluator::new(problem(), 0))),
+            None,
         ),
         (
             "cpu-all-threads-f32",
@@ -116,6 +134,7 @@ fn evaluators() -> Vec<Row> {
                 ev.use_f32().expect("the C compiler builds the f32 lanes");
                 Box::new(ev)
             }),
+            None,
         ),
     ];
     match GpuContext::new() {
@@ -124,36 +143,17 @@ fn evaluators() -> Vec<Row> {
             if ctx.has_f64() {
                 precisions.push(("f64", Precision::F64));
             }
-            // The kernel's layouts to compare (`RIGFIT_BENCH_THREADS`, e.g.
-            // "64x8,128x32": workgroup size x vote lanes), the default first.
-            let mut layouts = vec![("".to_string(), Threads::default())];
-            for l in env_list("RIGFIT_BENCH_THREADS").unwrap_or_default() {
-                let parsed = l.split_once('x').and_then(|(w, v)| {
-                    Some(Threads {
-                        workgroup: w.trim().parse().ok()?,
-                        vote_lanes: v.trim().parse().ok()?,
-                    })
-                });
-                match parsed {
-                    Some(t) if t != Threads::default() => {
-                        layouts.push((format!("-wg{}v{}", t.workgroup, t.vote_lanes), t))
-                    }
-                    Some(_) => {}
-                    None => panic!("RIGFIT_BENCH_THREADS: expected WORKGROUPxVOTE, found {l:?}"),
-                }
-            }
             let variants = [(true, ""), (false, "-generic")];
-            for ((specialise, suffix), (lname, threads)) in variants
+            for ((specialise, suffix), (vname, tuned)) in variants
                 .iter()
-                .flat_map(|v| layouts.iter().map(move |l| (*v, l.clone())))
+                .flat_map(|v| kernel_variants().into_iter().map(move |k| (*v, k)))
             {
                 for &(pname, precision) in &precisions {
-                    let name: &'static str = format!("gpu-{pname}{suffix}{lname}").leak();
+                    let name: &'static str = format!("gpu-{pname}{suffix}{vname}").leak();
                     let c = ctx.clone();
                     let options = GpuOptions {
                         specialise,
-                        threads,
-                        ..GpuOptions::default()
+                        ..tuned
                     };
                     v.push((
                         name,
@@ -163,6 +163,11 @@ fn evaluators() -> Vec<Row> {
                                     .unwrap(),
                             )
                         }),
+                        Some(GpuRow {
+                            ctx: ctx.clone(),
+                            precision,
+                            options,
+                        }),
                     ));
                 }
             }
@@ -170,6 +175,56 @@ fn evaluators() -> Vec<Row> {
         Err(e) => eprintln!("no GPU ({e}); GPU rows skipped"),
     }
     v
+}
+
+/// The GPU kernel variants to compare, each a row name's suffix and its
+/// options: the default first, then one per layout of `RIGFIT_BENCH_THREADS`
+/// (e.g. "64x8,128x32": workgroup size x vote lanes; `-wg128v32`) and one per
+/// knob of `RIGFIT_BENCH_KNOBS` (`unchecked`: without wgpu's runtime checks;
+/// `storage`: the record read from the storage buffer, not its uniform copy;
+/// `chunkN`: N steps per dispatch), each on the default layout.
+fn kernel_variants() -> Vec<(String, GpuOptions)> {
+    let mut out = vec![(String::new(), GpuOptions::default())];
+    for l in env_list("RIGFIT_BENCH_THREADS").unwrap_or_default() {
+        let parsed = l.split_once('x').and_then(|(w, v)| {
+            Some(Threads {
+                workgroup: w.trim().parse().ok()?,
+                vote_lanes: v.trim().parse().ok()?,
+            })
+        });
+        match parsed {
+            Some(t) if t != Threads::default() => out.push((
+                format!("-wg{}v{}", t.workgroup, t.vote_lanes),
+                GpuOptions {
+                    threads: t,
+                    ..GpuOptions::default()
+                },
+            )),
+            Some(_) => {}
+            None => panic!("RIGFIT_BENCH_THREADS: expected WORKGROUPxVOTE, found {l:?}"),
+        }
+    }
+    for knob in env_list("RIGFIT_BENCH_KNOBS").unwrap_or_default() {
+        let d = GpuOptions::default();
+        let options = match knob.as_str() {
+            "unchecked" => GpuOptions {
+                runtime_checks: false,
+                ..d
+            },
+            "storage" => GpuOptions {
+                uniform_record: false,
+                ..d
+            },
+            k => match k.strip_prefix("chunk").and_then(|n| n.parse().ok()) {
+                Some(chunk_steps) => GpuOptions { chunk_steps, ..d },
+                None => {
+                    panic!("RIGFIT_BENCH_KNOBS: expected unchecked, storage or chunkN, found {k:?}")
+                }
+            },
+        };
+        out.push((format!("-{knob}"), options));
+    }
+    out
 }
 
 fn populations() -> Vec<usize> {
@@ -192,7 +247,7 @@ fn print_table(evals: &[Row]) {
     let head: String = pops.iter().map(|n| format!(" {n} |")).collect();
     let rule: String = pops.iter().map(|_| "---|").collect();
     println!("\n| evaluator |{head}\n|---|{rule}");
-    for (name, make) in evals {
+    for (name, make, _) in evals {
         let mut eval = make();
         let mut row = format!("| {name} |");
         for &n in &pops {
@@ -249,9 +304,9 @@ fn print_pairs(evals: &[Row], rounds: usize) {
         "\n| pair | population | specialised ÷ generic, median of {rounds} rounds | fastest ÷ fastest | generic, fastest (/cpu-s) | specialised, fastest (/cpu-s) |\n|---|---|---|---|---|---|"
     );
     let steps = steps(&problem());
-    for (name, make) in evals.iter() {
+    for (name, make, _) in evals.iter() {
         let twin = format!("{name}-generic");
-        let Some((_, make_generic)) = evals.iter().find(|r| r.0 == twin) else {
+        let Some((_, make_generic, _)) = evals.iter().find(|r| r.0 == twin) else {
             continue;
         };
         let (mut generic, mut special) = (make_generic(), make());
@@ -281,6 +336,62 @@ fn print_pairs(evals: &[Row], rounds: usize) {
     }
 }
 
+/// `RIGFIT_BENCH_STATS=1`: instead of timing, the driver's statistics of the
+/// fitness kernel each GPU row compiles (registers per thread and the like,
+/// through `VK_KHR_pipeline_executable_properties`: benches/common/vk_stats.rs),
+/// after one batch of the first population (where a row specialises, the
+/// kernel specialised to it). A driver without the extension has none: every
+/// kernel is still built, and the table says so.
+fn print_stats(evals: &[Row]) {
+    let stats = match vk_stats::VkStats::open(std::env::var("RIGFIT_ADAPTER").ok().as_deref()) {
+        Ok(s) => s,
+        Err(e) => panic!("kernel statistics: {e}"),
+    };
+    let n = populations().first().copied().unwrap_or(4096);
+    println!(
+        "\nDriver statistics of the fitness kernels (population {n}): {}",
+        stats.about
+    );
+    let mut columns: Vec<String> = vec![];
+    let mut rows: Vec<(&str, Vec<(String, String)>)> = vec![];
+    for (name, _, gpu) in evals {
+        let Some(g) = gpu else { continue };
+        let mut e = GpuEvaluator::new(g.ctx.clone(), problem(), g.precision, g.options).unwrap();
+        e.fitness(&batch(n)).unwrap();
+        let (src, trusted) = e.fitness_source();
+        let got = stats
+            .statistics(&src, "fitness_main", g.precision, trusted)
+            .unwrap_or_else(|why| panic!("{name}: {why}"));
+        let mut cells = vec![];
+        for s in got {
+            let key = format!("{}: {}", s.executable, s.name);
+            if !columns.contains(&key) {
+                columns.push(key.clone());
+            }
+            cells.push((key, s.value));
+        }
+        rows.push((name, cells));
+    }
+    if columns.is_empty() {
+        println!("\n(every kernel built; the driver gives no statistics)\n");
+        return;
+    }
+    let head: String = columns.iter().map(|c| format!(" {c} |")).collect();
+    let rule: String = columns.iter().map(|_| "---|").collect();
+    println!("\n| kernel |{head}\n|---|{rule}");
+    for (name, cells) in rows {
+        let row: String = columns
+            .iter()
+            .map(|c| {
+                let v = cells.iter().find(|(k, _)| k == c).map(|(_, v)| v.as_str());
+                format!(" {} |", v.unwrap_or("—"))
+            })
+            .collect();
+        println!("| {name} |{row}");
+    }
+    println!();
+}
+
 fn main() {
     let mut evals = evaluators();
     if let Some(rows) = env_list("RIGFIT_BENCH_ROWS") {
@@ -291,6 +402,10 @@ fn main() {
         .and_then(|v| v.parse::<usize>().ok())
     {
         print_pairs(&evals, rounds.max(1));
+        return;
+    }
+    if std::env::var_os("RIGFIT_BENCH_STATS").is_some() {
+        print_stats(&evals);
         return;
     }
     print_table(&evals);
@@ -304,7 +419,7 @@ fn main() {
         .configure_from_args();
     let steps = steps(&problem());
     let mut group = c.benchmark_group("candidate_steps");
-    for (name, make) in &evals {
+    for (name, make, _) in &evals {
         let mut eval = make();
         for n in POPULATIONS {
             let b = batch(n);

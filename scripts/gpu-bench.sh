@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # The throughput table for issue-style reports, in one command on a machine with
 # a GPU: builds the bench in release, prints the adapter, date, driver and commit,
-# then rigfit's candidate-steps/s on the shipped example (2 500 RK4 steps per
-# candidate) for every GPU kernel variant (f32/f64, specialised as a calibration
-# runs them and generic, every variant the bench has)
-# at each population, and the CUDA/JAX peers of benches/peers (or $RIGFIT_PEERS)
+# then the driver's statistics of every fitness-kernel variant (registers per
+# thread, where the driver offers them), rigfit's candidate-steps/s on the
+# shipped example (2 500 RK4 steps per candidate) for the default kernels
+# (f32/f64, specialised as a calibration runs them and generic) at each
+# population and for every other variant (layouts, no runtime checks, the
+# record from storage, longer dispatches) at 65 536, and the CUDA/JAX peers of benches/peers (or $RIGFIT_PEERS)
 # at the same populations where Python has numba-cuda or JAX. Output is Markdown.
 #
 # Environment:
@@ -19,10 +21,18 @@
 #                           gpu, cpu and auto by scripts/backend-table.sh
 #                           (comma-separated names under campaigns/, "all" for
 #                           every one; default: none)
-#   RIGFIT_GPU_BENCH_SKIP   parts to leave out, comma-separated: kernels, peers
+#   RIGFIT_GPU_BENCH_SKIP   parts to leave out, comma-separated: tests, stats,
+#                           kernels, variants, peers
 #   RIGFIT_GPU_BENCH_THREADS  fitness-kernel layouts to add as rows, WORKGROUPxVOTE,
 #                           comma-separated (default 32x32,128x32,256x32: a warp of
 #                           32 votes together; the default rows are 64x8)
+#   RIGFIT_GPU_BENCH_KNOBS  other kernel variants to add as rows (the bench's
+#                           RIGFIT_BENCH_KNOBS; default unchecked,storage,chunk8192)
+#   RIGFIT_GPU_BENCH_VARIANT_POPS  populations at which those rows are timed
+#                           (default 65536; the default kernels are timed at
+#                           every population of RIGFIT_GPU_BENCH_POPS)
+#   RIGFIT_GPU_BENCH_LOGS   folder for the kit's GPU tests' logs (default: a new
+#                           temporary folder)
 #   RIGFIT_PEERS            folder of the peer scripts (default: benches/peers,
 #                           relative to the repository root)
 #   RIGFIT_ADAPTER          which adapter (index, PCI bus id or piece of the name)
@@ -84,11 +94,62 @@ if command -v nvidia-smi >/dev/null 2>&1; then
 fi
 echo
 
-# rigfit's table: GPU rows only, every variant.
+# The kit's GPU tests, on this machine's adapter with RIGFIT_REQUIRE_GPU=1. They
+# read the repository's files from the folder they were built in: where that
+# folder is missing here, it is made a link to this checkout.
+if [ -n "$kit" ] && [ -d "$kit/tests" ] && [[ "$skip" != *,tests,* ]]; then
+    root="$(cat "$kit/ROOT")"
+    if [ ! -e "$root" ]; then
+        mkdir -p "$(dirname "$root")"
+        ln -s "$PWD" "$root"
+    fi
+    logs="${RIGFIT_GPU_BENCH_LOGS:-$(mktemp -d)}"
+    mkdir -p "$logs"
+    echo "### GPU tests (RIGFIT_REQUIRE_GPU=1, release; logs in $logs)"
+    echo
+    echo "| test | result | seconds |"
+    echo "|---|---|---|"
+    for t in "$kit"/tests/*; do
+        name="$(basename "$t")"
+        start=$(date +%s.%N)
+        if (cd "$root" && timeout 300 "$t" > "$logs/$name.log" 2>&1); then
+            result="$(grep -E '^test result' "$logs/$name.log" | tail -1 | sed 's/^test result: //; s/; finished.*//')"
+        else
+            result="FAILED (exit $?): $(grep -E 'panicked|^test .* FAILED' "$logs/$name.log" | head -3 | tr '\n' ' ' | cut -c1-400)"
+        fi
+        echo "| $name | $result | $(awk "BEGIN { printf \"%.1f\", $(date +%s.%N) - $start }") |"
+    done
+    echo
+fi
+
+threads="${RIGFIT_GPU_BENCH_THREADS-32x32,128x32,256x32}"
+knobs="${RIGFIT_GPU_BENCH_KNOBS-unchecked,storage,chunk8192}"
+vpops="${RIGFIT_GPU_BENCH_VARIANT_POPS:-65536}"
+
+# The driver's statistics of every variant's fitness kernel (registers per
+# thread and the like, where the driver offers them): seconds, no timing.
+if [[ "$skip" != *,stats,* ]]; then
+    RIGFIT_BENCH_STATS=1 RIGFIT_BENCH_ROWS=gpu RIGFIT_BENCH_POPS=4096 \
+        RIGFIT_BENCH_THREADS="$threads" RIGFIT_BENCH_KNOBS="$knobs" \
+        bench_table 2>/dev/null | sed -n '/^Driver statistics/,$p'
+fi
+
+# rigfit's table: the default kernels (specialised and generic, f32 and f64)
+# at every population.
 if [[ "$skip" != *,kernels,* ]]; then
     RIGFIT_BENCH_TABLE_ONLY=1 RIGFIT_BENCH_ROWS=gpu RIGFIT_BENCH_POPS="$pops" \
-        RIGFIT_BENCH_THREADS="${RIGFIT_GPU_BENCH_THREADS-32x32,128x32,256x32}" \
+        RIGFIT_BENCH_THREADS="" RIGFIT_BENCH_KNOBS="" \
         bench_table 2>/dev/null | sed -n '/^Shipped example/,$p'
+fi
+
+# Every variant (layouts and knobs) beside the default kernels, at the
+# variants' populations.
+if [[ "$skip" != *,variants,* ]] && [ -n "$threads$knobs" ]; then
+    echo "### Kernel variants"
+    echo
+    RIGFIT_BENCH_TABLE_ONLY=1 RIGFIT_BENCH_ROWS=gpu RIGFIT_BENCH_POPS="$vpops" \
+        RIGFIT_BENCH_THREADS="$threads" RIGFIT_BENCH_KNOBS="$knobs" \
+        bench_table 2>/dev/null | sed -n '/^| evaluator/,$p'
 fi
 
 # The peers, where Python can run them.

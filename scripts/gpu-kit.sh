@@ -11,8 +11,14 @@
 # binaries and the CUDA/JAX peers. .gpukit/COMMIT names the commit the binaries were
 # built from; gpu-bench.sh prints it and warns when the checkout differs.
 #
+# The kit also holds the GPU tests, built in release and stripped (.gpukit/tests/),
+# which gpu-bench.sh runs there with RIGFIT_REQUIRE_GPU=1; they read the repository's
+# files from the folder they were built in, recorded in .gpukit/ROOT.
+#
 # Environment:
 #   RIGFIT_GPU_KIT_NO_GL=1   leave the loader packages out (a machine that has them)
+#   RIGFIT_GPU_KIT_TESTS     the GPU tests to build into the kit, comma-separated
+#                            (default: the parity tests below; "" for none)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -42,6 +48,34 @@ fi
 cp target/release/rigfit "$kit/rigfit"
 cp "$bench" "$kit/evaluator_throughput"
 strip "$kit/rigfit" "$kit/evaluator_throughput"
+
+# The GPU tests, each an executable of its own.
+tests="${RIGFIT_GPU_KIT_TESTS-gpu_cpu_parity,gpu_rig_parity,gpu_controller_parity,gpu_channels_parity,gpu_measured_column_drive,gpu_multi_experiment_parity,gpu_mixed_drive_modes,gpu_specialised_kernels,gpu_polish_residuals,gpu_split_batches,gpu_uniform_record,gpu_exp_matches_std,gpu_kernel_statistics}"
+if [ -n "$tests" ]; then
+    echo "gpu-kit: building the GPU tests (release): $tests" >&2
+    mkdir -p "$kit/tests"
+    args=()
+    for t in ${tests//,/ }; do args+=(--test "$t"); done
+    cargo test --release --locked --no-run --message-format=json "${args[@]}" 2>/dev/null |
+        python3 -c '
+import json, sys
+for line in sys.stdin:
+    m = json.loads(line)
+    if m.get("reason") == "compiler-artifact" and m.get("executable") \
+            and "test" in m["target"]["kind"]:
+        print(m["target"]["name"], m["executable"])' |
+        while read -r name exe; do
+            cp "$exe" "$kit/tests/$name"
+            strip "$kit/tests/$name"
+        done
+    for t in ${tests//,/ }; do
+        if [ ! -x "$kit/tests/$t" ]; then
+            echo "gpu-kit: cargo built no test $t" >&2
+            exit 1
+        fi
+    done
+    pwd > "$kit/ROOT"
+fi
 git rev-parse HEAD > "$kit/COMMIT"
 git diff --quiet HEAD || echo "modified" >> "$kit/COMMIT"
 

@@ -6,7 +6,9 @@
 //! the uniform binding falls back to the storage buffer and still matches the
 //! CPU reference. The kernel's other layouts, meant for speed alone
 //! (`GpuOptions::threads`), give the same bits at any workgroup size and the
-//! same fitness, to within the kernels' tolerance, with other vote groups.
+//! same fitness, to within the kernels' tolerance, with other vote groups;
+//! and the kernels compiled without wgpu's runtime checks
+//! (`GpuOptions::runtime_checks`) give the same bits as with them.
 mod oracle;
 mod tensile_common;
 
@@ -211,4 +213,40 @@ fn every_workgroup_size_gives_the_same_bits_and_every_vote_group_the_same_fitnes
         panic!("a workgroup of 48 was taken")
     };
     assert!(e.to_string().contains("power of two"), "{e}");
+}
+
+#[test]
+fn the_kernels_without_runtime_checks_give_the_same_bits() {
+    let Some(ctx) = common::gpu() else { return };
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    let unchecked = GpuOptions {
+        runtime_checks: false,
+        ..GpuOptions::default()
+    };
+    for c in campaigns() {
+        // 96 runs: past specialise::MIN_RUNS, so the specialised kernel
+        // scores it too (one generic pass, one specialised).
+        let mut g = genomes(&c);
+        g = g.iter().cycle().take(96).cloned().collect();
+        let batch = c.batch(&g);
+        for precision in precisions(&ctx) {
+            for specialise in [false, true] {
+                let with = |o: GpuOptions| {
+                    let o = GpuOptions { specialise, ..o };
+                    GpuEvaluator::new(ctx.clone(), c.problem.clone(), precision, o)
+                        .unwrap()
+                        .fitness(&batch)
+                        .unwrap()
+                };
+                let checked = with(GpuOptions::default());
+                let got = with(unchecked);
+                assert_eq!(
+                    bits(&checked.values),
+                    bits(&got.values),
+                    "{} {precision:?} specialised {specialise}",
+                    c.problem.experiments[0].name
+                );
+            }
+        }
+    }
 }

@@ -49,6 +49,7 @@ fn sources() -> Vec<(String, Precision, Kernel, String)> {
                         record_vec4s,
                         exact_tables,
                         threads: Default::default(),
+                        trusted: false,
                     };
                     let src = match kernel {
                         Kernel::ExpProbe => shaders::probe_source(precision),
@@ -139,6 +140,7 @@ fn shared_constants_reach_the_shader_unchanged() {
             record_vec4s: None,
             exact_tables: false,
             threads: Default::default(),
+            trusted: false,
         };
         let src = shaders::source(&model, Precision::F32, Kernel::Fitness, shape, &[]);
         let m = shaders::reflect(&src, Precision::F32, Kernel::Fitness)

@@ -32,9 +32,13 @@ pub fn steps(problem: &Problem) -> usize {
         .sum()
 }
 
-/// The comma-separated items of environment variable `name`, if set.
+/// The comma-separated items of environment variable `name`, if set (empty
+/// items left out: set to "", an empty list).
 pub fn env_list(name: &str) -> Option<Vec<String>> {
-    std::env::var(name)
-        .ok()
-        .map(|v| v.split(',').map(|s| s.trim().to_string()).collect())
+    std::env::var(name).ok().map(|v| {
+        v.split(',')
+            .map(|s| s.trim().to_string())
+            .filter(|s| !s.is_empty())
+            .collect()
+    })
 }

@@ -54,6 +54,16 @@ pub struct GpuOptions {
     /// [`Threads`]: the same fitness with any, to within the kernels'
     /// tolerance).
     pub threads: Threads,
+    /// Keep wgpu's runtime checks in the kernels (the default): an index into
+    /// an array in function memory clamped, every loop bounded by a trip
+    /// counter. `false` compiles the kernels with none
+    /// ([`wgpu::Device::create_shader_module_trusted`]), for speed alone: the
+    /// kernels index their arrays within bounds and end every loop by
+    /// construction (`docs/engineering/kernels.md`, "Unsafe code"), and
+    /// storage and uniform reads stay inside their buffers by the device's
+    /// robust buffer access either way. The same bits either way
+    /// (`tests/gpu_uniform_record.rs`).
+    pub runtime_checks: bool,
 }
 
 impl Default for GpuOptions {
@@ -64,6 +74,7 @@ impl Default for GpuOptions {
             max_runs_per_pass: None,
             uniform_record: true,
             threads: Threads::default(),
+            runtime_checks: true,
         }
     }
 }
@@ -152,6 +163,7 @@ impl GpuEvaluator {
             record_vec4s: record_vec4s(&ctx, &packed, precision, options),
             exact_tables: exact_tables(&problem, &model),
             threads: options.threads,
+            trusted: !options.runtime_checks,
         };
         // Each kernel on an explicit layout, so that its specialised variants
         // share one bind group with it. Both are validated here; the generic
@@ -238,6 +250,24 @@ impl GpuEvaluator {
     pub fn specialised_constants(&self) -> Option<usize> {
         self.last_specialised
             .map(|i| specialise::count(&self.specialised[i].baked))
+    }
+
+    /// The WGSL of the fitness kernel that scored the last batch (the generic
+    /// kernel's before any batch), with whether it was compiled without
+    /// wgpu's runtime checks ([`GpuOptions::runtime_checks`]): what the
+    /// driver compiled, for tools that read the driver's statistics of it.
+    pub fn fitness_source(&self) -> (String, bool) {
+        let src = match self.last_specialised {
+            Some(i) => super::shaders::source(
+                &self.model,
+                self.precision,
+                Kernel::Fitness,
+                self.shape,
+                &self.specialised[i].baked,
+            ),
+            None => self.fitness_generic.source().to_string(),
+        };
+        (src, self.shape.trusted)
     }
 
     /// The runs per dispatch of the batches scored so far (for tests and

@@ -246,6 +246,31 @@ pub struct Opened {
     pub evaluator: Box<dyn Timed>,
     /// One line to tell the user, if any.
     pub note: Option<String>,
+    /// Whether the evaluator runs on a discrete GPU (which runs tens of
+    /// thousands of runs at once: [`underfilled`]).
+    pub discrete_gpu: bool,
+}
+
+/// Runs per batch under which a discrete GPU is far from full: such a GPU
+/// keeps tens of thousands of invocations resident (an NVIDIA H200: 132
+/// multiprocessors of up to 2 048 threads), so a batch of fewer than this
+/// many runs takes about as long as one this size.
+pub const UNDERFILLED_RUNS: usize = 8192;
+
+/// What to tell a job on a discrete GPU whose batches of `runs` runs
+/// (`population` candidates × `experiments`) leave it far from full
+/// ([`UNDERFILLED_RUNS`]); `None` where they do not.
+pub fn underfilled(population: usize, experiments: usize, device: &str) -> Option<String> {
+    let runs = population * experiments;
+    (runs < UNDERFILLED_RUNS).then(|| {
+        format!(
+            "{runs} runs per generation (population {population} × {experiments} \
+             experiment{}) fill a small part of {device}, which runs tens of thousands at \
+             once: a population up to about {} would cost little more time per generation there",
+            if experiments == 1 { "" } else { "s" },
+            UNDERFILLED_RUNS / experiments.max(1)
+        )
+    })
 }
 
 impl std::fmt::Debug for Opened {
@@ -253,6 +278,7 @@ impl std::fmt::Debug for Opened {
         f.debug_struct("Opened")
             .field("evaluator", &self.evaluator.info())
             .field("note", &self.note)
+            .field("discrete_gpu", &self.discrete_gpu)
             .finish()
     }
 }
@@ -311,6 +337,7 @@ pub fn open_evaluator_on(
     let cpu = |problem: Problem, note: Option<String>| Opened {
         evaluator: Box::new(CpuEvaluator::new(problem, 0)),
         note,
+        discrete_gpu: false,
     };
     if backend == Backend::Cpu {
         return Ok(cpu(problem, None));
@@ -328,9 +355,11 @@ pub fn open_evaluator_on(
         }
         Err(e) => return Err(e),
     };
+    let discrete_gpu = ctx.info.device_type == wgpu::DeviceType::DiscreteGpu;
     Ok(Opened {
         evaluator: evaluator_on_context(ctx, problem, precision)?,
         note: None,
+        discrete_gpu,
     })
 }
 
@@ -358,4 +387,31 @@ pub fn evaluator_on_context(
         )?)
     };
     Ok(evaluator)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_small_generation_on_a_discrete_gpu_is_said_to_leave_it_far_from_full() {
+        let note = underfilled(128, 1, "NVIDIA H200 (Vulkan, DiscreteGpu)").unwrap();
+        assert!(
+            note.starts_with("128 runs per generation (population 128 × 1 experiment)"),
+            "{note}"
+        );
+        assert!(
+            note.contains("NVIDIA H200") && note.contains("about 8192"),
+            "{note}"
+        );
+        // Runs count every experiment.
+        let note = underfilled(1024, 4, "a GPU").unwrap();
+        assert!(
+            note.contains("4096 runs") && note.contains("4 experiments"),
+            "{note}"
+        );
+        assert!(note.contains("about 2048"), "{note}");
+        assert_eq!(underfilled(2048, 4, "a GPU"), None);
+        assert_eq!(underfilled(UNDERFILLED_RUNS, 1, "a GPU"), None);
+    }
 }

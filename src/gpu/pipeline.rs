@@ -99,8 +99,17 @@ pub fn layout(ctx: &GpuContext, label: &str, bindings: &[Binding]) -> Layout {
 pub struct Prepared {
     src: String,
     kernel: Kernel,
+    /// Compiled without wgpu's runtime checks ([`shaders::ProblemShape::trusted`]).
+    trusted: bool,
     /// `@workgroup_size(x, …)` of the entry point.
     pub workgroup_x: u32,
+}
+
+impl Prepared {
+    /// The kernel's WGSL.
+    pub fn source(&self) -> &str {
+        &self.src
+    }
 }
 
 /// Stitches and validates `kernel` for `model` (with its problem's shape and
@@ -110,14 +119,18 @@ pub fn prepare(
     precision: Precision,
     kernel: Kernel,
 ) -> Result<Prepared, GpuError> {
-    let src = match model {
-        Some((m, shape, baked)) => shaders::source(m, precision, kernel, shape, baked),
-        None => shaders::probe_source(precision),
+    let (src, trusted) = match model {
+        Some((m, shape, baked)) => (
+            shaders::source(m, precision, kernel, shape, baked),
+            shape.trusted,
+        ),
+        None => (shaders::probe_source(precision), false),
     };
     let reflected = shaders::reflect(&src, precision, kernel)?;
     Ok(Prepared {
         src,
         kernel,
+        trusted,
         workgroup_x: reflected.workgroup_size[0],
     })
 }
@@ -131,12 +144,15 @@ pub fn compile(
 ) -> Result<Kernelled, GpuError> {
     let kernel = prepared.kernel;
     let pipeline = scoped(ctx, kernel.file(), || {
-        let module = ctx
-            .device
-            .create_shader_module(wgpu::ShaderModuleDescriptor {
-                label: Some(kernel.file()),
-                source: wgpu::ShaderSource::Wgsl(prepared.src.as_str().into()),
-            });
+        let desc = wgpu::ShaderModuleDescriptor {
+            label: Some(kernel.file()),
+            source: wgpu::ShaderSource::Wgsl(prepared.src.as_str().into()),
+        };
+        let module = if prepared.trusted {
+            trusted_module(ctx, desc)
+        } else {
+            ctx.device.create_shader_module(desc)
+        };
         ctx.device
             .create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some(kernel.entry_point()),
@@ -151,6 +167,28 @@ pub fn compile(
         pipeline,
         workgroup_x: prepared.workgroup_x,
     })
+}
+
+/// `desc`'s module compiled without wgpu's runtime checks
+/// ([`shaders::ProblemShape::trusted`]).
+#[allow(unsafe_code)]
+fn trusted_module(ctx: &GpuContext, desc: wgpu::ShaderModuleDescriptor) -> wgpu::ShaderModule {
+    // SAFETY: the kernels are ours, stitched by shaders::source from the
+    // files under shaders/ and the emitter's rig functions, never a user's
+    // WGSL. Every index into an array in function memory is in bounds by
+    // construction (a transition's index below the program's transition
+    // count, a vote group's index taken modulo the array's length), and
+    // every loop ends: counted loops, the run loop's budget that each
+    // pass lowers, the crossing search's LOCATE_ITERATIONS, and the sample
+    // clock's catch-up, whose instant grows by one period each pass; and
+    // every integer division is by a constant or by the experiment count,
+    // never zero (docs/engineering/kernels.md, "Unsafe code"). Buffer reads
+    // and writes keep the device's robust buffer access, which wgpu enables
+    // where the device has it, whatever the checks.
+    unsafe {
+        ctx.device
+            .create_shader_module_trusted(desc, wgpu::ShaderRuntimeChecks::unchecked())
+    }
 }
 
 /// [`prepare`], then [`compile`].

@@ -119,6 +119,12 @@ pub struct ProblemShape {
     pub exact_tables: bool,
     /// The fitness kernel's workgroup size and vote groups.
     pub threads: Threads,
+    /// Compile the kernels without wgpu's runtime checks
+    /// ([`wgpu::ShaderRuntimeChecks::unchecked`]: no clamp on an index into an
+    /// array in function memory, no bound on a loop's trips): the source is the
+    /// same, only the driver's input differs. `false` (checked) by default;
+    /// see [`crate::gpu::GpuOptions::runtime_checks`].
+    pub trusted: bool,
 }
 
 /// How the compiled rigs' fitness kernel lays its runs on a GPU's threads: the

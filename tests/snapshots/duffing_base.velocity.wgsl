@@ -2,6 +2,7 @@
 
 const RIG_STATES: u32 = 2u;
 const RIG_REGIMES: u32 = 0u;
+const RIG_SWITCHES: bool = false;
 const RIG_REPORT: u32 = 4u;
 
 struct RigState {

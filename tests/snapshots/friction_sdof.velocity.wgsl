@@ -2,6 +2,7 @@
 
 const RIG_STATES: u32 = 3u;
 const RIG_REGIMES: u32 = 1u;
+const RIG_SWITCHES: bool = true;
 const RIG_REPORT: u32 = 7u;
 
 struct RigState {

@@ -2,6 +2,7 @@
 
 const RIG_STATES: u32 = 7u;
 const RIG_REGIMES: u32 = 2u;
+const RIG_SWITCHES: bool = true;
 const RIG_REPORT: u32 = 14u;
 
 struct RigState {

@@ -2,6 +2,7 @@
 
 const RIG_STATES: u32 = 8u;
 const RIG_REGIMES: u32 = 3u;
+const RIG_SWITCHES: bool = true;
 const RIG_REPORT: u32 = 10u;
 
 struct RigState {

@@ -289,7 +289,9 @@ pub fn run(a: &RunArgs, out: &Output) -> Result<ExitCode> {
             }
             OpenNote::Fallback { note, .. } => format!("note: {note}"),
             OpenNote::NotCached { .. } => format!("warning: {note}"),
-            OpenNote::ShortJob { .. } => format!("note: {note}"),
+            OpenNote::ShortJob { .. } | OpenNote::GpuUnderfilled { .. } => {
+                format!("note: {note}")
+            }
         });
     }
     let (mut evaluator, backend_trial) = (opened.evaluator, opened.trial);

@@ -87,6 +87,12 @@ pub enum OpenNote {
         /// The job's estimated wall time on its faster path (s).
         seconds: f64,
     },
+    /// The job runs on a discrete GPU that its batches leave far from full
+    /// ([`crate::gpu::underfilled`]).
+    GpuUnderfilled {
+        /// What to say.
+        note: String,
+    },
 }
 
 impl std::fmt::Display for OpenNote {
@@ -95,7 +101,7 @@ impl std::fmt::Display for OpenNote {
             Self::CpuF32 { reason } => {
                 write!(f, "precision f32 on the CPU: {reason}; scoring in f64")
             }
-            Self::Fallback { note, .. } => write!(f, "{note}"),
+            Self::Fallback { note, .. } | Self::GpuUnderfilled { note } => write!(f, "{note}"),
             Self::NotCached { error } => write!(
                 f,
                 "the backend choice could not be cached ({error}); the next run measures again"
@@ -326,6 +332,15 @@ pub fn open_job_evaluator_watched(
         }
         (None, _) => (opened.evaluator, None),
     };
+    if opened.discrete_gpu && evaluator.info().backend == "gpu" {
+        let info = evaluator.info();
+        let experiments = campaign.problem.experiments.len();
+        if let Some(note) =
+            crate::gpu::underfilled(campaign.search.population, experiments, &info.device)
+        {
+            notes.push(OpenNote::GpuUnderfilled { note });
+        }
+    }
     Ok(JobEvaluator {
         evaluator,
         notes,

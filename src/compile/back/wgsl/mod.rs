@@ -10,6 +10,8 @@
 //! a batch has the same value, the specialised kernel folds it to a constant.
 //!
 //! What the emitted source defines (names prefixed `rig_` or `RigState`/`RigRegime`/`RunConsts`):
+//! - `RIG_STATES`, `RIG_REGIMES`, `RIG_REPORT`, and `RIG_SWITCHES` (whether the
+//!   program has any located switch);
 //! - `struct RigState` (continuous state, fields `s0…`), `struct RigRegime` (mode
 //!   variables, `m0…`; with controllers also the held states `h0…` and the
 //!   next sample instant's index `kn`), `struct RunConsts` (the run's
@@ -356,6 +358,13 @@ impl Emitter<'_> {
             String::from("// Generated from the rig description by src/compile/back/wgsl/.\n\n");
         let _ = writeln!(s, "const RIG_STATES: u32 = {ns}u;");
         let _ = writeln!(s, "const RIG_REGIMES: u32 = {nm}u;");
+        // Whether any transition is ever located: without one (and without
+        // controllers) the run loop compiles its crossed-step code out.
+        let _ = writeln!(
+            s,
+            "const RIG_SWITCHES: bool = {};",
+            !p.transitions.is_empty()
+        );
         let _ = writeln!(
             s,
             "const RIG_REPORT: u32 = {}u;\n",
