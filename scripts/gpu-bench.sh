@@ -53,20 +53,46 @@ export RIGFIT_REQUIRE_GPU=1
 
 kit="${RIGFIT_GPU_KIT:-}"
 if [ -n "$kit" ]; then
-    if [ ! -f "$kit/KIT" ] || [ ! -x "$kit/rigfit" ] || [ ! -x "$kit/evaluator_throughput" ]; then
+    if [ ! -f "$kit/KIT" ] || [ ! -f "$kit/rigfit.xz" ] || [ ! -f "$kit/evaluator_throughput.xz" ]; then
         echo "gpu-bench: $kit is not a kit made by scripts/gpu-kit.sh" >&2
         exit 2
     fi
+    # The kit's programs are xz-compressed (to travel light): unpacked into a
+    # folder of this run's, by xz where the machine has it, else by Python.
+    bin="$(mktemp -d)"
+    mkdir -p "$bin/tests"
+    for f in "$kit"/*.xz "$kit"/tests/*.xz; do
+        [ -f "$f" ] || continue
+        rel="${f#"$kit"/}"
+        out="$bin/${rel%.xz}"
+        if command -v xz >/dev/null 2>&1; then
+            xz -dc "$f" > "$out"
+        else
+            python3 -c 'import lzma, shutil, sys; shutil.copyfileobj(lzma.open(sys.argv[1]), open(sys.argv[2], "wb"))' "$f" "$out"
+        fi
+        chmod +x "$out"
+    done
     if ! ldconfig -p 2>/dev/null | grep -q libvulkan; then
         echo "gpu-bench: no Vulkan loader here; unpacking the kit's" >&2
         for f in "$kit"/gl/*.deb; do dpkg -x "$f" /; done
         ldconfig
     fi
-    rigfit_bin="$kit/rigfit"
+    # A driver mounted outside the loader's search path (a container's
+    # /usr/local/nvidia): named to the loader where it finds no other.
+    if [ -z "${VK_DRIVER_FILES:-}${VK_ICD_FILENAMES:-}" ] \
+        && ! ls /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json >/dev/null 2>&1; then
+        for f in /usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json; do
+            if [ -f "$f" ]; then
+                export VK_DRIVER_FILES="$f"
+                echo "gpu-bench: the loader's folders hold no driver; using $f" >&2
+            fi
+        done
+    fi
+    rigfit_bin="$bin/rigfit"
     # The bench reads its campaign relative to the folder it was built in: give it
     # this checkout's, absolute.
     export RIGFIT_BENCH_CAMPAIGN="${RIGFIT_BENCH_CAMPAIGN:-$PWD/campaigns/aa2024_t3_synthetic.json}"
-    bench_table() { "$kit/evaluator_throughput"; }
+    bench_table() { "$bin/evaluator_throughput"; }
     built="$(head -1 "$kit/COMMIT")"
     commit="$built (kit)"
     if [ "$(git rev-parse HEAD 2>/dev/null || echo "$built")" != "$built" ]; then
@@ -97,11 +123,16 @@ echo
 # The kit's GPU tests, on this machine's adapter with RIGFIT_REQUIRE_GPU=1. They
 # read the repository's files from the folder they were built in: where that
 # folder is missing here, it is made a link to this checkout.
-if [ -n "$kit" ] && [ -d "$kit/tests" ] && [[ "$skip" != *,tests,* ]]; then
+if [ -n "$kit" ] && [ -f "$kit/ROOT" ] && [[ "$skip" != *,tests,* ]]; then
     root="$(cat "$kit/ROOT")"
     if [ ! -e "$root" ]; then
         mkdir -p "$(dirname "$root")"
         ln -s "$PWD" "$root"
+    fi
+    # The tests that run the command line run it from the build's target folder.
+    if [ ! -x "$root/target/release/rigfit" ]; then
+        mkdir -p "$root/target/release"
+        cp "$bin/rigfit" "$root/target/release/rigfit"
     fi
     logs="${RIGFIT_GPU_BENCH_LOGS:-$(mktemp -d)}"
     mkdir -p "$logs"
@@ -109,7 +140,7 @@ if [ -n "$kit" ] && [ -d "$kit/tests" ] && [[ "$skip" != *,tests,* ]]; then
     echo
     echo "| test | result | seconds |"
     echo "|---|---|---|"
-    for t in "$kit"/tests/*; do
+    for t in "$bin"/tests/*; do
         name="$(basename "$t")"
         start=$(date +%s.%N)
         if (cd "$root" && timeout 300 "$t" > "$logs/$name.log" 2>&1); then

@@ -12,6 +12,7 @@
 # built from; gpu-bench.sh prints it and warns when the checkout differs.
 #
 # The kit also holds the GPU tests, built in release and stripped (.gpukit/tests/),
+# every program xz-compressed (the kit and checkout travel under 64 MiB),
 # which gpu-bench.sh runs there with RIGFIT_REQUIRE_GPU=1; they read the repository's
 # files from the folder they were built in, recorded in .gpukit/ROOT.
 #
@@ -76,6 +77,13 @@ for line in sys.stdin:
     done
     pwd > "$kit/ROOT"
 fi
+
+# Compressed to travel light (about a third of the size): gpu-bench.sh unpacks them.
+echo "gpu-kit: compressing the programs (xz)" >&2
+for f in "$kit/rigfit" "$kit/evaluator_throughput" "$kit"/tests/*; do
+    [ -f "$f" ] || continue
+    xz -9 -T0 "$f"
+done
 git rev-parse HEAD > "$kit/COMMIT"
 git diff --quiet HEAD || echo "modified" >> "$kit/COMMIT"
 
