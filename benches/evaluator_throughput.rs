@@ -62,6 +62,7 @@ use std::time::{Duration, Instant};
 use criterion::{BenchmarkId, Criterion, Throughput};
 use rigfit::campaign::Campaign;
 use rigfit::eval::{Batch, CpuEvaluator, Evaluator, Precision, Problem};
+use rigfit::gpu::shaders::Kernel;
 use rigfit::gpu::{GpuContext, GpuEvaluator, GpuOptions, Threads};
 
 const POPULATIONS: [usize; 3] = [1024, 4096, 16384];
@@ -360,7 +361,7 @@ fn print_stats(evals: &[Row]) {
         e.fitness(&batch(n)).unwrap();
         let (src, trusted) = e.fitness_source();
         let got = stats
-            .statistics(&src, "fitness_main", g.precision, trusted)
+            .statistics(&src, Kernel::Fitness, g.precision, trusted)
             .unwrap_or_else(|why| panic!("{name}: {why}"));
         let mut cells = vec![];
         for s in got {

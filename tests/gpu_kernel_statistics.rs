@@ -18,6 +18,7 @@ use std::path::Path;
 
 use rigfit::campaign::Campaign;
 use rigfit::eval::{Evaluator, Precision};
+use rigfit::gpu::shaders::Kernel;
 use rigfit::gpu::{GpuEvaluator, GpuOptions};
 use rigfit::job::gene_specs;
 
@@ -61,7 +62,7 @@ fn every_fitness_kernel_builds_into_a_pipeline_with_the_drivers_statistics() {
             let (src, trusted) = e.fitness_source();
             assert_eq!(trusted, !runtime_checks);
             let got = stats
-                .statistics(&src, "fitness_main", precision, trusted)
+                .statistics(&src, Kernel::Fitness, precision, trusted)
                 .unwrap_or_else(|why| panic!("{precision:?} {options:?}: {why}"));
             assert_eq!(
                 got.is_empty(),
@@ -82,11 +83,11 @@ fn every_fitness_kernel_builds_into_a_pipeline_with_the_drivers_statistics() {
         .unwrap()
         .fitness_source();
         let checked = stats
-            .spirv(&src, "fitness_main", precision, false)
+            .spirv(&src, Kernel::Fitness, precision, false)
             .unwrap()
             .0;
         let unchecked = stats
-            .spirv(&src, "fitness_main", precision, true)
+            .spirv(&src, Kernel::Fitness, precision, true)
             .unwrap()
             .0;
         assert!(
@@ -107,7 +108,7 @@ fn every_fitness_kernel_builds_into_a_pipeline_with_the_drivers_statistics() {
     .unwrap()
     .fitness_source();
     let broken = src.replace("fn run_close(", "fn run_closed(");
-    let Err(why) = stats.statistics(&broken, "fitness_main", Precision::F32, false) else {
+    let Err(why) = stats.statistics(&broken, Kernel::Fitness, Precision::F32, false) else {
         panic!("a kernel calling an undefined function was built")
     };
     assert!(why.contains("run_close"), "{why}");

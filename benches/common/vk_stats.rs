@@ -16,6 +16,7 @@ use std::ffi::CStr;
 
 use ash::vk;
 use rigfit::eval::Precision;
+use rigfit::gpu::shaders::{self, Kernel};
 
 /// A Vulkan device opened for the statistics.
 pub struct VkStats {
@@ -210,28 +211,23 @@ impl VkStats {
         })
     }
 
-    /// `wgsl`'s entry point `entry` written to SPIR-V as wgpu writes it for
-    /// this device, with wgpu's runtime checks or (`trusted`) without them.
+    /// `wgsl`, the source of `kernel`, written to SPIR-V as wgpu writes it for
+    /// this device, with wgpu's runtime checks or (`trusted`) without them;
+    /// parsed and validated as the evaluator does ([`shaders::reflect`]).
     pub fn spirv(
         &self,
         wgsl: &str,
-        entry: &str,
+        kernel: Kernel,
         precision: Precision,
         trusted: bool,
     ) -> Result<(Vec<u32>, naga::Module), String> {
         use naga::back::spv;
         use naga::proc::{BoundsCheckPolicies, BoundsCheckPolicy as P};
-        let module = naga::front::wgsl::parse_str(wgsl).map_err(|e| e.emit_to_string(wgsl))?;
-        let caps = match precision {
-            Precision::F32 => naga::valid::Capabilities::empty(),
-            Precision::F64 => naga::valid::Capabilities::FLOAT64,
-        };
         if precision == Precision::F64 && !self.f64 {
             return Err("the device has no shaderFloat64".into());
         }
-        let info = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), caps)
-            .validate(&module)
-            .map_err(|e| e.emit_to_string(wgsl))?;
+        let shaders::Reflected { module, info, .. } =
+            shaders::reflect(wgsl, precision, kernel).map_err(|e| e.to_string())?;
         let checked = |p| if trusted { P::Unchecked } else { p };
         let options = spv::Options {
             lang_version: if self.api >= vk::API_VERSION_1_3 {
@@ -261,23 +257,24 @@ impl VkStats {
         };
         let pipeline = spv::PipelineOptions {
             shader_stage: naga::ShaderStage::Compute,
-            entry_point: entry.to_string(),
+            entry_point: kernel.entry_point().to_string(),
         };
         let words = spv::write_vec(&module, &info, &options, Some(&pipeline))
             .map_err(|e| format!("naga's SPIR-V writer: {e}"))?;
         Ok((words, module))
     }
 
-    /// Builds `wgsl`'s entry point `entry` into a compute pipeline and returns
-    /// the driver's statistics of it (none where the driver offers none).
+    /// Builds `wgsl`, the source of `kernel`, into a compute pipeline and
+    /// returns the driver's statistics of it (none where the driver offers
+    /// none).
     pub fn statistics(
         &self,
         wgsl: &str,
-        entry: &str,
+        kernel: Kernel,
         precision: Precision,
         trusted: bool,
     ) -> Result<Vec<Statistic>, String> {
-        let (words, module) = self.spirv(wgsl, entry, precision, trusted)?;
+        let (words, module) = self.spirv(wgsl, kernel, precision, trusted)?;
         // Group 0's bindings, as the shader declares them.
         let bindings: Vec<vk::DescriptorSetLayoutBinding> = module
             .global_variables
@@ -318,7 +315,7 @@ impl VkStats {
                     None,
                 )
                 .map_err(|e| format!("vkCreatePipelineLayout: {e}"))?;
-            let name = std::ffi::CString::new(entry).map_err(|e| e.to_string())?;
+            let name = std::ffi::CString::new(kernel.entry_point()).map_err(|e| e.to_string())?;
             let stage = vk::PipelineShaderStageCreateInfo::default()
                 .stage(vk::ShaderStageFlags::COMPUTE)
                 .module(shader)

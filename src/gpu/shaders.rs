@@ -365,6 +365,8 @@ pub fn source(
 pub struct Reflected {
     /// naga's module.
     pub module: naga::Module,
+    /// What naga's validator found of it (what its back ends write from).
+    pub info: naga::valid::ModuleInfo,
     /// Workgroup size of the kernel's entry point, as written in its WGSL file.
     pub workgroup_size: [u32; 3],
 }
@@ -380,7 +382,7 @@ pub fn reflect(src: &str, precision: Precision, kernel: Kernel) -> Result<Reflec
         Precision::F32 => naga::valid::Capabilities::empty(),
         Precision::F64 => naga::valid::Capabilities::FLOAT64,
     };
-    naga::valid::Validator::new(naga::valid::ValidationFlags::all(), caps)
+    let info = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), caps)
         .validate(&module)
         .map_err(|e| GpuError::Shader {
             kernel: kernel.file(),
@@ -397,6 +399,7 @@ pub fn reflect(src: &str, precision: Precision, kernel: Kernel) -> Result<Reflec
     let workgroup_size = ep.workgroup_size;
     Ok(Reflected {
         module,
+        info,
         workgroup_size,
     })
 }

@@ -332,8 +332,8 @@ pub fn open_job_evaluator_watched(
         }
         (None, _) => (opened.evaluator, None),
     };
-    if opened.discrete_gpu && evaluator.info().backend == "gpu" {
-        let info = evaluator.info();
+    let info = evaluator.info();
+    if opened.discrete_gpu && info.backend == "gpu" {
         let experiments = campaign.problem.experiments.len();
         if let Some(note) =
             crate::gpu::underfilled(campaign.search.population, experiments, &info.device)
